@@ -1,0 +1,20 @@
+#pragma once
+#include "aggpack/core/vec3.hpp"
+
+namespace aggpack {
+
+// Axis-aligned box [lo, hi], metres.
+struct Box {
+  Vec3 lo, hi;
+
+  [[nodiscard]] constexpr Vec3 size() const { return hi - lo; }
+  [[nodiscard]] constexpr double volume() const {
+    const Vec3 s = size();
+    return s.x * s.y * s.z;
+  }
+  [[nodiscard]] constexpr bool contains(const Vec3& p) const {
+    return p.x >= lo.x && p.x < hi.x && p.y >= lo.y && p.y < hi.y && p.z >= lo.z && p.z < hi.z;
+  }
+};
+
+}  // namespace aggpack

@@ -1,0 +1,31 @@
+#pragma once
+#include <cstdint>
+
+namespace aggpack {
+
+// xoshiro256** seeded through SplitMix64. Sampling goes through our own uniform()
+// so that a seed gives the same numbers with every standard library.
+class Rng {
+ public:
+  // One independent stream per (seed, purpose): stages never share a stream.
+  Rng(std::uint64_t seed, std::uint64_t purpose);
+
+  std::uint64_t next_u64();
+  // Uniform in [0, 1) with 53 random bits.
+  double uniform() { return static_cast<double>(next_u64() >> 11) * 0x1.0p-53; }
+  double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+  // Uniform integer in [0, n), n > 0, without modulo bias.
+  std::uint64_t below(std::uint64_t n);
+
+ private:
+  std::uint64_t s_[4];
+};
+
+// Named purposes, so that adding a stage never shifts another stage's numbers.
+enum class RngPurpose : std::uint64_t { Sizes = 1, Deposition = 2, Dynamics = 3, Analysis = 4 };
+
+inline Rng make_rng(std::uint64_t seed, RngPurpose purpose) {
+  return Rng(seed, static_cast<std::uint64_t>(purpose));
+}
+
+}  // namespace aggpack

@@ -1,0 +1,24 @@
+#pragma once
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace aggpack {
+
+struct LengthUnit {
+  std::string_view symbol;
+  long double metres;  // exact by definition (1 in = 0.0254 m)
+};
+
+// The length units a scenario or a command line may use.
+std::span<const LengthUnit> length_units();
+
+// Parses "25.4 mm", "1in", "0.0254 m" or a bare number (metres).
+// Returns std::nullopt with `why` set when the text is not a length.
+std::optional<double> parse_length(std::string_view text, std::string* why = nullptr);
+
+// Metres per unit for a symbol such as "mm"; std::nullopt if unknown.
+std::optional<long double> metres_per_unit(std::string_view symbol);
+
+}  // namespace aggpack

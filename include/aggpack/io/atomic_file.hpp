@@ -1,0 +1,11 @@
+#pragma once
+#include <filesystem>
+#include <string_view>
+
+namespace aggpack {
+
+// Writes `content` to a temporary file beside `path`, then renames it over `path`, so
+// readers never see a half-written file. Throws std::runtime_error on failure.
+void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+
+}  // namespace aggpack

@@ -1,0 +1,20 @@
+#pragma once
+#include <filesystem>
+#include <string>
+
+#include "aggpack/core/particle_store.hpp"
+
+namespace aggpack {
+
+// Reads a packing made by aggpack or another tool:
+// - CSV with a header naming x, y, z and r (or radius, or d, or diameter), any column
+//   order, other columns ignored;
+// - plain text, whitespace separated "x y z r" per line, no header.
+// Lines starting with '#' and blank lines are skipped. Values are multiplied by
+// `length_unit` (metres per file unit). Throws InputError naming the file and line.
+ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density);
+
+// "id,x,y,z,r" in metres, one row per particle in store order, full double precision.
+std::string particles_csv(const ParticleStore& particles);
+
+}  // namespace aggpack

@@ -1,0 +1,67 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/core/container.hpp"
+#include "aggpack/sizes/size_spec.hpp"
+
+namespace aggpack {
+
+// Where particle positions come from: generated sizes (placed by a stage) or a file.
+struct ParticleSource {
+  std::optional<SizeSpec> sizes;           // set when the scenario generates particles
+  std::optional<std::filesystem::path> file;  // set when positions are read from a file
+  double file_length_unit = 1.0;           // metres per file unit
+};
+
+struct Material {
+  double density = 2650.0;          // kg/m^3
+  double youngs_modulus = 50e9;     // Pa
+  double poisson_ratio = 0.25;
+  double friction_particle = 0.17;  // particle-particle Coulomb coefficient
+  double friction_wall = 0.17;      // particle-wall and particle-floor
+  double restitution = 0.5;
+};
+
+struct AnalysisSettings {
+  std::vector<double> box_sides;    // virtual cube sides, m; empty: one cube, the largest admissible
+  double contact_tolerance = 1e-6;  // relative gap that still counts as a contact
+  std::optional<double> slice_thickness;  // m; default d_max / 4
+  std::optional<double> shell_thickness;  // m; default d_max / 4
+};
+
+struct OutputSettings {
+  std::filesystem::path directory;
+  bool csv = true;
+  bool vtp = true;
+};
+
+struct Scenario {
+  std::filesystem::path file;
+  std::string title;
+  std::uint64_t seed = 1;
+  Container container;
+  ParticleSource particles;
+  Material material;
+  AnalysisSettings analysis;
+  OutputSettings output;
+};
+
+struct ScenarioOverrides {
+  std::vector<std::string> set;  // "key.path=value", TOML syntax for the value (bare words are strings)
+  std::optional<std::uint64_t> seed;
+  std::optional<std::filesystem::path> output_directory;
+};
+
+// Reads and validates a scenario. Throws InputError naming the file, line and key.
+Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides = {});
+
+// The scenario with every value resolved, in SI units, as written to summary.json.
+nlohmann::json to_json(const Scenario& scenario);
+
+}  // namespace aggpack

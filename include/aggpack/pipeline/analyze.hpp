@@ -1,0 +1,39 @@
+#pragma once
+#include <optional>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/analysis/coordination.hpp"
+#include "aggpack/analysis/density.hpp"
+
+namespace aggpack {
+
+// What to measure in a packing. Boxes are explicit; cube sides are placed as in
+// method.md (centred, clear of walls, floor and free surface). With neither, one cube
+// of the largest admissible side is used.
+struct AnalysisRequest {
+  std::vector<double> cube_sides;  // m
+  std::vector<Box> boxes;
+  double contact_tolerance = 1e-6;
+  std::optional<double> slice_thickness;  // m, default d_max / 4
+  std::optional<double> shell_thickness;  // m, default d_max / 4
+};
+
+struct PackingReport {
+  BedGeometry bed;
+  DensityResult density;
+  CoordinationResult coordination;  // in the largest box
+  Profile vertical;                 // solid fraction vs height
+  Profile wall;                     // solid fraction vs distance from the side walls
+  double wall_profile_z_lo = 0.0, wall_profile_z_hi = 0.0;
+};
+
+// Throws InputError when a cube does not fit in the bed.
+PackingReport analyze_packing(const ParticleStore& particles, const Container& container,
+                              const AnalysisRequest& request);
+
+nlohmann::json to_json(const DensityResult& density);
+nlohmann::json to_json(const PackingReport& report);
+
+}  // namespace aggpack

@@ -1,0 +1,204 @@
+#include "aggpack/analysis/density.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <fmt/format.h>
+
+#include "aggpack/analysis/sphere_box_volume.hpp"
+#include "aggpack/core/error.hpp"
+
+namespace aggpack {
+
+namespace {
+// Calls visit(centre) for the sphere and, in a periodic container, each image of it
+// that reaches into the footprint [0, L)^2 from outside.
+template <class Visit>
+void for_each_image(const Vec3& p, double r, const Container& container, Visit&& visit) {
+  if (!container.periodic) {
+    visit(p);
+    return;
+  }
+  const Box& b = container.bounds;
+  const auto shifts = [&](double v, double lo, double hi, double (&out)[3]) {
+    int n = 0;
+    out[n++] = 0.0;
+    if (v - r < lo) out[n++] = hi - lo;
+    if (v + r > hi) out[n++] = lo - hi;
+    return n;
+  };
+  double sx[3], sy[3];
+  const int nx = shifts(p.x, b.lo.x, b.hi.x, sx), ny = shifts(p.y, b.lo.y, b.hi.y, sy);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < ny; ++j) visit(Vec3{p.x + sx[i], p.y + sy[j], p.z});
+}
+
+// Adds each sphere's exact volume in every bin it reaches; bins are boxes from bin_box(k).
+template <class BinRange, class BinBox>
+std::vector<double> binned_volume(const ParticleStore& particles, const Container& container,
+                                  std::size_t bins, BinRange&& bin_range, BinBox&& bin_box) {
+  std::vector<double> volume(bins, 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double r = particles.radius[i];
+    for_each_image(particles.position[i], r, container, [&](const Vec3& c) {
+      auto [first, last] = bin_range(c, r);
+      for (long k = std::max(first, 0L); k <= std::min(last, static_cast<long>(bins) - 1); ++k)
+        volume[k] += sphere_box_volume(c, r, bin_box(k));
+    });
+  }
+  return volume;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const auto mid = v.begin() + static_cast<long>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+}  // namespace
+
+double solid_volume_in_box(const ParticleStore& particles, const Container& container, const Box& box) {
+  double volume = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double r = particles.radius[i];
+    for_each_image(particles.position[i], r, container,
+                   [&](const Vec3& c) { volume += sphere_box_volume(c, r, box); });
+  }
+  return volume;
+}
+
+Profile vertical_profile(const ParticleStore& particles, const Container& container, double thickness) {
+  Profile profile;
+  double top = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    top = std::max(top, particles.position[i].z + particles.radius[i]);
+  const Box footprint = container.bounds;
+  const double z0 = footprint.lo.z;
+  const auto bins = static_cast<std::size_t>(std::max(1.0, std::ceil((top - z0) / thickness)));
+  const auto slab = [&](long k) {
+    Box b = footprint;
+    b.lo.z = z0 + thickness * static_cast<double>(k);
+    b.hi.z = b.lo.z + thickness;
+    return b;
+  };
+  const auto range = [&](const Vec3& c, double r) {
+    return std::pair<long, long>{static_cast<long>(std::floor((c.z - r - z0) / thickness)),
+                                 static_cast<long>(std::floor((c.z + r - z0) / thickness))};
+  };
+  const auto volume = binned_volume(particles, container, bins, range, slab);
+  const double slab_volume = footprint.size().x * footprint.size().y * thickness;
+  for (std::size_t k = 0; k < bins; ++k) {
+    profile.position.push_back(z0 + thickness * (static_cast<double>(k) + 0.5));
+    profile.solid_fraction.push_back(volume[k] / slab_volume);
+  }
+  return profile;
+}
+
+Profile wall_distance_profile(const ParticleStore& particles, const Container& container,
+                              double thickness, double z_lo, double z_hi) {
+  Profile profile;
+  if (container.periodic || z_hi <= z_lo) return profile;
+  const Box& f = container.bounds;
+  const double half_width = 0.5 * std::min(container.length_x(), container.length_y());
+  const auto bins = static_cast<std::size_t>(std::floor(half_width / thickness));
+  const auto inset_box = [&](double inset) {
+    return Box{{f.lo.x + inset, f.lo.y + inset, z_lo}, {f.hi.x - inset, f.hi.y - inset, z_hi}};
+  };
+  // Shell k: distance to the nearest side wall in [k t, (k + 1) t). That distance changes
+  // at most as fast as the position, so a sphere spans near - r .. near + r.
+  const auto range = [&](const Vec3& c, double r) {
+    const double near = std::min({c.x - f.lo.x, c.y - f.lo.y, f.hi.x - c.x, f.hi.y - c.y});
+    return std::pair<long, long>{static_cast<long>(std::floor((near - r) / thickness)),
+                                 static_cast<long>(std::floor((near + r) / thickness))};
+  };
+  std::vector<double> volume(bins, 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec3& c = particles.position[i];
+    const double r = particles.radius[i];
+    if (c.z + r <= z_lo || c.z - r >= z_hi) continue;
+    auto [first, last] = range(c, r);
+    first = std::max(first, 0L);
+    last = std::min(last, static_cast<long>(bins) - 1);
+    if (first > last) continue;
+    // Volume inside each inset square, differenced into shells.
+    double outer = sphere_box_volume(c, r, inset_box(thickness * static_cast<double>(first)));
+    for (long k = first; k <= last; ++k) {
+      const double inner = sphere_box_volume(c, r, inset_box(thickness * static_cast<double>(k + 1)));
+      volume[k] += outer - inner;
+      outer = inner;
+    }
+  }
+  for (std::size_t k = 0; k < bins; ++k) {
+    const double a = thickness * static_cast<double>(k), b = a + thickness;
+    const double lx = container.length_x(), ly = container.length_y();
+    const double shell_area = (lx - 2 * a) * (ly - 2 * a) - (lx - 2 * b) * (ly - 2 * b);
+    profile.position.push_back(0.5 * (a + b));
+    profile.solid_fraction.push_back(volume[k] / (shell_area * (z_hi - z_lo)));
+  }
+  return profile;
+}
+
+BedGeometry measure_bed(const ParticleStore& particles, const Container& container) {
+  BedGeometry bed;
+  bed.floor = container.bounds.lo.z;
+  if (particles.empty()) return bed;
+  const auto [rmin, rmax] = std::minmax_element(particles.radius.begin(), particles.radius.end());
+  bed.d_min = 2.0 * *rmin;
+  bed.d_max = 2.0 * *rmax;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    bed.top = std::max(bed.top, particles.position[i].z + particles.radius[i]);
+  // Equivalent height: a bed of the median slice fraction holding the same solid volume.
+  const Profile slices = vertical_profile(particles, container, bed.d_max);
+  const double bulk_fraction = median(slices.solid_fraction);
+  double solid = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    solid += 4.0 / 3.0 * std::numbers::pi * particles.radius[i] * particles.radius[i] * particles.radius[i];
+  const double footprint = container.length_x() * container.length_y();
+  bed.surface = bulk_fraction > 0.0 ? std::min(bed.floor + solid / (footprint * bulk_fraction), bed.top) : bed.top;
+  return bed;
+}
+
+Box place_virtual_cube(double side, const Container& container, const BedGeometry& bed) {
+  const double half = 0.5 * side;
+  const double cx = 0.5 * (container.bounds.lo.x + container.bounds.hi.x);
+  const double cy = 0.5 * (container.bounds.lo.y + container.bounds.hi.y);
+  const double cz = 0.5 * (bed.floor + bed.surface);
+  const Box box{{cx - half, cy - half, cz - half}, {cx + half, cy + half, cz + half}};
+  const double slack = 1e-9 * std::max(bed.d_max, side);
+  const auto fail = [&](const char* what, double largest) {
+    throw InputError(fmt::format(
+        "a virtual cube of side {:.6g} m comes closer than d_max = {:.6g} m to {} "
+        "(floor {:.6g} m, free surface {:.6g} m, container {:.6g} x {:.6g} m); the largest admissible side is "
+        "{:.6g} m",
+        side, bed.d_max, what, bed.floor, bed.surface, container.length_x(), container.length_y(),
+        std::max(largest, 0.0)));
+  };
+  const double vertical_limit = bed.surface - bed.floor - 2.0 * bed.d_max;
+  const double width = std::min(container.length_x(), container.length_y());
+  const double horizontal_limit = container.periodic ? width : width - 2.0 * bed.d_max;
+  if (side > vertical_limit + slack)
+    fail("the floor or the free surface", std::min(vertical_limit, horizontal_limit));
+  if (side > horizontal_limit + slack) fail("a side wall", std::min(vertical_limit, horizontal_limit));
+  return box;
+}
+
+DensityResult measure_density(const ParticleStore& particles, const Container& container,
+                              std::span<const Box> boxes) {
+  DensityResult result;
+  for (const Box& box : boxes) {
+    const double d = solid_volume_in_box(particles, container, box) / box.volume();
+    result.boxes.push_back({box.size().x, box, d});
+    result.mean += d;
+  }
+  if (boxes.empty()) return result;
+  const auto n = static_cast<double>(boxes.size());
+  result.mean /= n;
+  if (boxes.size() > 1) {
+    double ss = 0.0;
+    for (const auto& b : result.boxes) ss += (b.density - result.mean) * (b.density - result.mean);
+    result.sd = std::sqrt(ss / (n - 1.0));
+  }
+  return result;
+}
+
+}  // namespace aggpack

@@ -1,0 +1,29 @@
+#include "aggpack/core/particle_store.hpp"
+
+#include <numbers>
+
+namespace aggpack {
+
+std::size_t ParticleStore::add(const Vec3& pos, double r, double density,
+                               std::uint32_t layer_index) {
+  position.push_back(pos);
+  velocity.push_back({});
+  angular_velocity.push_back({});
+  radius.push_back(r);
+  mass.push_back(density * 4.0 / 3.0 * std::numbers::pi * r * r * r);
+  frozen.push_back(0);
+  layer.push_back(layer_index);
+  return radius.size() - 1;
+}
+
+void ParticleStore::reserve(std::size_t n) {
+  position.reserve(n);
+  velocity.reserve(n);
+  angular_velocity.reserve(n);
+  radius.reserve(n);
+  mass.reserve(n);
+  frozen.reserve(n);
+  layer.reserve(n);
+}
+
+}  // namespace aggpack

@@ -1,0 +1,132 @@
+#include "aggpack/io/particle_file.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <fstream>
+#include <optional>
+#include <vector>
+
+#include "aggpack/core/error.hpp"
+
+namespace aggpack {
+
+namespace {
+std::string lower_trimmed(std::string s) {
+  s.erase(0, s.find_first_not_of(" \t\r\""));
+  s.erase(s.find_last_not_of(" \t\r\"") + 1);
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
+  return s;
+}
+
+std::vector<std::string> split(const std::string& line, bool csv) {
+  std::vector<std::string> out;
+  if (csv) {
+    std::size_t start = 0;
+    for (std::size_t comma = line.find(','); ; comma = line.find(',', start)) {
+      out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
+      if (comma == std::string::npos) break;
+      start = comma + 1;
+    }
+  } else {
+    std::size_t i = 0;
+    while (i < line.size()) {
+      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      const std::size_t start = i;
+      while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+      if (i > start) out.push_back(line.substr(start, i - start));
+    }
+  }
+  return out;
+}
+
+std::optional<double> to_number(const std::string& text) {
+  const std::string t = lower_trimmed(text);
+  if (t.empty()) return std::nullopt;
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+bool is_blank_or_comment(const std::string& line) {
+  const auto first = line.find_first_not_of(" \t\r");
+  return first == std::string::npos || line[first] == '#';
+}
+}  // namespace
+
+ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("{}: cannot open the particle file", file.string()));
+  ParticleStore store;
+  std::string line;
+  std::size_t line_no = 0;
+  // Column indices of x, y, z and the size; the size is a radius or a diameter.
+  std::array<std::size_t, 4> column{0, 1, 2, 3};
+  bool size_is_diameter = false;
+  std::optional<bool> csv;
+  std::size_t min_fields = 4;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (is_blank_or_comment(line)) continue;
+    if (!csv) {
+      csv = line.find(',') != std::string::npos;
+      const auto fields = split(line, *csv);
+      if (*csv) {
+        std::array<std::optional<std::size_t>, 4> found;
+        for (std::size_t k = 0; k < fields.size(); ++k) {
+          const std::string name = lower_trimmed(fields[k]);
+          if (name == "x") found[0] = k;
+          else if (name == "y") found[1] = k;
+          else if (name == "z") found[2] = k;
+          else if (name == "r" || name == "radius") found[3] = k, size_is_diameter = false;
+          else if (name == "d" || name == "diameter") found[3] = k, size_is_diameter = true;
+        }
+        if (!found[0] || !found[1] || !found[2] || !found[3])
+          throw InputError(fmt::format(
+              "{}:{}: a CSV particle file needs a header naming the columns x, y, z and r (or radius, d, "
+              "diameter); got \"{}\"",
+              file.string(), line_no, line));
+        for (std::size_t k = 0; k < 4; ++k) column[k] = *found[k];
+        min_fields = *std::max_element(column.begin(), column.end()) + 1;
+        continue;
+      }
+    }
+    const auto fields = split(line, *csv);
+    if (fields.size() < min_fields)
+      throw InputError(fmt::format("{}:{}: expected {} {} per row, got {}", file.string(), line_no, min_fields,
+                                   *csv ? "comma-separated fields" : "numbers (x y z r)", fields.size()));
+    double v[4];
+    for (std::size_t k = 0; k < 4; ++k) {
+      const auto value = to_number(fields[column[k]]);
+      if (!value)
+        throw InputError(fmt::format("{}:{}: field {} (\"{}\") is not a number", file.string(), line_no,
+                                     column[k] + 1, fields[column[k]]));
+      v[k] = *value * length_unit;
+    }
+    const double r = size_is_diameter ? 0.5 * v[3] : v[3];
+    if (!(r > 0.0))
+      throw InputError(fmt::format("{}:{}: the {} must be positive, got {}", file.string(), line_no,
+                                   size_is_diameter ? "diameter" : "radius", fields[column[3]]));
+    store.add({v[0], v[1], v[2]}, r, density);
+  }
+  if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", file.string()));
+  return store;
+}
+
+std::string particles_csv(const ParticleStore& particles) {
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "id,x,y,z,r\n");
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec3& p = particles.position[i];
+    fmt::format_to(std::back_inserter(out), "{},{},{},{},{}\n", i, p.x, p.y, p.z, particles.radius[i]);
+  }
+  return fmt::to_string(out);
+}
+
+}  // namespace aggpack

@@ -1,0 +1,250 @@
+#include "aggpack/io/scenario.hpp"
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/units.hpp"
+#include "aggpack/io/toml_reader.hpp"
+
+namespace aggpack {
+
+namespace {
+constexpr NumberRange kFraction{0.0, 1.0, true, false};
+
+// Applies "a.b.c=value" to the table; the value is TOML, or a bare string.
+void apply_override(toml::table& root, const std::string& assignment, ScenarioOrigin& origin) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(fmt::format("--set {}: expected key.path=value, for example --set container.side=\"10 in\"",
+                                 assignment));
+  const std::string key = assignment.substr(0, eq);
+  const std::string value_text = assignment.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("value = " + value_text);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{{"value", value_text}};  // a bare word such as periodic
+  }
+  toml::table* table = &root;
+  std::size_t start = 0;
+  for (std::size_t dot = key.find('.'); dot != std::string::npos; dot = key.find('.', start)) {
+    const std::string part = key.substr(start, dot - start);
+    toml::node* child = table->get(part);
+    if (!child) child = &table->insert_or_assign(part, toml::table{}).first->second;
+    if (!child->is_table())
+      throw InputError(fmt::format("--set {}: '{}' is not a table in the scenario", assignment, key.substr(0, dot)));
+    table = child->as_table();
+    start = dot + 1;
+  }
+  const std::string leaf = key.substr(start);
+  if (leaf.empty()) throw InputError(fmt::format("--set {}: the key ends with '.'", assignment));
+  table->insert_or_assign(leaf, *parsed.get("value"));
+  origin.overrides[key] = "--set " + assignment;
+}
+
+Container read_container(const TomlSection& s) {
+  s.allow_only({"side", "height", "sides"});
+  const double side = s.required(s.length("side"), "side", "a length such as \"12 in\"");
+  const double height = s.required(s.length("height"), "height", "a length such as \"24 in\"");
+  const bool periodic = s.choice("sides", {"walls", "periodic"}).value_or("walls") == "periodic";
+  return Container::square(side, height, periodic);
+}
+
+SizeClass read_size_class(const TomlSection& s) {
+  s.allow_only({"diameter", "count", "volume_fraction"});
+  SizeClass c;
+  c.diameter = s.required(s.length("diameter"), "diameter", "a length such as \"0.5 in\"");
+  if (const auto n = s.integer("count", 1, 1'000'000'000)) c.count = static_cast<std::size_t>(*n);
+  c.volume_fraction = s.number("volume_fraction", kFraction);
+  if (c.count.has_value() == c.volume_fraction.has_value())
+    s.fail(c.count ? "volume_fraction" : "diameter",
+           "give exactly one of 'count' and 'volume_fraction' for each size class");
+  return c;
+}
+
+ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir) {
+  s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit"});
+  ParticleSource source;
+  const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from"));
+  if (ways != 1)
+    s.fail(ways == 0 ? "diameter" : (s.has("from") ? "from" : "classes"),
+           "give exactly one of 'diameter' (monosized, with 'count'), 'classes' (a list of size classes) "
+           "or 'from' (a particle file)");
+  if (const auto file = s.string("from")) {
+    for (auto k : {"count", "solid_volume", "order"})
+      if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
+    source.file = std::filesystem::path(*file).is_absolute() ? std::filesystem::path(*file) : scenario_dir / *file;
+    const std::string unit = s.string("length_unit").value_or("m");
+    const auto factor = metres_per_unit(unit);
+    if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
+    source.file_length_unit = static_cast<double>(*factor);
+    return source;
+  }
+  if (s.has("length_unit")) s.fail("length_unit", "applies only to particles read with 'from'");
+  SizeSpec spec;
+  spec.order = s.choice("order", {"shuffled", "as_listed"}).value_or("shuffled") == "shuffled" ? SizeOrder::Shuffled
+                                                                                                : SizeOrder::AsListed;
+  const auto count = s.integer("count", 1, 1'000'000'000);
+  const auto solid_volume = s.number("solid_volume", kPositive);
+  if (const auto d = s.length("diameter")) {
+    if (solid_volume) s.fail("solid_volume", "monosized particles take a 'count'");
+    spec.classes.push_back({*d, static_cast<std::size_t>(s.required(count, "count", "a positive integer")), {}});
+  } else {
+    const auto classes = *s.table_array("classes");
+    if (classes.empty()) s.fail("classes", "expected at least one size class");
+    for (const auto& c : classes) spec.classes.push_back(read_size_class(c));
+    const bool by_fraction = spec.classes.front().volume_fraction.has_value();
+    for (std::size_t i = 0; i < spec.classes.size(); ++i)
+      if (spec.classes[i].volume_fraction.has_value() != by_fraction)
+        classes[i].fail("diameter", "size classes must all give a count or all give a volume_fraction");
+    if (by_fraction) {
+      double sum = 0.0;
+      for (const auto& c : spec.classes) sum += *c.volume_fraction;
+      if (std::abs(sum - 1.0) > 1e-6)
+        s.fail("classes", fmt::format("volume fractions must add up to 1, they add up to {:.6g}", sum));
+      if (count.has_value() == solid_volume.has_value())
+        s.fail("classes", "classes given by volume_fraction need exactly one of 'count' (total particles) "
+                          "and 'solid_volume' (m^3)");
+      if (count) spec.total_count = static_cast<std::size_t>(*count);
+      spec.solid_volume = solid_volume;
+    } else if (count || solid_volume) {
+      s.fail(count ? "count" : "solid_volume", "classes with their own counts take no total");
+    }
+  }
+  source.sizes = spec;
+  return source;
+}
+
+Material read_material(const TomlSection& s) {
+  s.allow_only({"density", "youngs_modulus", "poisson_ratio", "friction_particle", "friction_wall", "restitution"});
+  Material m;
+  m.density = s.number("density", kPositive).value_or(m.density);
+  m.youngs_modulus = s.number("youngs_modulus", kPositive).value_or(m.youngs_modulus);
+  m.poisson_ratio = s.number("poisson_ratio", {-1.0, 0.5, true, true}).value_or(m.poisson_ratio);
+  m.friction_particle = s.number("friction_particle", kNonNegative).value_or(m.friction_particle);
+  m.friction_wall = s.number("friction_wall", kNonNegative).value_or(m.friction_wall);
+  m.restitution = s.number("restitution", kFraction).value_or(m.restitution);
+  return m;
+}
+
+AnalysisSettings read_analysis(const TomlSection& s) {
+  s.allow_only({"box_sides", "placement", "contact_tolerance", "slice_thickness", "shell_thickness"});
+  AnalysisSettings a;
+  a.box_sides = s.length_list("box_sides").value_or(std::vector<double>{});
+  s.choice("placement", {"centered"});
+  a.contact_tolerance = s.number("contact_tolerance", {0.0, 1.0, false, false}).value_or(a.contact_tolerance);
+  a.slice_thickness = s.length("slice_thickness");
+  a.shell_thickness = s.length("shell_thickness");
+  return a;
+}
+
+OutputSettings read_output(const TomlSection& s, const std::filesystem::path& scenario_file) {
+  s.allow_only({"directory", "formats"});
+  OutputSettings o;
+  o.directory = s.string("directory").value_or("out/" + scenario_file.stem().string());
+  if (const auto formats = s.string_list("formats")) {
+    o.csv = o.vtp = false;
+    for (const auto& f : *formats) {
+      if (f == "csv") o.csv = true;
+      else if (f == "vtp") o.vtp = true;
+      else s.fail("formats", fmt::format("unknown format \"{}\"; expected \"csv\" and/or \"vtp\" "
+                                         "(summary.json is always written)", f));
+    }
+  }
+  return o;
+}
+}  // namespace
+
+Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {
+  ScenarioOrigin origin{file.string(), {}};
+  toml::table root;
+  try {
+    root = toml::parse_file(file.string());
+  } catch (const toml::parse_error& e) {
+    const auto& src = e.source();
+    if (src.begin.line == 0)  // the file could not be opened
+      throw InputError(fmt::format("{}: cannot read the scenario: {}", file.string(), e.description()));
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
+                                 src.begin.column, e.description()));
+  }
+  for (const auto& assignment : overrides.set) apply_override(root, assignment, origin);
+
+  const TomlSection s(root, "", origin);
+  s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition",
+                "dynamics"});
+  for (auto stage : {"deposition", "dynamics"})
+    if (s.has(stage))
+      s.fail(stage, fmt::format("the {} stage is not available in this version of aggpack; "
+                                "give the particle positions with particles.from", stage));
+
+  Scenario sc;
+  sc.file = file;
+  sc.title = s.string("title").value_or(file.stem().string());
+  sc.seed = static_cast<std::uint64_t>(s.integer("seed", 0, std::numeric_limits<std::int64_t>::max()).value_or(1));
+  if (overrides.seed) sc.seed = *overrides.seed;
+  sc.container = read_container(s.required(s.table("container"), "container", "a [container] table"));
+  sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
+                                file.parent_path());
+  if (const auto m = s.table("material")) sc.material = read_material(*m);
+  if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
+  if (const auto o = s.table("output")) sc.output = read_output(*o, file);
+  else sc.output.directory = "out/" + file.stem().string();
+  if (overrides.output_directory) sc.output.directory = *overrides.output_directory;
+
+  // Cross-checks that need several sections.
+  if (sc.particles.sizes) {
+    double d_max = 0.0;
+    for (const auto& c : sc.particles.sizes->classes) d_max = std::max(d_max, c.diameter);
+    if (d_max >= sc.container.length_x())
+      throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) does not fit in the container "
+                                   "(side {:.6g} m)", file.string(), d_max, sc.container.length_x()));
+    throw InputError(fmt::format(
+        "{}: particles: sizes are given but no stage places them (the deposition stage is not available in "
+        "this version); give the positions with particles.from = \"file.csv\"",
+        s.table("particles")->location("diameter")));
+  }
+  return sc;
+}
+
+nlohmann::json to_json(const Scenario& sc) {
+  nlohmann::json j;
+  j["title"] = sc.title;
+  j["seed"] = sc.seed;
+  j["file"] = sc.file.string();
+  j["container"] = {{"side_m", sc.container.length_x()},
+                    {"height_m", sc.container.height()},
+                    {"sides", sc.container.periodic ? "periodic" : "walls"}};
+  auto& p = j["particles"];
+  if (sc.particles.file) {
+    p["from"] = sc.particles.file->string();
+    p["length_unit_m"] = sc.particles.file_length_unit;
+  }
+  if (sc.particles.sizes) {
+    const SizeSpec& spec = *sc.particles.sizes;
+    for (const auto& c : spec.classes) {
+      nlohmann::json cj{{"diameter_m", c.diameter}};
+      if (c.count) cj["count"] = *c.count;
+      if (c.volume_fraction) cj["volume_fraction"] = *c.volume_fraction;
+      p["classes"].push_back(cj);
+    }
+    if (spec.total_count) p["count"] = *spec.total_count;
+    if (spec.solid_volume) p["solid_volume_m3"] = *spec.solid_volume;
+    p["order"] = spec.order == SizeOrder::Shuffled ? "shuffled" : "as_listed";
+  }
+  const Material& m = sc.material;
+  j["material"] = {{"density_kg_m3", m.density},         {"youngs_modulus_pa", m.youngs_modulus},
+                   {"poisson_ratio", m.poisson_ratio},   {"friction_particle", m.friction_particle},
+                   {"friction_wall", m.friction_wall},   {"restitution", m.restitution}};
+  j["analysis"] = {{"box_sides_m", sc.analysis.box_sides},
+                   {"placement", "centered"},
+                   {"contact_tolerance", sc.analysis.contact_tolerance}};
+  if (sc.analysis.slice_thickness) j["analysis"]["slice_thickness_m"] = *sc.analysis.slice_thickness;
+  if (sc.analysis.shell_thickness) j["analysis"]["shell_thickness_m"] = *sc.analysis.shell_thickness;
+  nlohmann::json formats = nlohmann::json::array();
+  if (sc.output.csv) formats.push_back("csv");
+  if (sc.output.vtp) formats.push_back("vtp");
+  j["output"] = {{"directory", sc.output.directory.string()}, {"formats", formats}};
+  return j;
+}
+
+}  // namespace aggpack

@@ -1,0 +1,72 @@
+#include "aggpack/pipeline/analyze.hpp"
+
+#include <algorithm>
+
+#include "aggpack/core/error.hpp"
+
+namespace aggpack {
+
+PackingReport analyze_packing(const ParticleStore& particles, const Container& container,
+                              const AnalysisRequest& request) {
+  if (particles.empty()) throw InputError("the packing has no particles to analyse");
+  PackingReport report;
+  report.bed = measure_bed(particles, container);
+  const BedGeometry& bed = report.bed;
+
+  std::vector<Box> boxes = request.boxes;
+  for (double side : request.cube_sides) boxes.push_back(place_virtual_cube(side, container, bed));
+  if (boxes.empty()) {
+    const double width = std::min(container.length_x(), container.length_y());
+    const double horizontal = container.periodic ? width : width - 2.0 * bed.d_max;
+    const double largest = std::min(horizontal, bed.surface - bed.floor - 2.0 * bed.d_max);
+    if (largest <= 0.0)
+      throw InputError("the bed is too small for a virtual box that keeps one d_max from the walls, the floor "
+                       "and the free surface; give a box explicitly");
+    boxes.push_back(place_virtual_cube(largest, container, bed));
+  }
+  for (const Box& b : boxes)
+    if (!(b.hi.x > b.lo.x && b.hi.y > b.lo.y && b.hi.z > b.lo.z))
+      throw InputError("a box must have hi > lo on every axis");
+  report.density = measure_density(particles, container, boxes);
+
+  const auto largest = std::max_element(boxes.begin(), boxes.end(),
+                                        [](const Box& a, const Box& b) { return a.volume() < b.volume(); });
+  report.coordination = measure_coordination(particles, container, *largest, request.contact_tolerance);
+
+  const double slice = request.slice_thickness.value_or(0.25 * bed.d_max);
+  const double shell = request.shell_thickness.value_or(0.25 * bed.d_max);
+  report.vertical = vertical_profile(particles, container, slice);
+  report.wall_profile_z_lo = bed.floor + bed.d_max;
+  report.wall_profile_z_hi = bed.surface - bed.d_max;
+  report.wall = wall_distance_profile(particles, container, shell, report.wall_profile_z_lo, report.wall_profile_z_hi);
+  return report;
+}
+
+namespace {
+nlohmann::json vec(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+}  // namespace
+
+nlohmann::json to_json(const DensityResult& density) {
+  nlohmann::json boxes = nlohmann::json::array();
+  for (const auto& b : density.boxes)
+    boxes.push_back({{"side_m", b.side}, {"lo", vec(b.box.lo)}, {"hi", vec(b.box.hi)}, {"density", b.density}});
+  return {{"boxes", boxes}, {"mean", density.mean}, {"sd", density.sd}};
+}
+
+nlohmann::json to_json(const PackingReport& r) {
+  nlohmann::json j;
+  j["density"] = to_json(r.density);
+  j["bed"] = {{"floor_m", r.bed.floor}, {"surface_m", r.bed.surface}, {"top_m", r.bed.top},
+              {"d_min_m", r.bed.d_min}, {"d_max_m", r.bed.d_max}};
+  j["coordination"] = {{"mean", r.coordination.mean},
+                       {"particles_counted", r.coordination.particles_counted},
+                       {"histogram", r.coordination.histogram},
+                       {"relative_tolerance", r.coordination.relative_tolerance}};
+  j["profiles"]["vertical"] = {{"z_m", r.vertical.position}, {"solid_fraction", r.vertical.solid_fraction}};
+  j["profiles"]["wall_distance"] = {{"distance_m", r.wall.position},
+                                    {"solid_fraction", r.wall.solid_fraction},
+                                    {"z_range_m", {r.wall_profile_z_lo, r.wall_profile_z_hi}}};
+  return j;
+}
+
+}  // namespace aggpack
