@@ -10,33 +10,32 @@ namespace aggpack {
 namespace {
 constexpr double kPi = std::numbers::pi;
 
-double clamp_unit(double x) { return std::clamp(x, -1.0, 1.0); }
 
 // For one offset t > 0 of the corner region, t * S_t(z) + I_t(z), where
-//   S_t(z) = ∫ sqrt(R² - t² - z²) dz
+//   S_t(z) = ∫ w dz,  w = sqrt(K² - z²),  K² = R² - t²
 //   I_t(z) = ∫ (R² - z²) asin(t / sqrt(R² - z²)) dz   (integrated by parts;
-//            ∫ dz / ((R² - z²) sqrt(K² - z²)) = atan(t z / (R w)) / (R t), K² = R² - t²).
-double offset_antiderivative(double R, double t, double z, double rho, double cubic) {
-  const double K2 = R * R - t * t;
-  const double K = std::sqrt(K2);
-  const double w = std::sqrt(std::max(K2 - z * z, 0.0));
-  const double as = std::asin(clamp_unit(z / K));
+//            ∫ dz / ((R² - z²) w) = atan(t z / (R w)) / (R t)).
+// The caller passes w: asin(z / K) near z = K would turn rounding into sqrt(eps) errors,
+// atan2(z, w) with an accurate w does not.
+double offset_antiderivative(double R, double t, double z, double w, double cubic) {
+  const double K2 = z * z + w * w;
+  const double as = std::atan2(z, w);  // asin(z / K)
   const double S = 0.5 * (z * w + K2 * as);
   const double J = (2.0 / 3.0) * R * R * R * std::atan2(t * z, R * w) -
                    (2.0 / 3.0) * t * R * R * as + (t / 6.0) * (K2 * as - z * w);
-  const double I = cubic * std::asin(clamp_unit(t / rho)) - J;
+  const double I = cubic * std::atan2(t, w) - J;  // asin(t / rho), rho² = t² + w²
   return t * S + I;
 }
 
 // Antiderivative in z of A(z), the area of the disc of radius sqrt(R² - z²) with x > a, y > b
 // (a, b >= 0, valid while a² + b² <= R² - z²):
 //   A = ab + ½ρ²(π/2 - asin(a/ρ) - asin(b/ρ)) - ½ a sqrt(ρ² - a²) - ½ b sqrt(ρ² - b²).
-double corner_antiderivative(double R, double a, double b, double z) {
-  const double rho = std::sqrt(std::max(R * R - z * z, 0.0));
+// w_a = sqrt(R² - a² - z²) and w_b = sqrt(R² - b² - z²) are given by the caller.
+double corner_antiderivative(double R, double a, double b, double z, double w_a, double w_b) {
   const double cubic = R * R * z - z * z * z / 3.0;  // ∫ (R² - z²) dz
   double f = a * b * z + 0.25 * kPi * cubic;
-  if (a > 0.0) f -= 0.5 * offset_antiderivative(R, a, z, rho, cubic);
-  if (b > 0.0) f -= 0.5 * offset_antiderivative(R, b, z, rho, cubic);
+  if (a > 0.0) f -= 0.5 * offset_antiderivative(R, a, z, w_a, cubic);
+  if (b > 0.0) f -= 0.5 * offset_antiderivative(R, b, z, w_b, cubic);
   return f;
 }
 
@@ -118,11 +117,15 @@ double ball_wedge_volume(double R, double b, double c) {
 }
 
 double ball_corner_volume(double R, double a, double b, double c) {
-  const double rho2_min = a * a + b * b;
-  if (rho2_min + c * c >= R * R) return 0.0;
-  const double z_top = std::sqrt(R * R - rho2_min);
-  const double v = corner_antiderivative(R, a, b, z_top) - corner_antiderivative(R, a, b, c);
-  return std::max(v, 0.0);
+  // Beyond the corner (a, b, c) the ball has depth D = R² - a² - b² - c² > 0.
+  const double D = R * R - a * a - b * b - c * c;
+  if (D <= 0.0) return 0.0;
+  // Integrate over z from c to z_top, where the disc shrinks to the corner (a, b).
+  // There w_a = b and w_b = a exactly; at z = c they are sqrt(D + b²) and sqrt(D + a²).
+  const double z_top = std::sqrt(D + c * c);
+  const double upper = corner_antiderivative(R, a, b, z_top, b, a);
+  const double lower = corner_antiderivative(R, a, b, c, std::sqrt(D + b * b), std::sqrt(D + a * a));
+  return std::max(upper - lower, 0.0);
 }
 
 double sphere_box_volume(const Vec3& centre, double radius, const Box& box) {

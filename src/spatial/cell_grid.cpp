@@ -26,27 +26,24 @@ CellGrid::CellGrid(std::span<const Vec3> positions, const Container& container, 
     hi.y = container.bounds.hi.y;
   }
   lo_ = lo;
-  cell_ = std::max(reach, 1e-300);
-  const auto count = [&](double extent) {
-    // Cap the cell count so a tiny reach in a large domain cannot exhaust memory.
-    const double n = std::floor(extent / cell_);
-    return static_cast<int>(std::clamp(n, 1.0, 1024.0));
+  // Per axis n = floor(extent / reach) cells of width extent / n >= reach, so that the
+  // cells tile a periodic side exactly. The cap keeps a tiny reach from exhausting memory.
+  const auto axis = [&](double extent, int& n, double& width) {
+    n = static_cast<int>(std::clamp(std::floor(extent / std::max(reach, 1e-300)), 1.0, 1024.0));
+    width = std::max(extent, 1e-300) / n;
   };
-  if (periodic_) {
-    // Periodic cells must tile the period exactly.
-    // Periodic cells must tile the period exactly (square footprint).
-    nx_ = ny_ = count(period_);
-    cell_ = std::max(cell_, period_ / nx_);
-  } else {
-    nx_ = count(hi.x - lo.x);
-    ny_ = count(hi.y - lo.y);
+  axis(hi.x - lo.x, nx_, cell_.x);
+  axis(hi.y - lo.y, ny_, cell_.y);
+  axis(hi.z - lo.z, nz_, cell_.z);
+  // No more cells than a few per sphere: merge cells along the finest axis (never below 1).
+  const std::size_t max_cells = 8 * positions.size() + 64;
+  while (static_cast<std::size_t>(nx_) * ny_ * nz_ > max_cells) {
+    int& n = (nx_ >= ny_ && nx_ >= nz_) ? nx_ : (ny_ >= nz_ ? ny_ : nz_);
+    double& width = (&n == &nx_) ? cell_.x : (&n == &ny_ ? cell_.y : cell_.z);
+    const double extent = width * n;
+    n = std::max(1, n / 2);
+    width = extent / n;
   }
-  nz_ = count(hi.z - lo.z);
-  // Non-periodic: make the cells wide enough that nx_ cells cover the extent.
-  if (!periodic_)
-    cell_ = std::max({cell_, (hi.x - lo.x) / nx_, (hi.y - lo.y) / ny_, (hi.z - lo.z) / nz_});
-  else
-    cell_ = std::max(cell_, (hi.z - lo.z) / nz_);
 
   const std::size_t cells = static_cast<std::size_t>(nx_) * ny_ * nz_;
   cell_start_.assign(cells + 1, 0);
@@ -54,8 +51,9 @@ CellGrid::CellGrid(std::span<const Vec3> positions, const Container& container, 
   for (std::size_t i = 0; i < positions.size(); ++i) {
     const Vec3& p = positions[i];
     const std::size_t c =
-        (static_cast<std::size_t>(cell_coord(p.z, lo_.z, nz_)) * ny_ + cell_coord(p.y, lo_.y, ny_)) * nx_ +
-        cell_coord(p.x, lo_.x, nx_);
+        (static_cast<std::size_t>(cell_coord(p.z, lo_.z, cell_.z, nz_)) * ny_ + cell_coord(p.y, lo_.y, cell_.y, ny_)) *
+            nx_ +
+        cell_coord(p.x, lo_.x, cell_.x, nx_);
     cell_of[i] = static_cast<std::uint32_t>(c);
     ++cell_start_[c + 1];
   }
@@ -65,8 +63,8 @@ CellGrid::CellGrid(std::span<const Vec3> positions, const Container& container, 
   for (std::size_t i = 0; i < positions.size(); ++i) members_[fill[cell_of[i]]++] = static_cast<std::uint32_t>(i);
 }
 
-int CellGrid::cell_coord(double v, double lo, int n) const {
-  const double c = std::floor((v - lo) / cell_);
+int CellGrid::cell_coord(double v, double lo, double width, int n) {
+  const double c = std::floor((v - lo) / width);
   return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(n - 1)));
 }
 

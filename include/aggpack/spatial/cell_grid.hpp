@@ -25,10 +25,10 @@ class CellGrid {
   [[nodiscard]] Vec3 separation(const Vec3& a, const Vec3& b) const;
 
  private:
-  [[nodiscard]] int cell_coord(double v, double lo, int n) const;
+  [[nodiscard]] static int cell_coord(double v, double lo, double width, int n);
 
   Vec3 lo_;
-  double cell_ = 1.0;
+  Vec3 cell_{1.0, 1.0, 1.0};  // cell widths, each >= reach
   int nx_ = 1, ny_ = 1, nz_ = 1;
   bool periodic_ = false;
   double period_ = 0.0;
@@ -38,9 +38,9 @@ class CellGrid {
 
 template <class Visit>
 void CellGrid::for_each_candidate(const Vec3& p, Visit&& visit) const {
-  const int cx = cell_coord(p.x, lo_.x, nx_);
-  const int cy = cell_coord(p.y, lo_.y, ny_);
-  const int cz = cell_coord(p.z, lo_.z, nz_);
+  const int cx = cell_coord(p.x, lo_.x, cell_.x, nx_);
+  const int cy = cell_coord(p.y, lo_.y, cell_.y, ny_);
+  const int cz = cell_coord(p.z, lo_.z, cell_.z, nz_);
   // With fewer than 3 periodic cells the wrapped offsets would visit a cell twice: scan the row.
   const bool whole_x = periodic_ && nx_ < 3, whole_y = periodic_ && ny_ < 3;
   const int lo_x = whole_x ? 0 : cx - 1, hi_x = whole_x ? nx_ - 1 : cx + 1;

@@ -1,0 +1,87 @@
+#include "aggpack/io/particle_file.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/io/vtk.hpp"
+
+namespace aggpack {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path write_temp(const std::string& name, const std::string& text) {
+  const fs::path f = fs::temp_directory_path() / ("aggpack_pf_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(f) << text;
+  return f;
+}
+
+TEST(ParticleFile, CsvColumnsInAnyOrderWithDiameterAndUnits) {
+  const auto f = write_temp("a.csv", "# made elsewhere\nid, Diameter ,z,y,x,extra\n0,2,3,2,1,foo\n\n1,1,6,5,4,bar\n");
+  const ParticleStore p = read_particle_file(f, 0.0254, 1000.0);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_DOUBLE_EQ(p.position[0].x, 0.0254);
+  EXPECT_DOUBLE_EQ(p.position[0].z, 3 * 0.0254);
+  EXPECT_DOUBLE_EQ(p.radius[0], 0.0254);
+  EXPECT_DOUBLE_EQ(p.position[1].y, 5 * 0.0254);
+  fs::remove(f);
+}
+
+TEST(ParticleFile, WhitespaceXyzr) {
+  const auto f = write_temp("b.txt", "# x y z r\n1 2 3 0.5\n  4\t5 6 0.25 \n");
+  const ParticleStore p = read_particle_file(f, 1.0, 1.0);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_DOUBLE_EQ(p.radius[1], 0.25);
+  EXPECT_DOUBLE_EQ(p.position[1].y, 5.0);
+  fs::remove(f);
+}
+
+TEST(ParticleFile, RoundTripThroughOurCsvIsExact) {
+  ParticleStore p;
+  p.add({0.1, 1.0 / 3.0, 2.0 / 7.0}, 0.0127, 1.0);
+  p.add({1e-17, 5.5, 0.75}, 3e-5, 1.0);
+  const auto f = write_temp("c.csv", particles_csv(p));
+  const ParticleStore q = read_particle_file(f, 1.0, 1.0);
+  ASSERT_EQ(q.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(q.position[i], p.position[i]);
+    EXPECT_EQ(q.radius[i], p.radius[i]);
+  }
+  fs::remove(f);
+}
+
+TEST(ParticleFile, ErrorsNameTheFileAndLine) {
+  const auto expect_error = [](const std::string& text, const std::string& part) {
+    const auto f = write_temp("e.csv", text);
+    try {
+      read_particle_file(f, 1.0, 1.0);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+    fs::remove(f);
+  };
+  expect_error("x,y,r\n1,2,3\n", "e.csv:1: a CSV particle file needs a header");
+  expect_error("x,y,z,r\n1,2,3,0.5\n1,2,oops,0.5\n", "e.csv:3: field 3 (\"oops\") is not a number");
+  expect_error("x,y,z,r\n1,2,3\n", "e.csv:2: expected 4 comma-separated fields");
+  expect_error("1 2 3 -1\n", "e.csv:1: the radius must be positive");
+  expect_error("# nothing\n", "no particles");
+}
+
+TEST(Vtk, PolyDataHasRadiusDiameterAndIdArrays) {
+  ParticleStore p;
+  p.add({1, 2, 3}, 0.5, 1.0);
+  const std::string vtp = particles_vtp(p);
+  EXPECT_NE(vtp.find("type=\"PolyData\""), std::string::npos);
+  EXPECT_NE(vtp.find("Name=\"radius\""), std::string::npos);
+  EXPECT_NE(vtp.find("Name=\"diameter\""), std::string::npos);
+  EXPECT_NE(vtp.find("Name=\"id\""), std::string::npos);
+  EXPECT_NE(vtp.find("NumberOfPoints=\"1\""), std::string::npos);
+  EXPECT_NE(vtp.find("1 2 3\n"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace aggpack

@@ -1,0 +1,143 @@
+#include "aggpack/io/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/io/toml_reader.hpp"
+
+namespace aggpack {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ScenarioTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("aggpack_scenario_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    std::ofstream(dir_ / "p.csv") << "x,y,z,r\n0.5,0.5,0.5,0.1\n";
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path write(const std::string& text) {
+    const fs::path f = dir_ / "s.toml";
+    std::ofstream(f) << text;
+    return f;
+  }
+  fs::path dir_;
+};
+
+constexpr const char* kGood = R"(title = "ok"
+seed = 7
+[container]
+side = "12 in"
+height = "1 m"
+[particles]
+from = "p.csv"
+[analysis]
+box_sides = ["6 in", 0.2]
+)";
+
+TEST_F(ScenarioTest, AGoodScenarioIsReadInSIUnits) {
+  const Scenario sc = load_scenario(write(kGood));
+  EXPECT_EQ(sc.seed, 7u);
+  EXPECT_DOUBLE_EQ(sc.container.length_x(), 12 * 0.0254);
+  EXPECT_DOUBLE_EQ(sc.container.height(), 1.0);
+  EXPECT_FALSE(sc.container.periodic);
+  ASSERT_EQ(sc.analysis.box_sides.size(), 2u);
+  EXPECT_DOUBLE_EQ(sc.analysis.box_sides[0], 6 * 0.0254);
+  EXPECT_EQ(sc.particles.file->filename(), "p.csv");
+  EXPECT_EQ(sc.output.directory, "out/s");
+  EXPECT_DOUBLE_EQ(to_json(sc)["container"]["side_m"].get<double>(), 12 * 0.0254);
+}
+
+TEST_F(ScenarioTest, SetOverridesAnyKeyAndItsErrorsNameTheOption) {
+  ScenarioOverrides o;
+  o.set = {"container.sides=periodic", "container.side=\"10 in\"", "analysis.contact_tolerance=0.01", "seed=9"};
+  const Scenario sc = load_scenario(write(kGood), o);
+  EXPECT_TRUE(sc.container.periodic);
+  EXPECT_DOUBLE_EQ(sc.container.length_x(), 0.254);
+  EXPECT_DOUBLE_EQ(sc.analysis.contact_tolerance, 0.01);
+  EXPECT_EQ(sc.seed, 9u);
+  o.set = {"container.side=\"-3 in\""};
+  try {
+    load_scenario(write(kGood), o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--set container.side="), std::string::npos) << e.what();
+  }
+}
+
+struct BadCase {
+  const char* name;
+  std::string text;
+  std::vector<std::string> expected;  // substrings of the message: location, key, what
+};
+
+TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
+  const std::string head = "[container]\nside = \"12 in\"\nheight = \"24 in\"\n";
+  const std::string particles = "[particles]\nfrom = \"p.csv\"\n";
+  const std::vector<BadCase> cases = {
+      {"typo in a key", head + particles + "[analysis]\nbox_side = [\"6 in\"]\n",
+       {"s.toml:7:", "analysis.box_side", "unknown key", "did you mean 'box_sides'"}},
+      {"typo in a section", head + particles + "[materail]\ndensity = 2650\n",
+       {"s.toml:6:", "materail", "did you mean 'material'"}},
+      {"wrong type", head + particles + "[material]\ndensity = \"heavy\"\n",
+       {"s.toml:7:", "material.density", "expected a positive number", "got a string"}},
+      {"out of range", head + particles + "[material]\nrestitution = 1.5\n",
+       {"s.toml:7:", "material.restitution", "(0, 1]", "1.5"}},
+      {"negative length", "[container]\nside = \"-12 in\"\nheight = \"24 in\"\n" + particles,
+       {"s.toml:2:", "container.side", "positive"}},
+      {"unknown unit", "[container]\nside = \"12 furlongs\"\nheight = \"24 in\"\n" + particles,
+       {"s.toml:2:", "container.side", "unknown length unit 'furlongs'"}},
+      {"missing required key", "[container]\nside = \"12 in\"\n" + particles,
+       {"s.toml:1:", "container.height", "missing required key 'height'"}},
+      {"missing section", particles, {"s.toml", "container", "missing required key 'container'"}},
+      {"bad choice", "[container]\nside = 1\nheight = 1\nsides = \"wrap\"\n" + particles,
+       {"s.toml:4:", "container.sides", "\"walls\", \"periodic\"", "\"wrap\""}},
+      {"negative seed", "seed = -1\n" + head + particles, {"s.toml:1:", "seed", "an integer in [0,"}},
+      {"float seed", "seed = 1.5\n" + head + particles, {"s.toml:1:", "seed", "got a float"}},
+      {"two particle sources", head + "[particles]\nfrom = \"p.csv\"\ndiameter = \"1 in\"\ncount = 3\n",
+       {"particles.from", "exactly one of"}},
+      {"no particle source", head + "[particles]\ncount = 3\n", {"particles", "exactly one of"}},
+      {"class without amount", head + "[particles]\nclasses = [{ diameter = \"1 in\" }]\n",
+       {"s.toml:5:", "particles.classes[0]", "exactly one of 'count' and 'volume_fraction'"}},
+      {"fractions not adding up",
+       head + "[particles]\ncount = 10\nclasses = [{ diameter = \"1 in\", volume_fraction = 0.5 },"
+              " { diameter = \"2 in\", volume_fraction = 0.4 }]\n",
+       {"particles.classes", "add up to 1", "0.9"}},
+      {"unknown output format", head + particles + "[output]\nformats = [\"stl\"]\n",
+       {"s.toml:7:", "output.formats", "\"stl\""}},
+      {"stage not available yet", head + particles + "[deposition]\n",
+       {"s.toml:6:", "deposition", "not available"}},
+      {"sizes but no stage", head + "[particles]\ndiameter = \"1 in\"\ncount = 10\n",
+       {"s.toml:5:", "no stage places them"}},
+      {"syntax error", "[container\nside = 1\n", {"s.toml:1:", "TOML syntax error"}},
+      {"box side list of numbers with bad unit", head + particles + "[analysis]\nbox_sides = [\"6 in\", \"7 inch\"]\n",
+       {"s.toml:7:", "analysis.box_sides[1]", "unknown length unit 'inch'"}},
+  };
+  for (const auto& c : cases) {
+    try {
+      load_scenario(write(c.text));
+      ADD_FAILURE() << c.name << ": accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      for (const auto& part : c.expected) EXPECT_NE(msg.find(part), std::string::npos) << c.name << ": " << msg;
+    }
+  }
+}
+
+TEST_F(ScenarioTest, AMissingFileIsAnInputError) {
+  EXPECT_THROW(load_scenario(dir_ / "nope.toml"), InputError);
+}
+
+TEST(EditDistance, CountsSingleEdits) {
+  EXPECT_EQ(edit_distance("box_sides", "box_side"), 1u);
+  EXPECT_EQ(edit_distance("materail", "material"), 2u);
+  EXPECT_EQ(edit_distance("", "abc"), 3u);
+}
+
+}  // namespace
+}  // namespace aggpack
