@@ -19,11 +19,15 @@ constexpr double kPi = std::numbers::pi;
 // atan2(z, w) with an accurate w does not.
 double offset_antiderivative(double R, double t, double z, double w, double cubic) {
   const double K2 = z * z + w * w;
-  const double as = std::atan2(z, w);  // asin(z / K)
+  // At the top of a wedge w = 0 exactly and every angle below is a right angle (z, t > 0).
+  const bool pole = w == 0.0;
+  const double half_pi = 0.5 * kPi;
+  const double as = pole ? half_pi : std::atan2(z, w);                        // asin(z / K)
+  const double at = pole ? half_pi : std::atan2(t * z, R * w);
+  const double asin_t_rho = pole ? half_pi : std::atan2(t, w);                // asin(t / rho)
   const double S = 0.5 * (z * w + K2 * as);
-  const double J = (2.0 / 3.0) * R * R * R * std::atan2(t * z, R * w) -
-                   (2.0 / 3.0) * t * R * R * as + (t / 6.0) * (K2 * as - z * w);
-  const double I = cubic * std::atan2(t, w) - J;  // asin(t / rho), rho² = t² + w²
+  const double J = (2.0 / 3.0) * R * R * R * at - (2.0 / 3.0) * t * R * R * as + (t / 6.0) * (K2 * as - z * w);
+  const double I = cubic * asin_t_rho - J;  // rho² = t² + w²
   return t * S + I;
 }
 
