@@ -4,18 +4,19 @@
 
 namespace aggpack {
 
-std::string particles_vtp(const ParticleStore& particles) {
+std::string particles_vtp(const ParticleStore& particles, std::string_view provenance) {
   const std::size_t n = particles.size();
   fmt::memory_buffer out;
   auto o = std::back_inserter(out);
   fmt::format_to(o,
                  "<?xml version=\"1.0\"?>\n"
+                 "<!-- {} -->\n"
                  "<VTKFile type=\"PolyData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
                  "  <PolyData>\n"
                  "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
                  "NumberOfPolys=\"0\">\n"
                  "      <PointData Scalars=\"radius\">\n",
-                 n, n);
+                 provenance, n, n);
   const auto array = [&](const char* name, auto&& value) {
     fmt::format_to(o, "        <DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", name);
     for (std::size_t i = 0; i < n; ++i) fmt::format_to(o, "{}\n", value(i));

@@ -125,7 +125,8 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   const auto& dir = sc.output.directory;
   std::filesystem::create_directories(dir);
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(particles));
-  if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(particles));
+  const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
+  if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(particles, provenance));
   wall_clock["output"] = seconds_since(t0);
   wall_clock["total"] = seconds_since(t_start);
   summary["wall_clock_s"] = wall_clock;

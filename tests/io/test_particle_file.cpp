@@ -74,7 +74,8 @@ TEST(ParticleFile, ErrorsNameTheFileAndLine) {
 TEST(Vtk, PolyDataHasRadiusDiameterAndIdArrays) {
   ParticleStore p;
   p.add({1, 2, 3}, 0.5, 1.0);
-  const std::string vtp = particles_vtp(p);
+  const std::string vtp = particles_vtp(p, "aggpack test, seed 3");
+  EXPECT_NE(vtp.find("<!-- aggpack test, seed 3 -->"), std::string::npos);
   EXPECT_NE(vtp.find("type=\"PolyData\""), std::string::npos);
   EXPECT_NE(vtp.find("Name=\"radius\""), std::string::npos);
   EXPECT_NE(vtp.find("Name=\"diameter\""), std::string::npos);
