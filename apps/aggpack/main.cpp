@@ -38,24 +38,12 @@ aggpack::Box box_argument(const std::string& text) {
   return {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
 }
 
-// Bounding box of the spheres: the container of a packing made elsewhere.
-aggpack::Container bounding_container(const aggpack::ParticleStore& p) {
-  aggpack::Box b{p.position[0], p.position[0]};
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const auto& c = p.position[i];
-    const double r = p.radius[i];
-    b.lo = {std::min(b.lo.x, c.x - r), std::min(b.lo.y, c.y - r), std::min(b.lo.z, c.z - r)};
-    b.hi = {std::max(b.hi.x, c.x + r), std::max(b.hi.y, c.y + r), std::max(b.hi.z, c.z + r)};
-  }
-  return {b, false};
-}
-
 int analyze_command(const std::string& file, const std::vector<std::string>& boxes,
                     const std::vector<std::string>& cubes, const std::string& unit, double tolerance, bool json) {
   const auto factor = aggpack::metres_per_unit(unit);
   if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit", unit));
   const auto particles = aggpack::read_particle_file(file, static_cast<double>(*factor), 1.0);
-  const auto container = bounding_container(particles);
+  const auto container = aggpack::bounding_container(particles);
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
   for (const auto& b : boxes) request.boxes.push_back(box_argument(b));

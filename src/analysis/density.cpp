@@ -12,7 +12,7 @@ namespace aggpack {
 
 namespace {
 // Calls visit(centre) for the sphere and, in a periodic container, each image of it
-// that reaches into the footprint [0, L)^2 from outside.
+// that reaches into the footprint from outside.
 template <class Visit>
 void for_each_image(const Vec3& p, double r, const Container& container, Visit&& visit) {
   if (!container.periodic) {
@@ -33,22 +33,6 @@ void for_each_image(const Vec3& p, double r, const Container& container, Visit&&
     for (int j = 0; j < ny; ++j) visit(Vec3{p.x + sx[i], p.y + sy[j], p.z});
 }
 
-// Adds each sphere's exact volume in every bin it reaches; bins are boxes from bin_box(k).
-template <class BinRange, class BinBox>
-std::vector<double> binned_volume(const ParticleStore& particles, const Container& container,
-                                  std::size_t bins, BinRange&& bin_range, BinBox&& bin_box) {
-  std::vector<double> volume(bins, 0.0);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const double r = particles.radius[i];
-    for_each_image(particles.position[i], r, container, [&](const Vec3& c) {
-      auto [first, last] = bin_range(c, r);
-      for (long k = std::max(first, 0L); k <= std::min(last, static_cast<long>(bins) - 1); ++k)
-        volume[k] += sphere_box_volume(c, r, bin_box(k));
-    });
-  }
-  return volume;
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   const auto mid = v.begin() + static_cast<long>(v.size() / 2);
@@ -56,6 +40,18 @@ double median(std::vector<double> v) {
   return *mid;
 }
 }  // namespace
+
+Container bounding_container(const ParticleStore& particles) {
+  if (particles.empty()) return {};
+  Box b{particles.position[0], particles.position[0]};
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec3& c = particles.position[i];
+    const double r = particles.radius[i];
+    b.lo = {std::min(b.lo.x, c.x - r), std::min(b.lo.y, c.y - r), std::min(b.lo.z, c.z - r)};
+    b.hi = {std::max(b.hi.x, c.x + r), std::max(b.hi.y, c.y + r), std::max(b.hi.z, c.z + r)};
+  }
+  return {b, false};
+}
 
 double solid_volume_in_box(const ParticleStore& particles, const Container& container, const Box& box) {
   double volume = 0.0;
@@ -68,28 +64,32 @@ double solid_volume_in_box(const ParticleStore& particles, const Container& cont
 }
 
 Profile vertical_profile(const ParticleStore& particles, const Container& container, double thickness) {
-  Profile profile;
-  double top = 0.0;
+  const Box& footprint = container.bounds;
+  const double z0 = footprint.lo.z;
+  double top = z0;
   for (std::size_t i = 0; i < particles.size(); ++i)
     top = std::max(top, particles.position[i].z + particles.radius[i]);
-  const Box footprint = container.bounds;
-  const double z0 = footprint.lo.z;
-  const auto bins = static_cast<std::size_t>(std::max(1.0, std::ceil((top - z0) / thickness)));
-  const auto slab = [&](long k) {
-    Box b = footprint;
-    b.lo.z = z0 + thickness * static_cast<double>(k);
-    b.hi.z = b.lo.z + thickness;
-    return b;
-  };
-  const auto range = [&](const Vec3& c, double r) {
-    return std::pair<long, long>{static_cast<long>(std::floor((c.z - r - z0) / thickness)),
-                                 static_cast<long>(std::floor((c.z + r - z0) / thickness))};
-  };
-  const auto volume = binned_volume(particles, container, bins, range, slab);
-  const double slab_volume = footprint.size().x * footprint.size().y * thickness;
-  for (std::size_t k = 0; k < bins; ++k) {
+  const auto bins = static_cast<long>(std::max(1.0, std::ceil((top - z0) / thickness)));
+  // Each sphere adds its exact volume to the slices it reaches.
+  std::vector<double> volume(static_cast<std::size_t>(bins), 0.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const double r = particles.radius[i];
+    for_each_image(particles.position[i], r, container, [&](const Vec3& c) {
+      const long first = std::max(0L, static_cast<long>(std::floor((c.z - r - z0) / thickness)));
+      const long last = std::min(bins - 1, static_cast<long>(std::floor((c.z + r - z0) / thickness)));
+      for (long k = first; k <= last; ++k) {
+        Box slab = footprint;
+        slab.lo.z = z0 + thickness * static_cast<double>(k);
+        slab.hi.z = slab.lo.z + thickness;
+        volume[static_cast<std::size_t>(k)] += sphere_box_volume(c, r, slab);
+      }
+    });
+  }
+  Profile profile;
+  const double slab_volume = container.length_x() * container.length_y() * thickness;
+  for (long k = 0; k < bins; ++k) {
     profile.position.push_back(z0 + thickness * (static_cast<double>(k) + 0.5));
-    profile.solid_fraction.push_back(volume[k] / slab_volume);
+    profile.solid_fraction.push_back(volume[static_cast<std::size_t>(k)] / slab_volume);
   }
   return profile;
 }

@@ -122,3 +122,23 @@ TEST(Density, MeanAndSampleStandardDeviationOverBoxes) {
 
 }  // namespace
 }  // namespace aggpack
+
+namespace aggpack {
+namespace {
+
+TEST(Density, BoundingContainerAndProfilesOfAFloorBelowZero) {
+  ParticleStore p;
+  p.add({1.0, 2.0, -3.0}, 0.5, 1.0);
+  p.add({2.0, 2.5, -2.0}, 0.25, 1.0);
+  const Container c = bounding_container(p);
+  EXPECT_EQ(c.bounds.lo, (Vec3{0.5, 1.5, -3.5}));
+  EXPECT_EQ(c.bounds.hi, (Vec3{2.25, 2.75, -1.75}));
+  const Profile v = vertical_profile(p, c, 0.25);
+  ASSERT_EQ(v.position.size(), 7u);  // floor -3.5 to top -1.75
+  double solid = 0.0;
+  for (double f : v.solid_fraction) solid += f * c.length_x() * c.length_y() * 0.25;
+  EXPECT_NEAR(solid, 4.0 / 3.0 * std::numbers::pi * (0.125 + 0.015625), 1e-12);
+}
+
+}  // namespace
+}  // namespace aggpack

@@ -8,6 +8,9 @@
 
 namespace aggpack {
 
+// The container of a packing made elsewhere: the bounding box of its spheres, with walls.
+Container bounding_container(const ParticleStore& particles);
+
 // Exact solid volume of all spheres inside `box`. In a periodic container the images
 // of spheres that cross the x or y boundary count too.
 double solid_volume_in_box(const ParticleStore& particles, const Container& container, const Box& box);
