@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "aggpack/spatial/cell_grid.hpp"
+#include "aggpack/spatial/multilevel_grid.hpp"
 
 namespace aggpack {
 
@@ -13,10 +13,12 @@ std::vector<int> count_contacts(const ParticleStore& particles, const Container&
   std::vector<int> counts(particles.size(), 0);
   if (particles.empty()) return counts;
   const double r_max = *std::max_element(particles.radius.begin(), particles.radius.end());
-  const CellGrid grid(particles.position, container, 2.0 * r_max * (1.0 + tol));
+  MultilevelGrid grid(container, particles.radius, container.bounds.volume());
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    grid.insert(static_cast<std::uint32_t>(i), particles.position[i], particles.radius[i]);
   for (std::size_t i = 0; i < particles.size(); ++i) {
     if (!keep(i)) continue;
-    grid.for_each_candidate(particles.position[i], [&](std::uint32_t j) {
+    grid.for_each_near(particles.position[i], particles.radius[i] * (1.0 + tol) + r_max * tol, [&](std::uint32_t j) {
       if (j == i) return;
       const double reach = (particles.radius[i] + particles.radius[j]) * (1.0 + tol);
       if (norm2(grid.separation(particles.position[i], particles.position[j])) <= reach * reach)

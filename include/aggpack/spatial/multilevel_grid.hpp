@@ -1,0 +1,124 @@
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "aggpack/core/container.hpp"
+#include "aggpack/core/vec3.hpp"
+
+namespace aggpack {
+
+// A dynamic multilevel cell grid (Ogarko and Luding, Comput. Phys. Commun. 183, 2012):
+// spheres are binned by radius into levels a factor of two apart, and each level has its
+// own cell size, so a query costs O(1) per neighbour however wide the size range. Cells
+// hold singly linked lists (4 bytes per cell and per sphere); z layers are allocated as
+// the bed grows, so a tall, mostly empty container costs nothing. Periodic containers wrap
+// x and y; elsewhere coordinates outside the container are clamped into the edge cells.
+class MultilevelGrid {
+ public:
+  // `radii` are all the radii that will ever be inserted (they choose the levels and their
+  // cell sizes); `bed_volume` is the expected volume the spheres will occupy, used to keep
+  // the cells of sparse levels coarse enough that no level has many more cells than spheres.
+  MultilevelGrid(const Container& container, std::span<const double> radii, double bed_volume);
+
+  void reserve(std::size_t sphere_count) { next_.reserve(sphere_count); }
+
+  // Registers sphere `id` (ids need not be dense, but memory grows with the largest id).
+  void insert(std::uint32_t id, const Vec3& centre, double radius);
+
+  // Calls visit(k) once for every sphere k that may have |c_k - p| <= reach + r_k
+  // (a superset: the caller tests the exact distance).
+  template <class Visit>
+  void for_each_near(const Vec3& p, double reach, Visit&& visit) const;
+
+  // For a sphere of radius r falling down the vertical line through p: calls visit(k) for the
+  // spheres k whose horizontal distance may be below r + r_k and whose centre is at most
+  // p.z, scanning each cell column from the top down. A column is left as soon as its next
+  // cell cannot hold a centre above stop_height() - r - r_max(level), so passing the best
+  // hit found so far gives an early exit.
+  template <class Visit, class StopHeight>
+  void for_each_below(const Vec3& p, double r, Visit&& visit, StopHeight&& stop_height) const;
+
+  // Displacement b - a, by the minimum image where the container is periodic.
+  [[nodiscard]] Vec3 separation(const Vec3& a, const Vec3& b) const;
+
+  [[nodiscard]] std::size_t level_count() const { return levels_.size(); }
+  [[nodiscard]] std::size_t memory_bytes() const;
+
+ private:
+  struct Level {
+    double max_radius = 0.0;  // largest radius binned here
+    double cell_x = 0.0, cell_y = 0.0, cell_z = 0.0;  // cell widths
+    int nx = 1, ny = 1;
+    std::vector<std::uint32_t> head;       // nx*ny per z layer; kEmpty or a sphere id
+    std::vector<std::int32_t> top_layer;   // per column: highest non-empty layer, -1 if none
+    [[nodiscard]] int layers() const { return static_cast<int>(head.size() / (static_cast<std::size_t>(nx) * ny)); }
+  };
+  static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
+
+  [[nodiscard]] std::size_t level_of(double radius) const;
+  [[nodiscard]] int column_index(double v, double lo, double width, int n) const;
+  [[nodiscard]] int layer_index(double z, const Level& level) const;
+  // Cell range [first, last] covering [v - reach, v + reach] on one horizontal axis; with
+  // periodic sides the range may leave [0, n) and callers wrap it (it never exceeds n cells).
+  void axis_range(double v, double reach, double lo, double width, int n, int& first, int& last) const;
+  [[nodiscard]] int wrap(int i, int n) const { return periodic_ ? ((i % n) + n) % n : i; }
+
+  Vec3 lo_;
+  double period_x_ = 0.0, period_y_ = 0.0;
+  bool periodic_ = false;
+  double radius_top_ = 0.0;        // upper radius of level 0
+  std::vector<Level> levels_;      // levels_[0] holds the largest spheres
+  std::vector<std::uint32_t> next_;  // per sphere id: next in its cell's list
+};
+
+template <class Visit>
+void MultilevelGrid::for_each_near(const Vec3& p, double reach, Visit&& visit) const {
+  for (const Level& level : levels_) {
+    const int layers = level.layers();
+    if (layers == 0) continue;
+    const double r = reach + level.max_radius;
+    int x0, x1, y0, y1;
+    axis_range(p.x, r, lo_.x, level.cell_x, level.nx, x0, x1);
+    axis_range(p.y, r, lo_.y, level.cell_y, level.ny, y0, y1);
+    const int z0 = std::max(0, layer_index(p.z - r, level));
+    const int z1 = std::min(layers - 1, layer_index(p.z + r, level));
+    const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
+    for (int iy0 = y0; iy0 <= y1; ++iy0) {
+      const int iy = wrap(iy0, level.ny);
+      for (int ix0 = x0; ix0 <= x1; ++ix0) {
+        const std::size_t column = static_cast<std::size_t>(iy) * level.nx + wrap(ix0, level.nx);
+        const int top = std::min(z1, level.top_layer[column]);
+        for (int iz = z0; iz <= top; ++iz)
+          for (std::uint32_t k = level.head[iz * layer_size + column]; k != kEmpty; k = next_[k]) visit(k);
+      }
+    }
+  }
+}
+
+template <class Visit, class StopHeight>
+void MultilevelGrid::for_each_below(const Vec3& p, double r, Visit&& visit, StopHeight&& stop_height) const {
+  for (const Level& level : levels_) {
+    if (level.layers() == 0) continue;
+    const double reach = r + level.max_radius;
+    int x0, x1, y0, y1;
+    axis_range(p.x, reach, lo_.x, level.cell_x, level.nx, x0, x1);
+    axis_range(p.y, reach, lo_.y, level.cell_y, level.ny, y0, y1);
+    const int start = layer_index(p.z, level);
+    const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
+    for (int iy0 = y0; iy0 <= y1; ++iy0) {
+      const int iy = wrap(iy0, level.ny);
+      for (int ix0 = x0; ix0 <= x1; ++ix0) {
+        const std::size_t column = static_cast<std::size_t>(iy) * level.nx + wrap(ix0, level.nx);
+        for (int iz = std::min(start, level.top_layer[column]); iz >= 0; --iz) {
+          // Centres in this layer are at most lo + (iz+1) cell; their hits at most reach above.
+          if (lo_.z + (iz + 1) * level.cell_z + reach < stop_height()) break;
+          for (std::uint32_t k = level.head[iz * layer_size + column]; k != kEmpty; k = next_[k]) visit(k);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace aggpack

@@ -1,0 +1,118 @@
+#include "aggpack/spatial/multilevel_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace aggpack {
+
+namespace {
+// Cells per horizontal axis: as many as fit at the given minimum width, so that cells tile a
+// periodic side exactly; never fewer than one.
+int cells_along(double extent, double min_width) {
+  return static_cast<int>(std::clamp(std::floor(extent / min_width), 1.0, 65536.0));
+}
+}  // namespace
+
+MultilevelGrid::MultilevelGrid(const Container& container, std::span<const double> radii, double bed_volume)
+    : lo_(container.bounds.lo),
+      period_x_(container.length_x()),
+      period_y_(container.length_y()),
+      periodic_(container.periodic) {
+  if (radii.empty()) return;
+  const auto [min_it, max_it] = std::minmax_element(radii.begin(), radii.end());
+  if (!(*min_it > 0.0)) throw std::invalid_argument("MultilevelGrid: radii must be positive");
+  radius_top_ = *max_it;
+  // Levels a factor of two apart in radius: level l holds radii in (top/2^(l+1), top/2^l].
+  const auto level_count = static_cast<std::size_t>(std::floor(std::log2(radius_top_ / *min_it))) + 1;
+  std::vector<std::size_t> members(level_count, 0);
+  levels_.resize(level_count);
+  for (double r : radii) ++members[std::min(level_count - 1, level_of(r))];
+  for (std::size_t l = 0; l < level_count; ++l) {
+    Level& level = levels_[l];
+    level.max_radius = std::ldexp(radius_top_, -static_cast<int>(l));
+    // A sparse level (few spheres in a large bed) gets cells of about one sphere each.
+    // An empty level (a gap in the size range) gets one cell.
+    const double sparse_cell = members[l] > 0 ? std::cbrt(bed_volume / static_cast<double>(members[l]))
+                                              : std::numeric_limits<double>::infinity();
+    const double min_width = std::max(2.0 * level.max_radius, sparse_cell);
+    level.nx = cells_along(period_x_, min_width);
+    level.ny = cells_along(period_y_, min_width);
+    level.cell_x = period_x_ / level.nx;
+    level.cell_y = period_y_ / level.ny;
+    level.cell_z = std::max(level.cell_x, level.cell_y);
+    level.top_layer.assign(static_cast<std::size_t>(level.nx) * level.ny, -1);
+  }
+}
+
+std::size_t MultilevelGrid::level_of(double radius) const {
+  if (radius >= radius_top_) return 0;
+  const double ratio = radius_top_ / radius;  // > 1
+  auto l = static_cast<std::size_t>(std::floor(std::log2(ratio)));
+  // Exact powers of two belong to the finer-indexed (coarser) level: (top/2^(l+1), top/2^l].
+  if (std::ldexp(radius, static_cast<int>(l)) == radius_top_ && l > 0) --l;
+  return std::min(l, levels_.size() - 1);
+}
+
+int MultilevelGrid::column_index(double v, double lo, double width, int n) const {
+  double c = std::floor((v - lo) / width);
+  if (periodic_) {
+    c = std::fmod(c, static_cast<double>(n));
+    if (c < 0) c += n;
+  }
+  return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(n - 1)));
+}
+
+int MultilevelGrid::layer_index(double z, const Level& level) const {
+  const double c = std::floor((z - lo_.z) / level.cell_z);
+  return static_cast<int>(std::clamp(c, -1.0, 1e9));
+}
+
+void MultilevelGrid::axis_range(double v, double reach, double lo, double width, int n, int& first,
+                                int& last) const {
+  if (periodic_) {
+    first = static_cast<int>(std::floor((v - reach - lo) / width));
+    last = static_cast<int>(std::floor((v + reach - lo) / width));
+    if (last - first + 1 >= n) first = 0, last = n - 1;
+    return;
+  }
+  first = column_index(v - reach, lo, width, n);
+  last = column_index(v + reach, lo, width, n);
+}
+
+void MultilevelGrid::insert(std::uint32_t id, const Vec3& centre, double radius) {
+  if (levels_.empty() || radius > radius_top_ * (1 + 1e-12))
+    throw std::invalid_argument("MultilevelGrid::insert: radius larger than any announced");
+  if (id == kEmpty) throw std::length_error("MultilevelGrid: too many spheres");
+  Level& level = levels_[level_of(radius)];
+  const std::size_t column =
+      static_cast<std::size_t>(column_index(centre.y, lo_.y, level.cell_y, level.ny)) * level.nx +
+      column_index(centre.x, lo_.x, level.cell_x, level.nx);
+  const int iz = std::max(0, layer_index(centre.z, level));
+  const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
+  if (iz >= level.layers()) level.head.resize((static_cast<std::size_t>(iz) + 1) * layer_size, kEmpty);
+  if (next_.size() <= id) next_.resize(static_cast<std::size_t>(id) + 1, kEmpty);
+  std::uint32_t& head = level.head[iz * layer_size + column];
+  next_[id] = head;
+  head = id;
+  level.top_layer[column] = std::max(level.top_layer[column], iz);
+}
+
+Vec3 MultilevelGrid::separation(const Vec3& a, const Vec3& b) const {
+  Vec3 d = b - a;
+  if (periodic_) {
+    d.x -= period_x_ * std::nearbyint(d.x / period_x_);
+    d.y -= period_y_ * std::nearbyint(d.y / period_y_);
+  }
+  return d;
+}
+
+std::size_t MultilevelGrid::memory_bytes() const {
+  std::size_t bytes = next_.capacity() * sizeof(std::uint32_t);
+  for (const Level& level : levels_)
+    bytes += level.head.capacity() * sizeof(std::uint32_t) + level.top_layer.capacity() * sizeof(std::int32_t);
+  return bytes;
+}
+
+}  // namespace aggpack
