@@ -44,7 +44,9 @@ void check_near_against_brute_force(bool periodic, double side, double size_rati
     for (Vec3& p : s.centres) p.x = std::fmod(p.x + side, side), p.y = std::fmod(p.y + side, side);
   }
   const MultilevelGrid grid = filled_grid(s, c);
-  if (size_ratio > 4) EXPECT_GT(grid.level_count(), 2u);
+  if (size_ratio > 4) {
+    EXPECT_GT(grid.level_count(), 2u);
+  }
   std::mt19937_64 gen(seed + 100);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (int q = 0; q < 400; ++q) {
@@ -90,8 +92,9 @@ TEST(MultilevelGrid, ColumnScanSeesEverySphereBelow) {
                           [] { return -std::numeric_limits<double>::infinity(); });
       for (std::size_t k = 0; k < s.radii.size(); ++k) {
         Vec3 d = grid.separation(p, s.centres[k]);
-        if (std::hypot(d.x, d.y) < r + s.radii[k] && s.centres[k].z <= p.z)
+        if (std::hypot(d.x, d.y) < r + s.radii[k] && s.centres[k].z <= p.z) {
           ASSERT_TRUE(found.count(static_cast<std::uint32_t>(k))) << "query " << q << " misses " << k;
+        }
       }
     }
   }
