@@ -69,16 +69,16 @@ int MultilevelGrid::layer_index(double z, const Level& level) const {
   return static_cast<int>(std::clamp(c, -1.0, 1e9));
 }
 
-void MultilevelGrid::axis_range(double v, double reach, double lo, double width, int n, int& first,
+void MultilevelGrid::axis_range(double a, double b, double lo, double width, int n, int& first,
                                 int& last) const {
   if (periodic_) {
-    first = static_cast<int>(std::floor((v - reach - lo) / width));
-    last = static_cast<int>(std::floor((v + reach - lo) / width));
+    first = static_cast<int>(std::floor((a - lo) / width));
+    last = static_cast<int>(std::floor((b - lo) / width));
     if (last - first + 1 >= n) first = 0, last = n - 1;
     return;
   }
-  first = column_index(v - reach, lo, width, n);
-  last = column_index(v + reach, lo, width, n);
+  first = column_index(a, lo, width, n);
+  last = column_index(b, lo, width, n);
 }
 
 void MultilevelGrid::insert(std::uint32_t id, const Vec3& centre, double radius) {

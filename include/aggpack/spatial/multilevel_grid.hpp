@@ -30,7 +30,13 @@ class MultilevelGrid {
   // Calls visit(k) once for every sphere k that may have |c_k - p| <= reach + r_k
   // (a superset: the caller tests the exact distance).
   template <class Visit>
-  void for_each_near(const Vec3& p, double reach, Visit&& visit) const;
+  void for_each_near(const Vec3& p, double reach, Visit&& visit) const {
+    for_each_in_box(p - Vec3{reach, reach, reach}, p + Vec3{reach, reach, reach}, visit);
+  }
+
+  // Calls visit(k) once for every sphere k whose ball may meet the box [lo, hi] (a superset).
+  template <class Visit>
+  void for_each_in_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const;
 
   // For a sphere of radius r falling down the vertical line through p: calls visit(k) for the
   // spheres k whose horizontal distance may be below r + r_k and whose centre is at most
@@ -60,9 +66,9 @@ class MultilevelGrid {
   [[nodiscard]] std::size_t level_of(double radius) const;
   [[nodiscard]] int column_index(double v, double lo, double width, int n) const;
   [[nodiscard]] int layer_index(double z, const Level& level) const;
-  // Cell range [first, last] covering [v - reach, v + reach] on one horizontal axis; with
-  // periodic sides the range may leave [0, n) and callers wrap it (it never exceeds n cells).
-  void axis_range(double v, double reach, double lo, double width, int n, int& first, int& last) const;
+  // Cell range [first, last] covering [a, b] on one horizontal axis; with periodic sides the
+  // range may leave [0, n) and callers wrap it (it never exceeds n cells).
+  void axis_range(double a, double b, double lo, double width, int n, int& first, int& last) const;
   [[nodiscard]] int wrap(int i, int n) const { return periodic_ ? ((i % n) + n) % n : i; }
 
   Vec3 lo_;
@@ -74,16 +80,16 @@ class MultilevelGrid {
 };
 
 template <class Visit>
-void MultilevelGrid::for_each_near(const Vec3& p, double reach, Visit&& visit) const {
+void MultilevelGrid::for_each_in_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const {
   for (const Level& level : levels_) {
     const int layers = level.layers();
     if (layers == 0) continue;
-    const double r = reach + level.max_radius;
+    const double r = level.max_radius;
     int x0, x1, y0, y1;
-    axis_range(p.x, r, lo_.x, level.cell_x, level.nx, x0, x1);
-    axis_range(p.y, r, lo_.y, level.cell_y, level.ny, y0, y1);
-    const int z0 = std::max(0, layer_index(p.z - r, level));
-    const int z1 = std::min(layers - 1, layer_index(p.z + r, level));
+    axis_range(lo.x - r, hi.x + r, lo_.x, level.cell_x, level.nx, x0, x1);
+    axis_range(lo.y - r, hi.y + r, lo_.y, level.cell_y, level.ny, y0, y1);
+    const int z0 = std::max(0, layer_index(lo.z - r, level));
+    const int z1 = std::min(layers - 1, layer_index(hi.z + r, level));
     const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
     for (int iy0 = y0; iy0 <= y1; ++iy0) {
       const int iy = wrap(iy0, level.ny);
@@ -103,8 +109,8 @@ void MultilevelGrid::for_each_below(const Vec3& p, double r, Visit&& visit, Stop
     if (level.layers() == 0) continue;
     const double reach = r + level.max_radius;
     int x0, x1, y0, y1;
-    axis_range(p.x, reach, lo_.x, level.cell_x, level.nx, x0, x1);
-    axis_range(p.y, reach, lo_.y, level.cell_y, level.ny, y0, y1);
+    axis_range(p.x - reach, p.x + reach, lo_.x, level.cell_x, level.nx, x0, x1);
+    axis_range(p.y - reach, p.y + reach, lo_.y, level.cell_y, level.ny, y0, y1);
     const int start = layer_index(p.z, level);
     const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
     for (int iy0 = y0; iy0 <= y1; ++iy0) {
