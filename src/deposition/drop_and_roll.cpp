@@ -1,0 +1,269 @@
+#include "aggpack/deposition/drop_and_roll.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace aggpack {
+
+namespace {
+constexpr Vec3 kUp{0.0, 0.0, 1.0};
+// Consecutive events that move the sphere by less than this (relative to r) mean it is
+// caught between contacts the tolerance cannot separate: redrop it.
+constexpr double kNoProgress = 1e-12;
+constexpr int kMaxEventsWithoutProgress = 20;
+
+std::vector<double> all_radii(const ParticleStore& bed, std::span<const double> to_come) {
+  std::vector<double> radii(bed.radius.begin(), bed.radius.end());
+  radii.insert(radii.end(), to_come.begin(), to_come.end());
+  return radii;
+}
+
+// Volume the bed will fill: its solid volume at a loose packing fraction, within the container.
+double expected_bed_volume(const ParticleStore& bed, std::span<const double> to_come, const Container& c) {
+  double solid = 0.0;
+  for (double r : bed.radius) solid += r * r * r;
+  for (double r : to_come) solid += r * r * r;
+  solid *= 4.0 / 3.0 * std::numbers::pi;
+  const double bed_volume = solid / 0.5;
+  return std::isfinite(c.bounds.volume()) ? std::min(bed_volume, c.bounds.volume()) : bed_volume;
+}
+
+Vec3 unit(const Vec3& v) { return v * (1.0 / norm(v)); }
+
+// z at which a support's coefficient, linear in the height of the dropped sphere on a
+// two-support circle, becomes zero. Support i has n_i.z = s_i z + q_i.
+struct LinearInZ {
+  double slope = 0.0, intercept = 0.0;
+};
+LinearInZ vertical_normal_component(const Obstacle& o, const Vec3& p) {
+  if (o.is_plane) return {0.0, o.centre.z};
+  const double s = norm(p - o.centre);
+  return {1.0 / s, -o.centre.z / s};
+}
+}  // namespace
+
+const char* to_string(DepositionEnd end) {
+  switch (end) {
+    case DepositionEnd::AllPlaced: return "all_placed";
+    case DepositionEnd::FillHeight: return "fill_height";
+    case DepositionEnd::Unplaceable: return "unplaceable";
+  }
+  return "unknown";
+}
+
+DropAndRoll::DropAndRoll(ParticleStore& bed, const Container& container, std::span<const double> radii_to_come,
+                         const DepositionSettings& settings, Rng rng)
+    : bed_(bed),
+      container_(container),
+      settings_(settings),
+      rng_(rng),
+      grid_(container, all_radii(bed, radii_to_come), expected_bed_volume(bed, radii_to_come, container)),
+      supports_(bed.size()) {
+  grid_.reserve(bed.size() + radii_to_come.size());
+  supports_.reserve(bed.size() + radii_to_come.size());
+  for (std::size_t i = 0; i < bed.size(); ++i)
+    grid_.insert(static_cast<std::uint32_t>(i), bed.position[i], bed.radius[i]);
+}
+
+std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, std::uint32_t layer) {
+  const Box& b = container_.bounds;
+  std::size_t placed = 0;
+  for (const double r : radii) {
+    ++stats_.requested;
+    bool rested = false;
+    for (std::size_t attempt = 0; attempt <= settings_.max_redrops && !rested; ++attempt) {
+      const double x = container_.periodic ? rng_.uniform(b.lo.x, b.hi.x) : rng_.uniform(b.lo.x + r, b.hi.x - r);
+      const double y = container_.periodic ? rng_.uniform(b.lo.y, b.hi.y) : rng_.uniform(b.lo.y + r, b.hi.y - r);
+      const DropResult result = drop(x, y, r);
+      stats_.ties_on_top += result.ties_on_top;
+      stats_.ties_on_ridge += result.ties_on_ridge;
+      if (!result.rested) {
+        ++stats_.redrops;
+        continue;
+      }
+      rested = true;
+      if (result.position.z + r > b.lo.z + settings_.fill_height + settings_.tolerance * 2.0 * r) {
+        stats_.end = DepositionEnd::FillHeight;
+        return placed;
+      }
+      Vec3 p = result.position;
+      if (container_.periodic) {
+        p.x = b.lo.x + std::fmod(std::fmod(p.x - b.lo.x, container_.length_x()) + container_.length_x(),
+                                 container_.length_x());
+        p.y = b.lo.y + std::fmod(std::fmod(p.y - b.lo.y, container_.length_y()) + container_.length_y(),
+                                 container_.length_y());
+      }
+      const std::size_t id = bed_.add(p, r, density, layer);
+      grid_.insert(static_cast<std::uint32_t>(id), p, r);
+      supports_.push_back(result.supports);
+      ++placed;
+      ++stats_.placed;
+      stats_.events += result.events;
+      stats_.max_events_one_sphere = std::max(stats_.max_events_one_sphere, result.events);
+      const auto& ids = result.supports.ids;
+      if (ids[0] == kFloor) ++stats_.resting_on_floor;
+      else if (ids[2] != kNoSupport) ++stats_.resting_on_three;
+      if (std::any_of(ids.begin(), ids.end(), is_wall)) ++stats_.touching_a_wall;
+    }
+    if (!rested) {
+      stats_.end = DepositionEnd::Unplaceable;
+      return placed;
+    }
+  }
+  return placed;
+}
+
+Obstacle DropAndRoll::sphere_obstacle(std::uint32_t k, const Vec3& p, double r) const {
+  return {k, false, p + grid_.separation(p, bed_.position[k]), r + bed_.radius[k]};
+}
+
+void DropAndRoll::add_walls_and_floor(std::vector<Obstacle>& out, const Vec3& p, double r, double reach) const {
+  const Box& b = container_.bounds;
+  const auto add = [&](SupportId id, Vec3 n, double offset) {
+    Obstacle o{id, true, n, offset};
+    if (o.gap(p) <= reach) out.push_back(o);
+  };
+  add(kFloor, kUp, b.lo.z + r);
+  if (container_.periodic) return;
+  add(kWallXLow, {1, 0, 0}, b.lo.x + r);
+  add(kWallXHigh, {-1, 0, 0}, -(b.hi.x - r));
+  add(kWallYLow, {0, 1, 0}, b.lo.y + r);
+  add(kWallYHigh, {0, -1, 0}, -(b.hi.y - r));
+}
+
+void DropAndRoll::gather_contacts(const Vec3& p, double r, double tol) {
+  contacts_.clear();
+  add_walls_and_floor(contacts_, p, r, tol);
+  grid_.for_each_near(p, r + tol, [&](std::uint32_t k) {
+    const Obstacle o = sphere_obstacle(k, p, r);
+    if (o.gap(p) <= tol) contacts_.push_back(o);
+  });
+}
+
+bool DropAndRoll::fall(Vec3& p, double r, double skip) {
+  const double tol = 2.0 * skip;
+  double best = container_.bounds.lo.z + r;  // the floor
+  grid_.for_each_below(
+      p, r,
+      [&](std::uint32_t k) {
+        const Vec3 d = grid_.separation(p, bed_.position[k]);
+        const double s = r + bed_.radius[k];
+        const double h2 = d.x * d.x + d.y * d.y;
+        if (h2 >= (s - skip) * (s - skip)) return;  // passes by, or only grazes within tolerance
+        const double hit = bed_.position[k].z + std::sqrt(s * s - h2);
+        if (hit > best && hit <= p.z + tol) best = hit;
+      },
+      [&] { return best; });
+  const bool moved = best < p.z;
+  p.z = std::min(p.z, best);
+  return moved;
+}
+
+double DropAndRoll::first_event_on_arc(const Arc& arc, double r, double skip) const {
+  double t = arc.t_end;
+  std::vector<Obstacle> planes;
+  planes.reserve(5);
+  add_walls_and_floor(planes, arc.centre, r, std::numeric_limits<double>::infinity());
+  for (const Obstacle& o : planes)
+    if (const auto hit = first_contact(arc, o, skip)) t = std::min(t, *hit);
+  Vec3 lo, hi;
+  arc.bounding_box(lo, hi);
+  const Vec3 pad{r, r, r};
+  const Vec3 start = arc.point(0.0);
+  grid_.for_each_in_box(lo - pad, hi + pad, [&](std::uint32_t k) {
+    if (const auto hit = first_contact(arc, sphere_obstacle(k, start, r), skip)) t = std::min(t, *hit);
+  });
+  return t;
+}
+
+DropResult DropAndRoll::drop(double x, double y, double r) {
+  const double tol = settings_.tolerance * 2.0 * r;
+  const double skip = 0.5 * tol;
+  DropResult out;
+  Vec3 p{x, y, std::numeric_limits<double>::infinity()};
+  fall(p, r, skip);
+  std::vector<Vec3> normals;
+  int without_progress = 0;
+  for (out.events = 1; out.events <= settings_.max_events; ++out.events) {
+    gather_contacts(p, r, tol);
+    normals.clear();
+    for (const Obstacle& o : contacts_) normals.push_back(o.normal(p));
+    const Descent descent = steepest_descent(normals);
+
+    bool tie = false;
+    if (descent.at_rest()) {
+      const bool on_floor = descent.active_count >= 1 && contacts_[descent.active[0]].id == kFloor;
+      if (on_floor || descent.active_count >= 3) {
+        out.rested = true;
+        out.position = p;
+        for (int i = 0; i < descent.active_count; ++i) out.supports.ids[i] = contacts_[descent.active[i]].id;
+        if (on_floor) out.supports.ids = {kFloor, kNoSupport, kNoSupport};
+        return out;
+      }
+      tie = true;  // balanced on one sphere or on a ridge: an unstable equilibrium
+      (descent.active_count == 1 ? out.ties_on_top : out.ties_on_ridge) += 1;
+    }
+
+    // The supports the sphere rolls on: positive coefficients, spheres first.
+    std::array<const Obstacle*, 2> rolling{};
+    int count = 0;
+    for (int i = 0; i < descent.active_count && count < 2; ++i)
+      if (descent.alpha[i] > 0.0 || tie) rolling[count++] = &contacts_[descent.active[i]];
+    if (count == 2 && rolling[0]->is_plane) std::swap(rolling[0], rolling[1]);
+    if (count >= 1 && rolling[0]->is_plane) count = 0;  // walls alone never hold: slide down them
+
+    const Vec3 before = p;
+    if (count == 0) {
+      fall(p, r, skip);
+    } else {
+      const Obstacle& a = *rolling[0];
+      Arc arc;
+      std::array<LinearInZ, 2> lift{};  // n.z of each rolling support as a function of height
+      if (count == 1) {
+        arc.centre = a.centre;
+        arc.e1 = unit(p - a.centre);
+        if (tie) {
+          const double phi = 2.0 * std::numbers::pi * rng_.uniform();
+          const Vec3 u{std::cos(phi), std::sin(phi), 0.0};
+          arc.e2 = unit(u - dot(u, arc.e1) * arc.e1);
+        } else {
+          arc.e2 = unit(descent.direction - dot(descent.direction, arc.e1) * arc.e1);
+        }
+      } else {
+        const Obstacle& b = *rolling[1];
+        const Vec3 axis = b.is_plane ? b.centre : unit(b.centre - a.centre);
+        arc.centre = a.centre + dot(p - a.centre, axis) * axis;
+        arc.e1 = unit(p - arc.centre);
+        const Vec3 tangent = unit(cross(axis, arc.e1));
+        const double along = tie ? (rng_.uniform() < 0.5 ? -1.0 : 1.0) : dot(tangent, descent.direction);
+        arc.e2 = along < 0.0 ? -tangent : tangent;
+        lift[1] = vertical_normal_component(b, p);
+      }
+      lift[0] = vertical_normal_component(a, p);
+      arc.radius = norm(p - arc.centre);
+      arc.t_end = arc.lowest_t();
+      // Leave a support where its coefficient reaches zero; alpha is linear in the height.
+      const double c = count == 2 ? dot(a.normal(p), rolling[1]->normal(p)) : 0.0;
+      for (int i = 0; i < count; ++i) {
+        const LinearInZ& own = lift[i];
+        const LinearInZ& other = lift[1 - i];
+        const double slope = own.slope - (count == 2 ? c * other.slope : 0.0);
+        const double intercept = own.intercept - (count == 2 ? c * other.intercept : 0.0);
+        if (slope == 0.0) continue;
+        const double z_leave = -intercept / slope;
+        if (const auto t = first_entry(arc.centre.z - z_leave, arc.radius * arc.e1.z, arc.radius * arc.e2.z,
+                                       arc.t_end, 0.0))
+          arc.t_end = std::min(arc.t_end, *t);
+      }
+      p = arc.point(first_event_on_arc(arc, r, skip));
+    }
+    without_progress = norm(p - before) < kNoProgress * r ? without_progress + 1 : 0;
+    if (without_progress > kMaxEventsWithoutProgress) break;
+  }
+  out.rested = false;
+  out.position = p;
+  return out;
+}
+
+}  // namespace aggpack
