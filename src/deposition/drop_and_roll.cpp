@@ -12,6 +12,8 @@ constexpr Vec3 kUp{0.0, 0.0, 1.0};
 // caught between contacts the tolerance cannot separate: redrop it.
 constexpr double kNoProgress = 1e-12;
 constexpr int kMaxEventsWithoutProgress = 20;
+// A support whose coefficient is this close to zero is being left: roll on the others.
+constexpr double kLeaving = 1e-9;
 
 std::vector<double> all_radii(const ParticleStore& bed, std::span<const double> to_come) {
   std::vector<double> radii(bed.radius.begin(), bed.radius.end());
@@ -186,6 +188,7 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
   std::vector<Vec3> normals;
   int without_progress = 0;
   for (out.events = 1; out.events <= settings_.max_events; ++out.events) {
+    if (settings_.record_paths) out.path.push_back(p);
     gather_contacts(p, r, tol);
     normals.clear();
     for (const Obstacle& o : contacts_) normals.push_back(o.normal(p));
@@ -209,7 +212,7 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
     std::array<const Obstacle*, 2> rolling{};
     int count = 0;
     for (int i = 0; i < descent.active_count && count < 2; ++i)
-      if (descent.alpha[i] > 0.0 || tie) rolling[count++] = &contacts_[descent.active[i]];
+      if (descent.alpha[i] > kLeaving || tie) rolling[count++] = &contacts_[descent.active[i]];
     if (count == 2 && rolling[0]->is_plane) std::swap(rolling[0], rolling[1]);
     if (count >= 1 && rolling[0]->is_plane) count = 0;  // walls alone never hold: slide down them
 
@@ -252,6 +255,7 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
         const double intercept = own.intercept - (count == 2 ? c * other.intercept : 0.0);
         if (slope == 0.0) continue;
         const double z_leave = -intercept / slope;
+        if (z_leave >= p.z) continue;  // the coefficient grows on the way down
         if (const auto t = first_entry(arc.centre.z - z_leave, arc.radius * arc.e1.z, arc.radius * arc.e2.z,
                                        arc.t_end, 0.0))
           arc.t_end = std::min(arc.t_end, *t);

@@ -20,6 +20,7 @@ struct DepositionSettings {
   std::size_t max_events = 1000;   // events before a sphere is given up and redropped elsewhere
   std::size_t max_redrops = 100;   // redrops of one sphere before the stage ends
   double fill_height = std::numeric_limits<double>::infinity();  // above the floor, m
+  bool record_paths = false;       // keep every event position in DropResult::path (for tests and tracing)
 };
 
 enum class DepositionEnd {
@@ -49,6 +50,7 @@ struct DropResult {
   Supports supports;
   std::size_t events = 0;
   int ties_on_top = 0, ties_on_ridge = 0;
+  std::vector<Vec3> path;    // the centre after the first fall and after each event (record_paths)
 };
 
 // The kinematic drop-and-roll deposition of docs/method.md section 3: each sphere falls
