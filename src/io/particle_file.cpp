@@ -130,3 +130,18 @@ std::string particles_csv(const ParticleStore& particles) {
 }
 
 }  // namespace aggpack
+
+namespace aggpack {
+
+std::string supports_csv(std::span<const Supports> supports) {
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "id,support_1,support_2,support_3\n");
+  for (std::size_t i = 0; i < supports.size(); ++i) {
+    const auto& ids = supports[i].ids;
+    fmt::format_to(std::back_inserter(out), "{},{},{},{}\n", i, support_name(ids[0]), support_name(ids[1]),
+                   support_name(ids[2]));
+  }
+  return fmt::to_string(out);
+}
+
+}  // namespace aggpack

@@ -127,6 +127,17 @@ Material read_material(const TomlSection& s) {
   return m;
 }
 
+DepositionStage read_deposition(const TomlSection& s) {
+  s.allow_only({"method", "tolerance", "max_events", "max_redrops", "fill_height"});
+  s.choice("method", {"drop_and_roll"});
+  DepositionStage d;
+  d.tolerance = s.number("tolerance", {0.0, 1e-3, true, false}).value_or(d.tolerance);
+  d.max_events = static_cast<std::size_t>(s.integer("max_events", 10, 1'000'000).value_or(1000));
+  d.max_redrops = static_cast<std::size_t>(s.integer("max_redrops", 0, 1'000'000).value_or(100));
+  d.fill_height = s.length("fill_height");
+  return d;
+}
+
 AnalysisSettings read_analysis(const TomlSection& s) {
   s.allow_only({"box_sides", "placement", "contact_tolerance", "slice_thickness", "shell_thickness"});
   AnalysisSettings a;
@@ -172,10 +183,9 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition",
                 "dynamics"});
-  for (auto stage : {"deposition", "dynamics"})
-    if (s.has(stage))
-      s.fail(stage, fmt::format("the {} stage is not available in this version of aggpack; "
-                                "give the particle positions with particles.from", stage));
+  if (s.has("dynamics"))
+    s.fail("dynamics", "the dynamics stage is not available in this version of aggpack; "
+                       "remove the [dynamics] table");
 
   Scenario sc;
   sc.file = file;
@@ -186,6 +196,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
                                 file.parent_path());
   if (const auto m = s.table("material")) sc.material = read_material(*m);
+  if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d);
   if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
   if (const auto o = s.table("output")) sc.output = read_output(*o, file);
   else sc.output.directory = "out/" + file.stem().string();
@@ -195,13 +206,25 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   if (sc.particles.sizes) {
     double d_max = 0.0;
     for (const auto& c : sc.particles.sizes->classes) d_max = std::max(d_max, c.diameter);
+    const TomlSection particles = *s.table("particles");
+    const std::string where = particles.location(particles.has("diameter") ? "diameter" : "classes");
     if (d_max >= sc.container.length_x())
       throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) does not fit in the container "
-                                   "(side {:.6g} m)", file.string(), d_max, sc.container.length_x()));
-    throw InputError(fmt::format(
-        "{}: particles: sizes are given but no stage places them (the deposition stage is not available in "
-        "this version); give the positions with particles.from = \"file.csv\"",
-        s.table("particles")->location("diameter")));
+                                   "(side {:.6g} m)", where, d_max, sc.container.length_x()));
+    // The nearest periodic image must be unique within a roll's reach (two diameters each way).
+    if (sc.container.periodic && sc.container.length_x() <= 4.0 * d_max)
+      throw InputError(fmt::format("{}: container.side: with periodic sides the side ({:.6g} m) must exceed four "
+                                   "times the largest diameter ({:.6g} m)", file.string(), sc.container.length_x(),
+                                   4.0 * d_max));
+    if (!sc.deposition)
+      throw InputError(fmt::format("{}: particles are given by size but no stage places them; add a [deposition] "
+                                   "table (it may be empty) or give positions with particles.from", where));
+    if (sc.deposition->fill_height && *sc.deposition->fill_height > sc.container.height())
+      s.table("deposition")->fail("fill_height", fmt::format("{:.6g} m is above the container height ({:.6g} m)",
+                                                             *sc.deposition->fill_height, sc.container.height()));
+  } else if (sc.deposition) {
+    s.table("deposition")->fail("method", "deposition places generated particles, but particles.from gives "
+                                          "positions already; remove [deposition] or give sizes instead");
   }
   return sc;
 }
@@ -230,6 +253,14 @@ nlohmann::json to_json(const Scenario& sc) {
     if (spec.total_count) p["count"] = *spec.total_count;
     if (spec.solid_volume) p["solid_volume_m3"] = *spec.solid_volume;
     p["order"] = spec.order == SizeOrder::Shuffled ? "shuffled" : "as_listed";
+  }
+  if (sc.deposition) {
+    const DepositionStage& d = *sc.deposition;
+    j["deposition"] = {{"method", "drop_and_roll"},
+                       {"tolerance", d.tolerance},
+                       {"max_events", d.max_events},
+                       {"max_redrops", d.max_redrops},
+                       {"fill_height_m", d.fill_height.value_or(sc.container.height())}};
   }
   const Material& m = sc.material;
   j["material"] = {{"density_kg_m3", m.density},         {"youngs_modulus_pa", m.youngs_modulus},

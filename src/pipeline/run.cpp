@@ -7,6 +7,8 @@
 #include <omp.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/rng.hpp"
+#include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
@@ -40,12 +42,53 @@ void fit_into_container(ParticleStore& particles, const Container& container, co
   }
 }
 
+// Particles read from a file, or an empty bed for the deposition stage to fill.
 ParticleStore initial_particles(const Scenario& sc) {
-  // load_scenario refuses generated sizes until a stage can place them.
-  if (!sc.particles.file) throw InputError(fmt::format("{}: particles: no particle positions", sc.file.string()));
+  if (!sc.particles.file) return {};
   ParticleStore particles = read_particle_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density);
   fit_into_container(particles, sc.container, *sc.particles.file);
   return particles;
+}
+
+struct DepositionOutcome {
+  nlohmann::json summary;
+  std::vector<Supports> supports;
+};
+
+DepositionOutcome run_deposition(const Scenario& sc, ParticleStore& particles) {
+  Rng size_rng = make_rng(sc.seed, RngPurpose::Sizes);
+  std::vector<double> radii = generate_diameters(*sc.particles.sizes, size_rng);
+  for (double& r : radii) r *= 0.5;
+  const DepositionStage& stage = *sc.deposition;
+  DepositionSettings settings;
+  settings.tolerance = stage.tolerance;
+  settings.max_events = stage.max_events;
+  settings.max_redrops = stage.max_redrops;
+  settings.fill_height = stage.fill_height.value_or(sc.container.height());
+  particles.reserve(particles.size() + radii.size());
+  DropAndRoll deposition(particles, sc.container, radii, settings, make_rng(sc.seed, RngPurpose::Deposition));
+  const auto t0 = Clock::now();
+  deposition.deposit(radii, sc.material.density);
+  const double seconds = seconds_since(t0);
+  const DepositionStats& st = deposition.stats();
+  nlohmann::json j;
+  j["method"] = "drop_and_roll";
+  j["particles_requested"] = radii.size();
+  j["particles_placed"] = st.placed;
+  j["particles_not_placed"] = radii.size() - st.placed;
+  j["end"] = to_string(st.end);
+  j["fill_height_m"] = settings.fill_height;
+  j["events"] = st.events;
+  j["events_per_particle"] = st.placed ? static_cast<double>(st.events) / static_cast<double>(st.placed) : 0.0;
+  j["max_events_one_particle"] = st.max_events_one_sphere;
+  j["redrops"] = st.redrops;
+  j["ties"] = {{"on_top", st.ties_on_top}, {"on_ridge", st.ties_on_ridge}};
+  j["supports"] = {{"floor", st.resting_on_floor},
+                   {"three", st.resting_on_three},
+                   {"touching_a_wall", st.touching_a_wall}};
+  j["wall_clock_s"] = seconds;
+  j["particles_per_second"] = seconds > 0 ? static_cast<double>(st.placed) / seconds : 0.0;
+  return {j, deposition.supports()};
 }
 
 AnalysisRequest analysis_request(const Scenario& sc) {
@@ -58,13 +101,25 @@ AnalysisRequest analysis_request(const Scenario& sc) {
 }
 
 // Every modelling choice a result depends on, said in the output.
-nlohmann::json modelling_notes(const Scenario& sc, bool auto_box) {
+nlohmann::json modelling_notes(const Scenario& sc, bool auto_box, const nlohmann::json& stages) {
   nlohmann::json notes = nlohmann::json::array();
   if (sc.particles.file)
     notes.push_back("particle positions were read from " + sc.particles.file->string() +
                     "; no aggpack stage moved them");
   if (sc.container.periodic)
     notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
+  if (sc.deposition) {
+    const auto& d = stages.at("deposition");
+    notes.push_back(fmt::format(
+        "deposition: kinematic drop-and-roll, a geometric steepest descent without inertia or friction "
+        "(material friction and restitution are not used by this stage); spheres dropped one at a time at "
+        "uniformly random (x, y), in {} order; contact tolerance {:g} x diameter",
+        sc.particles.sizes->order == SizeOrder::Shuffled ? "shuffled" : "listed", sc.deposition->tolerance));
+    if (d.at("end") != "all_placed")
+      notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed",
+                                  d.at("end").get<std::string>(), d.at("particles_placed").get<std::size_t>(),
+                                  d.at("particles_requested").get<std::size_t>()));
+  }
   if (auto_box)
     notes.push_back("no analysis.box_sides given: one virtual cube of the largest admissible side was used");
   notes.push_back("virtual cubes are centred horizontally and vertically between the floor and the free surface, "
@@ -75,10 +130,20 @@ nlohmann::json modelling_notes(const Scenario& sc, bool auto_box) {
                               sc.analysis.contact_tolerance));
   return notes;
 }
+
+// Runs the analysis, naming the scenario key when a box does not fit.
+PackingReport analyze(const Scenario& sc, const ParticleStore& particles) {
+  try {
+    return analyze_packing(particles, sc.container, analysis_request(sc));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: analysis.box_sides: {}", sc.file.string(), e.what()));
+  }
+}
 }  // namespace
 
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
   Scenario sc = load_scenario(scenario_file, overrides);
+  if (sc.deposition) return sc;  // the boxes can only be checked against the deposited bed
   const ParticleStore particles = initial_particles(sc);
   analyze_packing(particles, sc.container, analysis_request(sc));  // box placement errors surface here
   return sc;
@@ -88,24 +153,32 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   const auto t_start = Clock::now();
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const Scenario sc = load_scenario(scenario_file, options.overrides);
-  if (options.stop_after)
-    throw InputError(fmt::format("--stop-after {}: the scenario has no stage of that name (this run has no "
-                                 "stages; known stage names: deposition, dynamics)",
-                                 *options.stop_after));
+  if (options.stop_after && !(*options.stop_after == "deposition" && sc.deposition))
+    throw InputError(fmt::format("--stop-after {}: the scenario has no stage of that name (its stages: {})",
+                                 *options.stop_after, sc.deposition ? "deposition" : "none"));
 
   nlohmann::json wall_clock;
   auto t0 = Clock::now();
   ParticleStore particles = initial_particles(sc);
   wall_clock["input"] = seconds_since(t0);
 
-  t0 = Clock::now();
-  PackingReport report;
-  try {
-    report = analyze_packing(particles, sc.container, analysis_request(sc));
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: analysis.box_sides: {}", sc.file.string(), e.what()));
+  nlohmann::json stages = nlohmann::json::object();
+  std::vector<Supports> supports;
+  if (sc.deposition) {
+    DepositionOutcome outcome = run_deposition(sc, particles);
+    wall_clock["deposition"] = outcome.summary["wall_clock_s"];
+    supports = std::move(outcome.supports);
+    stages["deposition"] = std::move(outcome.summary);
   }
+
+  t0 = Clock::now();
+  const PackingReport report = analyze(sc, particles);
   wall_clock["analysis"] = seconds_since(t0);
+  if (sc.deposition) {
+    const nlohmann::json analysed = to_json(report);
+    stages["deposition"]["density"] = analysed.at("density");
+    stages["deposition"]["coordination"] = analysed.at("coordination");
+  }
 
   nlohmann::json summary;
   summary["aggpack_version"] = kVersion;
@@ -116,8 +189,8 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   const Box& b = sc.container.bounds;
   summary["container"] = {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}},
                           {"periodic", sc.container.periodic}};
-  summary["stages"] = nlohmann::json::object();
-  summary["modelling_notes"] = modelling_notes(sc, sc.analysis.box_sides.empty());
+  summary["stages"] = stages;
+  summary["modelling_notes"] = modelling_notes(sc, sc.analysis.box_sides.empty(), stages);
   summary.update(to_json(report));
 
   // Outputs only once everything has been computed: bad input leaves no files behind.
@@ -125,6 +198,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   const auto& dir = sc.output.directory;
   std::filesystem::create_directories(dir);
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(particles));
+  if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(supports));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(particles, provenance));
   wall_clock["output"] = seconds_since(t0);
@@ -134,6 +208,15 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
 
   if (!options.quiet) {
     fmt::print(log, "aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed);
+    if (sc.deposition) {
+      const auto& d = stages["deposition"];
+      fmt::print(log, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, "
+                      "{} ties\n",
+                 d["particles_placed"].get<std::size_t>(), d["particles_requested"].get<std::size_t>(),
+                 d["end"].get<std::string>(), d["wall_clock_s"].get<double>(), d["events_per_particle"].get<double>(),
+                 d["redrops"].get<std::size_t>(),
+                 d["ties"]["on_top"].get<std::size_t>() + d["ties"]["on_ridge"].get<std::size_t>());
+    }
     for (const auto& box : report.density.boxes)
       fmt::print(log, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);
     fmt::print(log, "  mean density {:.4f} (sd {:.4f}), mean coordination {:.3f} over {} spheres\n",

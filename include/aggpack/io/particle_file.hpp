@@ -1,8 +1,10 @@
 #pragma once
 #include <filesystem>
+#include <span>
 #include <string>
 
 #include "aggpack/core/particle_store.hpp"
+#include "aggpack/deposition/contact_geometry.hpp"
 
 namespace aggpack {
 
@@ -16,5 +18,10 @@ ParticleStore read_particle_file(const std::filesystem::path& file, double lengt
 
 // "id,x,y,z,r" in metres, one row per particle in store order, full double precision.
 std::string particles_csv(const ParticleStore& particles);
+
+// "id,support_1,support_2,support_3": what each sphere came to rest on in the deposition
+// stage (a particle id, floor, wall_x_low, wall_x_high, wall_y_low, wall_y_high; empty when
+// fewer). Floor resters list only the floor.
+std::string supports_csv(std::span<const Supports> supports);
 
 }  // namespace aggpack

@@ -35,6 +35,14 @@ struct AnalysisSettings {
   std::optional<double> shell_thickness;  // m; default d_max / 4
 };
 
+// The kinematic drop-and-roll stage ([deposition]); see docs/method.md section 3.
+struct DepositionStage {
+  double tolerance = 1e-9;        // contact tolerance relative to the dropped sphere's diameter
+  std::size_t max_events = 1000;  // events before a sphere is redropped elsewhere
+  std::size_t max_redrops = 100;  // redrops of one sphere before the stage gives up
+  std::optional<double> fill_height;  // m above the floor; default: the container height
+};
+
 struct OutputSettings {
   std::filesystem::path directory;
   bool csv = true;
@@ -48,6 +56,7 @@ struct Scenario {
   Container container;
   ParticleSource particles;
   Material material;
+  std::optional<DepositionStage> deposition;
   AnalysisSettings analysis;
   OutputSettings output;
 };
