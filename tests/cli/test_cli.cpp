@@ -77,7 +77,9 @@ TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
       "run " + example("cubic_lattice.toml") + " --set analysis.box_sides='[\"9 in\"]'",  // cube does not fit
       "run " + example("cubic_lattice.toml") + " --set material.density=-1",
       "run " + example("cubic_lattice.toml") + " --set container.side='\"5 in\"'",  // particles outside
-      "run " + example("cubic_lattice.toml") + " --stop-after deposition",
+      "run " + example("cubic_lattice.toml") + " --stop-after deposition",  // no such stage here
+      "run " + example("example1.toml") + " --stop-after dynamics",
+      "run " + example("example1.toml") + " --set analysis.box_sides='[\"11 in\"]'",  // too big for the bed
       "run " + (dir_ / "missing.toml").string(),
       "run",  // missing argument
       "frobnicate",
@@ -89,6 +91,39 @@ TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
   }
   const Result r = run("run " + example("cubic_lattice.toml") + " --set material.densty=1 --out " + out.string());
   EXPECT_NE(r.output.find("did you mean 'density'"), std::string::npos) << r.output;
+}
+
+// The paper's Example 1 end to end: deposition, analysis and every output file.
+TEST_F(Cli, RunsExample1ThroughDeposition) {
+  const fs::path out = dir_ / "ex1";
+  const Result r = run("run " + example("example1.toml") + " --stop-after deposition --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  const auto& d = s["stages"]["deposition"];
+  EXPECT_EQ(d["particles_placed"].get<int>(), 1733);
+  EXPECT_EQ(d["end"], "all_placed");
+  EXPECT_EQ(d["density"]["boxes"].size(), 3u);
+  // Random loose packing by three-point supports: well above random loose (0.55), below 0.62.
+  EXPECT_GT(d["density"]["mean"].get<double>(), 0.56);
+  EXPECT_LT(d["density"]["mean"].get<double>(), 0.62);
+  EXPECT_GT(d["coordination"]["mean"].get<double>(), 5.5);
+  EXPECT_EQ(d["redrops"].get<int>(), 0);
+  std::ifstream supports(out / "supports.csv");
+  std::string header, first;
+  std::getline(supports, header);
+  std::getline(supports, first);
+  EXPECT_EQ(header, "id,support_1,support_2,support_3");
+  EXPECT_EQ(first, "0,floor,,");
+  // Same seed, same bytes; another seed, another packing.
+  const fs::path again = dir_ / "ex1b", other = dir_ / "ex1c";
+  ASSERT_EQ(run("run " + example("example1.toml") + " --out " + again.string()).exit_code, 0);
+  ASSERT_EQ(run("run " + example("example1.toml") + " --seed 2 --out " + other.string()).exit_code, 0);
+  const auto slurp = [](const fs::path& f) {
+    std::ifstream in(f);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(slurp(out / "particles.csv"), slurp(again / "particles.csv"));
+  EXPECT_NE(slurp(out / "particles.csv"), slurp(other / "particles.csv"));
 }
 
 TEST_F(Cli, CheckValidatesWithoutWriting) {

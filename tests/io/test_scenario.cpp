@@ -79,6 +79,7 @@ struct BadCase {
 TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
   const std::string head = "[container]\nside = \"12 in\"\nheight = \"24 in\"\n";
   const std::string particles = "[particles]\nfrom = \"p.csv\"\n";
+  const std::string sized = "[particles]\ndiameter = \"1 in\"\ncount = 10\n";
   const std::vector<BadCase> cases = {
       {"typo in a key", head + particles + "[analysis]\nbox_side = [\"6 in\"]\n",
        {"s.toml:7:", "analysis.box_side", "unknown key", "did you mean 'box_sides'"}},
@@ -110,10 +111,23 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
        {"particles.classes", "add up to 1", "0.9"}},
       {"unknown output format", head + particles + "[output]\nformats = [\"stl\"]\n",
        {"s.toml:7:", "output.formats", "\"stl\""}},
-      {"stage not available yet", head + particles + "[deposition]\n",
-       {"s.toml:6:", "deposition", "not available"}},
+      {"stage not available yet", head + particles + "[dynamics]\n",
+       {"s.toml:6:", "dynamics", "not available"}},
       {"sizes but no stage", head + "[particles]\ndiameter = \"1 in\"\ncount = 10\n",
-       {"s.toml:5:", "no stage places them"}},
+       {"s.toml:5:", "no stage places them", "[deposition]"}},
+      {"deposition of a file's particles", head + particles + "[deposition]\n",
+       {"s.toml:6:", "deposition", "particles.from gives positions already"}},
+      {"deposition key typo", head + sized + "[deposition]\ntolerence = 1e-9\n",
+       {"s.toml:8:", "deposition.tolerence", "did you mean 'tolerance'"}},
+      {"deposition tolerance out of range", head + sized + "[deposition]\ntolerance = 0.5\n",
+       {"s.toml:8:", "deposition.tolerance", "0.5"}},
+      {"unknown deposition method", head + sized + "[deposition]\nmethod = \"rain\"\n",
+       {"s.toml:8:", "deposition.method", "\"drop_and_roll\""}},
+      {"fill height above the container", head + sized + "[deposition]\nfill_height = \"30 in\"\n",
+       {"s.toml:8:", "deposition.fill_height", "above the container height"}},
+      {"periodic box too narrow", "[container]\nside = \"3 in\"\nheight = \"24 in\"\nsides = \"periodic\"\n" +
+                                      sized + "[deposition]\n",
+       {"container.side", "four times the largest diameter"}},
       {"syntax error", "[container\nside = 1\n", {"s.toml:1:", "TOML syntax error"}},
       {"box side list of numbers with bad unit", head + particles + "[analysis]\nbox_sides = [\"6 in\", \"7 inch\"]\n",
        {"s.toml:7:", "analysis.box_sides[1]", "unknown length unit 'inch'"}},
@@ -127,6 +141,17 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
       for (const auto& part : c.expected) EXPECT_NE(msg.find(part), std::string::npos) << c.name << ": " << msg;
     }
   }
+}
+
+TEST_F(ScenarioTest, ReadsTheDepositionStage) {
+  const Scenario sc = load_scenario(write(
+      "[container]\nside = \"12 in\"\nheight = \"24 in\"\n[particles]\ndiameter = \"1 in\"\ncount = 10\n"
+      "[deposition]\ntolerance = 1e-8\nmax_events = 500\nfill_height = \"10 in\"\n"));
+  ASSERT_TRUE(sc.deposition);
+  EXPECT_DOUBLE_EQ(sc.deposition->tolerance, 1e-8);
+  EXPECT_EQ(sc.deposition->max_events, 500u);
+  EXPECT_NEAR(*sc.deposition->fill_height, 0.254, 1e-15);
+  EXPECT_EQ(to_json(sc)["deposition"]["fill_height_m"].get<double>(), *sc.deposition->fill_height);
 }
 
 TEST_F(ScenarioTest, AMissingFileIsAnInputError) {
