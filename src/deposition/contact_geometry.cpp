@@ -9,9 +9,11 @@ namespace {
 constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr Vec3 kUp{0.0, 0.0, 1.0};
 
+// Into [0, 2 pi); the arguments here are within a few turns of it.
 double wrap_angle(double t) {
-  t = std::fmod(t, kTwoPi);
-  return t < 0.0 ? t + kTwoPi : t;
+  while (t < 0.0) t += kTwoPi;
+  while (t >= kTwoPi) t -= kTwoPi;
+  return t;
 }
 }  // namespace
 
@@ -76,50 +78,65 @@ Descent steepest_descent(std::span<const Vec3> normals) {
   return best;
 }
 
-double Arc::lowest_t() const { return wrap_angle(std::atan2(-e2.z, -e1.z)); }
+ArcAngle ArcAngle::of(double c, double s) {
+  const double inv = 1.0 / std::sqrt(c * c + s * s);
+  ArcAngle t;
+  t.c = c * inv;
+  t.s = s * inv;
+  // The "diamond angle": s / (|c| + |s|) per half-plane, continued to [0, 4).
+  const double p = t.s / (std::abs(t.c) + std::abs(t.s));
+  t.key = t.c >= 0.0 ? (t.s >= 0.0 ? p : 4.0 + p) : 2.0 - p;
+  if (t.key >= 4.0) t.key = 0.0;
+  return t;
+}
+
+double ArcAngle::angle() const { return wrap_angle(std::atan2(s, c)); }
+
+ArcAngle Arc::lowest() const { return ArcAngle::of(-e1.z, -e2.z); }
 
 void Arc::bounding_box(Vec3& lo, Vec3& hi) const {
-  const Vec3 a = point(0.0), b = point(t_end);
+  const Vec3 a = point(ArcAngle{}), b = point(end);
   double l[3] = {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
   double h[3] = {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
   for (int axis = 0; axis < 3; ++axis) {
-    const double t_max = wrap_angle(std::atan2(e2[axis], e1[axis]));
-    const double t_min = wrap_angle(t_max + std::numbers::pi);
-    const double c = centre[axis], amplitude = radius * std::hypot(e1[axis], e2[axis]);
-    if (t_max <= t_end) h[axis] = c + amplitude;
-    if (t_min <= t_end) l[axis] = c - amplitude;
+    const double u = e1[axis], v = e2[axis];
+    if (u == 0.0 && v == 0.0) continue;
+    const double c = centre[axis], amplitude = radius * std::sqrt(u * u + v * v);
+    if (!(end < ArcAngle::of(u, v))) h[axis] = c + amplitude;    // the maximum lies on the arc
+    if (!(end < ArcAngle::of(-u, -v))) l[axis] = c - amplitude;  // the minimum lies on the arc
   }
   lo = {l[0], l[1], l[2]};
   hi = {h[0], h[1], h[2]};
 }
 
-std::optional<double> first_entry(double k, double a, double b, double limit, double skip) {
-  const double amplitude = std::hypot(a, b);
-  if (k - amplitude >= -skip) return std::nullopt;  // never deeper than skip
-  if (amplitude == 0.0) return 0.0;
-  // F < 0 exactly for t - psi in (beta, 2 pi - beta).
-  const double psi = std::atan2(b, a);
-  const double beta = std::acos(std::clamp(-k / amplitude, -1.0, 1.0));
-  const double enter = wrap_angle(psi + beta);
-  const double overlap = kTwoPi - 2.0 * beta;
-  const double past_entry = wrap_angle(-enter);  // how far t = 0 lies past the entry
-  if (past_entry <= 0.5 * overlap) return 0.0;  // already inside (within tolerance), going deeper
-  if (enter <= limit) return enter;
-  return std::nullopt;
+std::optional<ArcAngle> first_entry(double k, double a, double b, const ArcAngle& limit, double skip) {
+  // Never deeper than skip (min F = k - amplitude >= -skip): decided without a square root.
+  const double amplitude2 = a * a + b * b;
+  if (k + skip >= 0.0 && amplitude2 <= (k + skip) * (k + skip)) return std::nullopt;
+  // Already inside (within the caller's tolerance) and going deeper: enters at once.
+  if (k + a <= 0.0 && b <= 0.0) return ArcAngle{};
+  // F = k + A cos(t - psi) with A = |(a, b)| turns negative at t = psi + beta, where
+  // cos beta = -k / A and beta in (0, pi): rotate (a, b) / A by beta.
+  const double amplitude = std::sqrt(amplitude2);
+  const double cos_beta = std::clamp(-k / amplitude, -1.0, 1.0);
+  const double sin_beta = std::sqrt(std::max(0.0, 1.0 - cos_beta * cos_beta));
+  const ArcAngle enter = ArcAngle::of(a * cos_beta - b * sin_beta, b * cos_beta + a * sin_beta);
+  if (limit < enter) return std::nullopt;
+  return enter;
 }
 
-std::optional<double> first_contact(const Arc& arc, const Obstacle& obstacle, double skip) {
+std::optional<ArcAngle> first_contact(const Arc& arc, const Obstacle& obstacle, double skip) {
   if (obstacle.is_plane) {
     const Vec3& n = obstacle.centre;
     return first_entry(dot(n, arc.centre) - obstacle.reach, arc.radius * dot(n, arc.e1),
-                       arc.radius * dot(n, arc.e2), arc.t_end, skip);
+                       arc.radius * dot(n, arc.e2), arc.end, skip);
   }
   // |p(t) - c|^2 - S^2 = K + P cos t + Q sin t; divided by 2S it is the gap near contact.
   const Vec3 w = arc.centre - obstacle.centre;
   const double s = obstacle.reach;
   const double scale = 0.5 / s;
   return first_entry((norm2(w) + arc.radius * arc.radius - s * s) * scale, 2.0 * arc.radius * dot(arc.e1, w) * scale,
-                     2.0 * arc.radius * dot(arc.e2, w) * scale, arc.t_end, skip);
+                     2.0 * arc.radius * dot(arc.e2, w) * scale, arc.end, skip);
 }
 
 }  // namespace aggpack

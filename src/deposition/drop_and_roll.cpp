@@ -120,61 +120,59 @@ Obstacle DropAndRoll::sphere_obstacle(std::uint32_t k, const Vec3& p, double r) 
   return {k, false, p + grid_.separation(p, bed_.position[k]), r + bed_.radius[k]};
 }
 
-void DropAndRoll::add_walls_and_floor(std::vector<Obstacle>& out, const Vec3& p, double r, double reach) const {
-  const Box& b = container_.bounds;
-  const auto add = [&](SupportId id, Vec3 n, double offset) {
-    Obstacle o{id, true, n, offset};
-    if (o.gap(p) <= reach) out.push_back(o);
-  };
-  add(kFloor, kUp, b.lo.z + r);
-  if (container_.periodic) return;
-  add(kWallXLow, {1, 0, 0}, b.lo.x + r);
-  add(kWallXHigh, {-1, 0, 0}, -(b.hi.x - r));
-  add(kWallYLow, {0, 1, 0}, b.lo.y + r);
-  add(kWallYHigh, {0, -1, 0}, -(b.hi.y - r));
-}
-
-void DropAndRoll::gather_contacts(const Vec3& p, double r, double tol) {
+// Every path step records the spheres near it (near_); whatever touches its end point is
+// among them, so the contacts after a step need no second grid query.
+void DropAndRoll::collect_contacts(const Vec3& p, double r, double tol) {
   contacts_.clear();
-  add_walls_and_floor(contacts_, p, r, tol);
-  grid_.for_each_near(p, r + tol, [&](std::uint32_t k) {
-    const Obstacle o = sphere_obstacle(k, p, r);
+  for_each_wall_and_floor(r, [&](const Obstacle& o) {
     if (o.gap(p) <= tol) contacts_.push_back(o);
   });
+  for (const Obstacle& o : near_)
+    if (o.gap(p) <= tol) contacts_.push_back(o);
 }
 
 bool DropAndRoll::fall(Vec3& p, double r, double skip) {
   const double tol = 2.0 * skip;
   double best = container_.bounds.lo.z + r;  // the floor
+  near_.clear();
   grid_.for_each_below(
       p, r,
       [&](std::uint32_t k) {
-        const Vec3 d = grid_.separation(p, bed_.position[k]);
+        const Vec3& c = bed_.position[k];
+        const Vec3 d = grid_.separation(p, c);
         const double s = r + bed_.radius[k];
         const double h2 = d.x * d.x + d.y * d.y;
+        if (h2 < (s + tol) * (s + tol)) near_.push_back({k, false, {p.x + d.x, p.y + d.y, c.z}, s});
         if (h2 >= (s - skip) * (s - skip)) return;  // passes by, or only grazes within tolerance
-        const double hit = bed_.position[k].z + std::sqrt(s * s - h2);
+        const double hit = c.z + std::sqrt(s * s - h2);
         if (hit > best && hit <= p.z + tol) best = hit;
       },
-      [&] { return best; });
+      [&] { return best - tol; });
   const bool moved = best < p.z;
   p.z = std::min(p.z, best);
   return moved;
 }
 
-double DropAndRoll::first_event_on_arc(const Arc& arc, double r, double skip) const {
-  double t = arc.t_end;
-  std::vector<Obstacle> planes;
-  planes.reserve(5);
-  add_walls_and_floor(planes, arc.centre, r, std::numeric_limits<double>::infinity());
-  for (const Obstacle& o : planes)
+ArcAngle DropAndRoll::first_event_on_arc(const Arc& arc, double r, double skip) {
+  const double tol = 2.0 * skip;
+  ArcAngle t = arc.end;
+  for_each_wall_and_floor(r, [&](const Obstacle& o) {
     if (const auto hit = first_contact(arc, o, skip)) t = std::min(t, *hit);
+  });
   Vec3 lo, hi;
   arc.bounding_box(lo, hi);
-  const Vec3 pad{r, r, r};
-  const Vec3 start = arc.point(0.0);
+  const Vec3 pad{r + tol, r + tol, r + tol};
+  const Vec3 start = arc.point(ArcAngle{});
+  near_.clear();
   grid_.for_each_in_box(lo - pad, hi + pad, [&](std::uint32_t k) {
-    if (const auto hit = first_contact(arc, sphere_obstacle(k, start, r), skip)) t = std::min(t, *hit);
+    const Obstacle o = sphere_obstacle(k, start, r);
+    // Spheres out of reach of the arc's bounding box cannot be touched.
+    const double dx = std::max({lo.x - o.centre.x, 0.0, o.centre.x - hi.x});
+    const double dy = std::max({lo.y - o.centre.y, 0.0, o.centre.y - hi.y});
+    const double dz = std::max({lo.z - o.centre.z, 0.0, o.centre.z - hi.z});
+    if (dx * dx + dy * dy + dz * dz >= (o.reach + tol) * (o.reach + tol)) return;
+    near_.push_back(o);
+    if (const auto hit = first_contact(arc, o, skip)) t = std::min(t, *hit);
   });
   return t;
 }
@@ -189,7 +187,7 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
   int without_progress = 0;
   for (out.events = 1; out.events <= settings_.max_events; ++out.events) {
     if (settings_.record_paths) out.path.push_back(p);
-    gather_contacts(p, r, tol);
+    collect_contacts(p, r, tol);
     normals.clear();
     for (const Obstacle& o : contacts_) normals.push_back(o.normal(p));
     const Descent descent = steepest_descent(normals);
@@ -245,7 +243,7 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
       }
       lift[0] = vertical_normal_component(a, p);
       arc.radius = norm(p - arc.centre);
-      arc.t_end = arc.lowest_t();
+      arc.end = arc.lowest();
       // Leave a support where its coefficient reaches zero; alpha is linear in the height.
       const double c = count == 2 ? dot(a.normal(p), rolling[1]->normal(p)) : 0.0;
       for (int i = 0; i < count; ++i) {
@@ -257,8 +255,8 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
         const double z_leave = -intercept / slope;
         if (z_leave >= p.z) continue;  // the coefficient grows on the way down
         if (const auto t = first_entry(arc.centre.z - z_leave, arc.radius * arc.e1.z, arc.radius * arc.e2.z,
-                                       arc.t_end, 0.0))
-          arc.t_end = std::min(arc.t_end, *t);
+                                       arc.end, 0.0))
+          arc.end = std::min(arc.end, *t);
       }
       p = arc.point(first_event_on_arc(arc, r, skip));
     }

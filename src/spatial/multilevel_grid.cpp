@@ -99,15 +99,6 @@ void MultilevelGrid::insert(std::uint32_t id, const Vec3& centre, double radius)
   level.top_layer[column] = std::max(level.top_layer[column], iz);
 }
 
-Vec3 MultilevelGrid::separation(const Vec3& a, const Vec3& b) const {
-  Vec3 d = b - a;
-  if (periodic_) {
-    d.x -= period_x_ * std::nearbyint(d.x / period_x_);
-    d.y -= period_y_ * std::nearbyint(d.y / period_y_);
-  }
-  return d;
-}
-
 std::size_t MultilevelGrid::memory_bytes() const {
   std::size_t bytes = next_.capacity() * sizeof(std::uint32_t);
   for (const Level& level : levels_)

@@ -78,29 +78,51 @@ TEST(SteepestDescent, IsTheProjectionOfDownOntoTheFeasibleCone) {
   }
 }
 
+TEST(ArcAngle, KeyGrowsWithTheAngle) {
+  double previous = -1.0;
+  for (int i = 0; i < 1000; ++i) {
+    const double t = 2 * std::numbers::pi * i / 1000;
+    const ArcAngle a = ArcAngle::at(t);
+    EXPECT_GT(a.key, previous) << t;
+    EXPECT_NEAR(a.angle(), t, 1e-12);
+    previous = a.key;
+  }
+  EXPECT_LT(previous, 4.0);
+}
+
 TEST(FirstEntry, SolvesTheCosineEquation) {
+  const double two_pi = 2 * std::numbers::pi;
+  const auto all = ArcAngle::at(two_pi - 1e-9);
   // F = 0.5 + cos t is negative on (2 pi/3, 4 pi/3).
-  const auto t = first_entry(0.5, 1.0, 0.0, 2 * std::numbers::pi, 0.0);
+  const auto t = first_entry(0.5, 1.0, 0.0, all, 0.0);
   ASSERT_TRUE(t);
-  EXPECT_NEAR(*t, 2 * std::numbers::pi / 3, 1e-14);
-  EXPECT_FALSE(first_entry(0.5, 1.0, 0.0, 2.0, 0.0));       // beyond the limit
-  EXPECT_FALSE(first_entry(1.5, 1.0, 0.0, 6.0, 0.0));       // never negative
-  EXPECT_FALSE(first_entry(1.0 - 1e-10, 1.0, 0.0, 6.0, 1e-9));  // grazes within the skip
+  EXPECT_NEAR(t->angle(), two_pi / 3, 1e-14);
+  EXPECT_FALSE(first_entry(0.5, 1.0, 0.0, ArcAngle::at(2.0), 0.0));       // beyond the limit
+  EXPECT_FALSE(first_entry(1.5, 1.0, 0.0, all, 0.0));                     // never negative
+  EXPECT_FALSE(first_entry(1.0 - 1e-10, 1.0, 0.0, all, 1e-9));            // grazes within the skip
   // Already touching and moving in: F = -sin t (k = 0) enters at once.
-  EXPECT_EQ(*first_entry(0.0, 0.0, -1.0, 1.0, 0.0), 0.0);
+  EXPECT_EQ(first_entry(0.0, 0.0, -1.0, ArcAngle::at(1.0), 0.0)->angle(), 0.0);
   // Touching and moving away (F = sin t): next entry at pi.
-  EXPECT_NEAR(*first_entry(0.0, 0.0, 1.0, 4.0, 0.0), std::numbers::pi, 1e-14);
+  EXPECT_NEAR(first_entry(0.0, 0.0, 1.0, ArcAngle::at(4.0), 0.0)->angle(), std::numbers::pi, 1e-14);
+  // A general case against the root found by bisection.
+  const double k = 0.9, a = -0.8, b = 0.9;  // F(0) > 0, rising first
+  const auto root = first_entry(k, a, b, all, 0.0);
+  ASSERT_TRUE(root);
+  const double hi = root->angle();
+  const auto f = [&](double x) { return k + a * std::cos(x) + b * std::sin(x); };
+  for (double x = 0.0; x < hi - 1e-9; x += 1e-4) ASSERT_GE(f(x), -1e-12) << x;
+  EXPECT_NEAR(f(hi), 0.0, 1e-14);
 }
 
 TEST(FirstContact, FindsWhereAnArcMeetsASphere) {
   // Unit circle in the xz-plane about the origin from (1,0,0) towards -z. A sphere of
   // contact distance 1 centred at (0, 0, -2) is only grazed at (0, 0, -1): no entry.
-  Arc arc{{0, 0, 0}, 1.0, {1, 0, 0}, {0, 0, -1}, std::numbers::pi};
+  const Arc arc{{0, 0, 0}, 1.0, {1, 0, 0}, {0, 0, -1}, ArcAngle::at(std::numbers::pi)};
   EXPECT_FALSE(first_contact(arc, Obstacle{0, false, {0, 0, -2}, 1.0}, 0.0));
   const Obstacle ball{0, false, {0, 0, -1.9}, 1.0};  // cut near the bottom: entered before pi/2
   const auto t = first_contact(arc, ball, 0.0);
   ASSERT_TRUE(t);
-  EXPECT_LT(*t, std::numbers::pi / 2);
+  EXPECT_LT(t->angle(), std::numbers::pi / 2);
   EXPECT_NEAR(ball.gap(arc.point(*t)), 0.0, 1e-14);
   const Obstacle ball2{0, false, {0, 0, -1.5}, 1.0};
   const auto t2 = first_contact(arc, ball2, 0.0);
@@ -109,7 +131,7 @@ TEST(FirstContact, FindsWhereAnArcMeetsASphere) {
   const Obstacle floor{kFloor, true, kUp, -0.5};  // z >= -0.5
   const auto t3 = first_contact(arc, floor, 0.0);
   ASSERT_TRUE(t3);
-  EXPECT_NEAR(*t3, std::numbers::pi / 6, 1e-14);
+  EXPECT_NEAR(t3->angle(), std::numbers::pi / 6, 1e-14);
 }
 
 TEST(Arc, BoundingBoxContainsEveryPointAndIsTight) {
@@ -118,11 +140,12 @@ TEST(Arc, BoundingBoxContainsEveryPointAndIsTight) {
   for (int trial = 0; trial < 100; ++trial) {
     const Vec3 e1 = unit({g(gen), g(gen), g(gen)});
     const Vec3 e2 = unit(cross(e1, {g(gen), g(gen), g(gen)}));
-    const Arc arc{{g(gen), g(gen), g(gen)}, 0.5 + std::abs(g(gen)), e1, e2, 6.0 * std::abs(std::tanh(g(gen)))};
+    const double t_end = 6.0 * std::abs(std::tanh(g(gen)));
+    const Arc arc{{g(gen), g(gen), g(gen)}, 0.5 + std::abs(g(gen)), e1, e2, ArcAngle::at(t_end)};
     Vec3 lo, hi, seen_lo{1e9, 1e9, 1e9}, seen_hi{-1e9, -1e9, -1e9};
     arc.bounding_box(lo, hi);
     for (int s = 0; s <= 20000; ++s) {
-      const Vec3 p = arc.point(arc.t_end * s / 20000.0);
+      const Vec3 p = arc.point(t_end * s / 20000.0);
       for (int a = 0; a < 3; ++a) {
         ASSERT_GE(p[a], lo[a] - 1e-12);
         ASSERT_LE(p[a], hi[a] + 1e-12);

@@ -184,7 +184,7 @@ TEST(DropAndRoll, TheSubsetRuleFindsThePocket) {
   const Vec3 e1 = unit(p0 - m);
   Vec3 e2 = unit(cross(axis, e1));
   if (e2.z > 0) e2 = -e2;
-  const Arc arc{m, norm(p0 - m), e1, e2, 0.0};
+  const Arc arc{m, norm(p0 - m), e1, e2, ArcAngle{}};
   const Vec3 q = arc.point(0.15);
   ASSERT_LT(q.z, p0.z);
   const Vec3 n4 = unit(Vec3{0, 0, 1} - 0.3 * unit(q - c[0]) - 0.3 * unit(q - c[2]));

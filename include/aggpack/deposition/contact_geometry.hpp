@@ -61,24 +61,35 @@ struct Descent {
 };
 [[nodiscard]] Descent steepest_descent(std::span<const Vec3> normals);
 
-// A circular path p(t) = m + rho (cos t e1 + sin t e2), t in [0, t_end]; e1, e2 orthonormal.
+// A point of a circular path by its direction (cos t, sin t), ordered along the path by a
+// pseudo-angle key that grows with t in [0, 2 pi) and needs no inverse trigonometry.
+struct ArcAngle {
+  double c = 1.0, s = 0.0;  // cos t, sin t
+  double key = 0.0;         // in [0, 4), monotone in t
+  static ArcAngle of(double c, double s);  // (c, s) need not be normalised
+  static ArcAngle at(double t) { return of(std::cos(t), std::sin(t)); }
+  [[nodiscard]] double angle() const;  // t in [0, 2 pi)
+  [[nodiscard]] bool operator<(const ArcAngle& o) const { return key < o.key; }
+};
+
+// A circular path p(t) = m + rho (cos t e1 + sin t e2), from t = 0 to `end`; e1, e2 orthonormal.
 struct Arc {
   Vec3 centre;
   double radius = 0.0;
   Vec3 e1, e2;
-  double t_end = 0.0;
-  [[nodiscard]] Vec3 point(double t) const { return centre + radius * (std::cos(t) * e1 + std::sin(t) * e2); }
-  // Coefficients of a . p(t) = a.m + (rho a.e1) cos t + (rho a.e2) sin t.
-  [[nodiscard]] double lowest_t() const;  // where p_z is least, in (0, 2 pi)
-  void bounding_box(Vec3& lo, Vec3& hi) const;  // of the points with t in [0, t_end]
+  ArcAngle end;
+  [[nodiscard]] Vec3 point(const ArcAngle& t) const { return centre + radius * (t.c * e1 + t.s * e2); }
+  [[nodiscard]] Vec3 point(double t) const { return point(ArcAngle::at(t)); }
+  [[nodiscard]] ArcAngle lowest() const;  // where p_z is least
+  void bounding_box(Vec3& lo, Vec3& hi) const;  // of the points from 0 to end
 };
 
 // First t in [0, limit] where F(t) = k + a cos t + b sin t becomes negative, ignoring
-// excursions that never go below -skip. Returns 0 when F is already negative and falling
+// excursions that never go below -skip. Returns t = 0 when F is already negative and falling
 // at t = 0 (within the tolerance the caller allowed), nothing when it never enters.
-[[nodiscard]] std::optional<double> first_entry(double k, double a, double b, double limit, double skip);
+[[nodiscard]] std::optional<ArcAngle> first_entry(double k, double a, double b, const ArcAngle& limit, double skip);
 
-// First t on the arc where the obstacle is entered (its gap becomes negative), as above.
-[[nodiscard]] std::optional<double> first_contact(const Arc& arc, const Obstacle& obstacle, double skip);
+// First point of the arc where the obstacle is entered (its gap becomes negative), as above.
+[[nodiscard]] std::optional<ArcAngle> first_contact(const Arc& arc, const Obstacle& obstacle, double skip);
 
 }  // namespace aggpack

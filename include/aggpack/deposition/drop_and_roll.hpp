@@ -77,11 +77,21 @@ class DropAndRoll {
   [[nodiscard]] const std::vector<Supports>& supports() const { return supports_; }
 
  private:
-  void gather_contacts(const Vec3& p, double r, double tol);
+  void collect_contacts(const Vec3& p, double r, double tol);
   bool fall(Vec3& p, double r, double skip);
-  double first_event_on_arc(const Arc& arc, double r, double skip) const;
-  void add_walls_and_floor(std::vector<Obstacle>& out, const Vec3& p, double r, double reach) const;
+  ArcAngle first_event_on_arc(const Arc& arc, double r, double skip);
   [[nodiscard]] Obstacle sphere_obstacle(std::uint32_t k, const Vec3& p, double r) const;
+  // The floor, and the four walls unless the sides are periodic, for a sphere of radius r.
+  template <class Visit>
+  void for_each_wall_and_floor(double r, Visit&& visit) const {
+    const Box& b = container_.bounds;
+    visit(Obstacle{kFloor, true, {0, 0, 1}, b.lo.z + r});
+    if (container_.periodic) return;
+    visit(Obstacle{kWallXLow, true, {1, 0, 0}, b.lo.x + r});
+    visit(Obstacle{kWallXHigh, true, {-1, 0, 0}, -(b.hi.x - r)});
+    visit(Obstacle{kWallYLow, true, {0, 1, 0}, b.lo.y + r});
+    visit(Obstacle{kWallYHigh, true, {0, -1, 0}, -(b.hi.y - r)});
+  }
 
   ParticleStore& bed_;
   Container container_;
@@ -91,6 +101,7 @@ class DropAndRoll {
   DepositionStats stats_;
   std::vector<Supports> supports_;
   std::vector<Obstacle> contacts_;  // scratch: objects touching the dropped sphere
+  std::vector<Obstacle> near_;      // scratch: spheres near the last path step
 };
 
 [[nodiscard]] const char* to_string(DepositionEnd end);

@@ -1,4 +1,6 @@
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -47,7 +49,14 @@ class MultilevelGrid {
   void for_each_below(const Vec3& p, double r, Visit&& visit, StopHeight&& stop_height) const;
 
   // Displacement b - a, by the minimum image where the container is periodic.
-  [[nodiscard]] Vec3 separation(const Vec3& a, const Vec3& b) const;
+  [[nodiscard]] Vec3 separation(const Vec3& a, const Vec3& b) const {
+    Vec3 d = b - a;
+    if (periodic_) {
+      d.x -= period_x_ * std::nearbyint(d.x / period_x_);
+      d.y -= period_y_ * std::nearbyint(d.y / period_y_);
+    }
+    return d;
+  }
 
   [[nodiscard]] std::size_t level_count() const { return levels_.size(); }
   [[nodiscard]] std::size_t memory_bytes() const;
@@ -105,25 +114,42 @@ void MultilevelGrid::for_each_in_box(const Vec3& lo, const Vec3& hi, Visit&& vis
 
 template <class Visit, class StopHeight>
 void MultilevelGrid::for_each_below(const Vec3& p, double r, Visit&& visit, StopHeight&& stop_height) const {
+  constexpr int kMaxColumns = 64;
+  std::size_t columns[kMaxColumns];
   for (const Level& level : levels_) {
     if (level.layers() == 0) continue;
     const double reach = r + level.max_radius;
     int x0, x1, y0, y1;
     axis_range(p.x - reach, p.x + reach, lo_.x, level.cell_x, level.nx, x0, x1);
     axis_range(p.y - reach, p.y + reach, lo_.y, level.cell_y, level.ny, y0, y1);
-    const int start = layer_index(p.z, level);
     const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
+    // Layer by layer from the top of the highest column, across all columns at once, so that
+    // the first hits found bound the rest of the scan.
+    int top = -1, used = 0;
+    const auto scan = [&](int first_layer) {
+      for (int iz = first_layer; iz >= 0; --iz) {
+        // Centres in this layer are below lo + (iz+1) cell; their hits at most reach above that.
+        if (lo_.z + (iz + 1) * level.cell_z + reach < stop_height()) return;
+        for (int c = 0; c < used; ++c)
+          if (iz <= level.top_layer[columns[c]])
+            for (std::uint32_t k = level.head[iz * layer_size + columns[c]]; k != kEmpty; k = next_[k]) visit(k);
+      }
+    };
+    const int start = layer_index(p.z, level);
     for (int iy0 = y0; iy0 <= y1; ++iy0) {
       const int iy = wrap(iy0, level.ny);
       for (int ix0 = x0; ix0 <= x1; ++ix0) {
         const std::size_t column = static_cast<std::size_t>(iy) * level.nx + wrap(ix0, level.nx);
-        for (int iz = std::min(start, level.top_layer[column]); iz >= 0; --iz) {
-          // Centres in this layer are at most lo + (iz+1) cell; their hits at most reach above.
-          if (lo_.z + (iz + 1) * level.cell_z + reach < stop_height()) break;
-          for (std::uint32_t k = level.head[iz * layer_size + column]; k != kEmpty; k = next_[k]) visit(k);
+        if (level.top_layer[column] < 0) continue;
+        if (used == kMaxColumns) {  // a sphere much larger than this level's cells: scan in batches
+          scan(std::min(start, top));
+          used = 0, top = -1;
         }
+        columns[used++] = column;
+        top = std::max(top, level.top_layer[column]);
       }
     }
+    scan(std::min(start, top));
   }
 }
 
