@@ -89,13 +89,7 @@ std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, 
         stats_.end = DepositionEnd::FillHeight;
         return placed;
       }
-      Vec3 p = result.position;
-      if (container_.periodic) {
-        p.x = b.lo.x + std::fmod(std::fmod(p.x - b.lo.x, container_.length_x()) + container_.length_x(),
-                                 container_.length_x());
-        p.y = b.lo.y + std::fmod(std::fmod(p.y - b.lo.y, container_.length_y()) + container_.length_y(),
-                                 container_.length_y());
-      }
+      const Vec3 p = container_.wrapped(result.position);
       const std::size_t id = bed_.add(p, r, density, layer);
       grid_.insert(static_cast<std::uint32_t>(id), p, r);
       supports_.push_back(result.supports);

@@ -28,10 +28,7 @@ void fit_into_container(ParticleStore& particles, const Container& container, co
     Vec3& p = particles.position[i];
     const double r = particles.radius[i];
     const double slack = 1e-9 * r;
-    if (container.periodic) {
-      p.x = b.lo.x + std::fmod(std::fmod(p.x - b.lo.x, container.length_x()) + container.length_x(), container.length_x());
-      p.y = b.lo.y + std::fmod(std::fmod(p.y - b.lo.y, container.length_y()) + container.length_y(), container.length_y());
-    }
+    p = container.wrapped(p);
     const bool outside_walls = !container.periodic && (p.x - r < b.lo.x - slack || p.x + r > b.hi.x + slack ||
                                                        p.y - r < b.lo.y - slack || p.y + r > b.hi.y + slack);
     if (outside_walls || p.z - r < b.lo.z - slack || p.z + r > b.hi.z + slack)

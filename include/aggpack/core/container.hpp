@@ -1,4 +1,6 @@
 #pragma once
+#include <cmath>
+
 #include "aggpack/core/box.hpp"
 
 namespace aggpack {
@@ -16,6 +18,17 @@ struct Container {
   [[nodiscard]] double length_x() const { return bounds.hi.x - bounds.lo.x; }
   [[nodiscard]] double length_y() const { return bounds.hi.y - bounds.lo.y; }
   [[nodiscard]] double height() const { return bounds.hi.z - bounds.lo.z; }
+  // p with x and y brought into [lo, hi) when the sides are periodic; p itself otherwise.
+  [[nodiscard]] Vec3 wrapped(Vec3 p) const {
+    if (!periodic) return p;
+    const auto wrap = [](double v, double lo, double length) {
+      const double w = lo + std::fmod(std::fmod(v - lo, length) + length, length);
+      return w >= lo + length ? lo : w;
+    };
+    p.x = wrap(p.x, bounds.lo.x, length_x());
+    p.y = wrap(p.y, bounds.lo.y, length_y());
+    return p;
+  }
 };
 
 }  // namespace aggpack
