@@ -94,16 +94,19 @@ double ArcAngle::angle() const { return wrap_angle(std::atan2(s, c)); }
 
 ArcAngle Arc::lowest() const { return ArcAngle::of(-e1.z, -e2.z); }
 
-void Arc::bounding_box(Vec3& lo, Vec3& hi) const {
-  const Vec3 a = point(ArcAngle{}), b = point(end);
+void Arc::bounding_box(Vec3& lo, Vec3& hi) const { bounding_box(ArcAngle{}, end, lo, hi); }
+
+void Arc::bounding_box(const ArcAngle& from, const ArcAngle& to, Vec3& lo, Vec3& hi) const {
+  const Vec3 a = point(from), b = point(to);
   double l[3] = {std::min(a.x, b.x), std::min(a.y, b.y), std::min(a.z, b.z)};
   double h[3] = {std::max(a.x, b.x), std::max(a.y, b.y), std::max(a.z, b.z)};
+  const auto within = [&](const ArcAngle& t) { return !(t < from) && !(to < t); };
   for (int axis = 0; axis < 3; ++axis) {
     const double u = e1[axis], v = e2[axis];
     if (u == 0.0 && v == 0.0) continue;
     const double c = centre[axis], amplitude = radius * std::sqrt(u * u + v * v);
-    if (!(end < ArcAngle::of(u, v))) h[axis] = c + amplitude;    // the maximum lies on the arc
-    if (!(end < ArcAngle::of(-u, -v))) l[axis] = c - amplitude;  // the minimum lies on the arc
+    if (within(ArcAngle::of(u, v))) h[axis] = c + amplitude;    // the maximum lies on the arc
+    if (within(ArcAngle::of(-u, -v))) l[axis] = c - amplitude;  // the minimum lies on the arc
   }
   lo = {l[0], l[1], l[2]};
   hi = {h[0], h[1], h[2]};

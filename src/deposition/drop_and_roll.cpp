@@ -14,6 +14,8 @@ constexpr double kNoProgress = 1e-12;
 constexpr int kMaxEventsWithoutProgress = 20;
 // A support whose coefficient is this close to zero is being left: roll on the others.
 constexpr double kLeaving = 1e-9;
+// Angle (radians) of the pieces an arc is searched in (0.2 to 0.7 measured; 0.7 fastest).
+constexpr double kArcPiece = 0.7;
 
 std::vector<double> all_radii(const ParticleStore& bed, std::span<const double> to_come) {
   std::vector<double> radii(bed.radius.begin(), bed.radius.end());
@@ -153,22 +155,30 @@ ArcAngle DropAndRoll::first_event_on_arc(const Arc& arc, double r, double skip) 
   for_each_wall_and_floor(r, [&](const Obstacle& o) {
     if (const auto hit = first_contact(arc, o, skip)) t = std::min(t, *hit);
   });
-  Vec3 lo, hi;
-  arc.bounding_box(lo, hi);
+  // Most rolls end early: search the arc piece by piece, each with its own small
+  // neighbourhood, and stop at the first piece that holds an event. An obstacle met in a
+  // later piece lies near that piece, so it cannot be entered earlier on the arc.
   const Vec3 pad{r + tol, r + tol, r + tol};
   const Vec3 start = arc.point(ArcAngle{});
-  near_.clear();
-  grid_.for_each_in_box(lo - pad, hi + pad, [&](std::uint32_t k) {
-    const Obstacle o = sphere_obstacle(k, start, r);
-    // Spheres out of reach of the arc's bounding box cannot be touched.
-    const double dx = std::max({lo.x - o.centre.x, 0.0, o.centre.x - hi.x});
-    const double dy = std::max({lo.y - o.centre.y, 0.0, o.centre.y - hi.y});
-    const double dz = std::max({lo.z - o.centre.z, 0.0, o.centre.z - hi.z});
-    if (dx * dx + dy * dy + dz * dz >= (o.reach + tol) * (o.reach + tol)) return;
-    near_.push_back(o);
-    if (const auto hit = first_contact(arc, o, skip)) t = std::min(t, *hit);
-  });
-  return t;
+  ArcAngle from;
+  for (double step = kArcPiece;; step += kArcPiece) {
+    const ArcAngle to = std::min(t, ArcAngle::at(step));
+    Vec3 lo, hi;
+    arc.bounding_box(from, to, lo, hi);
+    near_.clear();
+    grid_.for_each_in_box(lo - pad, hi + pad, [&](std::uint32_t k) {
+      const Obstacle o = sphere_obstacle(k, start, r);
+      // Spheres out of reach of the piece's bounding box cannot be touched on it.
+      const double dx = std::max({lo.x - o.centre.x, 0.0, o.centre.x - hi.x});
+      const double dy = std::max({lo.y - o.centre.y, 0.0, o.centre.y - hi.y});
+      const double dz = std::max({lo.z - o.centre.z, 0.0, o.centre.z - hi.z});
+      if (dx * dx + dy * dy + dz * dz >= (o.reach + tol) * (o.reach + tol)) return;
+      near_.push_back(o);
+      if (const auto hit = first_contact(arc, o, skip)) t = std::min(t, *hit);
+    });
+    if (!(to < t) || step >= 2.0 * std::numbers::pi) return t;  // the event is in this piece
+    from = to;
+  }
 }
 
 DropResult DropAndRoll::drop(double x, double y, double r) {

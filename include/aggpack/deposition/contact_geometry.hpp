@@ -82,6 +82,7 @@ struct Arc {
   [[nodiscard]] Vec3 point(double t) const { return point(ArcAngle::at(t)); }
   [[nodiscard]] ArcAngle lowest() const;  // where p_z is least
   void bounding_box(Vec3& lo, Vec3& hi) const;  // of the points from 0 to end
+  void bounding_box(const ArcAngle& from, const ArcAngle& to, Vec3& lo, Vec3& hi) const;
 };
 
 // First t in [0, limit] where F(t) = k + a cos t + b sin t becomes negative, ignoring
