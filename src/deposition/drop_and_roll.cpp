@@ -187,14 +187,13 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
   DropResult out;
   Vec3 p{x, y, std::numeric_limits<double>::infinity()};
   fall(p, r, skip);
-  std::vector<Vec3> normals;
   int without_progress = 0;
   for (out.events = 1; out.events <= settings_.max_events; ++out.events) {
     if (settings_.record_paths) out.path.push_back(p);
     collect_contacts(p, r, tol);
-    normals.clear();
-    for (const Obstacle& o : contacts_) normals.push_back(o.normal(p));
-    const Descent descent = steepest_descent(normals);
+    normals_.clear();
+    for (const Obstacle& o : contacts_) normals_.push_back(o.normal(p));
+    const Descent descent = steepest_descent(normals_);
 
     bool tie = false;
     if (descent.at_rest()) {
@@ -247,7 +246,10 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
       }
       lift[0] = vertical_normal_component(a, p);
       arc.radius = norm(p - arc.centre);
-      arc.end = arc.lowest();
+      // A horizontal circle (two supports one above the other) has no lowest point: allow
+      // half a turn; the events on it end the step.
+      const bool level = std::abs(arc.e1.z) + std::abs(arc.e2.z) < 1e-12;
+      arc.end = level ? ArcAngle::at(std::numbers::pi) : arc.lowest();
       // Leave a support where its coefficient reaches zero; alpha is linear in the height.
       const double c = count == 2 ? dot(a.normal(p), rolling[1]->normal(p)) : 0.0;
       for (int i = 0; i < count; ++i) {

@@ -102,6 +102,7 @@ class DropAndRoll {
   std::vector<Supports> supports_;
   std::vector<Obstacle> contacts_;  // scratch: objects touching the dropped sphere
   std::vector<Obstacle> near_;      // scratch: spheres near the last path step
+  std::vector<Vec3> normals_;       // scratch: contact normals
 };
 
 [[nodiscard]] const char* to_string(DepositionEnd end);
