@@ -1,0 +1,130 @@
+#include "aggpack/sizes/grading.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "aggpack/core/error.hpp"
+
+namespace aggpack {
+namespace {
+
+constexpr double kIn = 0.0254;
+
+TEST(NamedGradings, EqualThePublishedTables) {
+  const Grading t1 = *named_grading("fu2003_table1_coarse");
+  ASSERT_EQ(t1.sieves.size(), 11u);
+  EXPECT_EQ(t1.sieves[5].name, "#8");
+  EXPECT_DOUBLE_EQ(t1.sieves[5].percent_passing, 2.7);
+  EXPECT_DOUBLE_EQ(t1.sieves[8].opening, 0.5 * kIn);
+  EXPECT_DOUBLE_EQ(t1.sieves[8].percent_passing, 45.4);
+  EXPECT_DOUBLE_EQ(t1.sieves[9].percent_passing, 90.4);
+  const Grading mid = *named_grading("astm_c33_fine_mid");
+  EXPECT_DOUBLE_EQ(percent_passing_at(mid, 1.18e-3), 67.5);  // #16: (50 + 85) / 2
+  EXPECT_DOUBLE_EQ(percent_passing_at(*named_grading("astm_c33_fine_min"), 0.600e-3), 25.0);
+  EXPECT_DOUBLE_EQ(percent_passing_at(*named_grading("astm_c33_57_max"), 12.5e-3), 60.0);
+  EXPECT_DOUBLE_EQ(percent_passing_at(*named_grading("astm_c33_67_min"), 19.0e-3), 90.0);
+  for (const auto& name : named_grading_names()) EXPECT_TRUE(named_grading(name)) << name;
+  EXPECT_FALSE(named_grading("astm_c33_99_mid"));
+}
+
+TEST(Grading, FinenessModulusOfTheC33MidBand) {
+  // Retained: #100 95, #50 82.5, #30 57.5, #16 32.5, #8 10, #4 2.5 -> 2.80.
+  EXPECT_NEAR(fineness_modulus(*named_grading("astm_c33_fine_mid")), 2.80, 1e-12);
+}
+
+TEST(Grading, InterpolatesLinearlyInLogOpening) {
+  const Grading g = make_grading("g", {{"a", 1.0, 0.0}, {"b", 4.0, 100.0}}, "test", {});
+  EXPECT_NEAR(percent_passing_at(g, 2.0), 50.0, 1e-12);
+  EXPECT_NEAR(opening_at_percent(g, 50.0), 2.0, 1e-12);
+  EXPECT_EQ(percent_passing_at(g, 5.0), 100.0);
+}
+
+TEST(Bands, FlagAGradingThatLeavesTheBandAtTheRightSieves) {
+  const Band band = *named_band("astm_c33_fine");
+  EXPECT_TRUE(check_against_band(*named_grading("astm_c33_fine_mid"), band).all_inside());
+  Grading g = *named_grading("astm_c33_fine_mid");
+  for (Sieve& s : g.sieves) {
+    if (s.name == "#50") s.percent_passing = 35.0;  // above the 30 % limit
+    if (s.name == "#16") s.percent_passing = 45.0;  // below the 50 % limit
+  }
+  const BandCheck check = check_against_band(g, band);
+  EXPECT_FALSE(check.all_inside());
+  for (const BandCheckRow& row : check.rows)
+    EXPECT_EQ(row.inside, row.sieve.name != "#50" && row.sieve.name != "#16") << row.sieve.name;
+  // The paper's coarse grading lies inside the No. 57 band.
+  EXPECT_TRUE(check_against_band(*named_grading("fu2003_table1_coarse"), *named_band("astm_c33_57")).all_inside());
+}
+
+TEST(GradingLaws, FullerAndModifiedAndreasen) {
+  const GradingLaw fuller{GradingLawKind::Fuller, 0.0254, 0.5, 0.0};
+  EXPECT_NEAR(law_percent_passing(fuller, 0.0254 / 4), 50.0, 1e-12);
+  const Grading g = grading_from_law(fuller);
+  EXPECT_EQ(g.sieves.back().percent_passing, 100.0);
+  EXPECT_NEAR(percent_passing_at(g, 4.75e-3), 100.0 * std::sqrt(4.75e-3 / 0.0254), 1e-9);
+  const GradingLaw da{GradingLawKind::ModifiedAndreasen, 0.0254, 0.37, 0.075e-3};
+  EXPECT_NEAR(law_percent_passing(da, 0.075e-3), 0.0, 1e-12);
+  EXPECT_NEAR(law_percent_passing(GradingLaw{GradingLawKind::Power045, 1.0, 0.5, 0.0}, 0.5),
+              100.0 * std::pow(0.5, 0.45), 1e-12);
+  EXPECT_THROW(grading_from_law({GradingLawKind::ModifiedAndreasen, 0.0254, 0.37, 0.03}), InputError);
+}
+
+struct Bad {
+  const char* name;
+  std::vector<Sieve> sieves;
+  std::vector<std::string> expected;
+};
+
+TEST(Grading, BadGradingsAreRefusedNamingTheRow) {
+  const std::vector<std::string> rows{"row 1", "row 2", "row 3"};
+  const std::vector<Bad> cases = {
+      {"decreasing", {{"a", 1, 10}, {"b", 2, 5}, {"c", 3, 100}}, {"row 2", "must not decrease"}},
+      {"above 100", {{"a", 1, 10}, {"b", 2, 120}, {"c", 3, 100}}, {"row 2", "between 0 and 100"}},
+      {"negative percent", {{"a", 1, -1}, {"b", 2, 100}}, {"row 1", "between 0 and 100"}},
+      {"one sieve", {{"a", 1, 100}}, {"at least two"}},
+      {"no 100", {{"a", 1, 10}, {"b", 2, 90}}, {"row 2", "passes 100 %"}},
+      {"duplicate", {{"a", 1, 10}, {"b", 1, 20}, {"c", 3, 100}}, {"row 1", "row 2", "duplicate"}},
+      {"negative size", {{"a", -1, 10}, {"b", 2, 100}}, {"row 1", "positive length"}},
+  };
+  for (const Bad& c : cases) {
+    try {
+      make_grading("g", c.sieves, "grading.csv", rows);
+      ADD_FAILURE() << c.name << ": accepted";
+    } catch (const InputError& e) {
+      for (const auto& part : c.expected)
+        EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << c.name << ": " << e.what();
+    }
+  }
+}
+
+TEST(Grading, ReadsCsvFilesAndNamesTheLineOfABadValue) {
+  const auto dir = std::filesystem::temp_directory_path() / "aggpack_grading_test";
+  std::filesystem::create_directories(dir);
+  const auto good = (dir / "sand.csv").string();
+  std::ofstream(good) << "# a sand\nsieve,opening_mm,percent_passing\n#4,4.75,100\n#16,1.18,60\n#100,0.15,5\n";
+  const Grading g = read_grading_csv(good);
+  ASSERT_EQ(g.sieves.size(), 3u);
+  EXPECT_DOUBLE_EQ(g.sieves[0].opening, 0.15e-3);
+  EXPECT_EQ(g.sieves[1].name, "#16");
+  const auto bad = (dir / "bad.csv").string();
+  std::ofstream(bad) << "sieve,opening_mm,percent_passing\n#4,4.75,100\n#16,,60\n";
+  try {
+    read_grading_csv(bad);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.csv:3: missing sieve opening"), std::string::npos) << e.what();
+  }
+  std::ofstream(bad) << "sieve,opening_mm,percent_passing\n#4,4.75,100\n#16,1.18,110\n";
+  try {
+    read_grading_csv(bad);
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("line 3"), std::string::npos) << e.what();
+  }
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace aggpack
