@@ -5,6 +5,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/io/toml_reader.hpp"
+#include "aggpack/sizes/grading.hpp"
 
 namespace aggpack {
 
@@ -62,14 +63,129 @@ SizeClass read_size_class(const TomlSection& s) {
   return c;
 }
 
-ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir) {
-  s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit"});
-  ParticleSource source;
-  const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from"));
+std::filesystem::path relative_to(const std::filesystem::path& dir, const std::string& file) {
+  return std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : dir / file;
+}
+
+GradingSource read_grading_source(const TomlSection& s, const std::filesystem::path& scenario_dir) {
+  s.allow_only({"name", "file", "length_unit", "percent_column", "sieves", "law", "law_d_max", "q", "law_d_min",
+                "d_min", "d_max", "band"});
+  GradingSource g;
+  g.key = s.path();
+  const int ways = int(s.has("name")) + int(s.has("file")) + int(s.has("sieves")) + int(s.has("law"));
   if (ways != 1)
-    s.fail(ways == 0 ? "diameter" : (s.has("from") ? "from" : "classes"),
-           "give exactly one of 'diameter' (monosized, with 'count'), 'classes' (a list of size classes) "
-           "or 'from' (a particle file)");
+    s.fail(ways == 0 ? "name" : "file", "give exactly one of 'name' (a shipped grading), 'file' (a CSV sieve "
+                                        "analysis), 'sieves' (a list) or 'law' (a grading law)");
+  if (const auto name = s.string("name")) {
+    const auto named = named_grading(*name);
+    if (!named) {
+      std::string known;
+      for (const auto& n : named_grading_names()) known += (known.empty() ? "" : ", ") + n;
+      s.fail("name", fmt::format("unknown grading \"{}\"; shipped gradings: {}", *name, known));
+    }
+    g.grading = *named;
+  } else if (const auto file = s.string("file")) {
+    const std::string unit = s.string("length_unit").value_or("in");
+    const auto factor = metres_per_unit(unit);
+    if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"", unit));
+    g.grading = read_grading_csv(relative_to(scenario_dir, *file).string(), static_cast<double>(*factor),
+                                 s.string("percent_column").value_or("percent_passing"));
+  } else if (const auto law = s.choice("law", {"fuller", "power_045", "andreasen", "modified_andreasen"})) {
+    GradingLaw l;
+    l.kind = *law == "fuller"      ? GradingLawKind::Fuller
+             : *law == "power_045" ? GradingLawKind::Power045
+             : *law == "andreasen" ? GradingLawKind::Andreasen
+                                   : GradingLawKind::ModifiedAndreasen;
+    l.d_max = s.required(s.length("law_d_max"), "law_d_max", "the largest size of the law, such as \"1 in\"");
+    l.q = s.number("q", kPositive).value_or(l.kind == GradingLawKind::Andreasen ? 0.37 : 0.5);
+    l.d_min = s.length("law_d_min").value_or(0.0);
+    try {
+      g.grading = grading_from_law(l);
+    } catch (const InputError& e) {
+      s.fail("law", e.what());
+    }
+  } else {
+    std::vector<Sieve> sieves;
+    std::vector<std::string> rows;
+    const auto list = *s.table_array("sieves");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const TomlSection& row = list[i];
+      row.allow_only({"sieve", "opening", "passing"});
+      Sieve sieve;
+      sieve.name = row.string("sieve").value_or("");
+      sieve.opening = row.required(row.length("opening"), "opening", "a length such as \"0.5 in\"");
+      sieve.percent_passing = row.required(row.number("passing", {0.0, 100.0, false, false}), "passing",
+                                           "percent passing, 0 to 100");
+      sieves.push_back(sieve);
+      rows.push_back(row.path());
+    }
+    g.grading = make_grading(g.key, std::move(sieves), s.location("sieves"), rows);
+  }
+  g.d_min = s.length("d_min");
+  g.d_max = s.length("d_max");
+  if (const auto band = s.string("band")) {
+    g.band = named_band(*band);
+    if (!g.band) s.fail("band", fmt::format("unknown band \"{}\"; shipped bands: astm_c33_fine, astm_c33_57, "
+                                            "astm_c33_67", *band));
+  }
+  cut_grading(g.grading, g.d_min, g.d_max, s.location(g.d_min ? "d_min" : "d_max") + ": " + g.key);
+  return g;
+}
+
+GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& scenario_dir,
+                            const Container& container) {
+  GradedParticles p;
+  const bool mix = s.has("coarse") || s.has("fine");
+  if (mix) {
+    if (s.has("grading")) s.fail("grading", "give either 'grading' or a 'coarse' and 'fine' mix, not both");
+    p.main = read_grading_source(s.required(s.table("coarse"), "coarse", "a [particles.coarse] table"), scenario_dir);
+    p.fine = read_grading_source(s.required(s.table("fine"), "fine", "a [particles.fine] table"), scenario_dir);
+    p.ca_fa = s.required(s.number("ca_fa", kPositive), "ca_fa", "the coarse/fine volume ratio, such as 1.52");
+  } else {
+    if (s.has("ca_fa")) s.fail("ca_fa", "applies only to a coarse/fine mix");
+    p.main = read_grading_source(*s.table("grading"), scenario_dir);
+  }
+  p.sampling = s.choice("sampling", {"mass", "number"}).value_or("mass") == "mass" ? SamplingMode::Mass
+                                                                                  : SamplingMode::Number;
+  const auto order = s.choice("order", {"interleaved", "shuffled"}).value_or(mix ? "interleaved" : "shuffled");
+  if (!mix && order == "interleaved") s.fail("order", "'interleaved' applies only to a coarse/fine mix");
+  p.order = order == "interleaved" ? MixOrder::Interleaved : MixOrder::Shuffled;
+  const auto count = s.integer("count", 1, 1'000'000'000);
+  const auto solid_volume = s.number("solid_volume", kPositive);
+  p.fill_height = s.length("fill_height");
+  p.expected_density = s.number("expected_density", {0.0, 1.0, true, false}).value_or(p.expected_density);
+  if (s.has("expected_density") && !p.fill_height)
+    s.fail("expected_density", "applies only with 'fill_height'");
+  if (int(count.has_value()) + int(solid_volume.has_value()) + int(p.fill_height.has_value()) != 1)
+    s.fail("count", "say how much to generate with exactly one of 'count', 'solid_volume' (m^3) or 'fill_height' "
+                    "(with 'expected_density', default 0.6)");
+  if (count) p.amount.count = static_cast<std::size_t>(*count);
+  if (solid_volume) p.amount.solid_volume = solid_volume;
+  if (p.fill_height) {
+    if (*p.fill_height > container.height())
+      s.fail("fill_height", "is above the container height");
+    p.amount.solid_volume = container.length_x() * container.length_y() * *p.fill_height * p.expected_density;
+  }
+  return p;
+}
+
+ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
+                              const Container& container) {
+  s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
+                "fine", "ca_fa", "sampling", "fill_height", "expected_density"});
+  ParticleSource source;
+  const bool graded = s.has("grading") || s.has("coarse") || s.has("fine");
+  const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from")) + int(graded);
+  if (ways != 1)
+    s.fail(ways == 0 ? "diameter" : (s.has("from") ? "from" : (s.has("classes") ? "classes" : "diameter")),
+           "give exactly one of 'diameter' (monosized, with 'count'), 'classes' (a list of size classes), "
+           "'grading' (a sieve grading), 'coarse' and 'fine' (a mix) or 'from' (a particle file)");
+  if (graded) {
+    source.graded = read_graded(s, scenario_dir, container);
+    return source;
+  }
+  for (auto k : {"sampling", "fill_height", "expected_density", "ca_fa"})
+    if (s.has(k)) s.fail(k, "applies only to particles sampled from a grading");
   if (const auto file = s.string("from")) {
     for (auto k : {"count", "solid_volume", "order"})
       if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
@@ -194,7 +310,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   if (overrides.seed) sc.seed = *overrides.seed;
   sc.container = read_container(s.required(s.table("container"), "container", "a [container] table"));
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
-                                file.parent_path());
+                                file.parent_path(), sc.container);
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d);
   if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
@@ -203,11 +319,19 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   if (overrides.output_directory) sc.output.directory = *overrides.output_directory;
 
   // Cross-checks that need several sections.
-  if (sc.particles.sizes) {
+  if (sc.particles.sizes || sc.particles.graded) {
     double d_max = 0.0;
-    for (const auto& c : sc.particles.sizes->classes) d_max = std::max(d_max, c.diameter);
+    if (sc.particles.sizes)
+      for (const auto& c : sc.particles.sizes->classes) d_max = std::max(d_max, c.diameter);
+    if (const auto& g = sc.particles.graded) {
+      d_max = cut_grading(g->main.grading, g->main.d_min, g->main.d_max, g->main.key).d_hi;
+      if (g->fine) d_max = std::max(d_max, cut_grading(g->fine->grading, g->fine->d_min, g->fine->d_max, "").d_hi);
+    }
     const TomlSection particles = *s.table("particles");
-    const std::string where = particles.location(particles.has("diameter") ? "diameter" : "classes");
+    const std::string where = particles.location(particles.has("diameter")  ? "diameter"
+                                                 : particles.has("classes") ? "classes"
+                                                 : particles.has("grading") ? "grading"
+                                                                            : "coarse");
     if (d_max >= sc.container.length_x())
       throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) does not fit in the container "
                                    "(side {:.6g} m)", where, d_max, sc.container.length_x()));

@@ -8,13 +8,35 @@
 #include <nlohmann/json.hpp>
 
 #include "aggpack/core/container.hpp"
+#include "aggpack/sizes/grading_sampler.hpp"
 #include "aggpack/sizes/size_spec.hpp"
 
 namespace aggpack {
 
+// One aggregate grading in a scenario, with its cut-offs.
+struct GradingSource {
+  std::string key;                 // where it was given: "particles.grading", "particles.coarse", ...
+  Grading grading;
+  std::optional<double> d_min, d_max;  // m
+  std::optional<Band> band;        // a band to check it against, reported
+};
+
+// Sizes sampled from a sieve grading, or from a coarse/fine mix at a volume ratio.
+struct GradedParticles {
+  GradingSource main;                  // the grading, or the coarse aggregate of a mix
+  std::optional<GradingSource> fine;   // set for a mix
+  double ca_fa = 0.0;                  // coarse/fine volume ratio of a mix
+  SamplingMode sampling = SamplingMode::Mass;
+  MixOrder order = MixOrder::Interleaved;
+  Amount amount;                       // a count or a solid volume
+  std::optional<double> fill_height;   // m: set when the solid volume was derived from it
+  double expected_density = 0.6;       // used with fill_height
+};
+
 // Where particle positions come from: generated sizes (placed by a stage) or a file.
 struct ParticleSource {
-  std::optional<SizeSpec> sizes;           // set when the scenario generates particles
+  std::optional<SizeSpec> sizes;           // set when the scenario generates particles by class
+  std::optional<GradedParticles> graded;   // set when it samples them from gradings
   std::optional<std::filesystem::path> file;  // set when positions are read from a file
   double file_length_unit = 1.0;           // metres per file unit
 };
