@@ -378,6 +378,30 @@ nlohmann::json to_json(const Scenario& sc) {
     if (spec.solid_volume) p["solid_volume_m3"] = *spec.solid_volume;
     p["order"] = spec.order == SizeOrder::Shuffled ? "shuffled" : "as_listed";
   }
+  if (const auto& g = sc.particles.graded) {
+    const auto source = [](const GradingSource& gs) {
+      nlohmann::json j{{"key", gs.key}, {"grading", gs.grading.name}};
+      for (const Sieve& s : gs.grading.sieves)
+        j["sieves"].push_back({{"sieve", s.name}, {"opening_m", s.opening}, {"percent_passing", s.percent_passing}});
+      if (gs.d_min) j["d_min_m"] = *gs.d_min;
+      if (gs.d_max) j["d_max_m"] = *gs.d_max;
+      if (gs.band) j["band"] = gs.band->name;
+      return j;
+    };
+    p["gradings"] = {source(g->main)};
+    if (g->fine) {
+      p["gradings"].push_back(source(*g->fine));
+      p["ca_fa"] = g->ca_fa;
+    }
+    p["sampling"] = g->sampling == SamplingMode::Mass ? "mass" : "number";
+    p["order"] = g->order == MixOrder::Interleaved ? "interleaved" : "shuffled";
+    if (g->amount.count) p["count"] = *g->amount.count;
+    if (g->amount.solid_volume) p["solid_volume_m3"] = *g->amount.solid_volume;
+    if (g->fill_height) {
+      p["fill_height_m"] = *g->fill_height;
+      p["expected_density"] = g->expected_density;
+    }
+  }
   if (sc.deposition) {
     const DepositionStage& d = *sc.deposition;
     j["deposition"] = {{"method", "drop_and_roll"},

@@ -14,6 +14,7 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/pipeline/analyze.hpp"
+#include "aggpack/pipeline/generate_sizes.hpp"
 
 namespace aggpack {
 
@@ -52,10 +53,7 @@ struct DepositionOutcome {
   std::vector<Supports> supports;
 };
 
-DepositionOutcome run_deposition(const Scenario& sc, ParticleStore& particles) {
-  Rng size_rng = make_rng(sc.seed, RngPurpose::Sizes);
-  std::vector<double> radii = generate_diameters(*sc.particles.sizes, size_rng);
-  for (double& r : radii) r *= 0.5;
+DepositionOutcome run_deposition(const Scenario& sc, std::vector<double> radii, ParticleStore& particles) {
   const DepositionStage& stage = *sc.deposition;
   DepositionSettings settings;
   settings.tolerance = stage.tolerance;
@@ -98,7 +96,8 @@ AnalysisRequest analysis_request(const Scenario& sc) {
 }
 
 // Every modelling choice a result depends on, said in the output.
-nlohmann::json modelling_notes(const Scenario& sc, bool auto_box, const nlohmann::json& stages) {
+nlohmann::json modelling_notes(const Scenario& sc, bool auto_box, const nlohmann::json& stages,
+                               const std::vector<std::string>& size_notes) {
   nlohmann::json notes = nlohmann::json::array();
   if (sc.particles.file)
     notes.push_back("particle positions were read from " + sc.particles.file->string() +
@@ -111,12 +110,15 @@ nlohmann::json modelling_notes(const Scenario& sc, bool auto_box, const nlohmann
         "deposition: kinematic drop-and-roll, a geometric steepest descent without inertia or friction "
         "(material friction and restitution are not used by this stage); spheres dropped one at a time at "
         "uniformly random (x, y), in {} order; contact tolerance {:g} x diameter",
-        sc.particles.sizes->order == SizeOrder::Shuffled ? "shuffled" : "listed", sc.deposition->tolerance));
+        sc.particles.graded ? (sc.particles.graded->order == MixOrder::Interleaved ? "interleaved" : "shuffled")
+                            : (sc.particles.sizes->order == SizeOrder::Shuffled ? "shuffled" : "listed"),
+        sc.deposition->tolerance));
     if (d.at("end") != "all_placed")
       notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed",
                                   d.at("end").get<std::string>(), d.at("particles_placed").get<std::size_t>(),
                                   d.at("particles_requested").get<std::size_t>()));
   }
+  for (const std::string& note : size_notes) notes.push_back(note);
   if (auto_box)
     notes.push_back("no analysis.box_sides given: one virtual cube of the largest admissible side was used");
   notes.push_back("virtual cubes are centred horizontally and vertically between the floor and the free surface, "
@@ -161,8 +163,14 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
 
   nlohmann::json stages = nlohmann::json::object();
   std::vector<Supports> supports;
+  GeneratedSizes sizes;
   if (sc.deposition) {
-    DepositionOutcome outcome = run_deposition(sc, particles);
+    t0 = Clock::now();
+    sizes = generate_sizes(sc.particles, sc.seed);
+    wall_clock["sizes"] = seconds_since(t0);
+    std::vector<double> radii = std::move(sizes.diameters);
+    for (double& r : radii) r *= 0.5;
+    DepositionOutcome outcome = run_deposition(sc, std::move(radii), particles);
     wall_clock["deposition"] = outcome.summary["wall_clock_s"];
     supports = std::move(outcome.supports);
     stages["deposition"] = std::move(outcome.summary);
@@ -187,7 +195,8 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   summary["container"] = {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}},
                           {"periodic", sc.container.periodic}};
   summary["stages"] = stages;
-  summary["modelling_notes"] = modelling_notes(sc, sc.analysis.box_sides.empty(), stages);
+  if (sc.deposition) summary["sizes"] = sizes.report;
+  summary["modelling_notes"] = modelling_notes(sc, sc.analysis.box_sides.empty(), stages, sizes.notes);
   summary.update(to_json(report));
 
   // Outputs only once everything has been computed: bad input leaves no files behind.
@@ -205,6 +214,33 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
 
   if (!options.quiet) {
     fmt::print(log, "aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed);
+    if (sc.particles.graded) {
+      const auto& z = sizes.report;
+      fmt::print(log, "  sizes: {} particles by {} sampling, d {:.3g}-{:.3g} mm, D10/D50/D90 {:.3g}/{:.3g}/{:.3g} mm, "
+                      "fineness modulus {:.2f}\n",
+                 z["count"].get<std::size_t>(), z["sampling"].get<std::string>(), 1e3 * z["d_min_m"].get<double>(),
+                 1e3 * z["d_max_m"].get<double>(), 1e3 * z["d10_m"].get<double>(), 1e3 * z["d50_m"].get<double>(),
+                 1e3 * z["d90_m"].get<double>(), z["fineness_modulus"].get<double>());
+      if (z.contains("ca_fa_generated"))
+        fmt::print(log, "  mix: Ca/Fa {:.4g} generated for {:.4g} requested ({} order)\n",
+                   z["ca_fa_generated"].get<double>(), z["ca_fa_requested"].get<double>(), z["order"].get<std::string>());
+      for (const auto& c : z["components"]) {
+        fmt::print(log, "  {} ({}): {} particles, cut off {:.2f} % below {:.3g} mm and {:.2f} % above {:.3g} mm; "
+                        "largest deviation from the target {:.2f} points\n",
+                   c["key"].get<std::string>(), c["grading"].get<std::string>(), c["count"].get<std::size_t>(),
+                   100 * c["cut_below_fraction"].get<double>(), 1e3 * c["d_lo_m"].get<double>(),
+                   100 * c["cut_above_fraction"].get<double>(), 1e3 * c["d_hi_m"].get<double>(),
+                   c["largest_deviation_percent"].get<double>());
+        fmt::print(log, "    {:>8} {:>10} {:>9} {:>9}\n", "sieve", "opening mm", "target %", "generated %");
+        for (const auto& row : c["sieves"])
+          fmt::print(log, "    {:>8} {:>10.4g} {:>9.2f} {:>9.2f}\n", row["sieve"].get<std::string>(),
+                     1e3 * row["opening_m"].get<double>(), row["target_percent"].get<double>(),
+                     row["generated_percent"].get<double>());
+        if (c.contains("band"))
+          fmt::print(log, "    band {}: {}\n", c["band"]["name"].get<std::string>(),
+                     c["band"]["all_inside"].get<bool>() ? "inside at every sieve" : "OUTSIDE at some sieves");
+      }
+    }
     if (sc.deposition) {
       const auto& d = stages["deposition"];
       fmt::print(log, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, "

@@ -94,8 +94,9 @@ std::vector<double> sample_diameters(const GradingSampler& sampler, const Amount
 }
 
 std::vector<double> sample_mix(const GradingSampler& coarse, const GradingSampler& fine, double coarse_to_fine,
-                               const Amount& amount, MixOrder order, Rng& rng) {
+                               const Amount& amount, MixOrder order, Rng& rng, std::vector<std::uint8_t>* is_fine) {
   std::vector<double> d;
+  std::vector<std::uint8_t> fine_flags;
   double coarse_volume = 0.0, fine_volume = 0.0;
   const auto done = [&] {
     if (amount.count) return d.size() >= *amount.count;
@@ -103,14 +104,21 @@ std::vector<double> sample_mix(const GradingSampler& coarse, const GradingSample
   };
   while (!done()) {
     d.push_back(coarse.draw(rng));
+    fine_flags.push_back(0);
     coarse_volume += volume(d.back());
     while (!done() && fine_volume < coarse_volume / coarse_to_fine) {
       d.push_back(fine.draw(rng));
+      fine_flags.push_back(1);
       fine_volume += volume(d.back());
     }
   }
   if (order == MixOrder::Shuffled)
-    for (std::size_t i = d.size(); i > 1; --i) std::swap(d[i - 1], d[rng.below(i)]);
+    for (std::size_t i = d.size(); i > 1; --i) {
+      const std::size_t j = rng.below(i);
+      std::swap(d[i - 1], d[j]);
+      std::swap(fine_flags[i - 1], fine_flags[j]);
+    }
+  if (is_fine) *is_fine = std::move(fine_flags);
   return d;
 }
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <vector>
 
@@ -62,8 +63,10 @@ std::vector<double> sample_diameters(const GradingSampler& sampler, const Amount
 // one coarse particle, then fine particles until the running fine volume reaches the coarse
 // volume / ratio, repeated; the amount counts both. Shuffled: the same particles, shuffled.
 enum class MixOrder { Interleaved, Shuffled };
+// `is_fine`, when given, receives 1 for each fine particle, in the same order.
 std::vector<double> sample_mix(const GradingSampler& coarse, const GradingSampler& fine, double coarse_to_fine,
-                               const Amount& amount, MixOrder order, Rng& rng);
+                               const Amount& amount, MixOrder order, Rng& rng,
+                               std::vector<std::uint8_t>* is_fine = nullptr);
 
 // What was generated, against the target: percent passing by mass at every input sieve.
 struct GradingReportRow {

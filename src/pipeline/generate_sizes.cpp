@@ -1,0 +1,117 @@
+#include "aggpack/pipeline/generate_sizes.hpp"
+
+#include <algorithm>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/rng.hpp"
+
+namespace aggpack {
+
+namespace {
+double volume(double d) { return std::numbers::pi / 6.0 * d * d * d; }
+
+nlohmann::json component_report(const GradingSource& source, const GradingCut& cut,
+                                const std::vector<double>& diameters) {
+  const GradingReport r = report_generated(diameters, cut);
+  nlohmann::json j;
+  j["key"] = source.key;
+  j["grading"] = source.grading.name;
+  j["d_lo_m"] = cut.d_lo;
+  j["d_hi_m"] = cut.d_hi;
+  j["cut_below_fraction"] = cut.cut_below;
+  j["cut_above_fraction"] = cut.cut_above;
+  j["renormalisation"] = "proportional";
+  j["count"] = r.count;
+  j["solid_volume_m3"] = r.solid_volume;
+  j["largest_deviation_percent"] = r.largest_deviation;
+  j["sieves"] = nlohmann::json::array();
+  for (const GradingReportRow& row : r.rows)
+    j["sieves"].push_back({{"sieve", row.sieve.name},
+                           {"opening_m", row.sieve.opening},
+                           {"target_percent", row.sieve.percent_passing},
+                           {"generated_percent", row.generated}});
+  if (source.band) {
+    const BandCheck check = check_against_band(source.grading, *source.band);
+    nlohmann::json band{{"name", source.band->name}, {"all_inside", check.all_inside()}};
+    for (const BandCheckRow& row : check.rows)
+      band["sieves"].push_back({{"sieve", row.sieve.name},
+                                {"opening_m", row.sieve.opening},
+                                {"min_percent", row.sieve.min_percent},
+                                {"max_percent", row.sieve.max_percent},
+                                {"percent", row.percent_passing},
+                                {"inside", row.inside}});
+    j["band"] = band;
+  }
+  return j;
+}
+
+std::string cut_note(const GradingSource& source, const GradingCut& cut) {
+  return fmt::format("{} ({}): sizes {:.4g} to {:.4g} mm generated; {:.2f} % of the volume finer and {:.2f} % coarser "
+                     "was cut off and the rest renormalised proportionally",
+                     source.key, source.grading.name, cut.d_lo * 1e3, cut.d_hi * 1e3, 100 * cut.cut_below,
+                     100 * cut.cut_above);
+}
+}  // namespace
+
+GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) {
+  GeneratedSizes out;
+  Rng rng = make_rng(seed, RngPurpose::Sizes);
+  if (source.sizes) {
+    out.diameters = generate_diameters(*source.sizes, rng);
+    out.report = {{"method", "classes"}, {"count", out.diameters.size()}};
+  } else {
+    const GradedParticles& g = *source.graded;
+    const GradingCut main_cut = cut_grading(g.main.grading, g.main.d_min, g.main.d_max, g.main.key);
+    const GradingSampler main(main_cut, g.sampling);
+    out.report["sampling"] = g.sampling == SamplingMode::Mass ? "mass" : "number";
+    out.report["within_interval"] = g.sampling == SamplingMode::Mass
+                                        ? "volume uniform in log diameter (as the curve between sieves)"
+                                        : "uniform in diameter by number (the paper's Eq. 11)";
+    out.notes.push_back(cut_note(g.main, main_cut));
+    if (g.sampling == SamplingMode::Number)
+      out.notes.push_back("sizes sampled by number (the paper's Eq. 11): percent passing read as a number "
+                          "fraction, which generates far too few fines by volume; see sizes.components[].sieves");
+    if (g.fine) {
+      const GradingCut fine_cut = cut_grading(g.fine->grading, g.fine->d_min, g.fine->d_max, g.fine->key);
+      std::vector<std::uint8_t> is_fine;
+      out.diameters = sample_mix(main, GradingSampler(fine_cut, g.sampling), g.ca_fa, g.amount, g.order, rng, &is_fine);
+      std::vector<double> coarse_d, fine_d;
+      for (std::size_t i = 0; i < out.diameters.size(); ++i)
+        (is_fine[i] ? fine_d : coarse_d).push_back(out.diameters[i]);
+      double vc = 0.0, vf = 0.0;
+      for (double d : coarse_d) vc += volume(d);
+      for (double d : fine_d) vf += volume(d);
+      out.report["method"] = "mix";
+      out.report["order"] = g.order == MixOrder::Interleaved ? "interleaved" : "shuffled";
+      out.report["ca_fa_requested"] = g.ca_fa;
+      out.report["ca_fa_generated"] = vf > 0 ? vc / vf : 0.0;
+      out.report["components"] = {component_report(g.main, main_cut, coarse_d),
+                                  component_report(*g.fine, fine_cut, fine_d)};
+      out.notes.push_back(cut_note(*g.fine, fine_cut));
+    } else {
+      out.diameters = sample_diameters(main, g.amount, rng);
+      out.report["method"] = "grading";
+      out.report["components"] = {component_report(g.main, main_cut, out.diameters)};
+    }
+    if (g.fill_height)
+      out.notes.push_back(fmt::format("the amount was set to fill {:.4g} m at an expected density of {:g}: "
+                                      "solid volume {:.4g} m^3",
+                                      *g.fill_height, g.expected_density, *g.amount.solid_volume));
+    // The whole sample, as one curve.
+    GradingCut whole = main_cut;
+    const GradingReport all = report_generated(out.diameters, whole);
+    out.report["count"] = all.count;
+    out.report["solid_volume_m3"] = all.solid_volume;
+    out.report["d_min_m"] = all.d_min;
+    out.report["d_max_m"] = all.d_max;
+    out.report["d10_m"] = all.d10;
+    out.report["d50_m"] = all.d50;
+    out.report["d90_m"] = all.d90;
+    out.report["fineness_modulus"] = all.fineness_modulus;
+  }
+  return out;
+}
+
+}  // namespace aggpack
