@@ -126,6 +126,31 @@ TEST_F(Cli, RunsExample1ThroughDeposition) {
   EXPECT_NE(slurp(out / "particles.csv"), slurp(other / "particles.csv"));
 }
 
+// A grading-based run: the sizes report in summary.json and on the terminal.
+TEST_F(Cli, RunsFromAGradingAndReportsTheGeneratedCurve) {
+  const fs::path scenario = dir_ / "graded.toml";
+  std::ofstream(scenario) << "[container]\nside = \"6 in\"\nheight = \"12 in\"\n"
+                             "[particles]\ncount = 800\n[particles.grading]\nname = \"astm_c33_57_mid\"\n"
+                             "d_min = \"0.3 in\"\nband = \"astm_c33_57\"\n[deposition]\n";
+  const fs::path out = dir_ / "graded";
+  const Result r = run("run " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("band astm_c33_57: inside at every sieve"), std::string::npos) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  const auto& sizes = s["sizes"];
+  EXPECT_EQ(sizes["method"], "grading");
+  EXPECT_EQ(sizes["count"].get<int>(), 800);
+  EXPECT_GE(sizes["d_min_m"].get<double>(), 0.3 * 0.0254);
+  const auto& c = sizes["components"][0];
+  EXPECT_GT(c["cut_below_fraction"].get<double>(), 0.0);
+  EXPECT_EQ(c["sieves"].size(), 5u);
+  EXPECT_TRUE(c["band"]["all_inside"].get<bool>());
+  bool noted = false;
+  for (const auto& note : s["modelling_notes"]) noted = noted || note.get<std::string>().find("cut off") != std::string::npos;
+  EXPECT_TRUE(noted);
+  EXPECT_EQ(s["stages"]["deposition"]["particles_placed"].get<int>(), 800);
+}
+
 TEST_F(Cli, CheckValidatesWithoutWriting) {
   EXPECT_EQ(run("check " + example("cubic_lattice.toml")).exit_code, 0);
   const Result bad = run("check " + example("cubic_lattice.toml") + " --set analysis.box_sides='[\"9 in\"]'");

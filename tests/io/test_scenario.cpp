@@ -125,6 +125,28 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
        {"s.toml:8:", "deposition.method", "\"drop_and_roll\""}},
       {"fill height above the container", head + sized + "[deposition]\nfill_height = \"30 in\"\n",
        {"s.toml:8:", "deposition.fill_height", "above the container height"}},
+      {"unknown named grading", head + "[particles]\ncount = 10\n[particles.grading]\nname = \"c33\"\n[deposition]\n",
+       {"s.toml:7:", "particles.grading.name", "unknown grading", "astm_c33_fine_mid"}},
+      {"cut-off removes everything",
+       head + "[particles]\ncount = 10\n[particles.grading]\nname = \"astm_c33_fine_mid\"\nd_min = \"1 in\"\n",
+       {"s.toml:8:", "particles.grading", "leave nothing"}},
+      {"decreasing inline sieves",
+       head + "[particles]\ncount = 10\n[particles.grading]\nsieves = [{ opening = \"1 mm\", passing = 50 },"
+              " { opening = \"2 mm\", passing = 40 }, { opening = \"4 mm\", passing = 100 }]\n",
+       {"s.toml:7:", "particles.grading.sieves[1]", "must not decrease"}},
+      {"ca_fa without a mix", head + "[particles]\ncount = 10\nca_fa = 1.5\n[particles.grading]\nname = "
+                                     "\"astm_c33_fine_mid\"\n",
+       {"s.toml:6:", "particles.ca_fa", "only to a coarse/fine mix"}},
+      {"mix without fine", head + "[particles]\ncount = 10\nca_fa = 1.5\n[particles.coarse]\nname = "
+                                  "\"fu2003_table1_coarse\"\n",
+       {"particles.fine", "missing required key"}},
+      {"grading without amount", head + "[particles]\n[particles.grading]\nname = \"astm_c33_fine_mid\"\n",
+       {"particles.count", "exactly one of 'count', 'solid_volume'"}},
+      {"unknown band", head + "[particles]\ncount = 5\n[particles.grading]\nname = \"astm_c33_fine_mid\"\n"
+                              "band = \"astm_c33_8\"\n",
+       {"s.toml:8:", "particles.grading.band", "unknown band"}},
+      {"sampling for classes", head + sized + "sampling = \"mass\"\n[deposition]\n",
+       {"particles.sampling", "only to particles sampled from a grading"}},
       {"periodic box too narrow", "[container]\nside = \"3 in\"\nheight = \"24 in\"\nsides = \"periodic\"\n" +
                                       sized + "[deposition]\n",
        {"container.side", "four times the largest diameter"}},
@@ -152,6 +174,24 @@ TEST_F(ScenarioTest, ReadsTheDepositionStage) {
   EXPECT_EQ(sc.deposition->max_events, 500u);
   EXPECT_NEAR(*sc.deposition->fill_height, 0.254, 1e-15);
   EXPECT_EQ(to_json(sc)["deposition"]["fill_height_m"].get<double>(), *sc.deposition->fill_height);
+}
+
+TEST_F(ScenarioTest, ReadsAGradedMix) {
+  const Scenario sc = load_scenario(write(
+      "[container]\nside = \"5 in\"\nheight = \"8 in\"\n[particles]\nca_fa = 1.52\nfill_height = \"6 in\"\n"
+      "[particles.coarse]\nname = \"fu2003_table1_coarse\"\nd_min = \"0.1 in\"\n"
+      "[particles.fine]\nname = \"astm_c33_fine_mid\"\nd_min = \"1 mm\"\nband = \"astm_c33_fine\"\n"
+      "[deposition]\n"));
+  ASSERT_TRUE(sc.particles.graded);
+  const GradedParticles& g = *sc.particles.graded;
+  ASSERT_TRUE(g.fine);
+  EXPECT_EQ(g.main.grading.name, "fu2003_table1_coarse");
+  EXPECT_DOUBLE_EQ(g.ca_fa, 1.52);
+  EXPECT_EQ(g.sampling, SamplingMode::Mass);
+  EXPECT_EQ(g.order, MixOrder::Interleaved);
+  EXPECT_NEAR(*g.amount.solid_volume, 0.127 * 0.127 * 0.1524 * 0.6, 1e-12);
+  EXPECT_TRUE(g.fine->band);
+  EXPECT_EQ(to_json(sc)["particles"]["gradings"].size(), 2u);
 }
 
 TEST_F(ScenarioTest, AMissingFileIsAnInputError) {
