@@ -9,6 +9,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/analyze.hpp"
+#include "aggpack/pipeline/grading_report.hpp"
 #include "aggpack/pipeline/run.hpp"
 
 namespace {
@@ -111,6 +112,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 1.0));
   analyze_cmd->add_flag("--json", json, "Print machine-readable JSON");
 
+  aggpack::GradingQuery grading_query;
+  std::string grading_unit = "in", d_min_text, d_max_text;
+  bool grading_json = false, grading_list = false;
+  auto* grading_cmd = app.add_subcommand("grading", "Print and check a grading (or a coarse/fine mix) without a run");
+  grading_cmd->add_option("grading", grading_query.grading, "A shipped grading name or a CSV sieve analysis");
+  grading_cmd->add_option("--mix", grading_query.fine, "A fine grading (name or file) to blend with it");
+  grading_cmd->add_option("--ca-fa", grading_query.ca_fa, "Coarse/fine volume ratio of the mix (default 1)");
+  grading_cmd->add_option("--band", grading_query.band, "Check against astm_c33_fine, astm_c33_57 or astm_c33_67");
+  auto* d_min_opt = grading_cmd->add_option("--d-min", d_min_text, "Cut-off below this size (length)");
+  auto* d_max_opt = grading_cmd->add_option("--d-max", d_max_text, "Cut-off above this size (length)");
+  grading_cmd->add_option("--length-unit", grading_unit, "Unit of an 'opening' column in files (default in)");
+  grading_cmd->add_flag("--json", grading_json, "Print machine-readable JSON");
+  grading_cmd->add_flag("--list", grading_list, "List the shipped gradings and bands");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -131,6 +146,22 @@ int main(int argc, char** argv) {
       fmt::print("{}: ok ({})\n", scenario, sc.title);
     } else if (*analyze_cmd) {
       return analyze_command(file, boxes, cubes, unit, tolerance, json);
+    } else if (*grading_cmd) {
+      if (grading_list) {
+        for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);
+        for (const auto& n : aggpack::named_band_names()) fmt::print("band {}\n", n);
+        return 0;
+      }
+      if (grading_query.grading.empty())
+        throw aggpack::InputError("grading: give a shipped grading name or a CSV file (--list shows the names)");
+      const auto factor = aggpack::metres_per_unit(grading_unit);
+      if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit", grading_unit));
+      grading_query.length_unit = static_cast<double>(*factor);
+      if (*d_min_opt) grading_query.d_min = length_argument(d_min_text, "--d-min");
+      if (*d_max_opt) grading_query.d_max = length_argument(d_max_text, "--d-max");
+      const auto description = aggpack::describe_grading(grading_query);
+      if (grading_json) std::cout << description.dump(2) << "\n";
+      else fmt::print("{}", aggpack::format_grading(description));
     }
   } catch (const aggpack::InputError& e) {
     fmt::print(stderr, "aggpack: error: {}\n", e.what());

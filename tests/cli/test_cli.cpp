@@ -151,6 +151,30 @@ TEST_F(Cli, RunsFromAGradingAndReportsTheGeneratedCurve) {
   EXPECT_EQ(s["stages"]["deposition"]["particles_placed"].get<int>(), 800);
 }
 
+TEST_F(Cli, GradingPrintsAndChecksWithoutARun) {
+  Result r = run("grading astm_c33_fine_mid --band astm_c33_fine");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("fineness modulus 2.80"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("inside at every sieve"), std::string::npos) << r.output;
+  r = run("grading fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 1.52 --d-min '0.1 in' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  // The blend at #4 (4.75 mm): (1.52 x 6.8 % + 97.5 %) / 2.52, within the inch/metric opening difference.
+  bool found = false;
+  for (const auto& s : j["mix"]["sieves"])
+    if (s["sieve"] == "#4") {
+      found = true;
+      EXPECT_NEAR(s["percent_passing"].get<double>(), (1.52 * 6.8 + 97.5) / 2.52, 0.3);
+    }
+  EXPECT_TRUE(found);
+  EXPECT_GT(j["cut"]["cut_below_fraction"].get<double>(), 0.3);
+  EXPECT_EQ(run("grading no_such_grading").exit_code, 2);
+  EXPECT_EQ(run("grading astm_c33_fine_mid --band astm_c33_99").exit_code, 2);
+  EXPECT_EQ(run("grading astm_c33_fine_mid --d-min '20 mm'").exit_code, 2);
+  r = run("grading --list");
+  EXPECT_NE(r.output.find("band astm_c33_67"), std::string::npos);
+}
+
 TEST_F(Cli, CheckValidatesWithoutWriting) {
   EXPECT_EQ(run("check " + example("cubic_lattice.toml")).exit_code, 0);
   const Result bad = run("check " + example("cubic_lattice.toml") + " --set analysis.box_sides='[\"9 in\"]'");

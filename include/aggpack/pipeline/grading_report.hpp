@@ -1,0 +1,24 @@
+#pragma once
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace aggpack {
+
+// What `aggpack grading` prints: a grading (a shipped name or a CSV file), its cut-offs, its
+// band check, and optionally its blend with a fine grading at a coarse/fine volume ratio.
+struct GradingQuery {
+  std::string grading;                  // a shipped name or a CSV file
+  std::optional<std::string> fine;      // a second grading, for a mix
+  double ca_fa = 1.0;                   // coarse/fine volume ratio of the mix
+  std::optional<std::string> band;      // a shipped band to check the grading (or the mix) against
+  std::optional<double> d_min, d_max;   // cut-offs, m
+  double length_unit = 0.0254;          // metres per unit of an `opening` column in files
+};
+
+// Throws InputError for unknown names, bad files and cut-offs that leave nothing.
+nlohmann::json describe_grading(const GradingQuery& query);
+std::string format_grading(const nlohmann::json& description);
+
+}  // namespace aggpack

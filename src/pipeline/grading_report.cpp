@@ -1,0 +1,123 @@
+#include "aggpack/pipeline/grading_report.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/sizes/grading_sampler.hpp"
+
+namespace aggpack {
+
+namespace {
+Grading load(const std::string& name_or_file, double unit) {
+  if (auto g = named_grading(name_or_file)) return *g;
+  if (std::filesystem::exists(name_or_file)) return read_grading_csv(name_or_file, unit);
+  std::string known;
+  for (const auto& n : named_grading_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError(fmt::format("{}: neither a shipped grading ({}) nor a file", name_or_file, known));
+}
+
+nlohmann::json curve_json(const Grading& g) {
+  nlohmann::json j;
+  j["name"] = g.name;
+  for (const Sieve& s : g.sieves)
+    j["sieves"].push_back({{"sieve", s.name}, {"opening_m", s.opening}, {"percent_passing", s.percent_passing}});
+  j["fineness_modulus"] = fineness_modulus(g);
+  j["d10_m"] = opening_at_percent(g, 10);
+  j["d50_m"] = opening_at_percent(g, 50);
+  j["d90_m"] = opening_at_percent(g, 90);
+  return j;
+}
+}  // namespace
+
+nlohmann::json describe_grading(const GradingQuery& q) {
+  const Grading main = load(q.grading, q.length_unit);
+  nlohmann::json j;
+  j["grading"] = curve_json(main);
+  Grading checked = main;
+  if (q.fine) {
+    const Grading fine = load(*q.fine, q.length_unit);
+    if (!(q.ca_fa > 0.0)) throw InputError("--ca-fa: the coarse/fine volume ratio must be positive");
+    // The blend by volume at the union of both sets of sieves.
+    // Openings within 2 % are the same nominal sieve (inch and metric tables): keep the first.
+    std::vector<Sieve> openings;
+    for (const Grading* g : {&main, &fine})
+      for (const Sieve& s : g->sieves)
+        if (std::none_of(openings.begin(), openings.end(),
+                         [&](const Sieve& o) { return std::abs(o.opening / s.opening - 1.0) < 0.02; }))
+          openings.push_back(s);
+    std::vector<Sieve> blend;
+    for (const Sieve& s : openings) {
+      const double p = (q.ca_fa * percent_passing_at(main, s.opening) + percent_passing_at(fine, s.opening)) /
+                       (1.0 + q.ca_fa);
+      blend.push_back({s.name, s.opening, p});
+    }
+    checked = make_grading(fmt::format("{} + {} at Ca/Fa {:g}", main.name, fine.name, q.ca_fa), blend, "mix", {});
+    j["fine"] = curve_json(fine);
+    j["ca_fa"] = q.ca_fa;
+    j["mix"] = curve_json(checked);
+  }
+  if (q.d_min || q.d_max) {
+    const GradingCut cut = cut_grading(checked, q.d_min, q.d_max, "--d-min/--d-max");
+    j["cut"] = {{"d_lo_m", cut.d_lo}, {"d_hi_m", cut.d_hi}, {"cut_below_fraction", cut.cut_below},
+                {"cut_above_fraction", cut.cut_above}, {"renormalisation", "proportional"}};
+  }
+  if (q.band) {
+    const auto band = named_band(*q.band);
+    if (!band) throw InputError(fmt::format("--band {}: unknown band; shipped bands: astm_c33_fine, astm_c33_57, "
+                                            "astm_c33_67", *q.band));
+    const BandCheck check = check_against_band(checked, *band);
+    nlohmann::json b{{"name", band->name}, {"checked", checked.name}, {"all_inside", check.all_inside()}};
+    for (const BandCheckRow& row : check.rows)
+      b["sieves"].push_back({{"sieve", row.sieve.name},
+                             {"opening_m", row.sieve.opening},
+                             {"min_percent", row.sieve.min_percent},
+                             {"max_percent", row.sieve.max_percent},
+                             {"percent", row.percent_passing},
+                             {"inside", row.inside}});
+    j["band"] = b;
+  }
+  return j;
+}
+
+std::string format_grading(const nlohmann::json& d) {
+  std::string out;
+  const auto curve = [&](const nlohmann::json& c) {
+    out += fmt::format("{}\n  {:>8} {:>10} {:>9}\n", c["name"].get<std::string>(), "sieve", "opening mm", "passing %");
+    for (const auto& s : c["sieves"])
+      out += fmt::format("  {:>8} {:>10.4g} {:>9.2f}\n", s["sieve"].get<std::string>(), 1e3 * s["opening_m"].get<double>(),
+                         s["percent_passing"].get<double>());
+    out += fmt::format("  fineness modulus {:.2f}; D10 {:.3g} mm, D50 {:.3g} mm, D90 {:.3g} mm (by mass)\n",
+                       c["fineness_modulus"].get<double>(), 1e3 * c["d10_m"].get<double>(),
+                       1e3 * c["d50_m"].get<double>(), 1e3 * c["d90_m"].get<double>());
+  };
+  curve(d["grading"]);
+  if (d.contains("fine")) {
+    curve(d["fine"]);
+    curve(d["mix"]);
+  }
+  if (d.contains("cut")) {
+    const auto& c = d["cut"];
+    out += fmt::format("cut-offs: {:.4g} to {:.4g} mm kept; {:.2f} % of the volume below and {:.2f} % above removed, "
+                       "the rest renormalised proportionally\n",
+                       1e3 * c["d_lo_m"].get<double>(), 1e3 * c["d_hi_m"].get<double>(),
+                       100 * c["cut_below_fraction"].get<double>(), 100 * c["cut_above_fraction"].get<double>());
+  }
+  if (d.contains("band")) {
+    const auto& b = d["band"];
+    out += fmt::format("band {} for {}: {}\n", b["name"].get<std::string>(), b["checked"].get<std::string>(),
+                       b["all_inside"].get<bool>() ? "inside at every sieve" : "OUTSIDE at some sieves");
+    out += fmt::format("  {:>8} {:>10} {:>7} {:>7} {:>9}\n", "sieve", "opening mm", "min %", "max %", "passing %");
+    for (const auto& s : b["sieves"])
+      out += fmt::format("  {:>8} {:>10.4g} {:>7.1f} {:>7.1f} {:>9.2f}  {}\n", s["sieve"].get<std::string>(),
+                         1e3 * s["opening_m"].get<double>(), s["min_percent"].get<double>(),
+                         s["max_percent"].get<double>(), s["percent"].get<double>(),
+                         s["inside"].get<bool>() ? "inside" : "OUTSIDE");
+  }
+  return out;
+}
+
+}  // namespace aggpack
