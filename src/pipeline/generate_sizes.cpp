@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/rng.hpp"
+#include "aggpack/pipeline/grading_report.hpp"
 
 namespace aggpack {
 
@@ -32,18 +33,7 @@ nlohmann::json component_report(const GradingSource& source, const GradingCut& c
                            {"opening_m", row.sieve.opening},
                            {"target_percent", row.sieve.percent_passing},
                            {"generated_percent", row.generated}});
-  if (source.band) {
-    const BandCheck check = check_against_band(source.grading, *source.band);
-    nlohmann::json band{{"name", source.band->name}, {"all_inside", check.all_inside()}};
-    for (const BandCheckRow& row : check.rows)
-      band["sieves"].push_back({{"sieve", row.sieve.name},
-                                {"opening_m", row.sieve.opening},
-                                {"min_percent", row.sieve.min_percent},
-                                {"max_percent", row.sieve.max_percent},
-                                {"percent", row.percent_passing},
-                                {"inside", row.inside}});
-    j["band"] = band;
-  }
+  if (source.band) j["band"] = band_check_json(*source.band, check_against_band(source.grading, *source.band));
   return j;
 }
 
@@ -99,9 +89,8 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
       out.notes.push_back(fmt::format("the amount was set to fill {:.4g} m at an expected density of {:g}: "
                                       "solid volume {:.4g} m^3",
                                       *g.fill_height, g.expected_density, *g.amount.solid_volume));
-    // The whole sample, as one curve.
-    GradingCut whole = main_cut;
-    const GradingReport all = report_generated(out.diameters, whole);
+    // The whole sample (both components of a mix) as one curve.
+    const GradingReport all = report_generated(out.diameters, main_cut);
     out.report["count"] = all.count;
     out.report["solid_volume_m3"] = all.solid_volume;
     out.report["d_min_m"] = all.d_min;

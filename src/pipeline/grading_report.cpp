@@ -33,6 +33,18 @@ nlohmann::json curve_json(const Grading& g) {
 }
 }  // namespace
 
+nlohmann::json band_check_json(const Band& band, const BandCheck& check) {
+  nlohmann::json b{{"name", band.name}, {"all_inside", check.all_inside()}, {"sieves", nlohmann::json::array()}};
+  for (const BandCheckRow& row : check.rows)
+    b["sieves"].push_back({{"sieve", row.sieve.name},
+                           {"opening_m", row.sieve.opening},
+                           {"min_percent", row.sieve.min_percent},
+                           {"max_percent", row.sieve.max_percent},
+                           {"percent", row.percent_passing},
+                           {"inside", row.inside}});
+  return b;
+}
+
 nlohmann::json describe_grading(const GradingQuery& q) {
   const Grading main = load(q.grading, q.length_unit);
   nlohmann::json j;
@@ -69,16 +81,8 @@ nlohmann::json describe_grading(const GradingQuery& q) {
     const auto band = named_band(*q.band);
     if (!band) throw InputError(fmt::format("--band {}: unknown band; shipped bands: astm_c33_fine, astm_c33_57, "
                                             "astm_c33_67", *q.band));
-    const BandCheck check = check_against_band(checked, *band);
-    nlohmann::json b{{"name", band->name}, {"checked", checked.name}, {"all_inside", check.all_inside()}};
-    for (const BandCheckRow& row : check.rows)
-      b["sieves"].push_back({{"sieve", row.sieve.name},
-                             {"opening_m", row.sieve.opening},
-                             {"min_percent", row.sieve.min_percent},
-                             {"max_percent", row.sieve.max_percent},
-                             {"percent", row.percent_passing},
-                             {"inside", row.inside}});
-    j["band"] = b;
+    j["band"] = band_check_json(*band, check_against_band(checked, *band));
+    j["band"]["checked"] = checked.name;
   }
   return j;
 }

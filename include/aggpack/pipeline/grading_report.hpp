@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/sizes/grading.hpp"
+
 namespace aggpack {
 
 // What `aggpack grading` prints: a grading (a shipped name or a CSV file), its cut-offs, its
@@ -16,6 +18,10 @@ struct GradingQuery {
   std::optional<double> d_min, d_max;   // cut-offs, m
   double length_unit = 0.0254;          // metres per unit of an `opening` column in files
 };
+
+// The band check as JSON: { name, all_inside, sieves[] { sieve, opening_m, min_percent,
+// max_percent, percent, inside } } (summary.json and `aggpack grading --json`).
+nlohmann::json band_check_json(const Band& band, const BandCheck& check);
 
 // Throws InputError for unknown names, bad files and cut-offs that leave nothing.
 nlohmann::json describe_grading(const GradingQuery& query);
