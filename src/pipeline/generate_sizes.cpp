@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/core/error.hpp"
 #include "aggpack/core/rng.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
 
@@ -37,6 +38,17 @@ nlohmann::json component_report(const GradingSource& source, const GradingCut& c
   return j;
 }
 
+// Refuses amounts that would need more particles than a run can hold, before drawing them.
+void check_expected_count(double expected, const GradedParticles& g) {
+  constexpr double kMaxParticles = 1e8;  // about 13 GB at the deposition stage's 128 bytes per sphere
+  if (expected > kMaxParticles)
+    throw InputError(fmt::format(
+        "particles: this amount needs about {:.3g} particles (more than {:.0e}); raise the fine cut-off d_min "
+        "(now {:.4g} mm), or generate less (count, solid_volume or fill_height)",
+        expected, kMaxParticles,
+        1e3 * (g.fine ? g.fine->d_min : g.main.d_min).value_or((g.fine ? g.fine->grading : g.main.grading).smallest())));
+}
+
 std::string cut_note(const GradingSource& source, const GradingCut& cut) {
   return fmt::format("{} ({}): sizes {:.4g} to {:.4g} mm generated; {:.2f} % of the volume finer and {:.2f} % coarser "
                      "was cut off and the rest renormalised proportionally",
@@ -65,8 +77,13 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
                           "fraction, which generates far too few fines by volume; see sizes.components[].sieves");
     if (g.fine) {
       const GradingCut fine_cut = cut_grading(g.fine->grading, g.fine->d_min, g.fine->d_max, g.fine->key);
+      const GradingSampler fine(fine_cut, g.sampling);
+      if (g.amount.solid_volume)
+        check_expected_count(*g.amount.solid_volume / (1.0 + g.ca_fa) *
+                                 (g.ca_fa / main.mean_particle_volume() + 1.0 / fine.mean_particle_volume()),
+                             g);
       std::vector<std::uint8_t> is_fine;
-      out.diameters = sample_mix(main, GradingSampler(fine_cut, g.sampling), g.ca_fa, g.amount, g.order, rng, &is_fine);
+      out.diameters = sample_mix(main, fine, g.ca_fa, g.amount, g.order, rng, &is_fine);
       std::vector<double> coarse_d, fine_d;
       for (std::size_t i = 0; i < out.diameters.size(); ++i)
         (is_fine[i] ? fine_d : coarse_d).push_back(out.diameters[i]);
@@ -81,6 +98,7 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
                                   component_report(*g.fine, fine_cut, fine_d)};
       out.notes.push_back(cut_note(*g.fine, fine_cut));
     } else {
+      if (g.amount.solid_volume) check_expected_count(*g.amount.solid_volume / main.mean_particle_volume(), g);
       out.diameters = sample_diameters(main, g.amount, rng);
       out.report["method"] = "grading";
       out.report["components"] = {component_report(g.main, main_cut, out.diameters)};

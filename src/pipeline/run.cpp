@@ -166,7 +166,11 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   GeneratedSizes sizes;
   if (sc.deposition) {
     t0 = Clock::now();
-    sizes = generate_sizes(sc.particles, sc.seed);
+    try {
+      sizes = generate_sizes(sc.particles, sc.seed);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
+    }
     wall_clock["sizes"] = seconds_since(t0);
     std::vector<double> radii = std::move(sizes.diameters);
     for (double& r : radii) r *= 0.5;

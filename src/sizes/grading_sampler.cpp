@@ -48,21 +48,25 @@ GradingSampler::GradingSampler(GradingCut cut, SamplingMode mode) : cut_(std::mo
     Interval in{bounds[i - 1], bounds[i], cut_.renormalised_passing(bounds[i - 1]),
                 cut_.renormalised_passing(bounds[i]), 0.0};
     const double fraction = (in.p_hi - in.p_lo) / 100.0;
+    const double a = in.lo, b = in.hi;
+    double interval_mean_volume = 0.0;
     if (mode_ == SamplingMode::Number) {
       in.weight = fraction;  // the curve read as a number fraction
+      interval_mean_volume = std::numbers::pi / 6.0 * (std::pow(b, 4) - std::pow(a, 4)) / (4.0 * (b - a));
     } else {
       // Volume uniform in log d: number density ~ d^-4, mean particle volume
       // (pi/6) ln(b/a) / ((a^-3 - b^-3) / 3).
-      const double a = in.lo, b = in.hi;
-      const double mean_volume = std::numbers::pi / 6.0 * std::log(b / a) * 3.0 / (std::pow(a, -3) - std::pow(b, -3));
-      in.weight = fraction / mean_volume;
+      interval_mean_volume = std::numbers::pi / 6.0 * std::log(b / a) * 3.0 / (std::pow(a, -3) - std::pow(b, -3));
+      in.weight = fraction / interval_mean_volume;
     }
     if (in.weight <= 0.0) continue;
     total += in.weight;
+    mean_volume_ += in.weight * interval_mean_volume;
     intervals_.push_back(in);
     cumulative_.push_back(total);
   }
   for (double& c : cumulative_) c /= total;
+  mean_volume_ /= total;
 }
 
 double GradingSampler::draw(Rng& rng) const {

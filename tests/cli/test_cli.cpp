@@ -80,6 +80,8 @@ TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
       "run " + example("cubic_lattice.toml") + " --stop-after deposition",  // no such stage here
       "run " + example("example1.toml") + " --stop-after dynamics",
       "run " + example("example1.toml") + " --set analysis.box_sides='[\"11 in\"]'",  // too big for the bed
+      "run " + example("table2_mix3.toml") + " --set container.side='\"40 in\"' --set particles.fine.d_min="
+                                            "'\"0.15 mm\"'",  // about 10^9 sand grains
       "run " + (dir_ / "missing.toml").string(),
       "run",  // missing argument
       "frobnicate",

@@ -82,6 +82,17 @@ TEST(GradingSampler, NumberToMassVolumeRatioMatchesTheAnalyticValue) {
   EXPECT_LT(expected_ratio, 0.5);  // number mode starves the fine interval of volume
 }
 
+TEST(GradingSampler, MeanParticleVolumeMatchesTheSample) {
+  for (const SamplingMode mode : {SamplingMode::Mass, SamplingMode::Number}) {
+    const GradingSampler sampler(cut_grading(*named_grading("astm_c33_fine_mid"), 0.3e-3, {}, "t"), mode);
+    Rng rng(12, 1);
+    const auto d = sample_diameters(sampler, {200000, {}}, rng);
+    double total = 0.0;
+    for (double x : d) total += volume(x);
+    EXPECT_NEAR(total / d.size(), sampler.mean_particle_volume(), 0.03 * sampler.mean_particle_volume());
+  }
+}
+
 TEST(GradingSampler, SolidVolumeStopsAtTheFirstParticleThatReachesIt) {
   const GradingSampler sampler(cut_grading(*named_grading("astm_c33_57_mid"), 0.2 * 0.0254, {}, "test"),
                                SamplingMode::Mass);

@@ -38,6 +38,8 @@ class GradingSampler {
   GradingSampler(GradingCut cut, SamplingMode mode);
   double draw(Rng& rng) const;
   [[nodiscard]] const GradingCut& cut() const { return cut_; }
+  // Expected volume of one drawn particle (m^3): how many particles a solid volume takes.
+  [[nodiscard]] double mean_particle_volume() const { return mean_volume_; }
 
  private:
   struct Interval {
@@ -49,6 +51,7 @@ class GradingSampler {
   SamplingMode mode_;
   std::vector<Interval> intervals_;
   std::vector<double> cumulative_;  // of the weights
+  double mean_volume_ = 0.0;
 };
 
 // How much to generate: a number of particles, or a solid volume (m^3; generation stops at
