@@ -1,6 +1,7 @@
 #include "aggpack/io/scenario.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
@@ -78,11 +79,9 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
                                         "analysis), 'sieves' (a list) or 'law' (a grading law)");
   if (const auto name = s.string("name")) {
     const auto named = named_grading(*name);
-    if (!named) {
-      std::string known;
-      for (const auto& n : named_grading_names()) known += (known.empty() ? "" : ", ") + n;
-      s.fail("name", fmt::format("unknown grading \"{}\"; shipped gradings: {}", *name, known));
-    }
+    if (!named)
+      s.fail("name", fmt::format("unknown grading \"{}\"; shipped gradings: {}", *name,
+                                 fmt::join(named_grading_names(), ", ")));
     g.grading = *named;
   } else if (const auto file = s.string("file")) {
     const std::string unit = s.string("length_unit").value_or("in");
@@ -125,8 +124,8 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
   g.d_max = s.length("d_max");
   if (const auto band = s.string("band")) {
     g.band = named_band(*band);
-    if (!g.band) s.fail("band", fmt::format("unknown band \"{}\"; shipped bands: astm_c33_fine, astm_c33_57, "
-                                            "astm_c33_67", *band));
+    if (!g.band)
+      s.fail("band", fmt::format("unknown band \"{}\"; shipped bands: {}", *band, fmt::join(named_band_names(), ", ")));
   }
   cut_grading(g.grading, g.d_min, g.d_max, s.location(g.d_min ? "d_min" : "d_max") + ": " + g.key);
   return g;
@@ -189,7 +188,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   if (const auto file = s.string("from")) {
     for (auto k : {"count", "solid_volume", "order"})
       if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
-    source.file = std::filesystem::path(*file).is_absolute() ? std::filesystem::path(*file) : scenario_dir / *file;
+    source.file = relative_to(scenario_dir, *file);
     const std::string unit = s.string("length_unit").value_or("m");
     const auto factor = metres_per_unit(unit);
     if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
@@ -380,13 +379,13 @@ nlohmann::json to_json(const Scenario& sc) {
   }
   if (const auto& g = sc.particles.graded) {
     const auto source = [](const GradingSource& gs) {
-      nlohmann::json j{{"key", gs.key}, {"grading", gs.grading.name}};
+      nlohmann::json out{{"key", gs.key}, {"grading", gs.grading.name}};
       for (const Sieve& s : gs.grading.sieves)
-        j["sieves"].push_back({{"sieve", s.name}, {"opening_m", s.opening}, {"percent_passing", s.percent_passing}});
-      if (gs.d_min) j["d_min_m"] = *gs.d_min;
-      if (gs.d_max) j["d_max_m"] = *gs.d_max;
-      if (gs.band) j["band"] = gs.band->name;
-      return j;
+        out["sieves"].push_back({{"sieve", s.name}, {"opening_m", s.opening}, {"percent_passing", s.percent_passing}});
+      if (gs.d_min) out["d_min_m"] = *gs.d_min;
+      if (gs.d_max) out["d_max_m"] = *gs.d_max;
+      if (gs.band) out["band"] = gs.band->name;
+      return out;
     };
     p["gradings"] = {source(g->main)};
     if (g->fine) {

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
@@ -15,9 +16,8 @@ namespace {
 Grading load(const std::string& name_or_file, double unit) {
   if (auto g = named_grading(name_or_file)) return *g;
   if (std::filesystem::exists(name_or_file)) return read_grading_csv(name_or_file, unit);
-  std::string known;
-  for (const auto& n : named_grading_names()) known += (known.empty() ? "" : ", ") + n;
-  throw InputError(fmt::format("{}: neither a shipped grading ({}) nor a file", name_or_file, known));
+  throw InputError(fmt::format("{}: neither a shipped grading ({}) nor a file", name_or_file,
+                               fmt::join(named_grading_names(), ", ")));
 }
 
 nlohmann::json curve_json(const Grading& g) {
@@ -79,8 +79,9 @@ nlohmann::json describe_grading(const GradingQuery& q) {
   }
   if (q.band) {
     const auto band = named_band(*q.band);
-    if (!band) throw InputError(fmt::format("--band {}: unknown band; shipped bands: astm_c33_fine, astm_c33_57, "
-                                            "astm_c33_67", *q.band));
+    if (!band)
+      throw InputError(fmt::format("--band {}: unknown band; shipped bands: {}", *q.band,
+                                   fmt::join(named_band_names(), ", ")));
     j["band"] = band_check_json(*band, check_against_band(checked, *band));
     j["band"]["checked"] = checked.name;
   }

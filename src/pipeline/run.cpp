@@ -8,8 +8,8 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/rng.hpp"
-#include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/core/version.hpp"
+#include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/vtk.hpp"
