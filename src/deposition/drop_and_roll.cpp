@@ -197,7 +197,8 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
 
     bool tie = false;
     if (descent.at_rest()) {
-      const bool on_floor = descent.active_count >= 1 && contacts_[descent.active[0]].id == kFloor;
+      bool on_floor = false;
+      for (int i = 0; i < descent.active_count; ++i) on_floor = on_floor || contacts_[descent.active[i]].id == kFloor;
       if (on_floor || descent.active_count >= 3) {
         out.rested = true;
         out.position = p;
