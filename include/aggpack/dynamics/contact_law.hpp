@@ -1,0 +1,168 @@
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "aggpack/core/vec3.hpp"
+
+namespace aggpack {
+
+// ---- Formulas, each alone and tested alone ------------------------------------------
+
+// Hertz effective modulus: 1/E* = (1 - nu_a^2)/E_a + (1 - nu_b^2)/E_b (Johnson 1985, eq. 4.22).
+double effective_youngs_modulus(double e_a, double nu_a, double e_b, double nu_b);
+// Mindlin effective shear modulus: 1/G* = (2 - nu_a)/G_a + (2 - nu_b)/G_b, G = E / (2(1 + nu)).
+double effective_shear_modulus(double e_a, double nu_a, double e_b, double nu_b);
+// Hertz normal force (4/3) E* sqrt(R*) overlap^(3/2) (Johnson 1985, eq. 4.23).
+inline double hertz_normal_force(double e_star, double r_star, double overlap) {
+  return (4.0 / 3.0) * e_star * std::sqrt(r_star * overlap) * overlap;
+}
+// Static overlap of a sphere of weight w resting on a plane: (3 w / (4 E* sqrt R))^(2/3).
+double hertz_static_overlap(double weight, double e_star, double r_star);
+// Duration of an elastic Hertz impact at approach speed v:
+// 2 (5/4)^(2/5) (2/5) B(2/5, 1/2) (3/4)^(2/5) (m*^2 / (R* E*^2 v))^(1/5), about 2.868 (...)^(1/5).
+double hertz_contact_time(double m_star, double r_star, double e_star, double speed);
+// Rayleigh-wave time of a sphere: pi R sqrt(rho / G) / (0.1631 nu + 0.8766).
+double rayleigh_time(double radius, double density, double youngs_modulus, double poisson_ratio);
+
+// Restitution damping (Tsuji et al., Powder Technol. 71, 1992): the normal damping force
+// is -a sqrt(m* k_n) overlap^(1/4) v_n with k_n = (4/3) E* sqrt(R*). With this form the
+// restitution coefficient depends on the dimensionless a alone, not on the impact speed,
+// so we solve the dimensionless impact x'' = -x^(3/2) - a x^(1/4) x' once and invert it
+// exactly instead of using the linear-spring approximation most codes use.
+double restitution_of_damping(double a);   // e(a), a >= 0
+double damping_for_restitution(double e);  // a(e), 0 < e <= 1
+
+// ---- What a law sees of one contact, and what it returns -----------------------------
+
+// Contact of particle i with j (or with a wall). `normal` points from i to j; `velocity`
+// is that of i's contact point relative to j's; `spin` is omega_i - omega_j.
+struct ContactKinematics {
+  Vec3 normal;
+  double overlap = 0.0;  // m, > 0
+  Vec3 velocity;
+  Vec3 spin;
+  double r_eff = 0.0;    // R* (R_i for a wall)
+  double m_eff = 0.0;    // m* (m_i for a wall)
+};
+
+struct ContactForce {
+  Vec3 force;          // on i, normal and tangential
+  Vec3 tangential;     // on i, the part that makes a torque about i's centre
+  Vec3 rolling_torque; // on i
+  double normal = 0.0; // magnitude of the normal force, >= 0
+};
+
+// The coefficients of one kind of contact (particle-particle or particle-wall).
+struct ContactCoefficients {
+  double e_star = 0.0;        // Pa
+  double g_star = 0.0;        // Pa
+  double damping = 0.0;       // the dimensionless a above
+  double friction = 0.0;      // Coulomb mu
+  double rolling = 0.0;       // rolling resistance mu_r (torque mu_r R* F_n), 0 for none
+};
+
+// Sliding and spinning speeds below which friction and rolling resistance are made
+// proportional to the speed, so that a sign function does not chatter (m/s).
+inline constexpr double kFrictionRegularisation = 1e-6;
+
+namespace contact_detail {
+// Normal force magnitude: Hertz plus restitution damping, never attractive.
+inline double normal_force(const ContactCoefficients& c, const ContactKinematics& k, double sqrt_r_overlap,
+                           double& stiffness_term) {
+  stiffness_term = (4.0 / 3.0) * c.e_star * sqrt_r_overlap;  // k_n overlap^(1/2)
+  const double elastic = stiffness_term * k.overlap;
+  const double approach = dot(k.velocity, k.normal);  // > 0 when i moves into j
+  const double damping = c.damping * std::sqrt(k.m_eff * stiffness_term);
+  return std::max(0.0, elastic + damping * approach);
+}
+inline Vec3 rolling_torque(const ContactCoefficients& c, const ContactKinematics& k, double normal) {
+  if (c.rolling == 0.0) return {};
+  const double scale = std::max(norm(k.spin) * k.r_eff, kFrictionRegularisation);
+  return k.spin * (-c.rolling * k.r_eff * normal * k.r_eff / scale);
+}
+}  // namespace contact_detail
+
+// Hertz normal force, restitution damping, Mindlin tangential spring k_t = 8 G* sqrt(R* d)
+// with stored displacement (rotated into the current tangent plane) and damping of the same
+// form as the normal one, capped by Coulomb mu F_n; optional constant rolling resistance.
+struct HertzMindlin {
+  ContactCoefficients c;
+
+  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double dt) const {
+    const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
+    double kn;
+    const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, kn);
+    const Vec3 vt = k.velocity - dot(k.velocity, k.normal) * k.normal;
+    // The stored displacement turns with the contact plane, keeping its length.
+    const double s2 = norm2(spring);
+    if (s2 > 0.0) {
+      Vec3 in_plane = spring - dot(spring, k.normal) * k.normal;
+      const double p2 = norm2(in_plane);
+      spring = p2 > 0.0 ? in_plane * std::sqrt(s2 / p2) : Vec3{};
+    }
+    spring += vt * dt;
+    const double kt = 8.0 * c.g_star * sqrt_r_overlap;
+    const double eta_t = c.damping * std::sqrt(k.m_eff * (2.0 / 3.0) * kt);
+    Vec3 ft = -kt * spring - eta_t * vt;
+    const double cap = c.friction * fn;
+    const double ft2 = norm2(ft);
+    if (ft2 > cap * cap) {
+      ft = ft * (cap / std::sqrt(ft2));
+      spring = kt > 0.0 ? (ft + eta_t * vt) * (-1.0 / kt) : Vec3{};
+    }
+    return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn), fn};
+  }
+};
+
+// The paper's law (Fu and Dekelbab 2003, eq. 4): Hertz normal force and friction mu F_n
+// against the sliding velocity, with no tangential spring, so a contact never sticks. The
+// restitution damping of the normal force is kept (set restitution = 1 to drop it).
+struct SlidingFrictionFu2003 {
+  ContactCoefficients c;
+
+  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double /*dt*/) const {
+    const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
+    double kn;
+    const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, kn);
+    const Vec3 vt = k.velocity - dot(k.velocity, k.normal) * k.normal;
+    const double speed = std::max(norm(vt), kFrictionRegularisation);
+    const Vec3 ft = vt * (-c.friction * fn / speed);
+    spring = {};
+    return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn), fn};
+  }
+};
+
+using ContactLaw = std::variant<HertzMindlin, SlidingFrictionFu2003>;
+
+// One law for particle-particle contacts and one for particle-wall contacts, of the same kind.
+struct ContactModel {
+  ContactLaw particle;
+  ContactLaw wall;
+};
+
+// What a user states; make_contact_model is the one place that knows the law names.
+struct ContactParameters {
+  std::string friction_model = "mindlin";  // "mindlin" or "fu2003"
+  double youngs_modulus = 50e9;            // Pa
+  double poisson_ratio = 0.25;
+  double wall_youngs_modulus = 200e9;      // Pa (steel)
+  double wall_poisson_ratio = 0.3;
+  double friction_particle = 0.17;
+  double friction_wall = 0.17;
+  double restitution = 0.5;
+  double rolling_friction = 0.0;
+};
+
+inline const std::vector<std::string>& friction_model_names() {
+  static const std::vector<std::string> names{"mindlin", "fu2003"};
+  return names;
+}
+
+// Throws std::invalid_argument naming the parameter, its value and the allowed range.
+ContactModel make_contact_model(const ContactParameters& p);
+
+}  // namespace aggpack

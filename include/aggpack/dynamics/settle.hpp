@@ -1,0 +1,47 @@
+#pragma once
+#include <cstddef>
+#include <functional>
+#include <string_view>
+
+#include "aggpack/dynamics/dem_system.hpp"
+
+namespace aggpack {
+
+// When a settling run stops: the bed is quiet, or the simulated time ran out.
+struct QuietCriterion {
+  double max_time = 2.0;            // s of simulated time
+  double sample_interval = 1e-3;    // s between samples (time series and criterion)
+  double window = 0.05;             // s over which the bed must stay quiet
+  double kinetic_fraction = 1e-6;   // kinetic energy per particle / mean (m g d) below this
+  double density_tolerance = 5e-4;  // change of the virtual-box density over the window
+};
+
+enum class SettleEnd { Quiet, MaxTime };
+std::string_view settle_end_name(SettleEnd end);
+
+struct SettleSample {
+  double time = 0.0;            // s since the dynamics started
+  double density = 0.0;         // from the probe
+  double kinetic_energy = 0.0;  // J, free particles
+  ContactStatistics contacts;
+};
+
+struct SettleResult {
+  SettleEnd end = SettleEnd::MaxTime;
+  double simulated_time = 0.0;  // s
+  std::size_t steps = 0;
+  std::size_t rebuilds = 0;     // neighbour-list builds
+  SettleSample last;
+  double reference_energy = 0.0;  // mean m g d of the free particles, J
+};
+
+using DensityProbe = std::function<double(const ParticleStore&)>;
+using SampleSink = std::function<void(const SettleSample&)>;
+
+// Steps `system` until the criterion is met, sampling every sample_interval (the first
+// sample is at the start). `density` measures the bed (the virtual boxes, in a run);
+// `on_sample` sees every sample, for time series and progress.
+SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
+                    const DensityProbe& density, const SampleSink& on_sample);
+
+}  // namespace aggpack

@@ -1,0 +1,317 @@
+#include "aggpack/dynamics/dem_system.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/spatial/multilevel_grid.hpp"
+
+namespace aggpack {
+namespace {
+
+// Walls in entry order: the floor, then the side walls unless the sides are periodic.
+enum Wall : std::uint32_t { kFloorWall = 0, kXLow, kXHigh, kYLow, kYHigh };
+
+// Distance from a centre to wall w and the unit normal from the centre towards the wall.
+inline double wall_distance(const Box& b, std::uint32_t w, const Vec3& x, Vec3& towards) {
+  switch (w) {
+    case kFloorWall: towards = {0, 0, -1}; return x.z - b.lo.z;
+    case kXLow: towards = {-1, 0, 0}; return x.x - b.lo.x;
+    case kXHigh: towards = {1, 0, 0}; return b.hi.x - x.x;
+    case kYLow: towards = {0, -1, 0}; return x.y - b.lo.y;
+    default: towards = {0, 1, 0}; return b.hi.y - x.y;
+  }
+}
+
+constexpr std::size_t kSumBlock = 1024;  // fixed blocks make sums independent of thread count
+
+}  // namespace
+
+DemSystem::DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
+                     const DemSettings& settings)
+    : p_(particles), container_(container), model_(model), settings_(settings) {
+  if (particles.size() >= 0xFFFFFFF0u) throw InputError("the dynamics stage holds at most 4e9 particles");
+  if (!(settings.time_step > 0.0)) throw InputError(fmt::format("time step {} s must be > 0", settings.time_step));
+  n_ = static_cast<std::uint32_t>(particles.size());
+  double d_min = 0.0;
+  if (n_ > 0) d_min = 2.0 * *std::min_element(p_.radius.begin(), p_.radius.end());
+  skin_ = settings.skin > 0.0 ? settings.skin : 0.1 * d_min;
+  inverse_inertia_.assign(n_, 0.0);
+  for (std::uint32_t i = 0; i < n_; ++i) {
+    if (p_.frozen[i]) {
+      p_.velocity[i] = {};
+      p_.angular_velocity[i] = {};
+      continue;
+    }
+    ++free_count_;
+    inverse_inertia_[i] = 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
+  }
+  force_.assign(n_, {});
+  torque_.assign(n_, {});
+  offset_.assign(n_ + 1, 0);
+  build_neighbour_list();
+  compute_forces();
+}
+
+Vec3 DemSystem::separation(const Vec3& from, const Vec3& to) const {
+  Vec3 d = to - from;
+  if (container_.periodic) {
+    const double lx = container_.length_x(), ly = container_.length_y();
+    d.x -= lx * std::nearbyint(d.x / lx);
+    d.y -= ly * std::nearbyint(d.y / ly);
+  }
+  return d;
+}
+
+void DemSystem::build_neighbour_list() {
+  ++rebuilds_;
+  const std::uint32_t n = n_;
+  if (container_.periodic)
+    for (std::uint32_t i = 0; i < n; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
+  double solid = 0.0;
+  for (std::uint32_t i = 0; i < n; ++i) solid += std::pow(p_.radius[i], 3);
+  MultilevelGrid grid(container_, p_.radius, 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300);
+  grid.reserve(n);
+  for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, p_.position[i], p_.radius[i]);
+  const std::uint32_t wall_count = container_.periodic ? 1 : 5;
+  const Box& bounds = container_.bounds;
+
+  // Calls add(entry) for every neighbour and wall within the skin of free particle i.
+  const auto for_each_entry = [&](std::uint32_t i, auto&& add) {
+    const Vec3& xi = p_.position[i];
+    const double ri = p_.radius[i];
+    grid.for_each_near(xi, ri + skin_, [&](std::uint32_t j) {
+      if (j == i) return;
+      const double reach = ri + p_.radius[j] + skin_;
+      if (norm2(separation(xi, p_.position[j])) < reach * reach) add(j);
+    });
+    for (std::uint32_t w = 0; w < wall_count; ++w) {
+      Vec3 towards;
+      if (wall_distance(bounds, w, xi, towards) < ri + skin_) add(n + w);
+    }
+  };
+
+  std::vector<std::uint32_t> offset(n + 1, 0);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (p_.frozen[i]) continue;
+    std::uint32_t count = 0;
+    for_each_entry(i, [&](std::uint32_t) { ++count; });
+    offset[i + 1] = count;
+  }
+  for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
+  std::vector<std::uint32_t> other(offset[n]);
+  std::vector<Vec3> spring(offset[n]);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (p_.frozen[i]) continue;
+    std::uint32_t e = offset[i];
+    for_each_entry(i, [&](std::uint32_t j) { other[e++] = j; });
+    std::sort(other.begin() + offset[i], other.begin() + offset[i + 1]);
+    // Carry each contact's tangential history over (both lists are sorted).
+    std::uint32_t old_e = offset_[i];
+    const std::uint32_t old_end = offset_[i + 1];
+    for (std::uint32_t k = offset[i]; k < offset[i + 1] && old_e < old_end; ++k) {
+      while (old_e < old_end && other_[old_e] < other[k]) ++old_e;
+      if (old_e < old_end && other_[old_e] == other[k]) spring[k] = spring_[old_e];
+    }
+  }
+  offset_.swap(offset);
+  other_.swap(other);
+  spring_.swap(spring);
+  listed_position_ = p_.position;
+}
+
+bool DemSystem::list_is_stale() const {
+  const double limit = 0.25 * skin_ * skin_;  // moved more than half the skin
+  bool stale = false;
+#pragma omp parallel for schedule(static) reduction(|| : stale)
+  for (std::uint32_t i = 0; i < n_; ++i)
+    if (norm2(p_.position[i] - listed_position_[i]) > limit) stale = true;
+  return stale;
+}
+
+template <class Law>
+void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
+  const std::uint32_t n = n_;
+  const double dt = settings_.time_step;
+  const Box& bounds = container_.bounds;
+  const Vec3* x = p_.position.data();
+  const Vec3* v = p_.velocity.data();
+  const Vec3* w = p_.angular_velocity.data();
+  const double* radius = p_.radius.data();
+  const double* mass = p_.mass.data();
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (p_.frozen[i]) continue;
+    const Vec3 xi = x[i], vi = v[i], wi = w[i];
+    const double ri = radius[i], mi = mass[i];
+    const Vec3 spin_i = ri * wi;
+    Vec3 f = mi * settings_.gravity;
+    Vec3 t{};
+    const std::uint32_t end = offset_[i + 1];
+    for (std::uint32_t e = offset_[i]; e < end; ++e) {
+      const std::uint32_t j = other_[e];
+      ContactKinematics k;
+      if (j < n) {
+        const Vec3 d = separation(xi, x[j]);
+        const double rj = radius[j];
+        const double reach = ri + rj;
+        const double d2 = norm2(d);
+        if (d2 >= reach * reach) {
+          spring_[e] = {};
+          continue;
+        }
+        const double distance = std::sqrt(d2);
+        k.normal = d * (1.0 / distance);
+        k.overlap = reach - distance;
+        k.velocity = vi - v[j] + cross(spin_i + rj * w[j], k.normal);
+        k.spin = wi - w[j];
+        k.r_eff = ri * rj / reach;
+        k.m_eff = mi * mass[j] / (mi + mass[j]);
+        const ContactForce c = particle_law.evaluate(k, spring_[e], dt);
+        f += c.force;
+        t += ri * cross(k.normal, c.tangential) + c.rolling_torque;
+      } else {
+        const double distance = wall_distance(bounds, j - n, xi, k.normal);
+        if (distance >= ri) {
+          spring_[e] = {};
+          continue;
+        }
+        k.overlap = ri - distance;
+        k.velocity = vi + cross(spin_i, k.normal);
+        k.spin = wi;
+        k.r_eff = ri;
+        k.m_eff = mi;
+        const ContactForce c = wall_law.evaluate(k, spring_[e], dt);
+        f += c.force;
+        t += ri * cross(k.normal, c.tangential) + c.rolling_torque;
+      }
+    }
+    force_[i] = f;
+    torque_[i] = t;
+  }
+}
+
+void DemSystem::compute_forces() {
+  std::visit(
+      [&](const auto& particle_law) {
+        using Law = std::decay_t<decltype(particle_law)>;
+        compute_forces(particle_law, std::get<Law>(model_.wall));
+      },
+      model_.particle);
+}
+
+void DemSystem::kick(double half_step) {
+#pragma omp parallel for schedule(static)
+  for (std::uint32_t i = 0; i < n_; ++i) {
+    if (p_.frozen[i]) continue;
+    p_.velocity[i] += force_[i] * (half_step / p_.mass[i]);
+    p_.angular_velocity[i] += torque_[i] * (half_step * inverse_inertia_[i]);
+  }
+}
+
+void DemSystem::drift() {
+  const double dt = settings_.time_step;
+#pragma omp parallel for schedule(static)
+  for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] += p_.velocity[i] * dt;
+}
+
+void DemSystem::run(std::size_t steps) {
+  const double half = 0.5 * settings_.time_step;
+  for (std::size_t s = 0; s < steps; ++s) {
+    kick(half);
+    drift();
+    if (list_is_stale()) build_neighbour_list();
+    compute_forces();
+    kick(half);
+    ++steps_;
+    time_ = static_cast<double>(steps_) * settings_.time_step;
+  }
+}
+
+double DemSystem::kinetic_energy() const {
+  const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
+  std::vector<double> partial(blocks, 0.0);
+#pragma omp parallel for schedule(static)
+  for (std::size_t b = 0; b < blocks; ++b) {
+    double sum = 0.0;
+    const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
+    for (std::size_t i = b * kSumBlock; i < end; ++i) {
+      if (p_.frozen[i]) continue;
+      sum += 0.5 * p_.mass[i] * norm2(p_.velocity[i]);
+      sum += 0.5 * norm2(p_.angular_velocity[i]) / inverse_inertia_[i];
+    }
+    partial[b] = sum;
+  }
+  double total = 0.0;
+  for (const double s : partial) total += s;
+  return total;
+}
+
+ContactStatistics DemSystem::contact_statistics() const {
+  // Sums over fixed blocks, then in block order: independent of the thread count.
+  struct Partial {
+    double overlap_sum = 0.0, max_overlap = 0.0;
+    std::size_t contacts = 0;
+  };
+  const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
+  std::vector<Partial> partial(blocks);
+  const Box& bounds = container_.bounds;
+#pragma omp parallel for schedule(static)
+  for (std::size_t b = 0; b < blocks; ++b) {
+    Partial s;
+    const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
+    for (std::size_t i = b * kSumBlock; i < end; ++i) {
+      const double ri = p_.radius[i];
+      for (std::uint32_t e = offset_[i]; e < offset_[i + 1]; ++e) {
+        const std::uint32_t j = other_[e];
+        double overlap, diameter;
+        if (j < n_) {
+          diameter = ri + p_.radius[j];
+          overlap = diameter - norm(separation(p_.position[i], p_.position[j]));
+        } else {
+          Vec3 towards;
+          diameter = 2.0 * ri;
+          overlap = ri - wall_distance(bounds, j - n_, p_.position[i], towards);
+        }
+        if (overlap <= 0.0) continue;
+        s.max_overlap = std::max(s.max_overlap, overlap / diameter);
+        if (j < n_) {
+          s.overlap_sum += overlap / diameter;
+          ++s.contacts;
+        }
+      }
+    }
+    partial[b] = s;
+  }
+  Partial total;
+  for (const Partial& s : partial) {
+    total.overlap_sum += s.overlap_sum;
+    total.max_overlap = std::max(total.max_overlap, s.max_overlap);
+    total.contacts += s.contacts;
+  }
+  ContactStatistics stats;
+  stats.contacts = total.contacts;
+  stats.max_overlap = total.max_overlap;
+  if (total.contacts > 0) stats.mean_overlap = total.overlap_sum / static_cast<double>(total.contacts);
+  if (free_count_ > 0) stats.coordination = static_cast<double>(total.contacts) / static_cast<double>(free_count_);
+  return stats;
+}
+
+std::size_t DemSystem::memory_bytes() const {
+  return inverse_inertia_.capacity() * sizeof(double) +
+         (force_.capacity() + torque_.capacity() + listed_position_.capacity() + spring_.capacity()) * sizeof(Vec3) +
+         (offset_.capacity() + other_.capacity()) * sizeof(std::uint32_t);
+}
+
+void DemSystem::finish() {
+  if (container_.periodic)
+    for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
+}
+
+}  // namespace aggpack

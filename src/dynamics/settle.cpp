@@ -1,0 +1,84 @@
+#include "aggpack/dynamics/settle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+
+namespace aggpack {
+
+std::string_view settle_end_name(SettleEnd end) {
+  return end == SettleEnd::Quiet ? "quiet" : "max_time";
+}
+
+SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
+                    const DensityProbe& density, const SampleSink& on_sample) {
+  if (!(criterion.sample_interval > 0.0) || !(criterion.window >= criterion.sample_interval))
+    throw InputError(fmt::format("quiet window {} s must be at least the sample interval {} s (> 0)",
+                                 criterion.window, criterion.sample_interval));
+  SettleResult result;
+  double reference = 0.0;
+  std::size_t free_particles = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (particles.frozen[i]) continue;
+    reference += particles.mass[i] * norm(system.gravity()) * 2.0 * particles.radius[i];
+    ++free_particles;
+  }
+  result.reference_energy = free_particles > 0 ? reference / static_cast<double>(free_particles) : 0.0;
+  const double energy_limit = criterion.kinetic_fraction * result.reference_energy * static_cast<double>(free_particles);
+
+  const std::size_t steps_per_sample =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(criterion.sample_interval / system.time_step())));
+  const double start = system.time();
+  std::deque<SettleSample> window;
+  const auto take_sample = [&] {
+    SettleSample s;
+    s.time = system.time() - start;
+    s.density = density ? density(particles) : 0.0;
+    s.kinetic_energy = system.kinetic_energy();
+    s.contacts = system.contact_statistics();
+    if (on_sample) on_sample(s);
+    return s;
+  };
+  const auto quiet = [&] {
+    if (window.back().time - window.front().time < criterion.window * (1.0 - 1e-9)) return false;
+    double lo = window.front().density, hi = lo;
+    for (const SettleSample& s : window) {
+      if (s.kinetic_energy > energy_limit) return false;
+      lo = std::min(lo, s.density);
+      hi = std::max(hi, s.density);
+    }
+    return hi - lo <= criterion.density_tolerance;
+  };
+
+  window.push_back(take_sample());
+  const std::size_t start_steps = system.steps();
+  while (true) {
+    if (free_particles == 0) {
+      result.end = SettleEnd::Quiet;
+      break;
+    }
+    if (system.time() - start >= criterion.max_time * (1.0 - 1e-12)) {
+      result.end = SettleEnd::MaxTime;
+      break;
+    }
+    system.run(steps_per_sample);
+    window.push_back(take_sample());
+    while (window.size() > 2 && window[1].time <= window.back().time - criterion.window * (1.0 - 1e-9))
+      window.pop_front();
+    if (quiet()) {
+      result.end = SettleEnd::Quiet;
+      break;
+    }
+  }
+  result.simulated_time = system.time() - start;
+  result.steps = system.steps() - start_steps;
+  result.rebuilds = system.rebuilds();
+  result.last = window.back();
+  return result;
+}
+
+}  // namespace aggpack

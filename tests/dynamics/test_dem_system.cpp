@@ -1,0 +1,365 @@
+#include "aggpack/dynamics/dem_system.hpp"
+
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <vector>
+
+#include "aggpack/core/rng.hpp"
+#include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/dynamics/settle.hpp"
+
+namespace aggpack {
+namespace {
+
+constexpr double kDensity = 2650.0;
+constexpr double kModulus = 1e8;  // soft, so that contacts last many steps
+constexpr double kPoisson = 0.3;
+
+ContactParameters material(double restitution, double friction) {
+  ContactParameters p;
+  p.youngs_modulus = kModulus;
+  p.poisson_ratio = kPoisson;
+  p.wall_youngs_modulus = kModulus;
+  p.wall_poisson_ratio = kPoisson;
+  p.restitution = restitution;
+  p.friction_particle = friction;
+  p.friction_wall = friction;
+  return p;
+}
+
+double sphere_mass(double r) { return kDensity * 4.0 / 3.0 * std::numbers::pi * r * r * r; }
+const double kEStar = effective_youngs_modulus(kModulus, kPoisson, kModulus, kPoisson);
+
+// Steps one step at a time until `done`, at most `limit` steps; returns the steps taken.
+template <class Done>
+std::size_t step_until(DemSystem& dem, std::size_t limit, Done&& done) {
+  for (std::size_t s = 0; s < limit; ++s) {
+    dem.run(1);
+    if (done()) return s + 1;
+  }
+  return limit;
+}
+
+TEST(DemSystem, SphereOnTheFloorRestsAtTheHertzStaticOverlap) {
+  const double r = 0.01;
+  ParticleStore store;
+  store.add({0.05, 0.05, r}, r, kDensity);
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings);
+  dem.run(40000);
+  const double expected = hertz_static_overlap(store.mass[0] * 9.81, kEStar, r);
+  EXPECT_NEAR(r - store.position[0].z, expected, 0.01 * expected);
+  EXPECT_LT(std::abs(store.velocity[0].z), 1e-6);
+}
+
+struct Impact {
+  double rebound_ratio;
+  double contact_time;
+};
+
+Impact floor_impact(double restitution, double speed) {
+  const double r = 0.01;
+  ParticleStore store;
+  store.add({0.05, 0.05, r}, r, kDensity);
+  store.velocity[0] = {0, 0, -speed};
+  DemSettings settings;
+  settings.gravity = {};
+  settings.time_step = 2e-7;
+  DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(restitution, 0.0)), settings);
+  std::size_t in_contact = 0;
+  step_until(dem, 1'000'000, [&] {
+    if (store.position[0].z < r) ++in_contact;
+    return store.position[0].z > r && store.velocity[0].z > 0.0;
+  });
+  return {store.velocity[0].z / speed, static_cast<double>(in_contact) * settings.time_step};
+}
+
+TEST(DemSystem, FloorImpactReboundsWithTheRestitutionCoefficient) {
+  for (const double e : {0.3, 0.5, 0.8}) {
+    for (const double speed : {0.1, 1.0}) {
+      const Impact impact = floor_impact(e, speed);
+      EXPECT_NEAR(impact.rebound_ratio, e, 0.01 * e) << "e " << e << " speed " << speed;
+    }
+  }
+}
+
+TEST(DemSystem, ElasticFloorImpactLastsTheHertzContactTime) {
+  const double r = 0.01, speed = 0.5;
+  const Impact impact = floor_impact(1.0, speed);
+  EXPECT_NEAR(impact.rebound_ratio, 1.0, 1e-3);
+  const double expected = hertz_contact_time(sphere_mass(r), r, kEStar, speed);
+  EXPECT_NEAR(impact.contact_time, expected, 0.03 * expected);
+}
+
+TEST(DemSystem, HeadOnImpactReboundsWithTheRestitutionAndHertzTime) {
+  const double r = 0.01, speed = 0.4;
+  for (const double e : {1.0, 0.5}) {
+    ParticleStore store;
+    store.add({0.05 - r, 0.05, 0.05}, r, kDensity);
+    store.add({0.05 + r, 0.05, 0.05}, r, kDensity);
+    store.velocity[0] = {speed, 0, 0};
+    store.velocity[1] = {-speed, 0, 0};
+    DemSettings settings;
+    settings.gravity = {};
+    settings.time_step = 2e-7;
+    DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(e, 0.3)), settings);
+    std::size_t in_contact = 0;
+    step_until(dem, 1'000'000, [&] {
+      const bool touching = store.position[1].x - store.position[0].x < 2 * r;
+      in_contact += touching;
+      return !touching && store.velocity[0].x < 0.0;
+    });
+    EXPECT_NEAR(-store.velocity[0].x / speed, e, 0.01 * e);
+    EXPECT_EQ(store.velocity[0].x, -store.velocity[1].x);
+    if (e == 1.0) {
+      const double expected = hertz_contact_time(sphere_mass(r) / 2, r / 2, kEStar, 2 * speed);
+      EXPECT_NEAR(static_cast<double>(in_contact) * settings.time_step, expected, 0.03 * expected);
+    }
+  }
+}
+
+// Acceleration along x of a sphere on a floor tilted by theta (gravity tilted instead).
+struct Incline {
+  double acceleration;
+  double slip;  // v_x - omega_y R at the end
+};
+
+Incline incline(double theta, double friction) {
+  const double r = 0.01, g = 9.81;
+  ParticleStore store;
+  const double weight_normal = sphere_mass(r) * g * std::cos(theta);
+  const double overlap = hertz_static_overlap(weight_normal, kEStar, r);
+  store.add({0.2, 0.5, r - overlap}, r, kDensity);
+  DemSettings settings;
+  settings.gravity = {g * std::sin(theta), 0, -g * std::cos(theta)};
+  settings.time_step = 1e-5;
+  DemSystem dem(store, Container::square(1.0, 0.1, false), make_contact_model(material(0.5, friction)), settings);
+  dem.run(5000);
+  const double v1 = store.velocity[0].x, t1 = dem.time();
+  dem.run(20000);
+  const double v2 = store.velocity[0].x, t2 = dem.time();
+  return {(v2 - v1) / (t2 - t1), store.velocity[0].x - store.angular_velocity[0].y * r};
+}
+
+TEST(DemSystem, SphereOnAnInclineRollsWithoutSlipBelowTheFrictionLimit) {
+  const double theta = 20.0 * std::numbers::pi / 180.0, mu = 0.5;  // tan 20 deg < 3.5 mu
+  const Incline result = incline(theta, mu);
+  const double expected = 5.0 / 7.0 * 9.81 * std::sin(theta);
+  EXPECT_NEAR(result.acceleration, expected, 0.02 * expected);
+  EXPECT_LT(std::abs(result.slip), 1e-3 * expected);
+}
+
+TEST(DemSystem, SphereOnASteepInclineSlidesWithCoulombFriction) {
+  const double theta = 30.0 * std::numbers::pi / 180.0, mu = 0.1;  // tan 30 deg > 3.5 mu
+  const Incline result = incline(theta, mu);
+  const double expected = 9.81 * (std::sin(theta) - mu * std::cos(theta));
+  EXPECT_NEAR(result.acceleration, expected, 0.02 * expected);
+  EXPECT_GT(result.slip, 0.01);
+}
+
+// A cloud of overlapping spheres with random velocities and spins.
+ParticleStore random_cluster(std::size_t n, double overlap_fraction, std::uint64_t seed) {
+  Rng rng(seed, 99);
+  ParticleStore store;
+  while (store.size() < n) {
+    const double r = rng.uniform(0.004, 0.006);
+    const Vec3 c{rng.uniform(0.03, 0.07), rng.uniform(0.03, 0.07), rng.uniform(0.01, 0.05)};
+    bool too_deep = false;
+    for (std::size_t j = 0; j < store.size(); ++j)
+      if (norm(store.position[j] - c) < (1.0 - overlap_fraction) * (r + store.radius[j])) too_deep = true;
+    if (too_deep) continue;
+    store.add(c, r, kDensity);
+    store.velocity.back() = {rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)};
+    store.angular_velocity.back() = {rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-50, 50)};
+  }
+  return store;
+}
+
+TEST(DemSystem, PairForcesObeyNewtonsThirdLawExactly) {
+  ParticleStore store = random_cluster(2, 0.02, 1);
+  store.position[1] = store.position[0] + Vec3{0.36, 0.48, 0.8} * (0.9 * (store.radius[0] + store.radius[1]));
+  DemSettings settings;
+  settings.gravity = {};
+  DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.5, 0.3)), settings);
+  for (int s = 0; s < 5; ++s) {
+    ASSERT_GT(norm(dem.force()[0]), 0.0);
+    EXPECT_EQ(dem.force()[0], -dem.force()[1]);
+    dem.run(1);
+  }
+  ParticleStore cloud = random_cluster(60, 0.03, 2);
+  DemSystem crowd(cloud, Container::square(0.1, 0.1, false), make_contact_model(material(0.5, 0.3)), settings);
+  crowd.run(20);
+  Vec3 total;
+  double largest = 0.0;
+  for (const Vec3& f : crowd.force()) {
+    total += f;
+    largest = std::max(largest, norm(f));
+  }
+  ASSERT_GT(largest, 0.0);
+  EXPECT_LT(norm(total), 1e-12 * largest * 60);
+}
+
+// Kinetic plus Hertz elastic energy (8/15) E* sqrt(R*) overlap^(5/2), walls included.
+double total_energy(const ParticleStore& s, const Container& c, const DemSystem& dem) {
+  double energy = dem.kinetic_energy();
+  const double e_wall = effective_youngs_modulus(kModulus, kPoisson, kModulus, kPoisson);
+  const auto elastic = [](double e_star, double r_star, double overlap) {
+    return overlap > 0.0 ? 8.0 / 15.0 * e_star * std::sqrt(r_star) * std::pow(overlap, 2.5) : 0.0;
+  };
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const Vec3& x = s.position[i];
+    const double r = s.radius[i];
+    for (std::size_t j = i + 1; j < s.size(); ++j)
+      energy += elastic(kEStar, r * s.radius[j] / (r + s.radius[j]), r + s.radius[j] - norm(s.position[j] - x));
+    for (const double gap : {x.z - c.bounds.lo.z, x.x - c.bounds.lo.x, c.bounds.hi.x - x.x, x.y - c.bounds.lo.y,
+                             c.bounds.hi.y - x.y})
+      energy += elastic(e_wall, r, r - gap);
+  }
+  return energy;
+}
+
+TEST(DemSystem, ElasticFrictionlessGasConservesEnergy) {
+  ParticleStore store = random_cluster(20, 0.0, 3);
+  const Container box = Container::square(0.1, 0.1, false);
+  DemSettings settings;
+  settings.gravity = {};
+  settings.time_step = 1e-6;
+  DemSystem dem(store, box, make_contact_model(material(1.0, 0.0)), settings);
+  const double start = total_energy(store, box, dem);
+  double worst = 0.0;
+  for (int block = 0; block < 100; ++block) {
+    dem.run(1000);
+    worst = std::max(worst, std::abs(total_energy(store, box, dem) - start) / start);
+  }
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_GT(dem.steps(), 99'999u);
+}
+
+TEST(DemSystem, FrictionlessElasticClusterRetracesItsPathWhenTimeIsReversed) {
+  ParticleStore store = random_cluster(30, 0.01, 4);
+  for (Vec3& w : store.angular_velocity) w = {};
+  const std::vector<Vec3> start = store.position;
+  const Container box = Container::square(0.1, 0.1, false);
+  DemSettings settings;
+  settings.time_step = 1e-6;
+  {
+    DemSystem forward(store, box, make_contact_model(material(1.0, 0.0)), settings);
+    forward.run(20000);
+  }
+  double moved = 0.0;
+  for (std::size_t i = 0; i < store.size(); ++i) moved = std::max(moved, norm(store.position[i] - start[i]));
+  ASSERT_GT(moved, 1e-3);
+  for (Vec3& v : store.velocity) v = -v;
+  // Gravity is not reversed: it pulls the same way whichever way time runs.
+  DemSystem backward(store, box, make_contact_model(material(1.0, 0.0)), settings);
+  backward.run(20000);
+  for (std::size_t i = 0; i < store.size(); ++i) EXPECT_LT(norm(store.position[i] - start[i]), 1e-9) << i;
+}
+
+TEST(DemSystem, PermutingParticlesInMemoryDoesNotChangeTheResult) {
+  ParticleStore a = random_cluster(40, 0.02, 5);
+  ParticleStore b;
+  for (std::size_t k = a.size(); k-- > 0;) {
+    b.add(a.position[k], a.radius[k], kDensity);
+    b.velocity.back() = a.velocity[k];
+    b.angular_velocity.back() = a.angular_velocity[k];
+  }
+  const Container box = Container::square(0.1, 0.1, false);
+  DemSettings settings;
+  settings.time_step = 1e-6;
+  DemSystem dem_a(a, box, make_contact_model(material(0.5, 0.4)), settings);
+  DemSystem dem_b(b, box, make_contact_model(material(0.5, 0.4)), settings);
+  dem_a.run(5000);
+  dem_b.run(5000);
+  const std::size_t n = a.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    EXPECT_LT(norm(a.position[i] - b.position[n - 1 - i]), 1e-12) << i;
+    EXPECT_LT(norm(a.angular_velocity[i] - b.angular_velocity[n - 1 - i]), 1e-7) << i;
+  }
+}
+
+// A deposited bed of `count` spheres, 4-6 mm radius, in a 6 cm box.
+ParticleStore deposited_bed(std::size_t count, bool periodic, std::uint64_t seed) {
+  Rng sizes(seed, 1);
+  std::vector<double> radii(count);
+  for (double& r : radii) r = sizes.uniform(0.004, 0.006);
+  ParticleStore bed;
+  const Container box = Container::square(0.06, 1.0, periodic);
+  DropAndRoll deposition(bed, box, radii, DepositionSettings{}, Rng(seed, 2));
+  deposition.deposit(radii, kDensity);
+  return bed;
+}
+
+TEST(DemSystem, SettledBedHasEveryNetForceFarBelowTheWeight) {
+  ParticleStore bed = deposited_bed(300, false, 7);
+  const Container box = Container::square(0.06, 1.0, false);
+  DemSettings settings;
+  settings.time_step = 2e-5;
+  DemSystem dem(bed, box, make_contact_model(material(0.5, 0.5)), settings);
+  QuietCriterion quiet;
+  quiet.max_time = 3.0;
+  quiet.kinetic_fraction = 1e-8;
+  const SettleResult result = settle(dem, bed, quiet, nullptr, nullptr);
+  EXPECT_EQ(result.end, SettleEnd::Quiet);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < bed.size(); ++i)
+    worst = std::max(worst, norm(dem.force()[i]) / (bed.mass[i] * 9.81));
+  EXPECT_LT(worst, 0.01);
+  EXPECT_GT(result.last.contacts.coordination, 4.0);
+}
+
+TEST(DemSystem, SameBytesForOneAndTwoThreads) {
+  const auto run = [](int threads) {
+    omp_set_num_threads(threads);
+    ParticleStore bed = deposited_bed(1500, true, 8);
+    DemSettings settings;
+    settings.time_step = 2e-5;
+    settings.skin = 1e-4;  // small, so that the list is rebuilt during the run
+    DemSystem dem(bed, Container::square(0.06, 1.0, true), make_contact_model(material(0.5, 0.3)), settings);
+    dem.run(400);
+    EXPECT_GT(dem.rebuilds(), 1u);
+    dem.finish();
+    return bed;
+  };
+  const ParticleStore one = run(1), two = run(2);
+  omp_set_num_threads(omp_get_num_procs());
+  ASSERT_EQ(one.size(), two.size());
+  EXPECT_EQ(0, std::memcmp(one.position.data(), two.position.data(), one.size() * sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(one.velocity.data(), two.velocity.data(), one.size() * sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(one.angular_velocity.data(), two.angular_velocity.data(), one.size() * sizeof(Vec3)));
+}
+
+TEST(Settle, StopsWhenQuietOrAtTheMaximumTime) {
+  const double r = 0.01;
+  ParticleStore store;
+  store.add({0.05, 0.05, r}, r, kDensity);
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  const Container box = Container::square(0.1, 0.1, false);
+  const ContactModel model = make_contact_model(material(0.3, 0.5));
+  QuietCriterion criterion;
+  criterion.max_time = 1.0;
+  std::size_t samples = 0;
+  DemSystem dem(store, box, model, settings);
+  const SettleResult quiet = settle(dem, store, criterion, [](const ParticleStore& s) { return s.position[0].z; },
+                                    [&](const SettleSample&) { ++samples; });
+  EXPECT_EQ(quiet.end, SettleEnd::Quiet);
+  EXPECT_LT(quiet.simulated_time, 1.0);
+  EXPECT_GE(quiet.simulated_time, criterion.window);
+  EXPECT_EQ(samples, quiet.steps / 100 + 1);
+
+  store.position[0].z = 0.05;  // falls for ~0.09 s, then bounces
+  criterion.max_time = 0.02;
+  DemSystem falling(store, box, model, settings);
+  const SettleResult cut = settle(falling, store, criterion, nullptr, nullptr);
+  EXPECT_EQ(cut.end, SettleEnd::MaxTime);
+  EXPECT_NEAR(cut.simulated_time, 0.02, 1e-9);
+}
+
+}  // namespace
+}  // namespace aggpack
