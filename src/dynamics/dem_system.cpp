@@ -58,11 +58,15 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
 }
 
 Vec3 DemSystem::separation(const Vec3& from, const Vec3& to) const {
+  // Positions stay within one period of the box between list builds, so one shift is
+  // enough; the branches are symmetric, so b - a is exactly -(a - b).
   Vec3 d = to - from;
   if (container_.periodic) {
     const double lx = container_.length_x(), ly = container_.length_y();
-    d.x -= lx * std::nearbyint(d.x / lx);
-    d.y -= ly * std::nearbyint(d.y / ly);
+    if (d.x > 0.5 * lx) d.x -= lx;
+    else if (d.x < -0.5 * lx) d.x += lx;
+    if (d.y > 0.5 * ly) d.y -= ly;
+    else if (d.y < -0.5 * ly) d.y += ly;
   }
   return d;
 }
@@ -166,13 +170,17 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
           spring_[e] = {};
           continue;
         }
+        // One division for 1/distance, R* and m*: q = 1 / (distance (r_i + r_j) (m_i + m_j)).
         const double distance = std::sqrt(d2);
-        k.normal = d * (1.0 / distance);
+        const double mj = mass[j];
+        const double reach_mass = reach * (mi + mj);
+        const double q = 1.0 / (distance * reach_mass);
+        k.normal = d * (reach_mass * q);
         k.overlap = reach - distance;
         k.velocity = vi - v[j] + cross(spin_i + rj * w[j], k.normal);
         k.spin = wi - w[j];
-        k.r_eff = ri * rj / reach;
-        k.m_eff = mi * mass[j] / (mi + mass[j]);
+        k.r_eff = ri * rj * (mi + mj) * distance * q;
+        k.m_eff = mi * mj * reach * distance * q;
         const ContactForce c = particle_law.evaluate(k, spring_[e], dt);
         f += c.force;
         t += ri * cross(k.normal, c.tangential) + c.rolling_torque;

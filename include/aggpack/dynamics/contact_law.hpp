@@ -70,14 +70,14 @@ struct ContactCoefficients {
 inline constexpr double kFrictionRegularisation = 1e-6;
 
 namespace contact_detail {
-// Normal force magnitude: Hertz plus restitution damping, never attractive.
+// Normal force magnitude: Hertz plus restitution damping, never attractive. Also gives
+// the damping coefficient a sqrt(m* k_n) overlap^(1/4).
 inline double normal_force(const ContactCoefficients& c, const ContactKinematics& k, double sqrt_r_overlap,
-                           double& stiffness_term) {
-  stiffness_term = (4.0 / 3.0) * c.e_star * sqrt_r_overlap;  // k_n overlap^(1/2)
-  const double elastic = stiffness_term * k.overlap;
-  const double approach = dot(k.velocity, k.normal);  // > 0 when i moves into j
-  const double damping = c.damping * std::sqrt(k.m_eff * stiffness_term);
-  return std::max(0.0, elastic + damping * approach);
+                           double& damping_coefficient) {
+  const double stiffness = (4.0 / 3.0) * c.e_star * sqrt_r_overlap;  // k_n overlap^(1/2)
+  const double approach = dot(k.velocity, k.normal);                 // > 0 when i moves into j
+  damping_coefficient = c.damping * std::sqrt(k.m_eff * stiffness);
+  return std::max(0.0, stiffness * k.overlap + damping_coefficient * approach);
 }
 inline Vec3 rolling_torque(const ContactCoefficients& c, const ContactKinematics& k, double normal) {
   if (c.rolling == 0.0) return {};
@@ -94,26 +94,24 @@ struct HertzMindlin {
 
   ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double dt) const {
     const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
-    double kn;
-    const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, kn);
+    double damping_n;
+    const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, damping_n);
     const Vec3 vt = k.velocity - dot(k.velocity, k.normal) * k.normal;
-    // The stored displacement turns with the contact plane, keeping its length.
-    const double s2 = norm2(spring);
-    if (s2 > 0.0) {
-      Vec3 in_plane = spring - dot(spring, k.normal) * k.normal;
-      const double p2 = norm2(in_plane);
-      spring = p2 > 0.0 ? in_plane * std::sqrt(s2 / p2) : Vec3{};
-    }
+    // The stored displacement follows the contact plane: its normal part is dropped (as in
+    // LAMMPS gran/hertz/history; the length lost is second order in the rotation).
+    spring -= dot(spring, k.normal) * k.normal;
     spring += vt * dt;
     const double kt = 8.0 * c.g_star * sqrt_r_overlap;
-    const double eta_t = c.damping * std::sqrt(k.m_eff * (2.0 / 3.0) * kt);
+    // Same form as the normal damping with k_t in place of k_n: a constant ratio.
+    const double eta_t = damping_n * std::sqrt(4.0 * c.g_star / c.e_star);
     Vec3 ft = -kt * spring - eta_t * vt;
+    // Sliding: cap at mu F_n and keep the spring that gives just that force (k_t > 0 in contact).
     const double cap = c.friction * fn;
     const double ft2 = norm2(ft);
-    if (ft2 > cap * cap) {
-      ft = ft * (cap / std::sqrt(ft2));
-      spring = kt > 0.0 ? (ft + eta_t * vt) * (-1.0 / kt) : Vec3{};
-    }
+    const bool sliding = ft2 > cap * cap;
+    ft = ft * (sliding ? cap / std::sqrt(ft2) : 1.0);
+    const Vec3 held = (ft + eta_t * vt) * (-1.0 / kt);
+    spring = sliding ? held : spring;
     return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn), fn};
   }
 };
@@ -126,8 +124,8 @@ struct SlidingFrictionFu2003 {
 
   ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double /*dt*/) const {
     const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
-    double kn;
-    const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, kn);
+    double damping_n;
+    const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, damping_n);
     const Vec3 vt = k.velocity - dot(k.velocity, k.normal) * k.normal;
     const double speed = std::max(norm(vt), kFrictionRegularisation);
     const Vec3 ft = vt * (-c.friction * fn / speed);
