@@ -242,22 +242,25 @@ void DemSystem::run(std::size_t steps) {
   }
 }
 
-double DemSystem::kinetic_energy() const {
+DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
   const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
-  std::vector<double> partial(blocks, 0.0);
+  std::vector<KineticEnergy> partial(blocks);
 #pragma omp parallel for schedule(static)
   for (std::size_t b = 0; b < blocks; ++b) {
-    double sum = 0.0;
+    KineticEnergy sum;
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
     for (std::size_t i = b * kSumBlock; i < end; ++i) {
       if (p_.frozen[i]) continue;
-      sum += 0.5 * p_.mass[i] * norm2(p_.velocity[i]);
-      sum += 0.5 * norm2(p_.angular_velocity[i]) / inverse_inertia_[i];
+      sum.translational += 0.5 * p_.mass[i] * norm2(p_.velocity[i]);
+      sum.rotational += 0.5 * norm2(p_.angular_velocity[i]) / inverse_inertia_[i];
     }
     partial[b] = sum;
   }
-  double total = 0.0;
-  for (const double s : partial) total += s;
+  KineticEnergy total;
+  for (const KineticEnergy& s : partial) {
+    total.translational += s.translational;
+    total.rotational += s.rotational;
+  }
   return total;
 }
 

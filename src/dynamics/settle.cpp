@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -37,7 +38,7 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
   const auto take_sample = [&] {
     SettleSample s;
     s.time = system.time() - start;
-    s.density = density ? density(particles) : 0.0;
+    s.density = density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
     s.kinetic_energy = system.kinetic_energy();
     s.contacts = system.contact_statistics();
     if (on_sample) on_sample(s);
@@ -45,13 +46,15 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
   };
   const auto quiet = [&] {
     if (window.back().time - window.front().time < criterion.window * (1.0 - 1e-9)) return false;
-    double lo = window.front().density, hi = lo;
+    // A NaN density (no probe, or the boxes do not fit the bed yet) leaves the energy alone.
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (const SettleSample& s : window) {
-      if (s.kinetic_energy > energy_limit) return false;
+      if (s.kinetic_energy.translational > energy_limit) return false;
+      if (std::isnan(s.density)) continue;
       lo = std::min(lo, s.density);
       hi = std::max(hi, s.density);
     }
-    return hi - lo <= criterion.density_tolerance;
+    return !(hi - lo > criterion.density_tolerance);
   };
 
   window.push_back(take_sample());

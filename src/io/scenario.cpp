@@ -231,15 +231,41 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
 }
 
 Material read_material(const TomlSection& s) {
-  s.allow_only({"density", "youngs_modulus", "poisson_ratio", "friction_particle", "friction_wall", "restitution"});
+  s.allow_only({"density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
+                "friction_particle", "friction_wall", "restitution", "rolling_friction"});
   Material m;
+  const NumberRange poisson{-1.0, 0.5, true, true};
   m.density = s.number("density", kPositive).value_or(m.density);
   m.youngs_modulus = s.number("youngs_modulus", kPositive).value_or(m.youngs_modulus);
-  m.poisson_ratio = s.number("poisson_ratio", {-1.0, 0.5, true, true}).value_or(m.poisson_ratio);
+  m.poisson_ratio = s.number("poisson_ratio", poisson).value_or(m.poisson_ratio);
+  m.wall_youngs_modulus = s.number("wall_youngs_modulus", kPositive).value_or(m.wall_youngs_modulus);
+  m.wall_poisson_ratio = s.number("wall_poisson_ratio", poisson).value_or(m.wall_poisson_ratio);
   m.friction_particle = s.number("friction_particle", kNonNegative).value_or(m.friction_particle);
   m.friction_wall = s.number("friction_wall", kNonNegative).value_or(m.friction_wall);
   m.restitution = s.number("restitution", kFraction).value_or(m.restitution);
+  m.rolling_friction = s.number("rolling_friction", kNonNegative).value_or(m.rolling_friction);
   return m;
+}
+
+DynamicsStage read_dynamics(const TomlSection& s) {
+  s.allow_only({"friction_model", "time_step", "time_step_safety", "max_time", "sample_interval", "quiet_window",
+                "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity"});
+  DynamicsStage d;
+  d.friction_model = s.choice("friction_model", {"mindlin", "fu2003"}).value_or(d.friction_model);
+  d.time_step = s.number("time_step", {0.0, 1.0, true, false});
+  d.time_step_safety = s.number("time_step_safety", {0.0, 1.0, true, false}).value_or(d.time_step_safety);
+  d.max_time = s.number("max_time", {0.0, 1e4, true, false}).value_or(d.max_time);
+  d.sample_interval = s.number("sample_interval", {0.0, 1e3, true, false}).value_or(d.sample_interval);
+  d.quiet_window = s.number("quiet_window", kPositive).value_or(d.quiet_window);
+  if (d.quiet_window < d.sample_interval)
+    s.fail("quiet_window", fmt::format("{} s is shorter than the sample interval {} s; expected at least one "
+                                       "sample interval", d.quiet_window, d.sample_interval));
+  d.quiet_kinetic_fraction = s.number("quiet_kinetic_fraction", kPositive).value_or(d.quiet_kinetic_fraction);
+  d.density_tolerance = s.number("density_tolerance", kPositive).value_or(d.density_tolerance);
+  d.layers = static_cast<std::size_t>(s.integer("layers", 1, 10'000).value_or(1));
+  d.skin = s.length("skin");
+  d.gravity = s.number("gravity", kPositive).value_or(d.gravity);
+  return d;
 }
 
 DepositionStage read_deposition(const TomlSection& s) {
@@ -298,9 +324,6 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition",
                 "dynamics"});
-  if (s.has("dynamics"))
-    s.fail("dynamics", "the dynamics stage is not available in this version of aggpack; "
-                       "remove the [dynamics] table");
 
   Scenario sc;
   sc.file = file;
@@ -312,6 +335,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
                                 file.parent_path(), sc.container);
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d);
+  if (const auto d = s.table("dynamics")) {
+    sc.dynamics = read_dynamics(*d);
+    if (sc.dynamics->layers > 1 && !sc.deposition)
+      d->fail("layers", "layer by layer settling deposits each layer, so it needs a [deposition] table; "
+                        "expected layers = 1 for a bed read from a file");
+  }
   if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
   if (const auto o = s.table("output")) sc.output = read_output(*o, file);
   else sc.output.directory = "out/" + file.stem().string();
@@ -409,10 +438,30 @@ nlohmann::json to_json(const Scenario& sc) {
                        {"max_redrops", d.max_redrops},
                        {"fill_height_m", d.fill_height.value_or(sc.container.height())}};
   }
+  if (sc.dynamics) {
+    const DynamicsStage& d = *sc.dynamics;
+    j["dynamics"] = {{"friction_model", d.friction_model},
+                     {"time_step_safety", d.time_step_safety},
+                     {"max_time_s", d.max_time},
+                     {"sample_interval_s", d.sample_interval},
+                     {"quiet_window_s", d.quiet_window},
+                     {"quiet_kinetic_fraction", d.quiet_kinetic_fraction},
+                     {"density_tolerance", d.density_tolerance},
+                     {"layers", d.layers},
+                     {"gravity_m_s2", d.gravity}};
+    if (d.time_step) j["dynamics"]["time_step_s"] = *d.time_step;
+    if (d.skin) j["dynamics"]["skin_m"] = *d.skin;
+  }
   const Material& m = sc.material;
-  j["material"] = {{"density_kg_m3", m.density},         {"youngs_modulus_pa", m.youngs_modulus},
-                   {"poisson_ratio", m.poisson_ratio},   {"friction_particle", m.friction_particle},
-                   {"friction_wall", m.friction_wall},   {"restitution", m.restitution}};
+  j["material"] = {{"density_kg_m3", m.density},
+                   {"youngs_modulus_pa", m.youngs_modulus},
+                   {"poisson_ratio", m.poisson_ratio},
+                   {"wall_youngs_modulus_pa", m.wall_youngs_modulus},
+                   {"wall_poisson_ratio", m.wall_poisson_ratio},
+                   {"friction_particle", m.friction_particle},
+                   {"friction_wall", m.friction_wall},
+                   {"restitution", m.restitution},
+                   {"rolling_friction", m.rolling_friction}};
   j["analysis"] = {{"box_sides_m", sc.analysis.box_sides},
                    {"placement", "centered"},
                    {"contact_tolerance", sc.analysis.contact_tolerance}};

@@ -6,13 +6,7 @@
 
 namespace aggpack {
 
-PackingReport analyze_packing(const ParticleStore& particles, const Container& container,
-                              const AnalysisRequest& request) {
-  if (particles.empty()) throw InputError("the packing has no particles to analyse");
-  PackingReport report;
-  report.bed = measure_bed(particles, container);
-  const BedGeometry& bed = report.bed;
-
+std::vector<Box> virtual_boxes(const Container& container, const BedGeometry& bed, const AnalysisRequest& request) {
   std::vector<Box> boxes = request.boxes;
   for (double side : request.cube_sides) boxes.push_back(place_virtual_cube(side, container, bed));
   if (boxes.empty()) {
@@ -27,6 +21,16 @@ PackingReport analyze_packing(const ParticleStore& particles, const Container& c
   for (const Box& b : boxes)
     if (!(b.hi.x > b.lo.x && b.hi.y > b.lo.y && b.hi.z > b.lo.z))
       throw InputError("a box must have hi > lo on every axis");
+  return boxes;
+}
+
+PackingReport analyze_packing(const ParticleStore& particles, const Container& container,
+                              const AnalysisRequest& request) {
+  if (particles.empty()) throw InputError("the packing has no particles to analyse");
+  PackingReport report;
+  report.bed = measure_bed(particles, container);
+  const BedGeometry& bed = report.bed;
+  const std::vector<Box> boxes = virtual_boxes(container, bed, request);
   report.density = measure_density(particles, container, boxes);
 
   const auto largest = std::max_element(boxes.begin(), boxes.end(),

@@ -2,7 +2,10 @@
 
 #include <chrono>
 #include <cmath>
+#include <span>
+#include <algorithm>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <fmt/ostream.h>
 #include <omp.h>
 
@@ -15,6 +18,7 @@
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
+#include "aggpack/pipeline/settle_stage.hpp"
 
 namespace aggpack {
 
@@ -53,7 +57,9 @@ struct DepositionOutcome {
   std::vector<Supports> supports;
 };
 
-DepositionOutcome run_deposition(const Scenario& sc, std::vector<double> radii, ParticleStore& particles) {
+// Deposits `radii` on the bed as layer `layer` (0 for a single pass; each layer has its own stream).
+DepositionOutcome run_deposition(const Scenario& sc, std::span<const double> radii, ParticleStore& particles,
+                                 std::uint32_t layer) {
   const DepositionStage& stage = *sc.deposition;
   DepositionSettings settings;
   settings.tolerance = stage.tolerance;
@@ -61,9 +67,10 @@ DepositionOutcome run_deposition(const Scenario& sc, std::vector<double> radii, 
   settings.max_redrops = stage.max_redrops;
   settings.fill_height = stage.fill_height.value_or(sc.container.height());
   particles.reserve(particles.size() + radii.size());
-  DropAndRoll deposition(particles, sc.container, radii, settings, make_rng(sc.seed, RngPurpose::Deposition));
+  const std::uint64_t stream = static_cast<std::uint64_t>(RngPurpose::Deposition) + (std::uint64_t{layer} << 32);
+  DropAndRoll deposition(particles, sc.container, radii, settings, Rng(sc.seed, stream));
   const auto t0 = Clock::now();
-  deposition.deposit(radii, sc.material.density);
+  deposition.deposit(radii, sc.material.density, layer);
   const double seconds = seconds_since(t0);
   const DepositionStats& st = deposition.stats();
   nlohmann::json j;
@@ -84,6 +91,53 @@ DepositionOutcome run_deposition(const Scenario& sc, std::vector<double> radii, 
   j["wall_clock_s"] = seconds;
   j["particles_per_second"] = seconds > 0 ? static_cast<double>(st.placed) / seconds : 0.0;
   return {j, deposition.supports()};
+}
+
+// The deposition summary of several layers: counts add up, the end is the last layer's.
+void add_layer(nlohmann::json& total, const nlohmann::json& layer) {
+  if (total.is_null()) {
+    total = layer;
+    return;
+  }
+  for (const char* key : {"particles_requested", "particles_placed", "particles_not_placed", "events", "redrops"})
+    total[key] = total[key].get<std::size_t>() + layer[key].get<std::size_t>();
+  for (const char* group : {"ties", "supports"})
+    for (auto& [key, value] : total[group].items()) value = value.get<std::size_t>() + layer[group][key].get<std::size_t>();
+  total["max_events_one_particle"] = std::max(total["max_events_one_particle"].get<std::size_t>(),
+                                              layer["max_events_one_particle"].get<std::size_t>());
+  total["end"] = layer["end"];
+  total["wall_clock_s"] = total["wall_clock_s"].get<double>() + layer["wall_clock_s"].get<double>();
+  const double seconds = total["wall_clock_s"].get<double>();
+  total["events_per_particle"] = total["particles_placed"].get<std::size_t>() > 0
+                                     ? total["events"].get<double>() / total["particles_placed"].get<double>()
+                                     : 0.0;
+  total["particles_per_second"] = seconds > 0 ? total["particles_placed"].get<double>() / seconds : 0.0;
+}
+
+// The dynamics summary of several settling runs (one per layer).
+void add_settling_run(nlohmann::json& total, const nlohmann::json& run) {
+  if (total.is_null()) {
+    total = run;
+    total.erase("layer");
+    total["runs"] = nlohmann::json::array();
+    total["runs_ended_by_max_time"] = std::size_t{0};
+  }
+  total["runs"].push_back(run);
+  if (run["ended_by"] == "max_time") total["runs_ended_by_max_time"] = total["runs_ended_by_max_time"].get<std::size_t>() + 1;
+  if (total["runs"].size() == 1) return;
+  for (const char* key : {"steps", "neighbour_list_builds"})
+    total[key] = total[key].get<std::size_t>() + run[key].get<std::size_t>();
+  for (const char* key : {"simulated_time_s", "wall_clock_s"}) total[key] = total[key].get<double>() + run[key].get<double>();
+  total["ended_by"] = run["ended_by"];
+  total["final"] = run["final"];
+  total["particles_settled"] = run["particles_settled"].get<std::size_t>() + run["particles_frozen"].get<std::size_t>();
+  total["particles_frozen"] = 0;
+  total["memory_bytes_per_particle"] = std::max(total["memory_bytes_per_particle"].get<double>(),
+                                                run["memory_bytes_per_particle"].get<double>());
+  double particle_steps = 0.0;
+  for (const auto& r : total["runs"]) particle_steps += r["particle_steps_per_second"].get<double>() * r["wall_clock_s"].get<double>();
+  const double seconds = total["wall_clock_s"].get<double>();
+  total["particle_steps_per_second"] = seconds > 0 ? particle_steps / seconds : 0.0;
 }
 
 AnalysisRequest analysis_request(const Scenario& sc) {
@@ -152,9 +206,20 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   const auto t_start = Clock::now();
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const Scenario sc = load_scenario(scenario_file, options.overrides);
-  if (options.stop_after && !(*options.stop_after == "deposition" && sc.deposition))
+  std::vector<std::string> stage_names;
+  if (sc.deposition) stage_names.push_back("deposition");
+  if (sc.dynamics) stage_names.push_back("dynamics");
+  if (options.stop_after &&
+      std::find(stage_names.begin(), stage_names.end(), *options.stop_after) == stage_names.end())
     throw InputError(fmt::format("--stop-after {}: the scenario has no stage of that name (its stages: {})",
-                                 *options.stop_after, sc.deposition ? "deposition" : "none"));
+                                 *options.stop_after, stage_names.empty() ? "none" : fmt::format("{}", fmt::join(stage_names, ", "))));
+  const std::size_t layers = sc.dynamics ? sc.dynamics->layers : 1;
+  const bool stop_after_deposition = options.stop_after && *options.stop_after == "deposition";
+  if (stop_after_deposition && layers > 1)
+    throw InputError(fmt::format("--stop-after deposition: {} settles each of its {} layers before depositing "
+                                 "the next, so there is no deposited bed to stop at; use dynamics.layers = 1",
+                                 sc.file.string(), layers));
+  const bool run_dynamics = sc.dynamics && !stop_after_deposition;
 
   nlohmann::json wall_clock;
   auto t0 = Clock::now();
@@ -164,6 +229,14 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   nlohmann::json stages = nlohmann::json::object();
   std::vector<Supports> supports;
   GeneratedSizes sizes;
+  TimeSeries series;
+  nlohmann::json dynamics_summary;
+  double simulated = 0.0;
+  const auto settle_layer = [&](std::uint32_t layer) {
+    const nlohmann::json run = settle_bed(sc, particles, layer, simulated, series);
+    simulated += run["simulated_time_s"].get<double>();
+    add_settling_run(dynamics_summary, run);
+  };
   if (sc.deposition) {
     t0 = Clock::now();
     try {
@@ -174,19 +247,44 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
     wall_clock["sizes"] = seconds_since(t0);
     std::vector<double> radii = std::move(sizes.diameters);
     for (double& r : radii) r *= 0.5;
-    DepositionOutcome outcome = run_deposition(sc, std::move(radii), particles);
-    wall_clock["deposition"] = outcome.summary["wall_clock_s"];
-    supports = std::move(outcome.supports);
-    stages["deposition"] = std::move(outcome.summary);
+    particles.reserve(particles.size() + radii.size());
+    // One pass, or the paper's layers: equal counts in deposition order, each settled in turn.
+    nlohmann::json deposited;
+    for (std::size_t layer = 0; layer < layers; ++layer) {
+      const std::size_t begin = radii.size() * layer / layers, end = radii.size() * (layer + 1) / layers;
+      const std::span<const double> chunk(radii.data() + begin, end - begin);
+      DepositionOutcome outcome = run_deposition(sc, chunk, particles, static_cast<std::uint32_t>(layer));
+      if (supports.empty()) supports = std::move(outcome.supports);
+      else
+        for (std::size_t i = supports.size(); i < outcome.supports.size(); ++i) supports.push_back(outcome.supports[i]);
+      add_layer(deposited, outcome.summary);
+      if (layers > 1) settle_layer(static_cast<std::uint32_t>(layer));
+      if (deposited["end"] != "all_placed") break;
+    }
+    if (layers > 1) deposited["layers"] = layers;
+    wall_clock["deposition"] = deposited["wall_clock_s"];
+    stages["deposition"] = std::move(deposited);
+    if (layers == 1) {
+      t0 = Clock::now();
+      const nlohmann::json analysed = to_json(analyze(sc, particles));
+      wall_clock["analysis_after_deposition"] = seconds_since(t0);
+      stages["deposition"]["density"] = analysed.at("density");
+      stages["deposition"]["coordination"] = analysed.at("coordination");
+    }
+  }
+  if (run_dynamics && layers == 1) settle_layer(0);
+  if (run_dynamics) {
+    wall_clock["dynamics"] = dynamics_summary["wall_clock_s"];
+    stages["dynamics"] = dynamics_summary;
   }
 
   t0 = Clock::now();
   const PackingReport report = analyze(sc, particles);
   wall_clock["analysis"] = seconds_since(t0);
-  if (sc.deposition) {
+  if (run_dynamics) {
     const nlohmann::json analysed = to_json(report);
-    stages["deposition"]["density"] = analysed.at("density");
-    stages["deposition"]["coordination"] = analysed.at("coordination");
+    stages["dynamics"]["density"] = analysed.at("density");
+    stages["dynamics"]["coordination"] = analysed.at("coordination");
   }
 
   nlohmann::json summary;
@@ -200,7 +298,12 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
                           {"periodic", sc.container.periodic}};
   summary["stages"] = stages;
   if (sc.deposition) summary["sizes"] = sizes.report;
-  summary["modelling_notes"] = modelling_notes(sc, sc.analysis.box_sides.empty(), stages, sizes.notes);
+  std::vector<std::string> notes = sizes.notes;
+  if (run_dynamics)
+    for (std::string& note : dynamics_notes(sc, stages["dynamics"])) notes.push_back(std::move(note));
+  if (sc.dynamics && !run_dynamics)
+    notes.push_back("--stop-after deposition: the [dynamics] stage was not run");
+  summary["modelling_notes"] = modelling_notes(sc, sc.analysis.box_sides.empty(), stages, notes);
   summary.update(to_json(report));
 
   // Outputs only once everything has been computed: bad input leaves no files behind.
@@ -210,6 +313,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(particles));
   if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(supports));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
+  if (run_dynamics) write_file_atomically(dir / "timeseries.csv", series.csv(provenance));
   if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(particles, provenance));
   wall_clock["output"] = seconds_since(t0);
   wall_clock["total"] = seconds_since(t_start);
@@ -253,6 +357,18 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
                  d["end"].get<std::string>(), d["wall_clock_s"].get<double>(), d["events_per_particle"].get<double>(),
                  d["redrops"].get<std::size_t>(),
                  d["ties"]["on_top"].get<std::size_t>() + d["ties"]["on_ridge"].get<std::size_t>());
+    }
+    if (run_dynamics) {
+      const auto& d = stages["dynamics"];
+      fmt::print(log, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
+                      "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
+                 d["ended_by"].get<std::string>(), sc.dynamics->friction_model, d["simulated_time_s"].get<double>(),
+                 d["steps"].get<std::size_t>(), d["time_step_s"].get<double>(), d["wall_clock_s"].get<double>(),
+                 1e-6 * d["particle_steps_per_second"].get<double>(), d["final"]["mean_overlap_rel"].get<double>(),
+                 d["final"]["max_overlap_rel"].get<double>());
+      if (stages["deposition"].contains("density"))
+        fmt::print(log, "  density after deposition {:.4f}, after dynamics {:.4f}\n",
+                   stages["deposition"]["density"]["mean"].get<double>(), report.density.mean);
     }
     for (const auto& box : report.density.boxes)
       fmt::print(log, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);

@@ -206,7 +206,7 @@ TEST(DemSystem, PairForcesObeyNewtonsThirdLawExactly) {
 
 // Kinetic plus Hertz elastic energy (8/15) E* sqrt(R*) overlap^(5/2), walls included.
 double total_energy(const ParticleStore& s, const Container& c, const DemSystem& dem) {
-  double energy = dem.kinetic_energy();
+  double energy = dem.kinetic_energy().total();
   const double e_wall = effective_youngs_modulus(kModulus, kPoisson, kModulus, kPoisson);
   const auto elastic = [](double e_star, double r_star, double overlap) {
     return overlap > 0.0 ? 8.0 / 15.0 * e_star * std::sqrt(r_star) * std::pow(overlap, 2.5) : 0.0;

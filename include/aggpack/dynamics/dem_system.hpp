@@ -48,9 +48,13 @@ class DemSystem {
   // Net force and torque on each particle at the current positions (gravity included).
   [[nodiscard]] const std::vector<Vec3>& force() const { return force_; }
   [[nodiscard]] const std::vector<Vec3>& torque() const { return torque_; }
-  // Translational plus rotational kinetic energy of the free particles, J, summed in a
-  // fixed order.
-  [[nodiscard]] double kinetic_energy() const;
+  // Kinetic energy of the free particles, J, summed in a fixed order.
+  struct KineticEnergy {
+    double translational = 0.0;
+    double rotational = 0.0;
+    [[nodiscard]] double total() const { return translational + rotational; }
+  };
+  [[nodiscard]] KineticEnergy kinetic_energy() const;
   [[nodiscard]] ContactStatistics contact_statistics() const;
   [[nodiscard]] std::size_t free_count() const { return free_count_; }
   // Neighbour-list entries, for memory accounting.

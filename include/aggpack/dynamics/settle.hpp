@@ -12,7 +12,9 @@ struct QuietCriterion {
   double max_time = 2.0;            // s of simulated time
   double sample_interval = 1e-3;    // s between samples (time series and criterion)
   double window = 0.05;             // s over which the bed must stay quiet
-  double kinetic_fraction = 1e-6;   // kinetic energy per particle / mean (m g d) below this
+  // Translational kinetic energy per particle / mean (m g d) below this. Spin is left out:
+  // without twisting resistance a sphere may keep spinning about a contact normal forever.
+  double kinetic_fraction = 1e-5;
   double density_tolerance = 5e-4;  // change of the virtual-box density over the window
 };
 
@@ -21,8 +23,8 @@ std::string_view settle_end_name(SettleEnd end);
 
 struct SettleSample {
   double time = 0.0;            // s since the dynamics started
-  double density = 0.0;         // from the probe
-  double kinetic_energy = 0.0;  // J, free particles
+  double density = 0.0;         // from the probe; NaN without one or when it cannot measure
+  DemSystem::KineticEnergy kinetic_energy;  // J, free particles
   ContactStatistics contacts;
 };
 

@@ -45,9 +45,12 @@ struct Material {
   double density = 2650.0;          // kg/m^3
   double youngs_modulus = 50e9;     // Pa
   double poisson_ratio = 0.25;
+  double wall_youngs_modulus = 200e9;  // Pa, walls and floor (steel)
+  double wall_poisson_ratio = 0.3;
   double friction_particle = 0.17;  // particle-particle Coulomb coefficient
   double friction_wall = 0.17;      // particle-wall and particle-floor
   double restitution = 0.5;
+  double rolling_friction = 0.0;    // rolling resistance mu_r, 0 for none
 };
 
 struct AnalysisSettings {
@@ -65,6 +68,21 @@ struct DepositionStage {
   std::optional<double> fill_height;  // m above the floor; default: the container height
 };
 
+// The DEM settling stage ([dynamics]); see docs/method.md section 5.
+struct DynamicsStage {
+  std::string friction_model = "mindlin";  // "mindlin" or "fu2003"
+  std::optional<double> time_step;         // s; default: time_step_safety x Rayleigh time of the smallest sphere
+  double time_step_safety = 0.2;
+  double max_time = 2.0;                   // s of simulated time per settling run
+  double sample_interval = 1e-3;           // s between time-series samples
+  double quiet_window = 0.05;              // s
+  double quiet_kinetic_fraction = 1e-5;    // translational kinetic energy per particle / mean (m g d)
+  double density_tolerance = 5e-4;         // change of the virtual-box density over the window
+  std::size_t layers = 1;                  // > 1: deposit and settle layer by layer (the paper's method)
+  std::optional<double> skin;              // m; Verlet skin, default 0.1 d_min
+  double gravity = 9.81;                   // m/s^2
+};
+
 struct OutputSettings {
   std::filesystem::path directory;
   bool csv = true;
@@ -79,6 +97,7 @@ struct Scenario {
   ParticleSource particles;
   Material material;
   std::optional<DepositionStage> deposition;
+  std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   OutputSettings output;
 };

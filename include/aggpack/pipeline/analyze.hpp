@@ -29,6 +29,9 @@ struct PackingReport {
   double wall_profile_z_lo = 0.0, wall_profile_z_hi = 0.0;
 };
 
+// The boxes of a request placed in a bed. Throws InputError when a cube does not fit.
+std::vector<Box> virtual_boxes(const Container& container, const BedGeometry& bed, const AnalysisRequest& request);
+
 // Throws InputError when a cube does not fit in the bed.
 PackingReport analyze_packing(const ParticleStore& particles, const Container& container,
                               const AnalysisRequest& request);

@@ -1,0 +1,180 @@
+#include "aggpack/pipeline/settle_stage.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include "aggpack/analysis/density.hpp"
+#include "aggpack/core/error.hpp"
+#include "aggpack/dynamics/settle.hpp"
+#include "aggpack/pipeline/analyze.hpp"
+
+namespace aggpack {
+
+void TimeSeries::add(double time, std::uint32_t layer, double density, double translational_per_particle_mgd,
+                     double translational_energy, double rotational_energy, double mean_overlap, double max_overlap,
+                     double coordination) {
+  fmt::format_to(std::back_inserter(body_), "{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", time, layer,
+                 std::isnan(density) ? std::string() : fmt::format("{:.6f}", density), translational_per_particle_mgd,
+                 translational_energy, rotational_energy, mean_overlap, max_overlap, coordination);
+  ++rows_;
+}
+
+std::string TimeSeries::csv(const std::string& provenance) const {
+  return "# " + provenance +
+         "\n# density: mean over the virtual boxes (empty while they do not fit in the bed); overlaps relative to "
+         "r_i + r_j; coordination: particle contacts per free particle\n"
+         "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,rotational_energy_j,"
+         "mean_overlap_rel,max_overlap_rel,coordination\n" +
+         body_;
+}
+
+namespace {
+
+ContactParameters contact_parameters(const Scenario& sc) {
+  ContactParameters p;
+  p.friction_model = sc.dynamics->friction_model;
+  p.youngs_modulus = sc.material.youngs_modulus;
+  p.poisson_ratio = sc.material.poisson_ratio;
+  p.wall_youngs_modulus = sc.material.wall_youngs_modulus;
+  p.wall_poisson_ratio = sc.material.wall_poisson_ratio;
+  p.friction_particle = sc.material.friction_particle;
+  p.friction_wall = sc.material.friction_wall;
+  p.restitution = sc.material.restitution;
+  p.rolling_friction = sc.material.rolling_friction;
+  return p;
+}
+
+}  // namespace
+
+nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
+                          TimeSeries& series) {
+  const DynamicsStage& stage = *sc.dynamics;
+  for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = particles.layer[i] < layer ? 1 : 0;
+  double r_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (!particles.frozen[i]) r_min = std::min(r_min, particles.radius[i]);
+  if (!std::isfinite(r_min)) throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle",
+                                                          sc.file.string()));
+
+  ContactModel model;
+  try {
+    model = make_contact_model(contact_parameters(sc));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
+  }
+  const double rayleigh = rayleigh_time(r_min, sc.material.density, sc.material.youngs_modulus,
+                                        sc.material.poisson_ratio);
+  DemSettings settings;
+  settings.gravity = {0.0, 0.0, -stage.gravity};
+  settings.time_step = stage.time_step.value_or(stage.time_step_safety * rayleigh);
+  settings.skin = stage.skin.value_or(0.0);
+
+  AnalysisRequest request;
+  request.cube_sides = sc.analysis.box_sides;
+  const auto density = [&](const ParticleStore& store) {
+    try {
+      const BedGeometry bed = measure_bed(store, sc.container);
+      return measure_density(store, sc.container, virtual_boxes(sc.container, bed, request)).mean;
+    } catch (const InputError&) {
+      return std::numeric_limits<double>::quiet_NaN();  // the boxes do not fit the bed yet
+    }
+  };
+  QuietCriterion criterion;
+  criterion.max_time = stage.max_time;
+  criterion.sample_interval = stage.sample_interval;
+  criterion.window = stage.quiet_window;
+  criterion.kinetic_fraction = stage.quiet_kinetic_fraction;
+  criterion.density_tolerance = stage.density_tolerance;
+
+  const auto t0 = std::chrono::steady_clock::now();
+  DemSystem dem(particles, sc.container, model, settings);
+  double reference = 0.0;
+  std::size_t free_count = dem.free_count();
+  const auto record = [&](const SettleSample& s) {
+    if (reference == 0.0) {
+      for (std::size_t i = 0; i < particles.size(); ++i)
+        if (!particles.frozen[i]) reference += particles.mass[i] * stage.gravity * 2.0 * particles.radius[i];
+      reference /= static_cast<double>(free_count);
+    }
+    series.add(time_offset + s.time, layer, s.density,
+               s.kinetic_energy.translational / static_cast<double>(free_count) / reference,
+               s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
+               s.contacts.max_overlap, s.contacts.coordination);
+  };
+  const SettleResult result = settle(dem, particles, criterion, density, record);
+  dem.finish();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = 0;
+
+  nlohmann::json j;
+  j["layer"] = layer;
+  j["particles_settled"] = free_count;
+  j["particles_frozen"] = particles.size() - free_count;
+  j["ended_by"] = std::string(settle_end_name(result.end));
+  j["simulated_time_s"] = result.simulated_time;
+  j["steps"] = result.steps;
+  j["time_step_s"] = settings.time_step;
+  j["rayleigh_time_s"] = rayleigh;
+  j["time_step_source"] = stage.time_step ? "scenario" : "time_step_safety x Rayleigh time";
+  j["skin_m"] = dem.skin();
+  j["neighbour_list_builds"] = result.rebuilds;
+  j["final"] = {{"density", std::isnan(result.last.density) ? nlohmann::json() : nlohmann::json(result.last.density)},
+                {"translational_energy_per_particle_mgd",
+                 result.last.kinetic_energy.translational / static_cast<double>(free_count) / result.reference_energy},
+                {"mean_overlap_rel", result.last.contacts.mean_overlap},
+                {"max_overlap_rel", result.last.contacts.max_overlap},
+                {"coordination", result.last.contacts.coordination}};
+  j["wall_clock_s"] = seconds;
+  j["particle_steps_per_second"] =
+      seconds > 0 ? static_cast<double>(free_count) * static_cast<double>(result.steps) / seconds : 0.0;
+  j["threads"] = omp_get_max_threads();
+  j["memory_bytes_per_particle"] =
+      static_cast<double>(dem.memory_bytes()) / static_cast<double>(std::max<std::size_t>(1, particles.size()));
+  return j;
+}
+
+std::vector<std::string> dynamics_notes(const Scenario& sc, const nlohmann::json& d) {
+  const DynamicsStage& stage = *sc.dynamics;
+  const Material& m = sc.material;
+  std::vector<std::string> notes;
+  if (stage.friction_model == "mindlin")
+    notes.push_back(fmt::format(
+        "dynamics: DEM with Hertz normal force, restitution damping (Tsuji form, e = {:g} solved exactly), Mindlin "
+        "tangential spring with history capped by Coulomb friction (particle {:g}, wall {:g}){}; velocity Verlet",
+        m.restitution, m.friction_particle, m.friction_wall,
+        m.rolling_friction > 0 ? fmt::format(", rolling resistance {:g}", m.rolling_friction) : std::string()));
+  else
+    notes.push_back(fmt::format(
+        "dynamics: the paper's friction law (fu2003): Hertz normal force with restitution damping (e = {:g}) and "
+        "sliding friction mu F_n against the sliding velocity (particle {:g}, wall {:g}), no tangential spring, so "
+        "contacts never stick; kept for reproduction, not the recommended model",
+        m.restitution, m.friction_particle, m.friction_wall));
+  notes.push_back(fmt::format(
+      "dynamics: Young's modulus {:.3g} GPa (walls {:.3g} GPa), Poisson ratio {:g}{}; mean overlap {:.2e} and "
+      "maximum overlap {:.2e} of r_i + r_j at the end",
+      1e-9 * m.youngs_modulus, 1e-9 * m.wall_youngs_modulus, m.poisson_ratio,
+      m.youngs_modulus < 20e9 ? " (below the 30-70 GPa of natural aggregate: where the spheres stand for rock "
+                                "this is a reduced stiffness, which allows a longer time step and overlaps more)"
+                              : "",
+      d.at("final").at("mean_overlap_rel").get<double>(), d.at("final").at("max_overlap_rel").get<double>()));
+  notes.push_back(fmt::format("dynamics: time step {:.3g} s ({}), Rayleigh time of the smallest sphere {:.3g} s",
+                              d.at("time_step_s").get<double>(), d.at("time_step_source").get<std::string>(),
+                              d.at("rayleigh_time_s").get<double>()));
+  if (stage.layers > 1)
+    notes.push_back(fmt::format("dynamics: layer by layer ({} layers, equal particle counts in deposition order): "
+                                "each layer is deposited, then settled with the layers below frozen",
+                                stage.layers));
+  const std::size_t cut = d.at("runs_ended_by_max_time").get<std::size_t>();
+  if (cut > 0)
+    notes.push_back(fmt::format("dynamics: {} settling run(s) reached max_time = {:g} s before the bed was quiet; "
+                                "the bed may still be moving",
+                                cut, stage.max_time));
+  return notes;
+}
+
+}  // namespace aggpack
