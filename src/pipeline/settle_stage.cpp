@@ -18,7 +18,7 @@ namespace aggpack {
 void TimeSeries::add(double time, std::uint32_t layer, double density, double translational_per_particle_mgd,
                      double translational_energy, double rotational_energy, double mean_overlap, double max_overlap,
                      double coordination) {
-  fmt::format_to(std::back_inserter(body_), "{:.6g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", time, layer,
+  fmt::format_to(std::back_inserter(body_), "{:.9g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", time, layer,
                  std::isnan(density) ? std::string() : fmt::format("{:.6f}", density), translational_per_particle_mgd,
                  translational_energy, rotational_energy, mean_overlap, max_overlap, coordination);
   ++rows_;

@@ -3,11 +3,14 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -78,7 +81,7 @@ TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
       "run " + example("cubic_lattice.toml") + " --set material.density=-1",
       "run " + example("cubic_lattice.toml") + " --set container.side='\"5 in\"'",  // particles outside
       "run " + example("cubic_lattice.toml") + " --stop-after deposition",  // no such stage here
-      "run " + example("example1.toml") + " --stop-after dynamics",
+      "run " + example("example1.toml") + " --stop-after sieving",
       "run " + example("example1.toml") + " --set analysis.box_sides='[\"11 in\"]'",  // too big for the bed
       "run " + example("table2_mix3.toml") + " --set container.side='\"40 in\"' --set particles.fine.d_min="
                                             "'\"0.15 mm\"'",  // about 10^9 sand grains
@@ -118,8 +121,9 @@ TEST_F(Cli, RunsExample1ThroughDeposition) {
   EXPECT_EQ(first, "0,floor,,");
   // Same seed, same bytes; another seed, another packing.
   const fs::path again = dir_ / "ex1b", other = dir_ / "ex1c";
-  ASSERT_EQ(run("run " + example("example1.toml") + " --out " + again.string()).exit_code, 0);
-  ASSERT_EQ(run("run " + example("example1.toml") + " --seed 2 --out " + other.string()).exit_code, 0);
+  ASSERT_EQ(run("run " + example("example1.toml") + " --stop-after deposition --out " + again.string()).exit_code, 0);
+  ASSERT_EQ(run("run " + example("example1.toml") + " --stop-after deposition --seed 2 --out " + other.string())
+                .exit_code, 0);
   const auto slurp = [](const fs::path& f) {
     std::ifstream in(f);
     return std::string(std::istreambuf_iterator<char>(in), {});
@@ -199,6 +203,99 @@ TEST_F(Cli, AnalyzeMeasuresAFileFromAnotherToolAsJson) {
   for (const auto& b : j["density"]["boxes"]) EXPECT_NEAR(b["density"].get<double>(), 0.5235987755982988, 1e-9);
   EXPECT_EQ(j["particle_count"], 216);
   EXPECT_EQ(run("analyze " + f.string() + " --box 1,2,3").exit_code, 2);
+}
+
+// A small bed of 1 cm spheres, deposited then settled; soft contacts keep it quick.
+std::string settling_scenario(int layers) {
+  return "[container]\nside = 0.06\nheight = 0.5\n"
+         "[particles]\ndiameter = 0.01\ncount = 400\n"
+         "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\nfriction_particle = 0.3\n"
+         "[deposition]\n"
+         "[dynamics]\nmax_time = 0.4\nlayers = " + std::to_string(layers) + "\n"
+         "[analysis]\nbox_sides = [0.03]\n";
+}
+
+std::vector<std::string> lines_of(const fs::path& file) {
+  std::ifstream in(file);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+TEST_F(Cli, RunsDepositionThenDynamicsAndWritesTheTimeSeries) {
+  const fs::path scenario = dir_ / "settle.toml", out = dir_ / "settle";
+  std::ofstream(scenario) << settling_scenario(1);
+  const Result r = run("run " + scenario.string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("density after deposition"), std::string::npos) << r.output;
+  const auto s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  const auto& d = s["stages"]["dynamics"];
+  for (const char* key : {"ended_by", "simulated_time_s", "steps", "time_step_s", "rayleigh_time_s", "skin_m",
+                          "neighbour_list_builds", "final", "density", "coordination", "wall_clock_s",
+                          "particle_steps_per_second", "memory_bytes_per_particle", "runs"})
+    EXPECT_TRUE(d.contains(key)) << key;
+  EXPECT_NEAR(d["time_step_s"].get<double>(), 0.2 * d["rayleigh_time_s"].get<double>(), 1e-15);
+  EXPECT_GE(d["density"]["mean"].get<double>(), s["stages"]["deposition"]["density"]["mean"].get<double>() - 0.002);
+  EXPECT_GT(d["final"]["max_overlap_rel"].get<double>(), 0.0);
+  EXPECT_LT(d["final"]["max_overlap_rel"].get<double>(), 0.05);
+  bool noted = false;
+  for (const auto& note : s["modelling_notes"]) noted |= note.get<std::string>().find("Mindlin") != std::string::npos;
+  EXPECT_TRUE(noted);
+
+  const auto rows = lines_of(out / "timeseries.csv");
+  ASSERT_GT(rows.size(), 13u);
+  EXPECT_EQ(rows[0].rfind("# aggpack", 0), 0u);
+  EXPECT_EQ(rows[2], "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,"
+                     "rotational_energy_j,mean_overlap_rel,max_overlap_rel,coordination");
+  const auto steps_per_sample = static_cast<std::size_t>(std::llround(1e-3 / d["time_step_s"].get<double>()));
+  EXPECT_EQ(rows.size() - 3, d["steps"].get<std::size_t>() / steps_per_sample + 1);  // one sample at the start
+  const double last_time = std::stod(rows.back().substr(0, rows.back().find(',')));
+  EXPECT_NEAR(last_time, d["simulated_time_s"].get<double>(), 1e-9);
+
+  // Same bytes with one thread as with two.
+  const fs::path one = dir_ / "one", two = dir_ / "two";
+  ASSERT_EQ(run("run " + scenario.string() + " --quiet --threads 1 --out " + one.string()).exit_code, 0);
+  ASSERT_EQ(run("run " + scenario.string() + " --quiet --threads 2 --out " + two.string()).exit_code, 0);
+  const auto slurp = [](const fs::path& f) {
+    std::ifstream in(f);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  EXPECT_EQ(slurp(one / "particles.csv"), slurp(two / "particles.csv"));
+  EXPECT_EQ(slurp(one / "timeseries.csv"), slurp(two / "timeseries.csv"));
+
+  // --stop-after deposition leaves the stage out and says so.
+  const fs::path early = dir_ / "early";
+  ASSERT_EQ(run("run " + scenario.string() + " --quiet --stop-after deposition --out " + early.string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(early / "timeseries.csv"));
+  const auto e = nlohmann::json::parse(std::ifstream(early / "summary.json"));
+  EXPECT_FALSE(e["stages"].contains("dynamics"));
+  EXPECT_EQ(e["density"], s["stages"]["deposition"]["density"]);
+}
+
+TEST_F(Cli, SettlesLayerByLayerWithTheLayersBelowFrozen) {
+  const fs::path scenario = dir_ / "layers.toml", out = dir_ / "layers";
+  std::ofstream(scenario) << settling_scenario(3);
+  const Result r = run("run " + scenario.string() + " --quiet --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(s["particle_count"], 400);
+  EXPECT_EQ(s["stages"]["deposition"]["layers"], 3);
+  EXPECT_EQ(s["stages"]["deposition"]["particles_placed"], 400);
+  const auto& runs = s["stages"]["dynamics"]["runs"];
+  ASSERT_EQ(runs.size(), 3u);
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(runs[k]["layer"], k);
+    EXPECT_EQ(runs[k]["particles_frozen"].get<std::size_t>() + runs[k]["particles_settled"].get<std::size_t>(),
+              400 * (k + 1) / 3);
+  }
+  EXPECT_EQ(runs[1]["particles_frozen"], 133);
+  std::set<std::string> layers_seen;
+  for (const auto& row : lines_of(out / "timeseries.csv"))
+    if (!row.empty() && std::isdigit(row[0])) layers_seen.insert(row.substr(row.find(',') + 1, 1));
+  EXPECT_EQ(layers_seen, (std::set<std::string>{"0", "1", "2"}));
+  EXPECT_NE(run("run " + scenario.string() + " --quiet --stop-after deposition --out " + (dir_ / "x").string())
+                .output.find("no deposited bed to stop at"),
+            std::string::npos);
 }
 
 TEST_F(Cli, HelpOnEverySubcommandExitsZero) {

@@ -24,6 +24,7 @@ SeedStats run_seeds(const std::string& example) {
   for (int seed = 1; seed <= seeds; ++seed) {
     RunOptions options;
     options.quiet = true;
+    options.stop_after = "deposition";
     options.overrides.seed = static_cast<std::uint64_t>(seed);
     options.overrides.output_directory = fs::temp_directory_path() / ("aggpack_validation_" + example);
     std::ostringstream log;
