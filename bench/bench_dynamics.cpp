@@ -3,13 +3,12 @@
 // floor. The bed is deposited, settled untimed, optionally written as a LAMMPS data file,
 // then `steps` steps are timed. Prints one JSON line.
 //
-//   bench_dynamics <count> [steps] [--lammps-data FILE] [--settle-steps N]
+//   bench_dynamics <count> [steps] [--lammps-data FILE] [--settle-steps N]   (defaults 2000, 2000)
 #include <sys/resource.h>
 #include <omp.h>
 
 #include <algorithm>
 #include <chrono>
-#include <tuple>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -51,7 +50,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   const auto count = static_cast<std::size_t>(std::atof(argv[1]));
-  std::size_t steps = 2000, settle_steps = 20000;
+  std::size_t steps = 2000, settle_steps = 2000;
   std::string lammps_data;
   for (int a = 2; a < argc; ++a) {
     const std::string arg = argv[a];
@@ -70,18 +69,6 @@ int main(int argc, char** argv) {
   aggpack::DropAndRoll deposition(bed, container, radii, aggpack::DepositionSettings{}, aggpack::Rng(1, 2));
   deposition.deposit(radii, density);
 
-  if (std::getenv("SORT_BED")) {
-    std::vector<std::size_t> order(count);
-    for (std::size_t i = 0; i < count; ++i) order[i] = i;
-    const auto key = [&](std::size_t i) {
-      const auto& p = bed.position[i];
-      return std::tuple{static_cast<long>(p.z / (4 * r)), static_cast<long>(p.y / (4 * r)), p.x};
-    };
-    std::sort(order.begin(), order.end(), [&](auto a, auto b) { return key(a) < key(b); });
-    aggpack::ParticleStore sorted;
-    for (auto i : order) sorted.add(bed.position[i], bed.radius[i], density);
-    bed = sorted;
-  }
   aggpack::ContactParameters material;
   material.youngs_modulus = 3e9;
   material.poisson_ratio = 0.3;

@@ -80,6 +80,7 @@ class DemSystem {
   DemSettings settings_;
   double skin_ = 0.0;
   std::uint32_t n_ = 0;
+  bool threaded_ = false;  // OpenMP loops for beds large enough to gain from them
   std::size_t free_count_ = 0;
   std::vector<double> inverse_inertia_;      // 1 / (2/5 m R^2), 0 when frozen
   std::vector<Vec3> force_, torque_;
