@@ -5,7 +5,6 @@
 //
 // mono: diameter 1; range20: diameters uniform by number in [0.05, 1] (a 1:20 range).
 // The container is square and as wide as the bed will be tall (about cbrt(V_solid/0.58)).
-#include <sys/resource.h>
 
 #include <chrono>
 #include <cmath>
@@ -16,14 +15,7 @@
 #include <vector>
 
 #include "aggpack/deposition/drop_and_roll.hpp"
-
-namespace {
-long peak_rss_kib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;
-}
-}  // namespace
+#include "peak_rss.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 3) {

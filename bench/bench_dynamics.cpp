@@ -4,7 +4,6 @@
 // then `steps` steps are timed. Prints one JSON line.
 //
 //   bench_dynamics <count> [steps] [--lammps-data FILE] [--settle-steps N]   (defaults 2000, 2000)
-#include <sys/resource.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -22,13 +21,9 @@
 
 #include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "peak_rss.hpp"
 
 namespace {
-long peak_rss_kib() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;
-}
 
 void write_lammps_data(const std::string& file, const aggpack::ParticleStore& bed, const aggpack::Container& c,
                        double density) {

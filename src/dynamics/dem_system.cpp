@@ -44,6 +44,9 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   double d_min = 0.0;
   if (n_ > 0) d_min = 2.0 * *std::min_element(p_.radius.begin(), p_.radius.end());
   skin_ = settings.skin > 0.0 ? settings.skin : 0.1 * d_min;
+  double solid = 0.0;
+  for (std::uint32_t i = 0; i < n_; ++i) solid += std::pow(p_.radius[i], 3);
+  grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
   inverse_inertia_.assign(n_, 0.0);
   for (std::uint32_t i = 0; i < n_; ++i) {
     if (p_.frozen[i]) {
@@ -80,9 +83,7 @@ void DemSystem::build_neighbour_list() {
   const std::uint32_t n = n_;
   if (container_.periodic)
     for (std::uint32_t i = 0; i < n; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
-  double solid = 0.0;
-  for (std::uint32_t i = 0; i < n; ++i) solid += std::pow(p_.radius[i], 3);
-  MultilevelGrid grid(container_, p_.radius, 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300);
+  MultilevelGrid grid(container_, p_.radius, grid_bed_volume_);
   grid.reserve(n);
   for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, p_.position[i], p_.radius[i]);
   const std::uint32_t wall_count = container_.periodic ? 1 : 5;

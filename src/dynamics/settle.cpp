@@ -21,15 +21,10 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
     throw InputError(fmt::format("quiet window {} s must be at least the sample interval {} s (> 0)",
                                  criterion.window, criterion.sample_interval));
   SettleResult result;
-  double reference = 0.0;
-  std::size_t free_particles = 0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (particles.frozen[i]) continue;
-    reference += particles.mass[i] * norm(system.gravity()) * 2.0 * particles.radius[i];
-    ++free_particles;
-  }
-  result.reference_energy = free_particles > 0 ? reference / static_cast<double>(free_particles) : 0.0;
-  const double energy_limit = criterion.kinetic_fraction * result.reference_energy * static_cast<double>(free_particles);
+  double weight_energy = 0.0;  // sum of m g d over the free particles, J
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (!particles.frozen[i]) weight_energy += particles.mass[i] * norm(system.gravity()) * 2.0 * particles.radius[i];
+  const std::size_t free_particles = system.free_count();
 
   const std::size_t steps_per_sample =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(criterion.sample_interval / system.time_step())));
@@ -40,6 +35,8 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
     s.time = system.time() - start;
     s.density = density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
     s.kinetic_energy = system.kinetic_energy();
+    // Per particle over mean m g d: the free-particle count cancels.
+    s.translational_per_particle_mgd = weight_energy > 0.0 ? s.kinetic_energy.translational / weight_energy : 0.0;
     s.contacts = system.contact_statistics();
     if (on_sample) on_sample(s);
     return s;
@@ -49,7 +46,7 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
     // A NaN density (no probe, or the boxes do not fit the bed yet) leaves the energy alone.
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (const SettleSample& s : window) {
-      if (s.kinetic_energy.translational > energy_limit) return false;
+      if (s.translational_per_particle_mgd > criterion.kinetic_fraction) return false;
       if (std::isnan(s.density)) continue;
       lo = std::min(lo, s.density);
       hi = std::max(hi, s.density);

@@ -254,9 +254,9 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
       const std::size_t begin = radii.size() * layer / layers, end = radii.size() * (layer + 1) / layers;
       const std::span<const double> chunk(radii.data() + begin, end - begin);
       DepositionOutcome outcome = run_deposition(sc, chunk, particles, static_cast<std::uint32_t>(layer));
-      if (supports.empty()) supports = std::move(outcome.supports);
-      else
-        for (std::size_t i = supports.size(); i < outcome.supports.size(); ++i) supports.push_back(outcome.supports[i]);
+      // Each layer's supports cover the whole bed; only the new spheres' are this layer's.
+      supports.insert(supports.end(), outcome.supports.begin() + static_cast<std::ptrdiff_t>(supports.size()),
+                      outcome.supports.end());
       add_layer(deposited, outcome.summary);
       if (layers > 1) settle_layer(static_cast<std::uint32_t>(layer));
       if (deposited["end"] != "all_placed") break;

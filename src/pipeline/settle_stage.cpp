@@ -93,17 +93,9 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
 
   const auto t0 = std::chrono::steady_clock::now();
   DemSystem dem(particles, sc.container, model, settings);
-  double reference = 0.0;
-  std::size_t free_count = dem.free_count();
+  const std::size_t free_count = dem.free_count();
   const auto record = [&](const SettleSample& s) {
-    if (reference == 0.0) {
-      for (std::size_t i = 0; i < particles.size(); ++i)
-        if (!particles.frozen[i]) reference += particles.mass[i] * stage.gravity * 2.0 * particles.radius[i];
-      reference /= static_cast<double>(free_count);
-    }
-    series.add(time_offset + s.time, layer, s.density,
-               s.kinetic_energy.translational / static_cast<double>(free_count) / reference,
-               s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
+    series.add(time_offset + s.time, layer, s.density, s.translational_per_particle_mgd, s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                s.contacts.max_overlap, s.contacts.coordination);
   };
   const SettleResult result = settle(dem, particles, criterion, density, record);
@@ -124,8 +116,7 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
   j["skin_m"] = dem.skin();
   j["neighbour_list_builds"] = result.rebuilds;
   j["final"] = {{"density", std::isnan(result.last.density) ? nlohmann::json() : nlohmann::json(result.last.density)},
-                {"translational_energy_per_particle_mgd",
-                 result.last.kinetic_energy.translational / static_cast<double>(free_count) / result.reference_energy},
+                {"translational_energy_per_particle_mgd", result.last.translational_per_particle_mgd},
                 {"mean_overlap_rel", result.last.contacts.mean_overlap},
                 {"max_overlap_rel", result.last.contacts.max_overlap},
                 {"coordination", result.last.contacts.coordination}};

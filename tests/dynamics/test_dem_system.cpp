@@ -44,10 +44,16 @@ std::size_t step_until(DemSystem& dem, std::size_t limit, Done&& done) {
   return limit;
 }
 
-TEST(DemSystem, SphereOnTheFloorRestsAtTheHertzStaticOverlap) {
-  const double r = 0.01;
+// One sphere of radius r just touching the floor of a 10 cm box.
+ParticleStore sphere_on_the_floor(double r) {
   ParticleStore store;
   store.add({0.05, 0.05, r}, r, kDensity);
+  return store;
+}
+
+TEST(DemSystem, SphereOnTheFloorRestsAtTheHertzStaticOverlap) {
+  const double r = 0.01;
+  ParticleStore store = sphere_on_the_floor(r);
   DemSettings settings;
   settings.time_step = 1e-5;
   DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings);
@@ -64,8 +70,7 @@ struct Impact {
 
 Impact floor_impact(double restitution, double speed) {
   const double r = 0.01;
-  ParticleStore store;
-  store.add({0.05, 0.05, r}, r, kDensity);
+  ParticleStore store = sphere_on_the_floor(r);
   store.velocity[0] = {0, 0, -speed};
   DemSettings settings;
   settings.gravity = {};
@@ -336,8 +341,7 @@ TEST(DemSystem, SameBytesForOneAndTwoThreads) {
 
 TEST(Settle, StopsWhenQuietOrAtTheMaximumTime) {
   const double r = 0.01;
-  ParticleStore store;
-  store.add({0.05, 0.05, r}, r, kDensity);
+  ParticleStore store = sphere_on_the_floor(r);
   DemSettings settings;
   settings.time_step = 1e-5;
   const Container box = Container::square(0.1, 0.1, false);

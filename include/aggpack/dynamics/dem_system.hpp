@@ -79,6 +79,7 @@ class DemSystem {
   ContactModel model_;
   DemSettings settings_;
   double skin_ = 0.0;
+  double grid_bed_volume_ = 0.0;             // m^3, sizes the grid's sparse levels
   std::uint32_t n_ = 0;
   bool threaded_ = false;  // OpenMP loops for beds large enough to gain from them
   std::size_t free_count_ = 0;

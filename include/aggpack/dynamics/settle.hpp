@@ -25,6 +25,7 @@ struct SettleSample {
   double time = 0.0;            // s since the dynamics started
   double density = 0.0;         // from the probe; NaN without one or when it cannot measure
   DemSystem::KineticEnergy kinetic_energy;  // J, free particles
+  double translational_per_particle_mgd = 0.0;  // the quiet criterion's measure: per free particle / mean m g d
   ContactStatistics contacts;
 };
 
@@ -34,7 +35,6 @@ struct SettleResult {
   std::size_t steps = 0;
   std::size_t rebuilds = 0;     // neighbour-list builds
   SettleSample last;
-  double reference_energy = 0.0;  // mean m g d of the free particles, J
 };
 
 using DensityProbe = std::function<double(const ParticleStore&)>;
