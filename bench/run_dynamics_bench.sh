@@ -29,7 +29,7 @@ for count in 20000 100000; do
   if [[ $count == 100000 ]]; then
     two=$(OMP_NUM_THREADS=2 "$build/bench/bench_dynamics" "$count" "$steps")
     echo "aggpack 2 threads: $two"
-    python3 -c 'import json,sys; a=json.loads(sys.argv[1]); b=json.loads(sys.argv[2]); print(f"two threads / one thread: {b[\"particle_steps_per_second\"]/a[\"particle_steps_per_second\"]:.2f}")' "$one" "$two"
+    python3 -c 'import json,sys; k="particle_steps_per_second"; a,b=(json.loads(x)[k] for x in sys.argv[1:3]); print(f"two threads / one thread: {b/a:.2f}")' "$one" "$two"
   fi
   if $have_lammps; then
     theirs=$(lammps_rate "$tmp/bed.data" "$steps")

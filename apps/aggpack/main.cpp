@@ -10,7 +10,9 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
+#include "aggpack/pipeline/reproduce.hpp"
 #include "aggpack/pipeline/run.hpp"
+#include "aggpack/pipeline/sweep.hpp"
 
 namespace {
 
@@ -126,6 +128,34 @@ int main(int argc, char** argv) {
   grading_cmd->add_flag("--json", grading_json, "Print machine-readable JSON");
   grading_cmd->add_flag("--list", grading_list, "List the shipped gradings and bands");
 
+  aggpack::ReproduceOptions reproduce;
+  reproduce.examples = AGGPACK_EXAMPLES_DIR;
+  std::string reproduce_out = reproduce.out.string(), examples_dir = reproduce.examples.string();
+  auto* reproduce_cmd = app.add_subcommand(
+      "reproduce", "Run the paper's Examples 1, 2 and Table 2 over seeds and write report.html and report.md");
+  reproduce_cmd->add_flag("--quick", reproduce.quick, "One seed, short DEM, small Table 2 beds (a few minutes)");
+  reproduce_cmd->add_option("--seeds", reproduce.seeds, "Seeds per case (default 3; 1 with --quick)")
+      ->check(CLI::PositiveNumber);
+  reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
+  reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
+  reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  reproduce_cmd->add_flag("--quiet", reproduce.quiet, "Print nothing on success, no progress line");
+
+  aggpack::SweepOptions sweep;
+  std::string sweep_out = sweep.out.string(), fa_text, sweep_stop;
+  auto* sweep_cmd = app.add_subcommand("sweep", "Density against sand fraction for a coarse/fine mix: the densest blend");
+  sweep_cmd->add_option("scenario", sweep.scenario, "Scenario with a coarse/fine mix (TOML)")->required();
+  sweep_cmd->add_option("--fa", fa_text, "Fine aggregate %: FROM:TO:STEP or a list, e.g. 25:45:5 or 29,35,43")
+      ->required();
+  sweep_cmd->add_option("--seeds", sweep.seeds, "Seeds per point (default 3)")->check(CLI::PositiveNumber);
+  sweep_cmd->add_option("--out", sweep_out, "Output directory (default out/sweep)");
+  sweep_cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
+  auto* sweep_stop_opt =
+      sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
+  sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  sweep_cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -138,7 +168,20 @@ int main(int argc, char** argv) {
       if (*out_opt) run.overrides.output_directory = out_dir;
       if (*seed_opt) run.overrides.seed = seed;
       if (*stop_opt) run.stop_after = stop_after;
+      aggpack::Progress progress = aggpack::Progress::wanted(run.quiet) ? aggpack::Progress(std::cerr)
+                                                                       : aggpack::Progress();
+      run.progress = &progress;
       aggpack::run_scenario(scenario, run, std::cout);
+    } else if (*reproduce_cmd) {
+      reproduce.out = reproduce_out;
+      reproduce.examples = examples_dir;
+      for (int k = 0; k < argc; ++k) reproduce.command_line += (k ? " " : "") + std::string(k ? argv[k] : "aggpack");
+      aggpack::reproduce(reproduce, std::cout);
+    } else if (*sweep_cmd) {
+      sweep.out = sweep_out;
+      sweep.fa_percent = aggpack::parse_fa_points(fa_text);
+      if (*sweep_stop_opt) sweep.stop_after = sweep_stop;
+      aggpack::sweep(sweep, std::cout);
     } else if (*check_cmd) {
       aggpack::ScenarioOverrides overrides;
       overrides.set = check_sets;

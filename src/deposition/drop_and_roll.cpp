@@ -33,7 +33,6 @@ double expected_bed_volume(const ParticleStore& bed, std::span<const double> to_
   return std::isfinite(c.bounds.volume()) ? std::min(bed_volume, c.bounds.volume()) : bed_volume;
 }
 
-Vec3 unit(const Vec3& v) { return v * (1.0 / norm(v)); }
 
 // z at which a support's coefficient, linear in the height of the dropped sphere on a
 // two-support circle, becomes zero. Support i has n_i.z = s_i z + q_i.
@@ -227,20 +226,20 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
       std::array<LinearInZ, 2> lift{};  // n.z of each rolling support as a function of height
       if (count == 1) {
         arc.centre = a.centre;
-        arc.e1 = unit(p - a.centre);
+        arc.e1 = normalized(p - a.centre);
         if (tie) {
           const double phi = 2.0 * std::numbers::pi * rng_.uniform();
           const Vec3 u{std::cos(phi), std::sin(phi), 0.0};
-          arc.e2 = unit(u - dot(u, arc.e1) * arc.e1);
+          arc.e2 = normalized(u - dot(u, arc.e1) * arc.e1);
         } else {
-          arc.e2 = unit(descent.direction - dot(descent.direction, arc.e1) * arc.e1);
+          arc.e2 = normalized(descent.direction - dot(descent.direction, arc.e1) * arc.e1);
         }
       } else {
         const Obstacle& b = *rolling[1];
-        const Vec3 axis = b.is_plane ? b.centre : unit(b.centre - a.centre);
+        const Vec3 axis = b.is_plane ? b.centre : normalized(b.centre - a.centre);
         arc.centre = a.centre + dot(p - a.centre, axis) * axis;
-        arc.e1 = unit(p - arc.centre);
-        const Vec3 tangent = unit(cross(axis, arc.e1));
+        arc.e1 = normalized(p - arc.centre);
+        const Vec3 tangent = normalized(cross(axis, arc.e1));
         const double along = tie ? (rng_.uniform() < 0.5 ? -1.0 : 1.0) : dot(tangent, descent.direction);
         arc.e2 = along < 0.0 ? -tangent : tangent;
         lift[1] = vertical_normal_component(b, p);

@@ -59,7 +59,7 @@ struct DepositionOutcome {
 
 // Deposits `radii` on the bed as layer `layer` (0 for a single pass; each layer has its own stream).
 DepositionOutcome run_deposition(const Scenario& sc, std::span<const double> radii, ParticleStore& particles,
-                                 std::uint32_t layer) {
+                                 std::uint32_t layer, Progress& progress) {
   const DepositionStage& stage = *sc.deposition;
   DepositionSettings settings;
   settings.tolerance = stage.tolerance;
@@ -70,7 +70,16 @@ DepositionOutcome run_deposition(const Scenario& sc, std::span<const double> rad
   const std::uint64_t stream = static_cast<std::uint64_t>(RngPurpose::Deposition) + (std::uint64_t{layer} << 32);
   DropAndRoll deposition(particles, sc.container, radii, settings, Rng(sc.seed, stream));
   const auto t0 = Clock::now();
-  deposition.deposit(radii, sc.material.density, layer);
+  progress.start_stage(layer > 0 || (sc.dynamics && sc.dynamics->layers > 1)
+                           ? fmt::format("deposition, layer {}", layer + 1) : "deposition");
+  // In slices, for the progress line; the same drops in the same order as in one call.
+  const std::size_t slice = std::max<std::size_t>(1000, radii.size() / 100);
+  for (std::size_t begin = 0; begin < radii.size(); begin += slice) {
+    const std::size_t count = std::min(slice, radii.size() - begin);
+    if (deposition.deposit(radii.subspan(begin, count), sc.material.density, layer) < count) break;
+    progress.update(fmt::format("{} of {} particles placed", begin + count, radii.size()),
+                    static_cast<double>(begin + count) / static_cast<double>(radii.size()));
+  }
   const double seconds = seconds_since(t0);
   const DepositionStats& st = deposition.stats();
   nlohmann::json j;
@@ -204,6 +213,8 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
 
 RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
   const auto t_start = Clock::now();
+  Progress silent;
+  Progress& progress = options.progress ? *options.progress : silent;
   if (options.threads > 0) omp_set_num_threads(options.threads);
   const Scenario sc = load_scenario(scenario_file, options.overrides);
   std::vector<std::string> stage_names;
@@ -233,7 +244,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   nlohmann::json dynamics_summary;
   double simulated = 0.0;
   const auto settle_layer = [&](std::uint32_t layer) {
-    const nlohmann::json run = settle_bed(sc, particles, layer, simulated, series);
+    const nlohmann::json run = settle_bed(sc, particles, layer, simulated, series, progress);
     simulated += run["simulated_time_s"].get<double>();
     add_settling_run(dynamics_summary, run);
   };
@@ -253,7 +264,8 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
     for (std::size_t layer = 0; layer < layers; ++layer) {
       const std::size_t begin = radii.size() * layer / layers, end = radii.size() * (layer + 1) / layers;
       const std::span<const double> chunk(radii.data() + begin, end - begin);
-      DepositionOutcome outcome = run_deposition(sc, chunk, particles, static_cast<std::uint32_t>(layer));
+      DepositionOutcome outcome =
+          run_deposition(sc, chunk, particles, static_cast<std::uint32_t>(layer), progress);
       // Each layer's supports cover the whole bed; only the new spheres' are this layer's.
       supports.insert(supports.end(), outcome.supports.begin() + static_cast<std::ptrdiff_t>(supports.size()),
                       outcome.supports.end());
@@ -272,14 +284,21 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
       stages["deposition"]["coordination"] = analysed.at("coordination");
     }
   }
-  if (run_dynamics && layers == 1) settle_layer(0);
+  std::optional<ParticleStore> deposited_bed;
+  if (run_dynamics && layers == 1) {
+    if (sc.deposition) deposited_bed = particles;
+    settle_layer(0);
+  }
   if (run_dynamics) {
     wall_clock["dynamics"] = dynamics_summary["wall_clock_s"];
     stages["dynamics"] = dynamics_summary;
   }
 
   t0 = Clock::now();
+  progress.start_stage("analysis");
+  progress.update("virtual boxes", 0.0);
   const PackingReport report = analyze(sc, particles);
+  progress.clear();
   wall_clock["analysis"] = seconds_since(t0);
   if (run_dynamics) {
     const nlohmann::json analysed = to_json(report);
@@ -377,7 +396,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
                report.coordination.particles_counted);
     fmt::print(log, "  wrote {}\n", dir.string());
   }
-  return {dir, summary};
+  return {dir, summary, std::move(particles), std::move(deposited_bed), std::move(series)};
 }
 
 }  // namespace aggpack

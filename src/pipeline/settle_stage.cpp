@@ -15,22 +15,19 @@
 
 namespace aggpack {
 
-void TimeSeries::add(double time, std::uint32_t layer, double density, double translational_per_particle_mgd,
-                     double translational_energy, double rotational_energy, double mean_overlap, double max_overlap,
-                     double coordination) {
-  fmt::format_to(std::back_inserter(body_), "{:.9g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", time, layer,
-                 std::isnan(density) ? std::string() : fmt::format("{:.6f}", density), translational_per_particle_mgd,
-                 translational_energy, rotational_energy, mean_overlap, max_overlap, coordination);
-  ++rows_;
-}
-
 std::string TimeSeries::csv(const std::string& provenance) const {
+  std::string body;
+  for (const TimeSample& s : samples)
+    fmt::format_to(std::back_inserter(body), "{:.9g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", s.time, s.layer,
+                   std::isnan(s.density) ? std::string() : fmt::format("{:.6f}", s.density),
+                   s.translational_per_particle_mgd, s.translational_energy, s.rotational_energy, s.mean_overlap,
+                   s.max_overlap, s.coordination);
   return "# " + provenance +
          "\n# density: mean over the virtual boxes (empty while they do not fit in the bed); overlaps relative to "
          "r_i + r_j; coordination: particle contacts per free particle\n"
          "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,rotational_energy_j,"
          "mean_overlap_rel,max_overlap_rel,coordination\n" +
-         body_;
+         body;
 }
 
 namespace {
@@ -52,7 +49,7 @@ ContactParameters contact_parameters(const Scenario& sc) {
 }  // namespace
 
 nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
-                          TimeSeries& series) {
+                          TimeSeries& series, Progress& progress) {
   const DynamicsStage& stage = *sc.dynamics;
   for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = particles.layer[i] < layer ? 1 : 0;
   double r_min = std::numeric_limits<double>::infinity();
@@ -94,9 +91,16 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
   const auto t0 = std::chrono::steady_clock::now();
   DemSystem dem(particles, sc.container, model, settings);
   const std::size_t free_count = dem.free_count();
+  progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
   const auto record = [&](const SettleSample& s) {
-    series.add(time_offset + s.time, layer, s.density, s.translational_per_particle_mgd, s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
-               s.contacts.max_overlap, s.contacts.coordination);
+    series.samples.push_back({time_offset + s.time, layer, s.density, s.translational_per_particle_mgd,
+                              s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
+                              s.contacts.max_overlap, s.contacts.coordination});
+    progress.update(fmt::format("{:.3f} s simulated (quiet or {:g} s), density {}, kinetic energy {:.1e} m g d",
+                                s.time, stage.max_time,
+                                std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density),
+                                s.translational_per_particle_mgd),
+                    s.time / stage.max_time, true);
   };
   const SettleResult result = settle(dem, particles, criterion, density, record);
   dem.finish();

@@ -24,5 +24,6 @@ constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 constexpr double norm2(const Vec3& a) { return dot(a, a); }
 inline double norm(const Vec3& a) { return std::sqrt(norm2(a)); }
+inline Vec3 normalized(const Vec3& a) { return a * (1.0 / norm(a)); }
 
 }  // namespace aggpack

@@ -6,7 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/core/particle_store.hpp"
 #include "aggpack/io/scenario.hpp"
+#include "aggpack/pipeline/progress.hpp"
+#include "aggpack/pipeline/settle_stage.hpp"
 
 namespace aggpack {
 
@@ -15,11 +18,15 @@ struct RunOptions {
   int threads = 0;  // 0: OpenMP's default
   std::optional<std::string> stop_after;
   bool quiet = false;
+  Progress* progress = nullptr;  // live progress on a terminal; none when null
 };
 
 struct RunResult {
   std::filesystem::path output_directory;
   nlohmann::json summary;
+  ParticleStore particles;                   // the final bed
+  std::optional<ParticleStore> deposited;    // the bed after deposition, when DEM then moved it
+  TimeSeries series;                         // the settling runs' samples (empty without dynamics)
 };
 
 // Loads the scenario, runs its stages, analyses the result and writes particles.csv,

@@ -1,0 +1,54 @@
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <ostream>
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "aggpack/pipeline/run.hpp"
+
+namespace aggpack {
+
+// Mean and sample standard deviation over seeds (sd NaN for fewer than two values).
+struct SeedStatistics {
+  double mean = std::numeric_limits<double>::quiet_NaN();
+  double sd = std::numeric_limits<double>::quiet_NaN();
+  std::size_t count = 0;
+};
+SeedStatistics seed_statistics(const std::vector<double>& values);
+
+// One scenario run of a campaign (reproduce, sweep), with the densities it is judged by.
+struct CaseRun {
+  RunResult result;
+  double after_deposition = std::numeric_limits<double>::quiet_NaN();  // mean over the virtual boxes
+  double after_dynamics = std::numeric_limits<double>::quiet_NaN();
+  [[nodiscard]] double final_density() const { return std::isnan(after_dynamics) ? after_deposition : after_dynamics; }
+};
+
+struct CampaignSettings {
+  int threads = 0;
+  std::ostream* log = nullptr;    // one line per finished run; none when null (--quiet)
+  Progress* progress = nullptr;   // the live line on a terminal
+};
+
+// Runs many scenario runs in a row, numbering them for the progress line and timing the whole.
+class Campaign {
+ public:
+  Campaign(CampaignSettings settings, std::size_t planned_runs);
+  CaseRun run(const std::string& label, const std::filesystem::path& scenario, const std::vector<std::string>& sets,
+              std::uint64_t seed, const std::filesystem::path& out_dir,
+              const std::optional<std::string>& stop_after = std::nullopt);
+  [[nodiscard]] std::size_t runs_done() const { return done_; }
+  [[nodiscard]] double seconds() const;
+
+ private:
+  CampaignSettings settings_;
+  std::size_t planned_, done_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace aggpack

@@ -1,0 +1,26 @@
+#pragma once
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace aggpack {
+
+struct ReproduceOptions {
+  bool quick = false;                      // one seed, short DEM, small Table 2 beds: a few minutes
+  int seeds = 0;                           // seeds per case; 0: 3 (1 with quick)
+  std::filesystem::path out = "out/reproduce";
+  std::filesystem::path examples;          // the shipped scenarios and fu2003_table2.csv
+  int threads = 0;
+  bool quiet = false;
+  std::string command_line;                // as typed, for the report
+};
+
+// Runs the paper's Examples 1 and 2 and the eight Table 2 mixes (and a sensitivity study of
+// the Table 2 choices the paper does not give) over several seeds, and writes report.md,
+// report.html (self-contained), reproduce.json and the figures under `out`. Returns
+// reproduce.json's content.
+nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log);
+
+}  // namespace aggpack

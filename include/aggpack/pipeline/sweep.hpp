@@ -1,0 +1,31 @@
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace aggpack {
+
+struct SweepOptions {
+  std::filesystem::path scenario;      // a coarse/fine mix ([particles] with coarse, fine, ca_fa)
+  std::vector<double> fa_percent;      // fine aggregate, % of the aggregate volume, per point
+  int seeds = 3;
+  std::filesystem::path out = "out/sweep";
+  std::vector<std::string> sets;       // --set overrides applied to every run
+  std::optional<std::string> stop_after;
+  int threads = 0;
+  bool quiet = false;
+};
+
+// The densest blend: runs the scenario at each fine fraction (Ca/Fa = (100 - Fa) / Fa) with
+// seeds 1..N and writes sweep.csv, sweep.svg (density against Fa % with sd error bars) and
+// sweep.json (every point and the best blend). Returns sweep.json's content.
+nlohmann::json sweep(const SweepOptions& options, std::ostream& log);
+
+// Parses "25:45:5" (from:to:step, inclusive) or "28,32,36" into fine-fraction percentages.
+std::vector<double> parse_fa_points(const std::string& text);
+
+}  // namespace aggpack

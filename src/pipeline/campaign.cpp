@@ -1,0 +1,74 @@
+#include "aggpack/pipeline/campaign.hpp"
+
+#include <chrono>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+namespace aggpack {
+
+SeedStatistics seed_statistics(const std::vector<double>& values) {
+  SeedStatistics s;
+  double sum = 0.0;
+  for (const double v : values)
+    if (std::isfinite(v)) {
+      sum += v;
+      ++s.count;
+    }
+  if (s.count == 0) return s;
+  s.mean = sum / static_cast<double>(s.count);
+  if (s.count < 2) return s;
+  double squares = 0.0;
+  for (const double v : values)
+    if (std::isfinite(v)) squares += (v - s.mean) * (v - s.mean);
+  s.sd = std::sqrt(squares / static_cast<double>(s.count - 1));
+  return s;
+}
+
+Campaign::Campaign(CampaignSettings settings, std::size_t planned_runs)
+    : settings_(settings), planned_(planned_runs), start_(std::chrono::steady_clock::now()) {}
+
+double Campaign::seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+CaseRun Campaign::run(const std::string& label, const std::filesystem::path& scenario,
+                      const std::vector<std::string>& sets, std::uint64_t seed, const std::filesystem::path& out_dir,
+                      const std::optional<std::string>& stop_after) {
+  RunOptions options;
+  options.overrides.set = sets;
+  options.overrides.seed = seed;
+  options.overrides.output_directory = out_dir;
+  options.threads = settings_.threads;
+  options.stop_after = stop_after;
+  options.quiet = true;
+  options.progress = settings_.progress;
+  if (settings_.progress) {
+    std::string run = fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed);
+    if (done_ > 0) {
+      const double per_run = seconds() / static_cast<double>(done_);
+      run += fmt::format(" (about {:.0f} min left in all)", per_run * static_cast<double>(planned_ - done_) / 60.0);
+    }
+    settings_.progress->set_run(std::move(run));
+  }
+  std::ostringstream discard;
+  CaseRun c{run_scenario(scenario, options, discard)};
+  ++done_;
+  const auto& stages = c.result.summary.at("stages");
+  if (stages.contains("deposition") && stages["deposition"].contains("density"))
+    c.after_deposition = stages["deposition"]["density"]["mean"].get<double>();
+  if (stages.contains("dynamics")) c.after_dynamics = stages["dynamics"]["density"]["mean"].get<double>();
+  if (settings_.log) {
+    if (settings_.progress) settings_.progress->clear();
+    fmt::print(*settings_.log, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s)\n", label, seed,
+               c.final_density(),
+               std::isnan(c.after_dynamics) ? std::string(" after deposition")
+                                            : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
+               c.result.particles.size(), c.result.summary["wall_clock_s"]["total"].get<double>());
+    settings_.log->flush();
+  }
+  return c;
+}
+
+}  // namespace aggpack

@@ -1,0 +1,141 @@
+#include "aggpack/report/document.hpp"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace aggpack {
+
+namespace {
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string md_cell(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '|') out += "\\|";
+    else if (c != '\n') out += c;
+  }
+  return out;
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+std::string to_markdown(const Document& doc) {
+  std::string out = "# " + doc.title + "\n";
+  for (const Block& block : doc.blocks) {
+    out += "\n";
+    std::visit(Overloaded{
+                   [&](const Heading& h) { out += std::string(static_cast<std::size_t>(h.level), '#') + " " + h.text + "\n"; },
+                   [&](const Paragraph& p) { out += p.text + "\n"; },
+                   [&](const Table& t) {
+                     if (!t.caption.empty()) out += t.caption + "\n\n";
+                     out += "|";
+                     for (const auto& h : t.header) out += " " + md_cell(h) + " |";
+                     out += "\n|";
+                     for (std::size_t i = 0; i < t.header.size(); ++i) out += " --- |";
+                     out += "\n";
+                     for (const auto& row : t.rows) {
+                       out += "|";
+                       for (const auto& cell : row) out += " " + md_cell(cell) + " |";
+                       out += "\n";
+                     }
+                   },
+                   [&](const Figure& f) { out += "![" + md_cell(f.caption) + "](" + f.file + ")\n\n*" + f.caption + "*\n"; },
+               },
+               block);
+  }
+  return out;
+}
+
+std::string to_html(const Document& doc, const std::map<std::string, std::string>& figures) {
+  std::string out = fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>\n"
+      "body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; padding: 0 1em; line-height: 1.45; }}\n"
+      "table {{ border-collapse: collapse; margin: 0.5em 0 1.2em; font-size: 0.92em; }}\n"
+      "th, td {{ border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: right; }}\n"
+      "th {{ background: #eee; }} td:first-child, th:first-child {{ text-align: left; }}\n"
+      "figure {{ margin: 1em 0; }} figcaption {{ font-size: 0.9em; color: #333; }}\n"
+      "img, svg {{ max-width: 100%; height: auto; }}\n</style>\n</head>\n<body>\n<h1>{}</h1>\n",
+      html_escape(doc.title), html_escape(doc.title));
+  for (const Block& block : doc.blocks) {
+    std::visit(Overloaded{
+                   [&](const Heading& h) { out += fmt::format("<h{0}>{1}</h{0}>\n", h.level, html_escape(h.text)); },
+                   [&](const Paragraph& p) { out += "<p>" + html_escape(p.text) + "</p>\n"; },
+                   [&](const Table& t) {
+                     out += "<table>\n";
+                     if (!t.caption.empty()) out += "<caption>" + html_escape(t.caption) + "</caption>\n";
+                     out += "<tr>";
+                     for (const auto& h : t.header) out += "<th>" + html_escape(h) + "</th>";
+                     out += "</tr>\n";
+                     for (const auto& row : t.rows) {
+                       out += "<tr>";
+                       for (const auto& cell : row) out += "<td>" + html_escape(cell) + "</td>";
+                       out += "</tr>\n";
+                     }
+                     out += "</table>\n";
+                   },
+                   [&](const Figure& f) {
+                     const auto it = figures.find(f.file);
+                     if (it == figures.end()) throw std::logic_error("to_html: no content for figure " + f.file);
+                     out += "<figure>\n";
+                     if (ends_with(f.file, ".svg")) {
+                       const auto start = it->second.find("<svg");
+                       out += it->second.substr(start == std::string::npos ? 0 : start);
+                     } else {
+                       out += "<img alt=\"" + html_escape(f.caption) + "\" src=\"data:image/png;base64," +
+                              base64(it->second) + "\">\n";
+                     }
+                     out += "<figcaption>" + html_escape(f.caption) + "</figcaption>\n</figure>\n";
+                   },
+               },
+               block);
+  }
+  out += "</body>\n</html>\n";
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  std::size_t i = 0;
+  for (; i + 2 < bytes.size(); i += 3) {
+    const auto v = (static_cast<unsigned>(static_cast<unsigned char>(bytes[i])) << 16) |
+                   (static_cast<unsigned>(static_cast<unsigned char>(bytes[i + 1])) << 8) |
+                   static_cast<unsigned>(static_cast<unsigned char>(bytes[i + 2]));
+    out += {kAlphabet[(v >> 18) & 63], kAlphabet[(v >> 12) & 63], kAlphabet[(v >> 6) & 63], kAlphabet[v & 63]};
+  }
+  if (i + 1 == bytes.size()) {
+    const auto v = static_cast<unsigned>(static_cast<unsigned char>(bytes[i])) << 16;
+    out += {kAlphabet[(v >> 18) & 63], kAlphabet[(v >> 12) & 63], '=', '='};
+  } else if (i + 2 == bytes.size()) {
+    const auto v = (static_cast<unsigned>(static_cast<unsigned char>(bytes[i])) << 16) |
+                   (static_cast<unsigned>(static_cast<unsigned char>(bytes[i + 1])) << 8);
+    out += {kAlphabet[(v >> 18) & 63], kAlphabet[(v >> 12) & 63], kAlphabet[(v >> 6) & 63], '='};
+  }
+  return out;
+}
+
+}  // namespace aggpack

@@ -1,0 +1,177 @@
+#include "aggpack/report/svg_plot.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace aggpack {
+
+namespace {
+
+constexpr double kWidth = 640, kHeight = 400;
+constexpr double kLeft = 70, kRight = 20, kTop = 36, kBottom = 52;
+constexpr std::array<const char*, 8> kPalette{"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
+                                              "#9467bd", "#8c564b", "#e377c2", "#17becf"};
+
+std::string escape(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string tick_label(double v, const Axis& axis) {
+  if (axis.log) return fmt::format("{:g}", v);
+  const double step = axis.ticks.size() > 1 ? axis.ticks[1] - axis.ticks[0] : 1.0;
+  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
+  return fmt::format("{:.{}f}", v, decimals);
+}
+
+}  // namespace
+
+Axis make_axis(double data_lo, double data_hi, bool log) {
+  if (!(data_lo <= data_hi) || !std::isfinite(data_lo) || !std::isfinite(data_hi))
+    throw std::invalid_argument("make_axis: the data range must be finite and ordered");
+  Axis axis;
+  axis.log = log;
+  if (log) {
+    if (data_lo <= 0.0) throw std::invalid_argument("make_axis: a log axis needs positive data");
+    const double lo_exp = std::floor(std::log10(data_lo) + 1e-9), hi_exp = std::ceil(std::log10(data_hi) - 1e-9);
+    axis.lo = std::pow(10.0, lo_exp);
+    axis.hi = std::pow(10.0, std::max(hi_exp, lo_exp + 1));
+    const bool few_decades = std::log10(axis.hi / axis.lo) <= 2.5;
+    for (double decade = axis.lo; decade <= axis.hi * (1 + 1e-9); decade *= 10.0)
+      for (const double m : {1.0, 2.0, 5.0})
+        if ((m == 1.0 || few_decades) && decade * m <= axis.hi * (1 + 1e-9)) axis.ticks.push_back(decade * m);
+    return axis;
+  }
+  if (data_hi - data_lo < 1e-12 * std::max(1.0, std::abs(data_hi))) {
+    const double pad = std::max(0.05 * std::abs(data_hi), 1e-3);
+    data_lo -= pad;
+    data_hi += pad;
+  }
+  const double raw_step = (data_hi - data_lo) / 5.0;
+  const double magnitude = std::pow(10.0, std::floor(std::log10(raw_step)));
+  double step = magnitude;
+  for (const double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+    if (m * magnitude >= raw_step) {
+      step = m * magnitude;
+      break;
+    }
+  axis.lo = std::floor(data_lo / step + 1e-9) * step;
+  axis.hi = std::ceil(data_hi / step - 1e-9) * step;
+  for (double t = axis.lo; t <= axis.hi + 1e-9 * step; t += step) axis.ticks.push_back(std::abs(t) < 1e-12 * step ? 0.0 : t);
+  return axis;
+}
+
+std::pair<Axis, Axis> plot_axes(const Plot& plot) {
+  double x_lo = std::numeric_limits<double>::infinity(), x_hi = -x_lo, y_lo = x_lo, y_hi = -x_lo;
+  for (const PlotSeries& s : plot.series)
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) continue;
+      const double e = i < s.y_error.size() && std::isfinite(s.y_error[i]) ? s.y_error[i] : 0.0;
+      x_lo = std::min(x_lo, s.x[i]);
+      x_hi = std::max(x_hi, s.x[i]);
+      y_lo = std::min(y_lo, s.y[i] - e);
+      y_hi = std::max(y_hi, s.y[i] + e);
+    }
+  if (!std::isfinite(x_lo)) x_lo = 0, x_hi = 1, y_lo = 0, y_hi = 1;
+  if (plot.x_range) std::tie(x_lo, x_hi) = *plot.x_range;
+  if (plot.y_range) std::tie(y_lo, y_hi) = *plot.y_range;
+  Axis x = make_axis(x_lo, x_hi, plot.log_x), y = make_axis(y_lo, y_hi, false);
+  // A fixed range is drawn as given, not rounded outwards.
+  if (plot.x_range && !plot.log_x) {
+    x.lo = x_lo, x.hi = x_hi;
+    std::erase_if(x.ticks, [&](double t) { return t < x_lo - 1e-12 || t > x_hi + 1e-12; });
+  }
+  if (plot.y_range) {
+    y.lo = y_lo, y.hi = y_hi;
+    std::erase_if(y.ticks, [&](double t) { return t < y_lo - 1e-12 || t > y_hi + 1e-12; });
+  }
+  return {x, y};
+}
+
+std::string svg_plot(const Plot& plot) {
+  const auto [x_axis, y_axis] = plot_axes(plot);
+  const double w = kWidth - kLeft - kRight, h = kHeight - kTop - kBottom;
+  const auto px = [&](double x) {
+    const double t = x_axis.log ? std::log10(x / x_axis.lo) / std::log10(x_axis.hi / x_axis.lo)
+                                : (x - x_axis.lo) / (x_axis.hi - x_axis.lo);
+    return kLeft + t * w;
+  };
+  const auto py = [&](double y) { return kTop + (1.0 - (y - y_axis.lo) / (y_axis.hi - y_axis.lo)) * h; };
+  const auto inside = [&](double x, double y) {
+    return std::isfinite(x) && std::isfinite(y) && (!x_axis.log || x > 0) && x >= x_axis.lo - 1e-12 &&
+           x <= x_axis.hi + 1e-12 && y >= y_axis.lo - 1e-12 && y <= y_axis.hi + 1e-12;
+  };
+
+  std::string svg = fmt::format(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
+      "font-family=\"sans-serif\" font-size=\"12\" data-x-range=\"{2:.9g} {3:.9g}\" data-y-range=\"{4:.9g} {5:.9g}\">\n"
+      "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
+      "<text x=\"{6}\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">{7}</text>\n",
+      kWidth, kHeight, x_axis.lo, x_axis.hi, y_axis.lo, y_axis.hi, kLeft + w / 2, escape(plot.title));
+  for (const double t : x_axis.ticks)
+    svg += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"#ddd\"/>"
+                       "<text x=\"{0:.2f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
+                       px(t), kTop, kTop + h, kTop + h + 16, tick_label(t, x_axis));
+  for (const double t : y_axis.ticks)
+    svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.2f}\" x2=\"{2}\" y2=\"{1:.2f}\" stroke=\"#ddd\"/>"
+                       "<text x=\"{3}\" y=\"{4:.2f}\" text-anchor=\"end\">{5}</text>\n",
+                       kLeft, py(t), kLeft + w, kLeft - 6, py(t) + 4, tick_label(t, y_axis));
+  svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"black\"/>\n", kLeft,
+                     kTop, w, h);
+  svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", kLeft + w / 2, kHeight - 12,
+                     escape(plot.x_label));
+  svg += fmt::format("<text transform=\"translate(16 {}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
+                     kTop + h / 2, escape(plot.y_label));
+
+  std::size_t next_colour = 0;
+  double legend_y = kTop + 14;
+  for (const PlotSeries& s : plot.series) {
+    const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
+    const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
+    svg += fmt::format("<g class=\"series\" data-label=\"{}\">\n", escape(s.label));
+    if (s.mark != Mark::Points) {
+      std::string points;
+      for (std::size_t i = 0; i < s.x.size(); ++i)
+        if (inside(s.x[i], s.y[i])) points += fmt::format("{:.2f},{:.2f} ", px(s.x[i]), py(s.y[i]));
+      svg += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.8\"{} points=\"{}\"/>\n", colour,
+                         dash, points);
+    }
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!inside(s.x[i], s.y[i])) continue;
+      if (i < s.y_error.size() && s.y_error[i] > 0) {
+        const double lo = std::max(y_axis.lo, s.y[i] - s.y_error[i]), hi = std::min(y_axis.hi, s.y[i] + s.y_error[i]);
+        svg += fmt::format("<path d=\"M{0:.2f} {1:.2f}V{2:.2f}M{3:.2f} {1:.2f}h8M{3:.2f} {2:.2f}h8\" stroke=\"{4}\"/>\n",
+                           px(s.x[i]), py(lo), py(hi), px(s.x[i]) - 4, colour);
+      }
+      if (s.mark != Mark::Line)
+        svg += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3.5\" fill=\"{}\"/>\n", px(s.x[i]), py(s.y[i]),
+                           colour);
+    }
+    svg += "</g>\n";
+    if (!s.label.empty()) {
+      svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"{3}\" stroke-width=\"2\"{4}/>"
+                         "<text x=\"{5}\" y=\"{6:.1f}\">{7}</text>\n",
+                         kLeft + w - 190, legend_y, kLeft + w - 168, colour, dash, kLeft + w - 162, legend_y + 4,
+                         escape(s.label));
+      legend_y += 16;
+    }
+  }
+  svg += "</svg>\n";
+  return svg;
+}
+
+}  // namespace aggpack

@@ -1,0 +1,71 @@
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "aggpack/report/render.hpp"
+
+namespace aggpack {
+namespace {
+
+TEST(Render, OneSphereCoversExactlyItsDisc) {
+  const Box frame{{0, 0, 0}, {1, 1, 1}};
+  ParticleStore particles;
+  const Vec3 centre{0.5, 0.5, 0.5};
+  const double r = 0.2;
+  particles.add(centre, r, 1000.0);
+  RenderOptions options;
+  options.width = 400;
+  const Image image = render_spheres(particles, frame, options);
+  const Camera camera(frame, options);
+  const auto c = camera.project(centre);
+  const double r_px = r * camera.pixels_per_metre();
+  const auto pixel = [&](double dx, double dy) {
+    return image.at(static_cast<int>(std::floor(c.column + dx)), static_cast<int>(std::floor(c.row + dy)));
+  };
+  const Rgb white{255, 255, 255};
+  EXPECT_NE(pixel(0, 0), white);
+  for (const double angle : {0.0, 1.0, 2.0, 3.0, 4.0, 5.0}) {
+    const double dx = std::cos(angle), dy = std::sin(angle);
+    EXPECT_NE(pixel(0.93 * r_px * dx, 0.93 * r_px * dy), white) << angle;
+    EXPECT_EQ(pixel(1.07 * r_px * dx, 1.07 * r_px * dy), white) << angle;
+  }
+  // One size: the middle of the colour map, brightest towards the light (upper left).
+  const Rgb upper_left = pixel(-0.5 * r_px, -0.6 * r_px), lower_right = pixel(0.5 * r_px, 0.6 * r_px);
+  EXPECT_GT(upper_left.g, lower_right.g);
+  EXPECT_EQ(image.at(1, 1), white);
+}
+
+TEST(Render, NearerSphereHidesFartherOne) {
+  const Box frame{{0, 0, 0}, {1, 1, 1}};
+  RenderOptions options;
+  options.width = 300;
+  const Camera camera(frame, options);
+  ParticleStore particles;
+  const Vec3 middle{0.5, 0.5, 0.5};
+  particles.add(middle + 0.3 * camera.forward(), 0.1, 1000.0);   // far, large: yellow end
+  particles.add(middle - 0.3 * camera.forward(), 0.05, 1000.0);  // near, small: blue end
+  const Image image = render_spheres(particles, frame, options);
+  const auto c = camera.project(middle);
+  const Rgb seen = image.at(static_cast<int>(c.column), static_cast<int>(c.row));
+  EXPECT_LT(seen.r, seen.b);  // the blue (small, near) sphere is in front
+  const double r_px = 0.1 * camera.pixels_per_metre();
+  const Rgb rim = image.at(static_cast<int>(c.column + 0.8 * r_px), static_cast<int>(c.row));
+  EXPECT_GT(rim.r, rim.b);  // outside the small disc the large yellow sphere shows
+}
+
+TEST(Render, FramesTheBoxWithItsAspect) {
+  RenderOptions options;
+  options.width = 500;
+  options.elevation_deg = 0.0;
+  options.azimuth_deg = -90.0;  // looking along +y: x to the right, z up
+  const Camera camera(Box{{0, 0, 0}, {2, 1, 1}}, options);
+  EXPECT_NEAR(camera.pixels_per_metre(), (500 - 16) / 2.0, 1e-9);
+  EXPECT_NEAR(camera.height(), 500 / 2 + 8, 2);
+  const auto lo = camera.project({0, 0, 0}), hi = camera.project({2, 0, 1});
+  EXPECT_NEAR(lo.column, 8.0, 1e-9);
+  EXPECT_NEAR(hi.column, 492.0, 1e-9);
+  EXPECT_LT(hi.row, lo.row);  // up is up
+}
+
+}  // namespace
+}  // namespace aggpack
