@@ -137,8 +137,19 @@ std::string svg_plot(const Plot& plot) {
   svg += fmt::format("<text transform=\"translate(16 {}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
                      kTop + h / 2, escape(plot.y_label));
 
-  std::size_t next_colour = 0;
-  double legend_y = kTop + 14;
+  std::size_t next_colour = 0, labelled = 0, longest = 0;
+  for (const PlotSeries& s : plot.series)
+    if (!s.label.empty()) ++labelled, longest = std::max(longest, s.label.size());
+  // The legend: a white box sized to its labels (about 6.6 px per character at 12 px).
+  const double legend_w = 44 + 6.6 * static_cast<double>(longest), legend_h = 8 + 16 * static_cast<double>(labelled);
+  const double legend_x = kLeft + w - legend_w - 6;
+  const double legend_top = plot.legend_at_bottom ? kTop + h - legend_h - 6 : kTop + 6;
+  std::string legend;
+  if (labelled > 0)
+    legend = fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"white\" "
+                         "fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
+                         legend_x, legend_top, legend_w, legend_h);
+  double legend_y = legend_top + 14;
   for (const PlotSeries& s : plot.series) {
     const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
     const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
@@ -163,13 +174,17 @@ std::string svg_plot(const Plot& plot) {
     }
     svg += "</g>\n";
     if (!s.label.empty()) {
-      svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.1f}\" x2=\"{2}\" y2=\"{1:.1f}\" stroke=\"{3}\" stroke-width=\"2\"{4}/>"
-                         "<text x=\"{5}\" y=\"{6:.1f}\">{7}</text>\n",
-                         kLeft + w - 190, legend_y, kLeft + w - 168, colour, dash, kLeft + w - 162, legend_y + 4,
-                         escape(s.label));
+      if (s.mark == Mark::Points)
+        legend += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"{}\"/>", legend_x + 19, legend_y, colour);
+      else
+        legend += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" stroke=\"{3}\" "
+                              "stroke-width=\"2\"{4}/>",
+                              legend_x + 8, legend_y, legend_x + 30, colour, dash);
+      legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, escape(s.label));
       legend_y += 16;
     }
   }
+  svg += legend;
   svg += "</svg>\n";
   return svg;
 }

@@ -62,9 +62,12 @@ TEST(SvgPlot, FixedRangeIsKeptAndOutsidePointsAreDropped) {
   plot.series.push_back({"s", {0, 1, 2}, {0.55, 0.9, 0.65}, {}, Mark::Points, false, ""});
   const std::string svg = svg_plot(plot);
   EXPECT_NE(svg.find("data-y-range=\"0.5 0.7\""), std::string::npos);
+  const auto begin = svg.find("data-label=\"s\">"), end = svg.find("</g>", begin);
+  ASSERT_NE(begin, std::string::npos);
+  const std::string series = svg.substr(begin, end - begin);
   std::size_t circles = 0;
-  for (std::size_t at = svg.find("<circle"); at != std::string::npos; at = svg.find("<circle", at + 1)) ++circles;
-  EXPECT_EQ(circles, 2u);
+  for (auto at = series.find("<circle"); at != std::string::npos; at = series.find("<circle", at + 1)) ++circles;
+  EXPECT_EQ(circles, 2u);  // the point at 0.9 lies above the fixed range
 }
 
 }  // namespace

@@ -28,6 +28,7 @@ Axis make_axis(double data_lo, double data_hi, bool log);
 struct Plot {
   std::string title, x_label, y_label;
   bool log_x = false;
+  bool legend_at_bottom = false;  // bottom right instead of top right
   std::optional<std::pair<double, double>> x_range, y_range;  // fixed instead of fitted to the data
   std::vector<PlotSeries> series;
 };

@@ -1,0 +1,228 @@
+// `aggpack reproduce --quick` and `aggpack sweep` run as a user would: the report's tables,
+// figures and numbers are checked, not just that the files exist.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code;
+  std::string output;
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(AGGPACK_EXE) + " " + args + " 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), pipe)) out += buf.data();
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::size_t count_of(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// The axis ends an SVG plot declares.
+std::pair<double, double> svg_range(const std::string& svg, const char* axis) {
+  std::smatch m;
+  const std::regex re(std::string("data-") + axis + "-range=\"([-0-9.e]+) ([-0-9.e]+)\"");
+  if (!std::regex_search(svg, m, re)) return {NAN, NAN};
+  return {std::stod(m[1]), std::stod(m[2])};
+}
+
+class Reproduce : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    out_ = fs::temp_directory_path() / ("aggpack_reproduce_" + std::to_string(::getpid()));
+    fs::remove_all(out_);
+    result_ = run("reproduce --quick --threads 1 --out " + out_.string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(out_); }
+  static fs::path out_;
+  static Result result_;
+};
+fs::path Reproduce::out_;
+Result Reproduce::result_;
+
+TEST_F(Reproduce, RunsAndPrintsWhereTheReportIs) {
+  ASSERT_EQ(result_.exit_code, 0) << result_.output;
+  EXPECT_NE(result_.output.find("report.html"), std::string::npos) << result_.output;
+  // Not a terminal: one line per run, no progress line rewriting itself.
+  EXPECT_EQ(result_.output.find('\r'), std::string::npos);
+  for (const char* f : {"report.html", "report.md", "reproduce.json"}) EXPECT_TRUE(fs::exists(out_ / f)) << f;
+}
+
+TEST_F(Reproduce, MarkdownHasEveryTableWithThePapersNumbers) {
+  const std::string md = slurp(out_ / "report.md");
+  for (const char* heading : {"## Summary", "## Example 1", "## Example 2", "## Table 2", "### How the Table 2 result moves",
+                              "## Modelling notes"})
+    EXPECT_NE(md.find(heading), std::string::npos) << heading;
+  EXPECT_NE(md.find("| paper |  | 0.558 | 0.604 |"), std::string::npos);  // Example 1 reference row
+  EXPECT_NE(md.find("| paper |  | 0.576 | 0.660 |"), std::string::npos);  // Example 2
+  // All eight Table 2 mixes, with the paper's computed value and the experiment.
+  for (const char* row : {"| 4 | Indiana | 2.46 | 29 |", "| 5 | Michigan | 2.29 | 30 |", "| 8 | Ohio | 2.11 | 32 |",
+                          "| 2 | Illinois | 1.86 | 35 |", "| 6 | Michigan | 1.70 | 37 |", "| 3 | Indiana | 1.52 | 40 |",
+                          "| 7 | Ohio | 1.38 | 42 |", "| 1 | Illinois | 1.32 | 43 |"})
+    EXPECT_NE(md.find(row), std::string::npos) << row;
+  EXPECT_NE(md.find("0.666 ± 0.003 | 0.741"), std::string::npos);
+  EXPECT_NE(md.find("Example 1. Our drop-and-roll"), std::string::npos);
+  EXPECT_NE(md.find("Example 2. Deposition gives"), std::string::npos);
+  EXPECT_NE(md.find("Table 2. The paper prints"), std::string::npos);
+  EXPECT_NE(md.find("QUICK"), std::string::npos);
+}
+
+TEST_F(Reproduce, NumbersAgreeWithTheRunsTheyCameFrom) {
+  const auto j = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  EXPECT_EQ(j["mode"], "quick");
+  const auto run1 = nlohmann::json::parse(slurp(out_ / "runs/example1/seed_1/summary.json"));
+  EXPECT_DOUBLE_EQ(j["examples"]["example1"]["after_dynamics"]["mean"].get<double>(),
+                   run1["stages"]["dynamics"]["density"]["mean"].get<double>());
+  EXPECT_DOUBLE_EQ(j["examples"]["example1"]["after_deposition"]["mean"].get<double>(),
+                   run1["stages"]["deposition"]["density"]["mean"].get<double>());
+  // Physically sensible: settling densifies, and both examples land near the references.
+  for (const char* ex : {"example1", "example2"}) {
+    const double dep = j["examples"][ex]["after_deposition"]["mean"], dyn = j["examples"][ex]["after_dynamics"]["mean"];
+    EXPECT_GT(dyn, dep) << ex;
+    EXPECT_NEAR(dyn, j["examples"][ex]["experiment"].get<double>(), 0.05) << ex;
+  }
+  ASSERT_EQ(j["table2"].size(), 8u);
+  for (const auto& m : j["table2"]) {
+    EXPECT_GT(m["after_deposition"]["mean"].get<double>(), 0.6) << m["mix"];
+    EXPECT_LT(m["after_deposition"]["mean"].get<double>(), 0.8) << m["mix"];
+    EXPECT_GT(m["particles"].get<std::size_t>(), 100000u);
+  }
+  EXPECT_EQ(j["sensitivity"].size(), 2u);
+}
+
+TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
+  const auto j = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  std::size_t svgs = 0, pngs = 0;
+  for (const auto& f : j["figures"]) {
+    const fs::path p = out_ / f.get<std::string>();
+    ASSERT_TRUE(fs::exists(p)) << p;
+    const std::string content = slurp(p);
+    if (p.extension() == ".svg") {
+      ++svgs;
+      EXPECT_EQ(content.rfind("<svg", 0), 0u) << p;
+      EXPECT_NE(content.find("</svg>"), std::string::npos) << p;
+    } else {
+      ++pngs;
+      EXPECT_EQ(content.substr(1, 3), "PNG") << p;
+    }
+  }
+  EXPECT_EQ(svgs, 2u + 1u + 8u);  // Figs. 4 and 7, Fig. 9, eight gradings
+  EXPECT_EQ(pngs, 3u);            // Fig. 6 a and b, one Table 2 bed
+
+  // Fig. 4: time from 0 to the end of the (quick) settling run; densities from the paper's
+  // 0.558 after deposition to the experiment's 0.6108.
+  const std::string fig4 = slurp(out_ / "figures/example1_density_vs_time.svg");
+  const auto [t0, t1] = svg_range(fig4, "x");
+  EXPECT_DOUBLE_EQ(t0, 0.0);
+  EXPECT_NEAR(t1, 0.25, 0.01);
+  const auto [y0, y1] = svg_range(fig4, "y");
+  EXPECT_LE(y0, 0.558);
+  EXPECT_GE(y1, 0.6108);
+  EXPECT_LT(y1 - y0, 0.2);  // zoomed on the data, not 0..1
+  // Fig. 9: the Table 2 range of Fa (29-43 %) and of density (0.620-0.741).
+  const std::string fig9 = slurp(out_ / "figures/table2_density_vs_fa.svg");
+  const auto [x0, x1] = svg_range(fig9, "x");
+  EXPECT_LE(x0, 29.0);
+  EXPECT_GE(x1, 43.0);
+  EXPECT_LT(x1 - x0, 30.0);
+  const auto [d0, d1] = svg_range(fig9, "y");
+  EXPECT_LE(d0, 0.620 - 0.007);
+  EXPECT_GE(d1, 0.741);
+  EXPECT_EQ(count_of(fig9, "<g class=\"series\""), 3u);  // ours, paper, experiment
+  // A grading: percent passing 0-100 on a log axis of sieve openings in mm.
+  const std::string grading = slurp(out_ / "figures/table2_mix3_grading.svg");
+  EXPECT_EQ(svg_range(grading, "y"), std::make_pair(0.0, 100.0));
+  const auto [o0, o1] = svg_range(grading, "x");
+  EXPECT_LE(o0, 0.075);
+  EXPECT_GE(o1, 25.4);
+}
+
+TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
+  const std::string html = slurp(out_ / "report.html");
+  EXPECT_EQ(count_of(html, "<svg"), 11u);
+  EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
+  EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
+  // The same tables as report.md (one header rule "| --- |" each): summary, two per example,
+  // Table 2, sensitivity, notes.
+  EXPECT_EQ(count_of(html, "<table>"), count_of(slurp(out_ / "report.md"), "\n| --- |"));
+  EXPECT_EQ(count_of(html, "<table>"), 8u);
+  EXPECT_NE(html.find("</html>"), std::string::npos);
+}
+
+class Sweep : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("aggpack_sweep_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(Sweep, FindsTheDensestOfThePointsItRan) {
+  const std::string scenario = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
+  const Result r = run("sweep " + scenario + " --fa 20:50:15 --seeds 2 --quiet --out " + dir_.string() +
+                       " --set 'particles.fine.d_min=\"0.1 in\"'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(r.output.empty()) << r.output;
+  const auto j = nlohmann::json::parse(slurp(dir_ / "sweep.json"));
+  ASSERT_EQ(j["points"].size(), 3u);
+  double best = 0.0, best_fa = 0.0;
+  for (const auto& p : j["points"]) {
+    EXPECT_NEAR(p["ca_fa"].get<double>(), (100.0 - p["fa_percent"].get<double>()) / p["fa_percent"].get<double>(), 1e-12);
+    EXPECT_EQ(p["density"]["values"].size(), 2u);
+    EXPECT_FALSE(p["density"]["sd"].is_null());
+    if (p["density"]["mean"].get<double>() > best) best = p["density"]["mean"], best_fa = p["fa_percent"];
+  }
+  EXPECT_EQ(j["best"]["fa_percent"].get<double>(), best_fa);
+  EXPECT_EQ(j["density_after"], "deposition");
+  // The runs really used the fractions: Ca/Fa as generated matches each point.
+  const auto run35 = nlohmann::json::parse(slurp(dir_ / "fa_35/seed_1/summary.json"));
+  EXPECT_NEAR(run35["sizes"]["ca_fa_generated"].get<double>(), 65.0 / 35.0, 0.02);
+  const std::string csv = slurp(dir_ / "sweep.csv");
+  EXPECT_EQ(count_of(csv, "\n"), 2u + 3u);  // provenance, header, three points
+  const std::string svg = slurp(dir_ / "sweep.svg");
+  const auto [x0, x1] = svg_range(svg, "x");
+  EXPECT_LE(x0, 20.0);
+  EXPECT_GE(x1, 50.0);
+}
+
+TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
+  const Result not_mix = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/example1.toml --fa 30,40 --out " + dir_.string());
+  EXPECT_EQ(not_mix.exit_code, 2);
+  EXPECT_NE(not_mix.output.find("coarse/fine mix"), std::string::npos) << not_mix.output;
+  const Result bad = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 30:x:5 --out " + dir_.string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("--fa 30:x:5"), std::string::npos) << bad.output;
+  const Result zero = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 0,40 --out " + dir_.string());
+  EXPECT_EQ(zero.exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir_ / "sweep.json"));
+}
+
+}  // namespace
