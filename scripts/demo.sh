@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The main job on a shipped example: install, build, deposit the paper's Example 1 and
-# measure it, show where the results are.
+# The main job: install, build, reproduce Fu and Dekelbab (2003) (Examples 1 and 2, the eight
+# Table 2 mixes, three seeds each) and write the report. About ten minutes on two cores;
+# add --quick for a one-minute pass: bash scripts/demo.sh --quick
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
-./build/aggpack run examples/example1.toml --out out/example1
-echo "Results: out/example1/summary.json, particles.csv, supports.csv, particles.vtp"
+./build/aggpack reproduce --out out/reproduce "$@"
+echo "Open out/reproduce/report.html (or read out/reproduce/report.md)."

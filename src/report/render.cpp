@@ -51,7 +51,11 @@ Image render_spheres(const ParticleStore& particles, const Box& frame, const Ren
   std::vector<double> depth(static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height()),
                             std::numeric_limits<double>::infinity());
   const double scale = camera.pixels_per_metre();
+  // The section plane: vertical, through the frame's centre, facing the camera.
+  const Vec3 centre = 0.5 * (frame.lo + frame.hi);
+  const Vec3 towards_camera = normalized(Vec3{-camera.forward().x, -camera.forward().y, 0.0});
   for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (options.cut_away && dot(particles.position[i] - centre, towards_camera) > 0.0) continue;
     const double r = particles.radius[i];
     const Camera::Projection c = camera.project(particles.position[i]);
     const double t = d_hi > d_lo ? (2.0 * r - d_lo) / (d_hi - d_lo) : 0.5;

@@ -53,6 +53,25 @@ TEST(Render, NearerSphereHidesFartherOne) {
   EXPECT_GT(rim.r, rim.b);  // outside the small disc the large yellow sphere shows
 }
 
+TEST(Render, CutAwayShowsTheSectionBehindTheFrontHalf) {
+  const Box frame{{0, 0, 0}, {1, 1, 1}};
+  RenderOptions options;
+  options.width = 300;
+  options.elevation_deg = 0.0;
+  options.azimuth_deg = -90.0;  // camera on the -y side, looking along +y
+  ParticleStore particles;
+  particles.add({0.5, 0.3, 0.5}, 0.05, 1000.0);   // front half: small, blue end of the map
+  particles.add({0.5, 0.7, 0.5}, 0.1, 1000.0);    // back half: large, yellow end
+  const Camera camera(frame, options);
+  const auto c = camera.project({0.5, 0.5, 0.5});
+  const auto seen = [&](bool cut) {
+    options.cut_away = cut;
+    return render_spheres(particles, frame, options).at(static_cast<int>(c.column), static_cast<int>(c.row));
+  };
+  EXPECT_LT(seen(false).r, seen(false).b);  // the front sphere hides the back one
+  EXPECT_GT(seen(true).r, seen(true).b);    // cut away: the back sphere shows
+}
+
 TEST(Render, FramesTheBoxWithItsAspect) {
   RenderOptions options;
   options.width = 500;

@@ -11,6 +11,7 @@ struct RenderOptions {
   double elevation_deg = 25.0;   // camera above the horizontal
   double d_lo = 0.0, d_hi = 0.0; // diameters mapped to the ends of the colour map (0, 0: the bed's own range)
   Rgb background{255, 255, 255};
+  bool cut_away = false;         // leave out spheres centred nearer than the frame's vertical mid-plane: a section
 };
 
 // An orthographic camera framing a box: world point -> pixel column, row and depth.
