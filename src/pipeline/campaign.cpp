@@ -1,6 +1,7 @@
 #include "aggpack/pipeline/campaign.hpp"
 
 #include <chrono>
+#include <iostream>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -26,8 +27,12 @@ SeedStatistics seed_statistics(const std::vector<double>& values) {
   return s;
 }
 
-Campaign::Campaign(CampaignSettings settings, std::size_t planned_runs)
-    : settings_(settings), planned_(planned_runs), start_(std::chrono::steady_clock::now()) {}
+Campaign::Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs)
+    : threads_(threads),
+      log_(quiet ? nullptr : &log),
+      progress_(Progress::wanted(quiet) ? Progress(std::cerr) : Progress()),
+      planned_(planned_runs),
+      start_(std::chrono::steady_clock::now()) {}
 
 double Campaign::seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -40,17 +45,17 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   options.overrides.set = sets;
   options.overrides.seed = seed;
   options.overrides.output_directory = out_dir;
-  options.threads = settings_.threads;
+  options.threads = threads_;
   options.stop_after = stop_after;
   options.quiet = true;
-  options.progress = settings_.progress;
-  if (settings_.progress) {
+  options.progress = &progress_;
+  {
     std::string run = fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed);
     if (done_ > 0) {
       const double per_run = seconds() / static_cast<double>(done_);
       run += fmt::format(" (about {:.0f} min left in all)", per_run * static_cast<double>(planned_ - done_) / 60.0);
     }
-    settings_.progress->set_run(std::move(run));
+    progress_.set_run(std::move(run));
   }
   std::ostringstream discard;
   CaseRun c{run_scenario(scenario, options, discard)};
@@ -59,14 +64,14 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   if (stages.contains("deposition") && stages["deposition"].contains("density"))
     c.after_deposition = stages["deposition"]["density"]["mean"].get<double>();
   if (stages.contains("dynamics")) c.after_dynamics = stages["dynamics"]["density"]["mean"].get<double>();
-  if (settings_.log) {
-    if (settings_.progress) settings_.progress->clear();
-    fmt::print(*settings_.log, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s)\n", label, seed,
+  if (log_) {
+    progress_.clear();
+    fmt::print(*log_, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s)\n", label, seed,
                c.final_density(),
                std::isnan(c.after_dynamics) ? std::string(" after deposition")
                                             : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
                c.result.particles.size(), c.result.summary["wall_clock_s"]["total"].get<double>());
-    settings_.log->flush();
+    log_->flush();
   }
   return c;
 }

@@ -357,14 +357,8 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     if (!fs::exists(f)) throw InputError(fmt::format("{}: not found (one scenario per Table 2 mix)", f.string()));
   }
 
-  Progress silent;
-  Progress terminal(std::cerr);
-  CampaignSettings settings;
-  settings.threads = options.threads;
-  settings.log = options.quiet ? nullptr : &log;
-  settings.progress = Progress::wanted(options.quiet) ? &terminal : &silent;
   const std::size_t seeds = static_cast<std::size_t>(plan.seeds);
-  Campaign campaign(settings, seeds * (2 + table2.size() + plan.sensitivity.size()));
+  Campaign campaign(options.threads, options.quiet, log, seeds * (2 + table2.size() + plan.sensitivity.size()));
   const fs::path runs_dir = options.out / "runs";
   const std::vector<std::string> no_particle_files = {"output.formats=[]"};
 
@@ -403,7 +397,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
                                           runs_dir / fmt::format("sensitivity_{}", v) / fmt::format("seed_{}", s)));
     variants.push_back(std::move(variant));
   }
-  settings.progress->clear();
+  campaign.clear_progress();
   const double wall = campaign.seconds();
 
   // ---- the report ----

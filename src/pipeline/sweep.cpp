@@ -61,13 +61,7 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
                                    "particles.fine and particles.ca_fa)",
                                    options.scenario.string()));
   }
-  Progress silent;
-  Progress terminal(std::cerr);
-  CampaignSettings settings;
-  settings.threads = options.threads;
-  settings.log = options.quiet ? nullptr : &log;
-  settings.progress = Progress::wanted(options.quiet) ? &terminal : &silent;
-  Campaign campaign(settings, options.fa_percent.size() * static_cast<std::size_t>(options.seeds));
+  Campaign campaign(options.threads, options.quiet, log, options.fa_percent.size() * static_cast<std::size_t>(options.seeds));
 
   nlohmann::json points = nlohmann::json::array();
   std::string csv = fmt::format("# aggpack {}, scenario {}, seeds 1..{}\n"
@@ -104,7 +98,7 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
     ours.y_error.push_back(std::isnan(f.sd) ? 0.0 : f.sd);
     if (f.mean > points[best]["density"]["mean"].get<double>()) best = p;
   }
-  settings.progress->clear();
+  campaign.clear_progress();
 
   // Points whose mean is within one sd (of either) of the best are not told apart by these seeds.
   const auto& top = points[best]["density"];

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/report/xml_escape.hpp"
+
 namespace aggpack {
 
 namespace {
@@ -12,20 +14,6 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
-
-std::string html_escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string md_cell(const std::string& text) {
   std::string out;
@@ -52,17 +40,17 @@ std::string to_markdown(const Document& doc) {
                    [&](const Table& t) {
                      if (!t.caption.empty()) out += t.caption + "\n\n";
                      out += "|";
-                     for (const auto& h : t.header) out += " " + md_cell(h) + " |";
+                     for (const auto& h : t.header) out.append(" ").append(md_cell(h)).append(" |");
                      out += "\n|";
                      for (std::size_t i = 0; i < t.header.size(); ++i) out += " --- |";
                      out += "\n";
                      for (const auto& row : t.rows) {
                        out += "|";
-                       for (const auto& cell : row) out += " " + md_cell(cell) + " |";
+                       for (const auto& cell : row) out.append(" ").append(md_cell(cell)).append(" |");
                        out += "\n";
                      }
                    },
-                   [&](const Figure& f) { out += "![" + md_cell(f.caption) + "](" + f.file + ")\n\n*" + f.caption + "*\n"; },
+                   [&](const Figure& f) { out += "![" + f.file + "](" + f.file + ")\n\n*" + f.caption + "*\n"; },
                },
                block);
   }
@@ -78,20 +66,20 @@ std::string to_html(const Document& doc, const std::map<std::string, std::string
       "th {{ background: #eee; }} td:first-child, th:first-child {{ text-align: left; }}\n"
       "figure {{ margin: 1em 0; }} figcaption {{ font-size: 0.9em; color: #333; }}\n"
       "img, svg {{ max-width: 100%; height: auto; }}\n</style>\n</head>\n<body>\n<h1>{}</h1>\n",
-      html_escape(doc.title), html_escape(doc.title));
+      xml_escape(doc.title), xml_escape(doc.title));
   for (const Block& block : doc.blocks) {
     std::visit(Overloaded{
-                   [&](const Heading& h) { out += fmt::format("<h{0}>{1}</h{0}>\n", h.level, html_escape(h.text)); },
-                   [&](const Paragraph& p) { out += "<p>" + html_escape(p.text) + "</p>\n"; },
+                   [&](const Heading& h) { out += fmt::format("<h{0}>{1}</h{0}>\n", h.level, xml_escape(h.text)); },
+                   [&](const Paragraph& p) { out += "<p>" + xml_escape(p.text) + "</p>\n"; },
                    [&](const Table& t) {
                      out += "<table>\n";
-                     if (!t.caption.empty()) out += "<caption>" + html_escape(t.caption) + "</caption>\n";
+                     if (!t.caption.empty()) out += "<caption>" + xml_escape(t.caption) + "</caption>\n";
                      out += "<tr>";
-                     for (const auto& h : t.header) out += "<th>" + html_escape(h) + "</th>";
+                     for (const auto& h : t.header) out += "<th>" + xml_escape(h) + "</th>";
                      out += "</tr>\n";
                      for (const auto& row : t.rows) {
                        out += "<tr>";
-                       for (const auto& cell : row) out += "<td>" + html_escape(cell) + "</td>";
+                       for (const auto& cell : row) out += "<td>" + xml_escape(cell) + "</td>";
                        out += "</tr>\n";
                      }
                      out += "</table>\n";
@@ -104,10 +92,10 @@ std::string to_html(const Document& doc, const std::map<std::string, std::string
                        const auto start = it->second.find("<svg");
                        out += it->second.substr(start == std::string::npos ? 0 : start);
                      } else {
-                       out += "<img alt=\"" + html_escape(f.caption) + "\" src=\"data:image/png;base64," +
+                       out += "<img alt=\"" + xml_escape(f.caption) + "\" src=\"data:image/png;base64," +
                               base64(it->second) + "\">\n";
                      }
-                     out += "<figcaption>" + html_escape(f.caption) + "</figcaption>\n</figure>\n";
+                     out += "<figcaption>" + xml_escape(f.caption) + "</figcaption>\n</figure>\n";
                    },
                },
                block);

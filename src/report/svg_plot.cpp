@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/report/xml_escape.hpp"
+
 namespace aggpack {
 
 namespace {
@@ -16,20 +18,6 @@ constexpr double kWidth = 640, kHeight = 400;
 constexpr double kLeft = 70, kRight = 20, kTop = 36, kBottom = 52;
 constexpr std::array<const char*, 8> kPalette{"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
                                               "#9467bd", "#8c564b", "#e377c2", "#17becf"};
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string tick_label(double v, const Axis& axis) {
   if (axis.log) return fmt::format("{:g}", v);
@@ -121,7 +109,7 @@ std::string svg_plot(const Plot& plot) {
       "font-family=\"sans-serif\" font-size=\"12\" data-x-range=\"{2:.9g} {3:.9g}\" data-y-range=\"{4:.9g} {5:.9g}\">\n"
       "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
       "<text x=\"{6}\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">{7}</text>\n",
-      kWidth, kHeight, x_axis.lo, x_axis.hi, y_axis.lo, y_axis.hi, kLeft + w / 2, escape(plot.title));
+      kWidth, kHeight, x_axis.lo, x_axis.hi, y_axis.lo, y_axis.hi, kLeft + w / 2, xml_escape(plot.title));
   for (const double t : x_axis.ticks)
     svg += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"#ddd\"/>"
                        "<text x=\"{0:.2f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
@@ -133,9 +121,9 @@ std::string svg_plot(const Plot& plot) {
   svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"black\"/>\n", kLeft,
                      kTop, w, h);
   svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", kLeft + w / 2, kHeight - 12,
-                     escape(plot.x_label));
+                     xml_escape(plot.x_label));
   svg += fmt::format("<text transform=\"translate(16 {}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
-                     kTop + h / 2, escape(plot.y_label));
+                     kTop + h / 2, xml_escape(plot.y_label));
 
   std::size_t next_colour = 0, labelled = 0, longest = 0;
   for (const PlotSeries& s : plot.series)
@@ -153,7 +141,7 @@ std::string svg_plot(const Plot& plot) {
   for (const PlotSeries& s : plot.series) {
     const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
     const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
-    svg += fmt::format("<g class=\"series\" data-label=\"{}\">\n", escape(s.label));
+    svg += fmt::format("<g class=\"series\" data-label=\"{}\">\n", xml_escape(s.label));
     if (s.mark != Mark::Points) {
       std::string points;
       for (std::size_t i = 0; i < s.x.size(); ++i)
@@ -180,7 +168,7 @@ std::string svg_plot(const Plot& plot) {
         legend += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" stroke=\"{3}\" "
                               "stroke-width=\"2\"{4}/>",
                               legend_x + 8, legend_y, legend_x + 30, colour, dash);
-      legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, escape(s.label));
+      legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, xml_escape(s.label));
       legend_y += 16;
     }
   }

@@ -1,6 +1,7 @@
 // Runs the aggpack executable as a user would and checks exit codes and files.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
+
+#include "run_cli.hpp"
 
 #include <array>
 #include <cmath>
@@ -16,20 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;  // stdout and stderr
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(AGGPACK_EXE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using aggpack::testing::slurp;
+using Result = aggpack::testing::CliResult;
+Result run(const std::string& args) { return aggpack::testing::run_cli(args); }
 
 class Cli : public ::testing::Test {
  protected:
@@ -124,10 +114,6 @@ TEST_F(Cli, RunsExample1ThroughDeposition) {
   ASSERT_EQ(run("run " + example("example1.toml") + " --stop-after deposition --out " + again.string()).exit_code, 0);
   ASSERT_EQ(run("run " + example("example1.toml") + " --stop-after deposition --seed 2 --out " + other.string())
                 .exit_code, 0);
-  const auto slurp = [](const fs::path& f) {
-    std::ifstream in(f);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
   EXPECT_EQ(slurp(out / "particles.csv"), slurp(again / "particles.csv"));
   EXPECT_NE(slurp(out / "particles.csv"), slurp(other / "particles.csv"));
 }
@@ -256,10 +242,6 @@ TEST_F(Cli, RunsDepositionThenDynamicsAndWritesTheTimeSeries) {
   const fs::path one = dir_ / "one", two = dir_ / "two";
   ASSERT_EQ(run("run " + scenario.string() + " --quiet --threads 1 --out " + one.string()).exit_code, 0);
   ASSERT_EQ(run("run " + scenario.string() + " --quiet --threads 2 --out " + two.string()).exit_code, 0);
-  const auto slurp = [](const fs::path& f) {
-    std::ifstream in(f);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
   EXPECT_EQ(slurp(one / "particles.csv"), slurp(two / "particles.csv"));
   EXPECT_EQ(slurp(one / "timeseries.csv"), slurp(two / "timeseries.csv"));
 

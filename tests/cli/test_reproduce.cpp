@@ -1,7 +1,8 @@
 // `aggpack reproduce --quick` and `aggpack sweep` run as a user would: the report's tables,
 // figures and numbers are checked, not just that the files exist.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
+
+#include "run_cli.hpp"
 
 #include <array>
 #include <cstdio>
@@ -16,27 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(AGGPACK_EXE) + " " + args + " 2>&1";
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), pipe)) out += buf.data();
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using aggpack::testing::slurp;
+using Result = aggpack::testing::CliResult;
+Result run(const std::string& args) { return aggpack::testing::run_cli(args); }
 
 std::size_t count_of(const std::string& text, const std::string& what) {
   std::size_t n = 0;

@@ -21,7 +21,7 @@ TEST(Document, MarkdownHasTablesAndFigureLinks) {
   EXPECT_EQ(md.rfind("# T & t\n", 0), 0u);
   EXPECT_NE(md.find("## Part\n"), std::string::npos);
   EXPECT_NE(md.find("| case | value |\n| --- | --- |\n| x\\|y | 0.5 |\n"), std::string::npos);
-  EXPECT_NE(md.find("![an svg](figures/a.svg)"), std::string::npos);
+  EXPECT_NE(md.find("![figures/a.svg](figures/a.svg)\n\n*an svg*"), std::string::npos);
 }
 
 TEST(Document, HtmlIsSelfContained) {

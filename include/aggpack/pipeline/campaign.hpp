@@ -29,24 +29,22 @@ struct CaseRun {
   [[nodiscard]] double final_density() const { return std::isnan(after_dynamics) ? after_deposition : after_dynamics; }
 };
 
-struct CampaignSettings {
-  int threads = 0;
-  std::ostream* log = nullptr;    // one line per finished run; none when null (--quiet)
-  Progress* progress = nullptr;   // the live line on a terminal
-};
-
-// Runs many scenario runs in a row, numbering them for the progress line and timing the whole.
+// Runs many scenario runs in a row, numbering them for the progress line (on stderr when it
+// is a terminal and not quiet) and timing the whole. Unless quiet, prints one line per run.
 class Campaign {
  public:
-  Campaign(CampaignSettings settings, std::size_t planned_runs);
+  Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs);
   CaseRun run(const std::string& label, const std::filesystem::path& scenario, const std::vector<std::string>& sets,
               std::uint64_t seed, const std::filesystem::path& out_dir,
               const std::optional<std::string>& stop_after = std::nullopt);
   [[nodiscard]] std::size_t runs_done() const { return done_; }
   [[nodiscard]] double seconds() const;
+  void clear_progress() { progress_.clear(); }
 
  private:
-  CampaignSettings settings_;
+  int threads_;
+  std::ostream* log_;  // null when quiet
+  Progress progress_;
   std::size_t planned_, done_ = 0;
   std::chrono::steady_clock::time_point start_;
 };
