@@ -58,12 +58,13 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
   if (!std::isfinite(r_min)) throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle",
                                                           sc.file.string()));
 
-  ContactModel model;
-  try {
-    model = make_contact_model(contact_parameters(sc));
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
-  }
+  const ContactModel model = [&] {
+    try {
+      return make_contact_model(contact_parameters(sc));
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
+    }
+  }();
   const double rayleigh = rayleigh_time(r_min, sc.material.density, sc.material.youngs_modulus,
                                         sc.material.poisson_ratio);
   DemSettings settings;

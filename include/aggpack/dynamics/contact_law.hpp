@@ -90,7 +90,12 @@ inline Vec3 rolling_torque(const ContactCoefficients& c, const ContactKinematics
 // with stored displacement (rotated into the current tangent plane) and damping of the same
 // form as the normal one, capped by Coulomb mu F_n; optional constant rolling resistance.
 struct HertzMindlin {
+  explicit HertzMindlin(const ContactCoefficients& coefficients)
+      : c(coefficients), tangential_damping_ratio(std::sqrt(4.0 * c.g_star / c.e_star)) {}
   ContactCoefficients c;
+  // Same form as the normal damping with k_t = 8 G* sqrt(R* d) in place of dF_n/dd = 2 E* sqrt(R* d):
+  // eta_t / eta_n = sqrt(4 G* / E*), a constant (computed once: it costs a division and a root).
+  double tangential_damping_ratio;
 
   ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double dt) const {
     const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
@@ -102,16 +107,15 @@ struct HertzMindlin {
     spring -= dot(spring, k.normal) * k.normal;
     spring += vt * dt;
     const double kt = 8.0 * c.g_star * sqrt_r_overlap;
-    // Same form as the normal damping with k_t in place of k_n: a constant ratio.
-    const double eta_t = damping_n * std::sqrt(4.0 * c.g_star / c.e_star);
+    const double eta_t = damping_n * tangential_damping_ratio;
     Vec3 ft = -kt * spring - eta_t * vt;
     // Sliding: cap at mu F_n and keep the spring that gives just that force (k_t > 0 in contact).
     const double cap = c.friction * fn;
     const double ft2 = norm2(ft);
-    const bool sliding = ft2 > cap * cap;
-    ft = ft * (sliding ? cap / std::sqrt(ft2) : 1.0);
-    const Vec3 held = (ft + eta_t * vt) * (-1.0 / kt);
-    spring = sliding ? held : spring;
+    if (ft2 > cap * cap) {
+      ft = ft * (cap / std::sqrt(ft2));
+      spring = (ft + eta_t * vt) * (-1.0 / kt);
+    }
     return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn), fn};
   }
 };
