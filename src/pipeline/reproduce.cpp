@@ -96,6 +96,8 @@ SeedStatistics stats_of(const std::vector<CaseRun>& runs, double CaseRun::*membe
   return seed_statistics(v);
 }
 
+std::size_t particle_count(const CaseRun& r) { return r.result.summary.at("particle_count").get<std::size_t>(); }
+
 // Figures are kept in memory for the HTML page and written as files for report.md.
 class FigureSet {
  public:
@@ -358,43 +360,65 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   }
 
   const std::size_t seeds = static_cast<std::size_t>(plan.seeds);
-  Campaign campaign(options.threads, options.quiet, log, seeds * (2 + table2.size() + plan.sensitivity.size()));
+  // The shipped variant of the sensitivity study is Table 2's own mix 3: not run twice.
+  const std::size_t new_variants = static_cast<std::size_t>(std::count_if(
+      plan.sensitivity.begin(), plan.sensitivity.end(), [](const SensitivityCase& c) { return !c.sets.empty(); }));
+  Campaign campaign(options.threads, options.quiet, log, seeds * (2 + table2.size() + new_variants));
   const fs::path runs_dir = options.out / "runs";
   const std::vector<std::string> no_particle_files = {"output.formats=[]"};
+
+  // Beds are kept only where a picture is drawn (seed 1 of Example 2 and of the first mix):
+  // a Table 2 bed holds 10^5-10^6 spheres.
+  const auto keep_bed_if = [](bool keep, CaseRun run) {
+    if (!keep) {
+      run.result.particles = ParticleStore{};
+      run.result.deposited.reset();
+    }
+    return run;
+  };
 
   // Examples 1 and 2.
   std::map<std::string, std::vector<CaseRun>> example_runs;
   for (const PaperExample* ex : {&kExample1, &kExample2})
     for (std::size_t s = 1; s <= seeds; ++s)
-      example_runs[ex->id].push_back(campaign.run(ex->title, examples / ex->scenario, plan.example_sets, s,
-                                                  runs_dir / ex->id / fmt::format("seed_{}", s)));
+      example_runs[ex->id].push_back(keep_bed_if(
+          ex == &kExample2 && s == 1, campaign.run(ex->title, examples / ex->scenario, plan.example_sets, s,
+                                                   runs_dir / ex->id / fmt::format("seed_{}", s))));
 
   // Table 2.
   std::vector<Table2Outcome> mixes;
   for (const Table2Row& row : table2) {
     Table2Outcome m{row, {}, {}, {}};
     for (std::size_t s = 1; s <= seeds; ++s)
-      m.runs.push_back(campaign.run(fmt::format("Table 2 mix {}", row.mix),
-                                    examples / fmt::format("table2_mix{}.toml", row.mix), no_particle_files, s,
-                                    runs_dir / fmt::format("table2_mix{}", row.mix) / fmt::format("seed_{}", s)));
+      m.runs.push_back(keep_bed_if(
+          mixes.empty() && s == 1,
+          campaign.run(fmt::format("Table 2 mix {}", row.mix), examples / fmt::format("table2_mix{}.toml", row.mix),
+                       no_particle_files, s,
+                       runs_dir / fmt::format("table2_mix{}", row.mix) / fmt::format("seed_{}", s))));
     m.deposition = stats_of(m.runs, &CaseRun::after_deposition);
     m.dynamics = stats_of(m.runs, &CaseRun::after_dynamics);
     mixes.push_back(std::move(m));
   }
 
   // Sensitivity of Table 2 mix 3 to the choices the paper leaves open.
-  const auto mix3 = std::find_if(table2.begin(), table2.end(), [](const Table2Row& r) { return r.mix == 3; });
-  const Table2Row sensitivity_row = mix3 != table2.end() ? *mix3 : table2.front();
+  const auto mix3 = std::find_if(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.row.mix == 3; });
+  const Table2Outcome& sensitivity_mix = mix3 != mixes.end() ? *mix3 : mixes.front();
+  const Table2Row& sensitivity_row = sensitivity_mix.row;
   std::vector<Variant> variants;
   for (std::size_t v = 0; v < plan.sensitivity.size(); ++v) {
     const SensitivityCase& spec = plan.sensitivity[v];
-    std::vector<std::string> sets = no_particle_files;
-    sets.insert(sets.end(), spec.sets.begin(), spec.sets.end());
     Variant variant{spec, {}};
-    for (std::size_t s = 1; s <= seeds; ++s)
-      variant.runs.push_back(campaign.run(fmt::format("mix {} sensitivity: {}", sensitivity_row.mix, spec.label),
-                                          examples / fmt::format("table2_mix{}.toml", sensitivity_row.mix), sets, s,
-                                          runs_dir / fmt::format("sensitivity_{}", v) / fmt::format("seed_{}", s)));
+    if (spec.sets.empty()) {
+      for (const CaseRun& r : sensitivity_mix.runs) variant.runs.push_back(keep_bed_if(false, r));
+    } else {
+      std::vector<std::string> sets = no_particle_files;
+      sets.insert(sets.end(), spec.sets.begin(), spec.sets.end());
+      for (std::size_t s = 1; s <= seeds; ++s)
+        variant.runs.push_back(keep_bed_if(
+            false, campaign.run(fmt::format("mix {} sensitivity: {}", sensitivity_row.mix, spec.label),
+                                examples / fmt::format("table2_mix{}.toml", sensitivity_row.mix), sets, s,
+                                runs_dir / fmt::format("sensitivity_{}", v) / fmt::format("seed_{}", s))));
+    }
     variants.push_back(std::move(variant));
   }
   campaign.clear_progress();
@@ -466,7 +490,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     for (const CaseRun& r : runs) {
       const auto& d = r.result.summary["stages"]["dynamics"];
       t.rows.push_back({fmt::format("{}", r.result.summary["seed"].get<std::uint64_t>()),
-                        fmt::format("{}", r.result.particles.size()), value_text(r.after_deposition),
+                        fmt::format("{}", particle_count(r)), value_text(r.after_deposition),
                         value_text(r.after_dynamics), d.value("ended_by", std::string("—")),
                         fmt::format("{:.2f}", d.value("simulated_time_s", 0.0)),
                         fmt::format("{:.1e}", d["final"].value("max_overlap_rel", 0.0))});
@@ -542,7 +566,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
                                            {"values", m.dynamics.count ? nlohmann::json(dyn_values) : nlohmann::json::array()}}},
                        {"paper", {{"mean", m.row.paper_mean}, {"sd", m.row.paper_sd}}},
                        {"experiment", m.row.experiment},
-                       {"particles", m.runs.empty() ? 0 : m.runs.front().result.particles.size()}});
+                       {"particles", m.runs.empty() ? 0 : particle_count(m.runs.front())}});
   }
   t2.caption = "Ours: mean ± sd over seeds; the differences use ours after DEM (after deposition when DEM was not run).";
   b.emplace_back(t2);
@@ -608,7 +632,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     b.emplace_back(Figure{fig, fmt::format("Table 2 mix {} ({} particles), seed 1, the deposited bed cut through its "
                                            "middle, coloured by diameter (viridis: {:.1f} mm dark blue to {:.1f} mm "
                                            "yellow).",
-                                           mixes.front().row.mix, r.result.particles.size(),
+                                           mixes.front().row.mix, particle_count(r),
                                            1e3 * r.result.summary["bed"]["d_min_m"].get<double>(),
                                            1e3 * r.result.summary["bed"]["d_max_m"].get<double>())});
   }
@@ -624,7 +648,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     const SeedStatistics dep = stats_of(v.runs, &CaseRun::after_deposition), dyn = stats_of(v.runs, &CaseRun::after_dynamics);
     const double final_mean = dyn.count ? dyn.mean : dep.mean;
     if (std::isnan(baseline)) baseline = final_mean;
-    sens.rows.push_back({v.spec.label, v.runs.empty() ? "—" : fmt::format("{}", v.runs.front().result.particles.size()),
+    sens.rows.push_back({v.spec.label, v.runs.empty() ? "—" : fmt::format("{}", particle_count(v.runs.front())),
                          stat_text(dep), stat_text(dyn), fmt::format("{:+.4f}", final_mean - baseline)});
     sens_json.push_back({{"variant", v.spec.label}, {"after_deposition", dep.mean},
                          {"after_dynamics", dyn.count ? nlohmann::json(dyn.mean) : nlohmann::json()}});

@@ -1,11 +1,11 @@
 #pragma once
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <limits>
 #include <optional>
 #include <ostream>
-#include <chrono>
 #include <string>
 #include <vector>
 

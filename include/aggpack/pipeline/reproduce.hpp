@@ -8,7 +8,7 @@
 namespace aggpack {
 
 struct ReproduceOptions {
-  bool quick = false;                      // one seed, short DEM, small Table 2 beds: a few minutes
+  bool quick = false;                      // one seed, DEM stopped at 0.25 s, two sensitivity rows: a minute
   int seeds = 0;                           // seeds per case; 0: 3 (1 with quick)
   std::filesystem::path out = "out/reproduce";
   std::filesystem::path examples;          // the shipped scenarios and fu2003_table2.csv
