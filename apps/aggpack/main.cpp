@@ -16,21 +16,22 @@
 
 namespace {
 
-double length_argument(const std::string& text, const std::string& option) {
+// A length given on the command line; a bare number is in `bare_unit` (metres per unit).
+double length_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
   std::string why;
-  const auto v = aggpack::parse_length(text, &why);
+  const auto v = aggpack::parse_length(text, &why, bare_unit);
   if (!v || *v <= 0.0) throw aggpack::InputError(fmt::format("{} {}: expected a positive length ({})", option, text, why));
   return *v;
 }
 
-aggpack::Box box_argument(const std::string& text) {
+aggpack::Box box_argument(const std::string& text, long double bare_unit) {
   std::vector<double> v;
   std::size_t start = 0;
   while (true) {
     const auto comma = text.find(',', start);
     std::string why;
     const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    const auto value = aggpack::parse_length(part, &why);
+    const auto value = aggpack::parse_length(part, &why, bare_unit);
     if (!value) throw aggpack::InputError(fmt::format("--box {}: \"{}\": {}", text, part, why));
     v.push_back(*value);
     if (comma == std::string::npos) break;
@@ -49,8 +50,9 @@ int analyze_command(const std::string& file, const std::vector<std::string>& box
   const auto container = aggpack::bounding_container(particles);
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
-  for (const auto& b : boxes) request.boxes.push_back(box_argument(b));
-  for (const auto& c : cubes) request.cube_sides.push_back(length_argument(c, "--cube"));
+  // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
+  for (const auto& b : boxes) request.boxes.push_back(box_argument(b, *factor));
+  for (const auto& c : cubes) request.cube_sides.push_back(length_argument(c, "--cube", *factor));
   const auto report = aggpack::analyze_packing(particles, container, request);
   if (json) {
     auto j = aggpack::to_json(report);
@@ -107,8 +109,8 @@ int main(int argc, char** argv) {
   auto* analyze_cmd = app.add_subcommand("analyze", "Measure density, coordination and profiles of a packing file");
   analyze_cmd->add_option("file", file, "Packing: CSV with header x,y,z,r (or diameter), or whitespace x y z r")
       ->required();
-  analyze_cmd->add_option("--box", boxes, "Box xmin,ymin,zmin,xmax,ymax,zmax (lengths, metres if bare); repeatable");
-  analyze_cmd->add_option("--cube", cubes, "Virtual cube side, centred as in method.md; repeatable");
+  analyze_cmd->add_option("--box", boxes, "Box xmin,ymin,zmin,xmax,ymax,zmax (lengths; bare numbers in --length-unit); repeatable");
+  analyze_cmd->add_option("--cube", cubes, "Virtual cube side (bare number in --length-unit), placed as in docs/method.md section 2; repeatable");
   analyze_cmd->add_option("--length-unit", unit, "Unit of the file's numbers (m, mm, in, ...)");
   analyze_cmd->add_option("--tolerance", tolerance, "Relative contact tolerance for coordination")
       ->check(CLI::Range(0.0, 1.0));

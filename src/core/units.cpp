@@ -35,7 +35,7 @@ std::optional<long double> metres_per_unit(std::string_view symbol) {
   return std::nullopt;
 }
 
-std::optional<double> parse_length(std::string_view text, std::string* why) {
+std::optional<double> parse_length(std::string_view text, std::string* why, long double bare_unit) {
   const std::string s(trim(text));
   if (s.empty()) {
     if (why) *why = "empty length";
@@ -50,7 +50,7 @@ std::optional<double> parse_length(std::string_view text, std::string* why) {
     return std::nullopt;
   }
   const std::string_view symbol = trim(std::string_view(end));
-  long double factor = 1.0L;
+  long double factor = bare_unit;
   if (!symbol.empty()) {
     const auto f = metres_per_unit(symbol);
     if (!f) {

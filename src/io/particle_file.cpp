@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fmt/format.h>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -60,59 +61,92 @@ bool is_blank_or_comment(const std::string& line) {
 }
 }  // namespace
 
+namespace {
+// Where x, y, z and the size are, from a header row; nullopt when a name is missing.
+struct Columns {
+  std::array<std::size_t, 4> index{0, 1, 2, 3};  // x, y, z, size
+  bool size_is_diameter = false;
+};
+std::optional<Columns> columns_from_header(const std::vector<std::string>& names) {
+  std::array<std::optional<std::size_t>, 4> found;
+  Columns c;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const std::string name = lower_trimmed(names[k]);
+    if (name == "x") found[0] = k;
+    else if (name == "y") found[1] = k;
+    else if (name == "z") found[2] = k;
+    else if (name == "r" || name == "radius") found[3] = k, c.size_is_diameter = false;
+    else if (name == "d" || name == "diameter") found[3] = k, c.size_is_diameter = true;
+  }
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (!found[k]) return std::nullopt;
+    c.index[k] = *found[k];
+  }
+  return c;
+}
+}  // namespace
+
 ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density) {
   std::ifstream in(file);
   if (!in) throw InputError(fmt::format("{}: cannot open the particle file", file.string()));
   ParticleStore store;
   std::string line;
   std::size_t line_no = 0;
-  // Column indices of x, y, z and the size; the size is a radius or a diameter.
-  std::array<std::size_t, 4> column{0, 1, 2, 3};
-  bool size_is_diameter = false;
+  Columns columns;
   std::optional<bool> csv;
-  std::size_t min_fields = 4;
+  // A CSV row needs at least the named columns (others are ignored); a whitespace row has
+  // exactly four numbers, or exactly as many fields as its header names.
+  std::size_t min_fields = 4, max_fields = 4;
+  bool has_header = false;
   while (std::getline(in, line)) {
     ++line_no;
     if (is_blank_or_comment(line)) continue;
     if (!csv) {
       csv = line.find(',') != std::string::npos;
       const auto fields = split(line, *csv);
-      if (*csv) {
-        std::array<std::optional<std::size_t>, 4> found;
-        for (std::size_t k = 0; k < fields.size(); ++k) {
-          const std::string name = lower_trimmed(fields[k]);
-          if (name == "x") found[0] = k;
-          else if (name == "y") found[1] = k;
-          else if (name == "z") found[2] = k;
-          else if (name == "r" || name == "radius") found[3] = k, size_is_diameter = false;
-          else if (name == "d" || name == "diameter") found[3] = k, size_is_diameter = true;
-        }
-        if (!found[0] || !found[1] || !found[2] || !found[3])
+      const bool numeric = std::all_of(fields.begin(), fields.end(), [](const std::string& f) { return to_number(f); });
+      if (*csv || !numeric) {
+        const auto header = columns_from_header(fields);
+        if (!header)
           throw InputError(fmt::format(
-              "{}:{}: a CSV particle file needs a header naming the columns x, y, z and r (or radius, d, "
-              "diameter); got \"{}\"",
-              file.string(), line_no, line));
-        for (std::size_t k = 0; k < 4; ++k) column[k] = *found[k];
-        min_fields = *std::max_element(column.begin(), column.end()) + 1;
+              "{}:{}: a {} particle file needs a header naming the columns x, y, z and r (or radius, d, "
+              "diameter){}; got \"{}\"",
+              file.string(), line_no, *csv ? "CSV" : "whitespace-separated",
+              *csv ? "" : ", or rows of exactly four numbers x y z r", line));
+        columns = *header;
+        has_header = true;
+        min_fields = *std::max_element(columns.index.begin(), columns.index.end()) + 1;
+        max_fields = *csv ? std::numeric_limits<std::size_t>::max() : fields.size();
+        if (!*csv) min_fields = fields.size();
         continue;
       }
     }
     const auto fields = split(line, *csv);
-    if (fields.size() < min_fields)
-      throw InputError(fmt::format("{}:{}: expected {} {} per row, got {}", file.string(), line_no, min_fields,
-                                   *csv ? "comma-separated fields" : "numbers (x y z r)", fields.size()));
+    if (fields.size() < min_fields || fields.size() > max_fields) {
+      if (*csv)
+        throw InputError(fmt::format("{}:{}: expected {} comma-separated fields per row, got {}", file.string(),
+                                     line_no, min_fields, fields.size()));
+      if (!has_header)
+        throw InputError(fmt::format(
+            "{}:{}: expected exactly 4 numbers per row (x y z r), got {}{}", file.string(), line_no, fields.size(),
+            fields.size() > 4 ? "; a file with more columns (a LAMMPS dump body: id type x y z radius) needs a "
+                                "header line naming them, e.g. \"id type x y z radius\""
+                              : ""));
+      throw InputError(fmt::format("{}:{}: expected {} fields per row, as the header names, got {}", file.string(),
+                                   line_no, min_fields, fields.size()));
+    }
     double v[4];
     for (std::size_t k = 0; k < 4; ++k) {
-      const auto value = to_number(fields[column[k]]);
+      const auto value = to_number(fields[columns.index[k]]);
       if (!value)
         throw InputError(fmt::format("{}:{}: field {} (\"{}\") is not a number", file.string(), line_no,
-                                     column[k] + 1, fields[column[k]]));
+                                     columns.index[k] + 1, fields[columns.index[k]]));
       v[k] = *value * length_unit;
     }
-    const double r = size_is_diameter ? 0.5 * v[3] : v[3];
+    const double r = columns.size_is_diameter ? 0.5 * v[3] : v[3];
     if (!(r > 0.0))
       throw InputError(fmt::format("{}:{}: the {} must be positive, got {}", file.string(), line_no,
-                                   size_is_diameter ? "diameter" : "radius", fields[column[3]]));
+                                   columns.size_is_diameter ? "diameter" : "radius", fields[columns.index[3]]));
     store.add({v[0], v[1], v[2]}, r, density);
   }
   if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", file.string()));

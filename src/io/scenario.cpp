@@ -171,7 +171,7 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
                               const Container& container) {
   s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
-                "fine", "ca_fa", "sampling", "fill_height", "expected_density"});
+                "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance"});
   ParticleSource source;
   const bool graded = s.has("grading") || s.has("coarse") || s.has("fine");
   const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from")) + int(graded);
@@ -193,9 +193,12 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
     const auto factor = metres_per_unit(unit);
     if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
     source.file_length_unit = static_cast<double>(*factor);
+    source.boundary_overlap_tolerance =
+        s.number("boundary_overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.boundary_overlap_tolerance);
     return source;
   }
-  if (s.has("length_unit")) s.fail("length_unit", "applies only to particles read with 'from'");
+  for (auto k : {"length_unit", "boundary_overlap_tolerance"})
+    if (s.has(k)) s.fail(k, "applies only to particles read with 'from'");
   SizeSpec spec;
   spec.order = s.choice("order", {"shuffled", "as_listed"}).value_or("shuffled") == "shuffled" ? SizeOrder::Shuffled
                                                                                                 : SizeOrder::AsListed;
@@ -393,6 +396,7 @@ nlohmann::json to_json(const Scenario& sc) {
   if (sc.particles.file) {
     p["from"] = sc.particles.file->string();
     p["length_unit_m"] = sc.particles.file_length_unit;
+    p["boundary_overlap_tolerance"] = sc.particles.boundary_overlap_tolerance;
   }
   if (sc.particles.sizes) {
     const SizeSpec& spec = *sc.particles.sizes;

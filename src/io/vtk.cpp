@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/core/xml_text.hpp"
+
 namespace aggpack {
 
 std::string particles_vtp(const ParticleStore& particles, std::string_view provenance) {
@@ -16,7 +18,7 @@ std::string particles_vtp(const ParticleStore& particles, std::string_view prove
                  "    <Piece NumberOfPoints=\"{}\" NumberOfVerts=\"{}\" NumberOfLines=\"0\" NumberOfStrips=\"0\" "
                  "NumberOfPolys=\"0\">\n"
                  "      <PointData Scalars=\"radius\">\n",
-                 provenance, n, n);
+                 xml_comment_text(provenance), n, n);
   const auto array = [&](const char* name, auto&& value) {
     fmt::format_to(o, "        <DataArray type=\"Float64\" Name=\"{}\" format=\"ascii\">\n", name);
     for (std::size_t i = 0; i < n; ++i) fmt::format_to(o, "{}\n", value(i));

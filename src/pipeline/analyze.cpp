@@ -2,12 +2,35 @@
 
 #include <algorithm>
 
+#include <fmt/format.h>
+
 #include "aggpack/core/error.hpp"
 
 namespace aggpack {
 
+namespace {
+std::string box_text(const Box& b) {
+  return fmt::format("[{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m", b.lo.x, b.hi.x, b.lo.y, b.hi.y,
+                     b.lo.z, b.hi.z);
+}
+
+// An explicit box must lie in the container (for a packing file: the spheres' bounding box),
+// or its density would count empty space beyond the packing as void.
+void check_inside(const Box& box, const Container& container) {
+  const Box& c = container.bounds;
+  const double slack = 1e-9 * std::max({c.hi.x - c.lo.x, c.hi.y - c.lo.y, c.hi.z - c.lo.z});
+  const bool horizontal_ok = container.periodic || (box.lo.x >= c.lo.x - slack && box.hi.x <= c.hi.x + slack &&
+                                                    box.lo.y >= c.lo.y - slack && box.hi.y <= c.hi.y + slack);
+  if (!horizontal_ok || box.lo.z < c.lo.z - slack || box.hi.z > c.hi.z + slack)
+    throw InputError(fmt::format("the box {} does not lie inside the packing, which spans {}; give the box in the "
+                                 "file's length unit (--length-unit) or with a unit on each number",
+                                 box_text(box), box_text(c)));
+}
+}  // namespace
+
 std::vector<Box> virtual_boxes(const Container& container, const BedGeometry& bed, const AnalysisRequest& request) {
   std::vector<Box> boxes = request.boxes;
+  for (const Box& b : boxes) check_inside(b, container);
   for (double side : request.cube_sides) boxes.push_back(place_virtual_cube(side, container, bed));
   if (boxes.empty()) {
     const double width = std::min(container.length_x(), container.length_y());
@@ -32,6 +55,11 @@ PackingReport analyze_packing(const ParticleStore& particles, const Container& c
   const BedGeometry& bed = report.bed;
   const std::vector<Box> boxes = virtual_boxes(container, bed, request);
   report.density = measure_density(particles, container, boxes);
+  for (const BoxDensity& b : report.density.boxes)
+    if (!(b.density > 0.0))
+      throw InputError(fmt::format("the box {} holds no sphere (the packing spans {}): a density of 0 would mean "
+                                   "nothing",
+                                   box_text(b.box), box_text(container.bounds)));
 
   const auto largest = std::max_element(boxes.begin(), boxes.end(),
                                         [](const Box& a, const Box& b) { return a.volume() < b.volume(); });

@@ -1,5 +1,6 @@
 #include "aggpack/pipeline/run.hpp"
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <span>
@@ -26,30 +27,53 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Particles from a file must lie in the container; periodic sides wrap x and y.
-void fit_into_container(ParticleStore& particles, const Container& container, const std::filesystem::path& file) {
+// Particles from a file must lie in the container; periodic sides wrap x and y. A bed
+// settled by DEM presses into the floor and walls by a Hertz overlap (about 1e-4 r at rock
+// stiffness, more when the stiffness is reduced): overlaps up to `tolerance` x r are kept
+// as they are; a deeper one is an intrusion and is refused. Returns the largest overlap / r.
+double fit_into_container(ParticleStore& particles, const Container& container, double tolerance,
+                          const std::filesystem::path& file) {
   const Box& b = container.bounds;
+  double largest = 0.0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     Vec3& p = particles.position[i];
     const double r = particles.radius[i];
-    const double slack = 1e-9 * r;
     p = container.wrapped(p);
-    const bool outside_walls = !container.periodic && (p.x - r < b.lo.x - slack || p.x + r > b.hi.x + slack ||
-                                                       p.y - r < b.lo.y - slack || p.y + r > b.hi.y + slack);
-    if (outside_walls || p.z - r < b.lo.z - slack || p.z + r > b.hi.z + slack)
+    // How far the sphere reaches beyond each boundary (positive: it overlaps it).
+    double overlap = std::max(b.lo.z - (p.z - r), (p.z + r) - b.hi.z);
+    const char* where = b.lo.z - (p.z - r) >= (p.z + r) - b.hi.z ? "the floor" : "the top of the container";
+    if (!container.periodic) {
+      const std::array<std::pair<double, const char*>, 4> sides{{{b.lo.x - (p.x - r), "the wall x = x_min"},
+                                                                 {(p.x + r) - b.hi.x, "the wall x = x_max"},
+                                                                 {b.lo.y - (p.y - r), "the wall y = y_min"},
+                                                                 {(p.y + r) - b.hi.y, "the wall y = y_max"}}};
+      for (const auto& [depth, side] : sides)
+        if (depth > overlap) overlap = depth, where = side;
+    }
+    if (overlap > tolerance * r)
       throw InputError(fmt::format(
-          "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, is not inside the "
-          "container [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m",
-          file.string(), i, i + 1, p.x, p.y, p.z, r, b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z, b.hi.z));
+          "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, reaches {:.3g} m "
+          "({:.3g} r) beyond {} of the container [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m; "
+          "particles.boundary_overlap_tolerance accepts up to {:g} r (a contact overlap), not an intrusion",
+          file.string(), i, i + 1, p.x, p.y, p.z, r, overlap, overlap / r, where, b.lo.x, b.hi.x, b.lo.y, b.hi.y,
+          b.lo.z, b.hi.z, tolerance));
+    largest = std::max(largest, overlap / r);
   }
+  return largest;
 }
 
-// Particles read from a file, or an empty bed for the deposition stage to fill.
-ParticleStore initial_particles(const Scenario& sc) {
+// Particles read from a file (with their largest overlap of the container / r), or an
+// empty bed for the deposition stage to fill.
+struct InitialBed {
+  ParticleStore particles;
+  double largest_boundary_overlap = 0.0;
+};
+InitialBed initial_particles(const Scenario& sc) {
   if (!sc.particles.file) return {};
-  ParticleStore particles = read_particle_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density);
-  fit_into_container(particles, sc.container, *sc.particles.file);
-  return particles;
+  InitialBed bed{read_particle_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density), 0.0};
+  bed.largest_boundary_overlap =
+      fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
+  return bed;
 }
 
 struct DepositionOutcome {
@@ -164,7 +188,7 @@ nlohmann::json modelling_notes(const Scenario& sc, bool auto_box, const nlohmann
   nlohmann::json notes = nlohmann::json::array();
   if (sc.particles.file)
     notes.push_back("particle positions were read from " + sc.particles.file->string() +
-                    "; no aggpack stage moved them");
+                    (sc.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
   if (sc.container.periodic)
     notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
   if (sc.deposition) {
@@ -206,7 +230,7 @@ PackingReport analyze(const Scenario& sc, const ParticleStore& particles) {
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
   Scenario sc = load_scenario(scenario_file, overrides);
   if (sc.deposition) return sc;  // the boxes can only be checked against the deposited bed
-  const ParticleStore particles = initial_particles(sc);
+  const ParticleStore particles = initial_particles(sc).particles;
   analyze_packing(particles, sc.container, analysis_request(sc));  // box placement errors surface here
   return sc;
 }
@@ -234,7 +258,8 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
 
   nlohmann::json wall_clock;
   auto t0 = Clock::now();
-  ParticleStore particles = initial_particles(sc);
+  InitialBed initial = initial_particles(sc);
+  ParticleStore particles = std::move(initial.particles);
   wall_clock["input"] = seconds_since(t0);
 
   nlohmann::json stages = nlohmann::json::object();
@@ -318,6 +343,16 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   summary["stages"] = stages;
   if (sc.deposition) summary["sizes"] = sizes.report;
   std::vector<std::string> notes = sizes.notes;
+  if (sc.particles.file) {
+    summary["input"] = {{"file", sc.particles.file->string()},
+                        {"largest_boundary_overlap_rel", initial.largest_boundary_overlap},
+                        {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
+    if (initial.largest_boundary_overlap > 0.0)
+      notes.push_back(fmt::format("the particle file's spheres overlap the floor or walls by up to {:.3g} of their "
+                                  "radius (contacts of a settled bed; accepted up to "
+                                  "particles.boundary_overlap_tolerance = {:g})",
+                                  initial.largest_boundary_overlap, sc.particles.boundary_overlap_tolerance));
+  }
   if (run_dynamics)
     for (std::string& note : dynamics_notes(sc, stages["dynamics"])) notes.push_back(std::move(note));
   if (sc.dynamics && !run_dynamics)
@@ -332,7 +367,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(particles));
   if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(supports));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
-  if (run_dynamics) write_file_atomically(dir / "timeseries.csv", series.csv(provenance));
+  if (run_dynamics) write_file_atomically(dir / "timeseries.csv", series.csv());
   if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(particles, provenance));
   wall_clock["output"] = seconds_since(t0);
   wall_clock["total"] = seconds_since(t_start);

@@ -15,17 +15,14 @@
 
 namespace aggpack {
 
-std::string TimeSeries::csv(const std::string& provenance) const {
+std::string TimeSeries::csv() const {
   std::string body;
   for (const TimeSample& s : samples)
     fmt::format_to(std::back_inserter(body), "{:.9g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", s.time, s.layer,
                    std::isnan(s.density) ? std::string() : fmt::format("{:.6f}", s.density),
                    s.translational_per_particle_mgd, s.translational_energy, s.rotational_energy, s.mean_overlap,
                    s.max_overlap, s.coordination);
-  return "# " + provenance +
-         "\n# density: mean over the virtual boxes (empty while they do not fit in the bed); overlaps relative to "
-         "r_i + r_j; coordination: particle contacts per free particle\n"
-         "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,rotational_energy_j,"
+  return "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,rotational_energy_j,"
          "mean_overlap_rel,max_overlap_rel,coordination\n" +
          body;
 }

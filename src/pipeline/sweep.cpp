@@ -64,10 +64,9 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   Campaign campaign(options.threads, options.quiet, log, options.fa_percent.size() * static_cast<std::size_t>(options.seeds));
 
   nlohmann::json points = nlohmann::json::array();
-  std::string csv = fmt::format("# aggpack {}, scenario {}, seeds 1..{}\n"
-                                "fa_percent,ca_fa,seeds,density_mean,density_sd,density_after_deposition_mean,"
-                                "density_after_deposition_sd\n",
-                                kVersion, options.scenario.string(), options.seeds);
+  // The header is the first line, as in every CSV aggpack writes; the provenance is in sweep.json.
+  std::string csv =
+      "fa_percent,ca_fa,seeds,density_mean,density_sd,density_after_deposition_mean,density_after_deposition_sd\n";
   PlotSeries ours{"aggpack (mean ± sd over seeds)", {}, {}, {}, Mark::LineAndPoints, false, "#1f77b4"};
   std::size_t best = 0;
   bool has_dynamics = false;

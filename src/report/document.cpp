@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "aggpack/report/xml_escape.hpp"
+#include "aggpack/core/xml_text.hpp"
 
 namespace aggpack {
 

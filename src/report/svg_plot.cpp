@@ -8,7 +8,7 @@
 
 #include <fmt/format.h>
 
-#include "aggpack/report/xml_escape.hpp"
+#include "aggpack/core/xml_text.hpp"
 
 namespace aggpack {
 

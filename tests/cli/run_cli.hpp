@@ -16,14 +16,21 @@ struct CliResult {
   std::string output;  // stdout and stderr
 };
 
-inline CliResult run_cli(const std::string& args) {
-  const std::string cmd = std::string(AGGPACK_EXE) + " " + args + " 2>&1";
+inline CliResult run_command(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
   std::array<char, 4096> buf{};
   while (fgets(buf.data(), buf.size(), pipe)) out += buf.data();
   const int status = pclose(pipe);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+inline CliResult run_cli(const std::string& args) { return run_command(std::string(AGGPACK_EXE) + " " + args); }
+
+// tests/tools/check_outputs.py: the output files read by Python's csv and xml parsers.
+inline CliResult check_outputs(const std::string& args) {
+  return run_command(std::string(AGGPACK_PYTHON) + " " + std::string(AGGPACK_CHECK_OUTPUTS) + " " + args);
 }
 
 inline std::string slurp(const std::filesystem::path& p) {

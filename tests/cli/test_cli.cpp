@@ -64,6 +64,22 @@ TEST_F(Cli, RunWritesTheThreeFilesAndTheSummaryKeys) {
   EXPECT_EQ(header, "id,x,y,z,r");
 }
 
+// A "--" in the scenario path went into the VTP's provenance comment unescaped: invalid XML,
+// which VTK reads as 0 points.
+TEST_F(Cli, VtpIsValidXmlWhenThePathHoldsTwoDashes) {
+  const fs::path folder = dir_ / "runs--2026-";
+  fs::create_directories(folder);
+  fs::copy_file(example("cubic_lattice.csv"), folder / "cubic_lattice.csv");
+  fs::copy_file(example("cubic_lattice.toml"), folder / "lattice--copy-.toml");
+  const fs::path out = dir_ / "vtp";
+  const Result r = run("run " + (folder / "lattice--copy-.toml").string() + " --quiet --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Result xml = aggpack::testing::check_outputs("vtp " + (out / "particles.vtp").string() + " 1000");
+  EXPECT_EQ(xml.exit_code, 0) << xml.output;
+  const Result csv = aggpack::testing::check_outputs("csv " + (out / "particles.csv").string());
+  EXPECT_EQ(csv.exit_code, 0) << csv.output;
+}
+
 TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
   const fs::path out = dir_ / "bad";
   const std::vector<std::string> bad_runs = {
@@ -191,6 +207,40 @@ TEST_F(Cli, AnalyzeMeasuresAFileFromAnotherToolAsJson) {
   EXPECT_EQ(run("analyze " + f.string() + " --box 1,2,3").exit_code, 2);
 }
 
+// Bare numbers in --box and --cube are in the file's --length-unit (they were read as metres,
+// giving an empty box and "density 0.000000" with exit 0).
+TEST_F(Cli, AnalyzeBoxAndCubeTakeTheFilesLengthUnit) {
+  const std::string lattice = example("lattice_mm.txt");  // 10 mm spheres, 0..80 mm
+  Result r = run("analyze " + lattice + " --length-unit mm --box 10,10,10,60,60,60 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto j = nlohmann::json::parse(r.output);
+  EXPECT_NEAR(j["density"]["boxes"][0]["hi"][0].get<double>(), 0.06, 1e-15);
+  EXPECT_NEAR(j["density"]["mean"].get<double>(), 0.5235987755982988, 1e-9);
+  r = run("analyze " + lattice + " --length-unit mm --cube 40 --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  j = nlohmann::json::parse(r.output);
+  EXPECT_NEAR(j["density"]["boxes"][0]["side_m"].get<double>(), 0.04, 1e-15);
+  // Explicit units still win over the file's.
+  r = run("analyze " + lattice + " --length-unit mm --box \"1 cm,1 cm,1 cm,0.06 m,0.06 m,0.06 m\" --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NEAR(nlohmann::json::parse(r.output)["density"]["mean"].get<double>(), 0.5235987755982988, 1e-9);
+}
+
+TEST_F(Cli, AnalyzeRefusesABoxOutsideThePackingOrWithNoSphere) {
+  const std::string lattice = example("lattice_mm.txt");
+  // Metres by mistake: the box lies far outside the packing.
+  Result r = run("analyze " + lattice + " --length-unit mm --box 10m,10m,10m,60m,60m,60m");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("does not lie inside the packing, which spans [0, 0.08] x [0, 0.08] x [0, 0.08] m"),
+            std::string::npos)
+      << r.output;
+  // Inside the bounding box but in the gap between four spheres along an edge: no solid at all.
+  r = run("analyze " + lattice + " --length-unit mm --box 0,0,0,0.5,0.5,80");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("holds no sphere"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("density 0"), std::string::npos) << r.output;
+}
+
 // A small bed of 1 cm spheres, deposited then settled; soft contacts keep it quick.
 std::string settling_scenario(int layers) {
   return "[container]\nside = 0.06\nheight = 0.5\n"
@@ -229,12 +279,16 @@ TEST_F(Cli, RunsDepositionThenDynamicsAndWritesTheTimeSeries) {
   EXPECT_TRUE(noted);
 
   const auto rows = lines_of(out / "timeseries.csv");
-  ASSERT_GT(rows.size(), 13u);
-  EXPECT_EQ(rows[0].rfind("# aggpack", 0), 0u);
-  EXPECT_EQ(rows[2], "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,"
+  ASSERT_GT(rows.size(), 11u);
+  EXPECT_EQ(rows[0], "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,"
                      "rotational_energy_j,mean_overlap_rel,max_overlap_rel,coordination");
   const auto steps_per_sample = static_cast<std::size_t>(std::llround(1e-3 / d["time_step_s"].get<double>()));
-  EXPECT_EQ(rows.size() - 3, d["steps"].get<std::size_t>() / steps_per_sample + 1);  // one sample at the start
+  EXPECT_EQ(rows.size() - 1, d["steps"].get<std::size_t>() / steps_per_sample + 1);  // one sample at the start
+  // Every CSV loads as plain pandas.read_csv(path): the header first, no comment lines.
+  const Result csv_check = aggpack::testing::check_outputs(
+      "csv " + (out / "timeseries.csv").string() + " " + (out / "particles.csv").string() + " " +
+      (out / "supports.csv").string());
+  EXPECT_EQ(csv_check.exit_code, 0) << csv_check.output;
   const double last_time = std::stod(rows.back().substr(0, rows.back().find(',')));
   EXPECT_NEAR(last_time, d["simulated_time_s"].get<double>(), 1e-9);
 
@@ -252,6 +306,33 @@ TEST_F(Cli, RunsDepositionThenDynamicsAndWritesTheTimeSeries) {
   const auto e = nlohmann::json::parse(std::ifstream(early / "summary.json"));
   EXPECT_FALSE(e["stages"].contains("dynamics"));
   EXPECT_EQ(e["density"], s["stages"]["deposition"]["density"]);
+
+  // The settled bed reads back: its Hertz overlaps of the floor and walls are contacts, not intrusions.
+  const fs::path again = dir_ / "again.toml";
+  std::ofstream(again) << "[container]\nside = 0.06\nheight = 0.5\n[particles]\nfrom = \""
+                       << (out / "particles.csv").string() << "\"\n[analysis]\nbox_sides = [0.03]\n";
+  const Result back = run("run " + again.string() + " --quiet --out " + (dir_ / "again").string());
+  ASSERT_EQ(back.exit_code, 0) << back.output;
+  const auto a = nlohmann::json::parse(std::ifstream(dir_ / "again" / "summary.json"));
+  EXPECT_GT(a["input"]["largest_boundary_overlap_rel"].get<double>(), 0.0);
+  EXPECT_LT(a["input"]["largest_boundary_overlap_rel"].get<double>(), 0.02);
+  EXPECT_EQ(a["density"]["mean"], s["density"]["mean"]);  // the same bed, the same boxes
+  bool overlap_noted = false;
+  for (const auto& note : a["modelling_notes"])
+    overlap_noted |= note.get<std::string>().find("overlap the floor or walls by up to") != std::string::npos;
+  EXPECT_TRUE(overlap_noted);
+  // A sphere pushed a tenth of its radius into the floor is refused, by name and depth.
+  const fs::path intruder = dir_ / "intruder.csv";
+  std::ofstream(intruder) << "x,y,z,r\n0.03,0.03,0.0045,0.005\n";
+  std::ofstream(again) << "[container]\nside = 0.06\nheight = 0.5\n[particles]\nfrom = \"" << intruder.string()
+                       << "\"\n[analysis]\nbox_sides = [0.001]\n";
+  const Result refused = run("run " + again.string() + " --quiet --out " + (dir_ / "refused").string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("particle 0 (data row 1) at (0.03, 0.03, 0.0045) m, radius 0.005 m, reaches "
+                                "0.0005 m (0.1 r) beyond the floor"),
+            std::string::npos)
+      << refused.output;
+  EXPECT_FALSE(fs::exists(dir_ / "refused"));
 }
 
 TEST_F(Cli, SettlesLayerByLayerWithTheLayersBelowFrozen) {

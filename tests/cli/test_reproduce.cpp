@@ -189,7 +189,10 @@ TEST_F(Sweep, FindsTheDensestOfThePointsItRan) {
   const auto run35 = nlohmann::json::parse(slurp(dir_ / "fa_35/seed_1/summary.json"));
   EXPECT_NEAR(run35["sizes"]["ca_fa_generated"].get<double>(), 65.0 / 35.0, 0.02);
   const std::string csv = slurp(dir_ / "sweep.csv");
-  EXPECT_EQ(count_of(csv, "\n"), 2u + 3u);  // provenance, header, three points
+  EXPECT_EQ(count_of(csv, "\n"), 1u + 3u);  // header, three points
+  EXPECT_EQ(csv.rfind("fa_percent,ca_fa,seeds,", 0), 0u);  // the header is the first line, for pandas.read_csv
+  const Result csv_check = aggpack::testing::check_outputs("csv " + (dir_ / "sweep.csv").string());
+  EXPECT_EQ(csv_check.exit_code, 0) << csv_check.output;
   const std::string svg = slurp(dir_ / "sweep.svg");
   const auto [x0, x1] = svg_range(svg, "x");
   EXPECT_LE(x0, 20.0);

@@ -44,3 +44,16 @@ TEST(Units, UnknownUnitsAndGarbageAreErrorsThatSayWhy) {
 
 }  // namespace
 }  // namespace aggpack
+
+namespace aggpack {
+namespace {
+
+TEST(Units, BareNumbersTakeTheGivenUnitAndExplicitUnitsWin) {
+  EXPECT_DOUBLE_EQ(*parse_length("10", nullptr, 1e-3L), 0.01);
+  EXPECT_DOUBLE_EQ(*parse_length("10 mm", nullptr, 0.0254L), 0.01);
+  EXPECT_DOUBLE_EQ(*parse_length("1 in", nullptr, 1e-3L), 0.0254);
+  EXPECT_DOUBLE_EQ(*parse_length("2.5"), 2.5);  // metres by default
+}
+
+}  // namespace
+}  // namespace aggpack

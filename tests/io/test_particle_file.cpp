@@ -39,6 +39,35 @@ TEST(ParticleFile, WhitespaceXyzr) {
   fs::remove(f);
 }
 
+TEST(ParticleFile, WhitespaceRowsOfOtherThanFourNumbersAreRefused) {
+  const auto refused = [](const std::string& text, const std::string& part) {
+    const auto f = write_temp("w.txt", text);
+    try {
+      read_particle_file(f, 1.0, 1.0);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+    fs::remove(f);
+  };
+  // A LAMMPS dump body (id type x y z radius) was read as x y z r from its first four columns.
+  refused("1 1 0.1 0.2 0.3 0.05\n2 1 0.4 0.5 0.6 0.05\n", "w.txt:1: expected exactly 4 numbers per row (x y z r), got 6");
+  refused("1 2 3 0.5\n1 2 3 0.5 7\n", "w.txt:2: expected exactly 4 numbers per row (x y z r), got 5");
+  refused("1 2 3\n", "w.txt:1: expected exactly 4 numbers per row (x y z r), got 3");
+  refused("id type x y z radius\n1 1 0.1 0.2 0.3\n", "w.txt:2: expected 6 fields per row, as the header names, got 5");
+  refused("id type x y z\n1 1 0.1 0.2 0.3\n", "w.txt:1: a whitespace-separated particle file needs a header");
+}
+
+TEST(ParticleFile, WhitespaceHeaderNamesTheColumns) {
+  const auto f = write_temp("h.txt", "id type x y z radius\n1 1 0.1 0.2 0.3 0.05\n2 1 0.4 0.5 0.6 0.025\n");
+  const ParticleStore p = read_particle_file(f, 1.0, 1.0);
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_DOUBLE_EQ(p.position[1].x, 0.4);
+  EXPECT_DOUBLE_EQ(p.position[1].z, 0.6);
+  EXPECT_DOUBLE_EQ(p.radius[1], 0.025);
+  fs::remove(f);
+}
+
 TEST(ParticleFile, RoundTripThroughOurCsvIsExact) {
   ParticleStore p;
   p.add({0.1, 1.0 / 3.0, 2.0 / 7.0}, 0.0127, 1.0);
@@ -69,6 +98,18 @@ TEST(ParticleFile, ErrorsNameTheFileAndLine) {
   expect_error("x,y,z,r\n1,2,3\n", "e.csv:2: expected 4 comma-separated fields");
   expect_error("1 2 3 -1\n", "e.csv:1: the radius must be positive");
   expect_error("# nothing\n", "no particles");
+}
+
+TEST(Vtk, ProvenanceCommentStaysValidXmlWhateverThePath) {
+  ParticleStore p;
+  p.add({1, 2, 3}, 0.5, 1.0);
+  const std::string vtp = particles_vtp(p, "aggpack, scenario runs--old/a---b.toml-");
+  const auto open = vtp.find("<!--"), close = vtp.find("-->", open + 4);
+  ASSERT_NE(close, std::string::npos);
+  const std::string body = vtp.substr(open + 4, close - open - 4);
+  EXPECT_EQ(body.find("--"), std::string::npos) << body;
+  EXPECT_NE(body.back(), '-') << body;
+  EXPECT_NE(body.find("runs-=old/a-=-b.toml"), std::string::npos) << body;
 }
 
 TEST(Vtk, PolyDataHasRadiusDiameterAndIdArrays) {

@@ -11,7 +11,10 @@ namespace aggpack {
 // Reads a packing made by aggpack or another tool:
 // - CSV with a header naming x, y, z and r (or radius, or d, or diameter), any column
 //   order, other columns ignored;
-// - plain text, whitespace separated "x y z r" per line, no header.
+// - plain text, whitespace separated: exactly four numbers "x y z r" per row, or a header
+//   line naming the columns as for CSV (e.g. "id type x y z radius") and exactly that many
+//   fields per row. Anything else is refused with the line number: a row of five or six
+//   numbers is never guessed at.
 // Lines starting with '#' and blank lines are skipped. Values are multiplied by
 // `length_unit` (metres per file unit). Throws InputError naming the file and line.
 ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density);

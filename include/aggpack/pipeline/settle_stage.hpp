@@ -20,10 +20,11 @@ struct TimeSample {
   double mean_overlap, max_overlap, coordination;
 };
 
-// timeseries.csv: one row per sample of every settling run of a scenario.
+// timeseries.csv: one row per sample of every settling run of a scenario. Like every CSV
+// aggpack writes, its first line is the header (provenance lives in summary.json).
 struct TimeSeries {
   std::vector<TimeSample> samples;
-  [[nodiscard]] std::string csv(const std::string& provenance) const;
+  [[nodiscard]] std::string csv() const;
 };
 
 // Settles the bed with the scenario's [dynamics] and [material] (particles whose layer is
