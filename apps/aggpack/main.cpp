@@ -2,6 +2,8 @@
 // 0 success, 2 bad input (scenario, particle file, arguments), 1 internal failure.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <algorithm>
 #include <iostream>
 
 #include "aggpack/core/error.hpp"
@@ -157,6 +159,18 @@ int main(int argc, char** argv) {
       sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
   sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
   sweep_cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
+
+  // CLI11 would say "A subcommand is required" for a misspelt one: name it, with the list.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string word = argv[1];
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    if (std::find(names.begin(), names.end(), word) == names.end()) {
+      fmt::print(stderr, "aggpack: error: unknown subcommand '{}'; the subcommands are: {} (aggpack --help)\n", word,
+                 fmt::join(names, ", "));
+      return 2;
+    }
+  }
 
   try {
     app.parse(argc, argv);

@@ -28,6 +28,7 @@ nlohmann::json component_report(const GradingSource& source, const GradingCut& c
   j["count"] = r.count;
   j["solid_volume_m3"] = r.solid_volume;
   j["largest_deviation_percent"] = r.largest_deviation;
+  j["snapped_sieves"] = snapped_sieves_json(source.grading);
   j["sieves"] = nlohmann::json::array();
   for (const GradingReportRow& row : r.rows)
     j["sieves"].push_back({{"sieve", row.sieve.name},
@@ -50,10 +51,11 @@ void check_expected_count(double expected, const GradedParticles& g) {
 }
 
 std::string cut_note(const GradingSource& source, const GradingCut& cut) {
+  const std::string snapped = snapped_sieves_text(source.grading);
   return fmt::format("{} ({}): sizes {:.4g} to {:.4g} mm generated; {:.2f} % of the volume finer and {:.2f} % coarser "
-                     "was cut off and the rest renormalised proportionally",
+                     "was cut off and the rest renormalised proportionally{}",
                      source.key, source.grading.name, cut.d_lo * 1e3, cut.d_hi * 1e3, 100 * cut.cut_below,
-                     100 * cut.cut_above);
+                     100 * cut.cut_above, snapped.empty() ? "" : "; " + snapped);
 }
 }  // namespace
 

@@ -12,6 +12,22 @@
 
 namespace aggpack {
 
+nlohmann::json snapped_sieves_json(const Grading& g) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const SnappedSieve& s : g.snapped)
+    j.push_back({{"sieve", s.name}, {"given_m", s.given}, {"standard_m", s.standard}});
+  return j;
+}
+
+std::string snapped_sieves_text(const Grading& g) {
+  std::vector<std::string> moves;
+  for (const SnappedSieve& s : g.snapped)
+    moves.push_back(fmt::format("{} {:.4g} -> {:.4g} mm", s.name, 1e3 * s.given, 1e3 * s.standard));
+  if (moves.empty()) return {};
+  return fmt::format("openings within {:g} % of a standard sieve taken as that sieve (ASTM E11 series): {}",
+                     100 * kSieveSnapTolerance, fmt::join(moves, ", "));
+}
+
 namespace {
 Grading load(const std::string& name_or_file, double unit) {
   if (auto g = named_grading(name_or_file)) return *g;
@@ -29,6 +45,8 @@ nlohmann::json curve_json(const Grading& g) {
   j["d10_m"] = opening_at_percent(g, 10);
   j["d50_m"] = opening_at_percent(g, 50);
   j["d90_m"] = opening_at_percent(g, 90);
+  j["snapped_sieves"] = snapped_sieves_json(g);
+  if (!g.snapped.empty()) j["snapped_note"] = snapped_sieves_text(g);
   return j;
 }
 }  // namespace
@@ -53,14 +71,12 @@ nlohmann::json describe_grading(const GradingQuery& q) {
   if (q.fine) {
     const Grading fine = load(*q.fine, q.length_unit);
     if (!(q.ca_fa > 0.0)) throw InputError("--ca-fa: the coarse/fine volume ratio must be positive");
-    // The blend by volume at the union of both sets of sieves.
-    // Openings within 2 % are the same nominal sieve (inch and metric tables): keep the first.
-    std::vector<Sieve> openings;
-    for (const Grading* g : {&main, &fine})
-      for (const Sieve& s : g->sieves)
-        if (std::none_of(openings.begin(), openings.end(),
-                         [&](const Sieve& o) { return std::abs(o.opening / s.opening - 1.0) < 0.02; }))
-          openings.push_back(s);
+    // The blend by volume at the union of both sets of sieves (both on the standard series
+    // already, so a nominal sieve appears once).
+    std::vector<Sieve> openings = main.sieves;
+    for (const Sieve& s : fine.sieves)
+      if (std::none_of(openings.begin(), openings.end(), [&](const Sieve& o) { return o.opening == s.opening; }))
+        openings.push_back(s);
     std::vector<Sieve> blend;
     for (const Sieve& s : openings) {
       const double p = (q.ca_fa * percent_passing_at(main, s.opening) + percent_passing_at(fine, s.opening)) /
@@ -98,6 +114,7 @@ std::string format_grading(const nlohmann::json& d) {
     out += fmt::format("  fineness modulus {:.2f}; D10 {:.3g} mm, D50 {:.3g} mm, D90 {:.3g} mm (by mass)\n",
                        c["fineness_modulus"].get<double>(), 1e3 * c["d10_m"].get<double>(),
                        1e3 * c["d50_m"].get<double>(), 1e3 * c["d90_m"].get<double>());
+    if (c.contains("snapped_note")) out += "  " + c["snapped_note"].get<std::string>() + "\n";
   };
   curve(d["grading"]);
   if (d.contains("fine")) {

@@ -72,6 +72,30 @@ Grading band_curve(const std::string& name, const std::vector<BandRow>& rows, in
   }
   return make_grading(name, std::move(sieves), "built-in grading", row_names);
 }
+
+// Moves each opening within kSieveSnapTolerance of a standard sieve onto it (unless another
+// opening is already there or would land there too) and returns what moved.
+std::vector<SnappedSieve> snap_to_standard_sieves(std::vector<Sieve>& sieves) {
+  std::vector<const StandardSieve*> target(sieves.size(), nullptr);
+  for (std::size_t i = 0; i < sieves.size(); ++i)
+    for (const StandardSieve& standard : astm_sieve_series())
+      if (std::abs(sieves[i].opening / standard.opening - 1.0) <= kSieveSnapTolerance) target[i] = &standard;
+  const auto landing_on = [&](double opening) {
+    std::size_t n = 0;
+    for (std::size_t j = 0; j < sieves.size(); ++j) n += (target[j] ? target[j]->opening : sieves[j].opening) == opening;
+    return n;
+  };
+  std::vector<SnappedSieve> snapped;
+  for (std::size_t i = 0; i < sieves.size(); ++i) {
+    if (!target[i] || sieves[i].opening == target[i]->opening || landing_on(target[i]->opening) > 1) continue;
+    if (sieves[i].name.empty()) sieves[i].name = target[i]->name;
+    snapped.push_back({sieves[i].name, sieves[i].opening, target[i]->opening});
+  }
+  for (const SnappedSieve& moved : snapped)
+    for (Sieve& sieve : sieves)
+      if (sieve.opening == moved.given) sieve.opening = moved.standard;
+  return snapped;
+}
 }  // namespace
 
 Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::string& source,
@@ -89,6 +113,7 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
       throw InputError(fmt::format("{}: {}: percent passing must be between 0 and 100, got {:g}", source, row(i),
                                    s.percent_passing));
   }
+  std::vector<SnappedSieve> snapped = snap_to_standard_sieves(sieves);
   std::vector<std::size_t> order(sieves.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](auto a, auto b) { return sieves[a].opening < sieves[b].opening; });
@@ -109,7 +134,7 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
     throw InputError(fmt::format("{}: {}: the largest sieve ({:g} m) passes {:g} %; a grading needs a sieve that "
                                  "passes 100 % (add the next larger sieve at 100)",
                                  source, row(order.back()), top.opening, top.percent_passing));
-  Grading g{std::move(name), {}};
+  Grading g{std::move(name), {}, std::move(snapped)};
   for (std::size_t i : order) g.sieves.push_back(sieves[i]);
   return g;
 }

@@ -104,6 +104,18 @@ TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
   EXPECT_NE(r.output.find("did you mean 'density'"), std::string::npos) << r.output;
 }
 
+// "aggpack bogus" said "A subcommand is required".
+TEST_F(Cli, AnUnknownSubcommandIsNamedWithTheList) {
+  const Result r = run("bogus");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("unknown subcommand 'bogus'; the subcommands are: run, check, analyze, grading, "
+                          "reproduce, sweep"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("A subcommand is required"), std::string::npos) << r.output;
+  EXPECT_EQ(run("").exit_code, 2);  // none at all is still CLI11's own message
+}
+
 // The paper's Example 1 end to end: deposition, analysis and every output file.
 TEST_F(Cli, RunsExample1ThroughDeposition) {
   const fs::path out = dir_ / "ex1";
@@ -167,14 +179,23 @@ TEST_F(Cli, GradingPrintsAndChecksWithoutARun) {
   r = run("grading fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 1.52 --d-min '0.1 in' --json");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(r.output);
-  // The blend at #4 (4.75 mm): (1.52 x 6.8 % + 97.5 %) / 2.52, within the inch/metric opening difference.
+  // The blend at #4 (4.75 mm, the inch table's 0.185 in taken as it): (1.52 x 6.8 % + 97.5 %) / 2.52.
   bool found = false;
-  for (const auto& s : j["mix"]["sieves"])
+  std::set<std::string> names;
+  for (const auto& s : j["mix"]["sieves"]) {
+    EXPECT_TRUE(names.insert(s["sieve"].get<std::string>()).second) << "sieve twice: " << s;
     if (s["sieve"] == "#4") {
       found = true;
-      EXPECT_NEAR(s["percent_passing"].get<double>(), (1.52 * 6.8 + 97.5) / 2.52, 0.3);
+      EXPECT_NEAR(s["percent_passing"].get<double>(), (1.52 * 6.8 + 97.5) / 2.52, 1e-12);
     }
+  }
   EXPECT_TRUE(found);
+  EXPECT_EQ(j["grading"]["snapped_sieves"].size(), 11u);
+  // The README's own example, with the sand shipped in examples/.
+  r = run("grading fu2003_table1_coarse --mix " + example("sand_example.csv") + " --ca-fa 1.52 --d-min '0.1 in'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("#16 1.245 -> 1.18 mm"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("1.245      "), std::string::npos) << r.output;  // no inch-converted row left
   EXPECT_GT(j["cut"]["cut_below_fraction"].get<double>(), 0.3);
   EXPECT_EQ(run("grading no_such_grading").exit_code, 2);
   EXPECT_EQ(run("grading astm_c33_fine_mid --band astm_c33_99").exit_code, 2);

@@ -18,7 +18,7 @@ TEST(NamedGradings, EqualThePublishedTables) {
   ASSERT_EQ(t1.sieves.size(), 11u);
   EXPECT_EQ(t1.sieves[5].name, "#8");
   EXPECT_DOUBLE_EQ(t1.sieves[5].percent_passing, 2.7);
-  EXPECT_DOUBLE_EQ(t1.sieves[8].opening, 0.5 * kIn);
+  EXPECT_DOUBLE_EQ(t1.sieves[8].opening, 12.5e-3);  // the paper's 0.5 in is the 12.5 mm sieve
   EXPECT_DOUBLE_EQ(t1.sieves[8].percent_passing, 45.4);
   EXPECT_DOUBLE_EQ(t1.sieves[9].percent_passing, 90.4);
   const Grading mid = *named_grading("astm_c33_fine_mid");
@@ -28,6 +28,32 @@ TEST(NamedGradings, EqualThePublishedTables) {
   EXPECT_DOUBLE_EQ(percent_passing_at(*named_grading("astm_c33_67_min"), 19.0e-3), 90.0);
   for (const auto& name : named_grading_names()) EXPECT_TRUE(named_grading(name)) << name;
   EXPECT_FALSE(named_grading("astm_c33_99_mid"));
+}
+
+// Tables converted from inches put the #16 sieve at 1.245 mm and the metric ones at 1.18 mm:
+// a blend of the two showed "#16" twice.
+TEST(Grading, OpeningsNearAStandardSieveAreTakenAsItAndSaidSo) {
+  const Grading t1 = *named_grading("fu2003_table1_coarse");
+  ASSERT_EQ(t1.snapped.size(), 11u);
+  EXPECT_EQ(t1.snapped[4].name, "#16");
+  EXPECT_DOUBLE_EQ(t1.snapped[4].given, 0.049 * kIn);
+  EXPECT_DOUBLE_EQ(t1.snapped[4].standard, 1.18e-3);
+  EXPECT_DOUBLE_EQ(t1.sieves[4].opening, 1.18e-3);
+  EXPECT_DOUBLE_EQ(t1.largest(), 25.0e-3);  // 1 in is the 25.0 mm sieve
+  EXPECT_TRUE(named_grading("astm_c33_fine_mid")->snapped.empty());  // already standard
+
+  // Unnamed sieves get the standard name; openings far from the series (EN 933-2's 1, 2 and
+  // 4 mm, 15 % away) stay as given.
+  Grading g = make_grading("g", {{"", 1.0e-3, 10}, {"", 2.0e-3, 30}, {"", 4.0e-3, 60}, {"", 9.3e-3, 100}}, "t", {});
+  ASSERT_EQ(g.snapped.size(), 1u);
+  EXPECT_EQ(g.sieves[3].name, "3/8in");
+  EXPECT_DOUBLE_EQ(g.sieves[3].opening, 9.5e-3);
+  EXPECT_DOUBLE_EQ(g.sieves[0].opening, 1.0e-3);
+  // Two openings that would land on one sieve are both kept as given, not merged.
+  g = make_grading("g", {{"", 4.6e-3, 40}, {"", 4.9e-3, 50}, {"", 9.5e-3, 100}}, "t", {});
+  EXPECT_TRUE(g.snapped.empty());
+  EXPECT_DOUBLE_EQ(g.sieves[0].opening, 4.6e-3);
+  EXPECT_DOUBLE_EQ(g.sieves[1].opening, 4.9e-3);
 }
 
 TEST(Grading, FinenessModulusOfTheC33MidBand) {

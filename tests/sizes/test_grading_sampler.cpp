@@ -38,7 +38,8 @@ TEST(GradingSampler, MassModeReproducesTheCurveAtEverySieve) {
     const double se = std::sqrt(var / static_cast<double>(d.size())) / mean_v / std::sqrt(static_cast<double>(d.size()));
     EXPECT_NEAR(100 * p, target, 100 * (5 * se) + 1e-9) << s.name;
   }
-  EXPECT_NEAR(cut.cut_below, 0.027 + (0.068 - 0.027) * std::log(0.1 / 0.097) / std::log(0.185 / 0.097), 1e-12);
+  // The cut at 0.1 in = 2.54 mm falls between #8 (2.36 mm, 2.7 %) and #4 (4.75 mm, 6.8 %).
+  EXPECT_NEAR(cut.cut_below, 0.027 + (0.068 - 0.027) * std::log(2.54 / 2.36) / std::log(4.75 / 2.36), 1e-12);
 }
 
 TEST(GradingSampler, NumberModeReproducesTheCurveByCount) {

@@ -23,6 +23,11 @@ struct GradingQuery {
 // max_percent, percent, inside } } (summary.json and `aggpack grading --json`).
 nlohmann::json band_check_json(const Band& band, const BandCheck& check);
 
+// The openings make_grading moved to the standard sieve series: [{ sieve, given_m,
+// standard_m }], and the same in words for the output (empty when none moved).
+nlohmann::json snapped_sieves_json(const Grading& grading);
+std::string snapped_sieves_text(const Grading& grading);
+
 // Throws InputError for unknown names, bad files and cut-offs that leave nothing.
 nlohmann::json describe_grading(const GradingQuery& query);
 std::string format_grading(const nlohmann::json& description);

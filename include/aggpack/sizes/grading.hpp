@@ -13,12 +13,19 @@ struct Sieve {
   double percent_passing = 0.0;
 };
 
+// A sieve opening that was moved to the standard series when the grading was read.
+struct SnappedSieve {
+  std::string name;
+  double given = 0.0, standard = 0.0;  // m
+};
+
 // A grading curve: sieves in ascending opening, percent passing non-decreasing, 100 at the
 // largest. Between sieves the percent passing is linear in log opening (as sieve curves are
 // plotted); mass sampling follows the same law (percent_passing_at).
 struct Grading {
   std::string name;
   std::vector<Sieve> sieves;
+  std::vector<SnappedSieve> snapped;  // openings make_grading moved to the ASTM series
   [[nodiscard]] double smallest() const { return sieves.front().opening; }
   [[nodiscard]] double largest() const { return sieves.back().opening; }
 };
@@ -26,6 +33,10 @@ struct Grading {
 // Sorts the sieves by opening and validates them; `source` names where they came from
 // (a file or a scenario key) and `row_names[i]` names sieve i as given (a file row or a list
 // index), so that errors say which row is wrong. Throws InputError.
+// An opening within kSieveSnapTolerance of a standard one (astm_sieve_series) is taken as that
+// sieve and recorded in `snapped`: tables converted from inches (1.245 mm for the 1.18 mm #16)
+// then meet metric ones at the same sieve. Two openings that would meet at one are left alone.
+inline constexpr double kSieveSnapTolerance = 0.06;
 Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::string& source,
                      const std::vector<std::string>& row_names);
 
