@@ -15,6 +15,44 @@ std::string_view settle_end_name(SettleEnd end) {
   return end == SettleEnd::Quiet ? "quiet" : "max_time";
 }
 
+void QuietForecast::add(const SettleSample& sample) {
+  const double e = sample.translational_per_particle_mgd;
+  time_.push_back(sample.time);
+  log_energy_.push_back(std::log(std::max(e, 1e-300)));
+  if (e > criterion_.kinetic_fraction) last_loud_ = sample.time;
+}
+
+std::optional<double> QuietForecast::expected_end() const {
+  if (time_.empty()) return std::nullopt;
+  const double now = time_.back();
+  const double threshold = std::log(criterion_.kinetic_fraction);
+  // Already below: quiet once the window has passed since the last loud sample.
+  if (log_energy_.back() <= threshold) return std::min(criterion_.max_time, std::max(now, last_loud_ + criterion_.window));
+  // The decay over the later half of the time since the energy's peak: long enough that a
+  // burst (an avalanche, a rattler) does not dominate, recent enough to follow a decay that
+  // slows down as the bed locks up.
+  const std::size_t peak = static_cast<std::size_t>(
+      std::max_element(log_energy_.begin(), log_energy_.end()) - log_energy_.begin());
+  const double from = 0.5 * (time_[peak] + now);
+  double n = 0, st = 0, se = 0, stt = 0, ste = 0;
+  for (std::size_t i = peak; i < time_.size(); ++i) {
+    if (time_[i] < from) continue;
+    n += 1;
+    st += time_[i];
+    se += log_energy_[i];
+    stt += time_[i] * time_[i];
+    ste += time_[i] * log_energy_[i];
+  }
+  if (n < 5) return std::nullopt;
+  const double denominator = n * stt - st * st;
+  if (!(denominator > 0)) return std::nullopt;
+  const double slope = (n * ste - st * se) / denominator;
+  if (!(slope < 0)) return std::nullopt;
+  const double fitted_now = (se - slope * st) / n + slope * now;
+  const double crossing = now + std::max(0.0, (fitted_now - threshold) / -slope);
+  return std::min(criterion_.max_time, crossing + criterion_.window);
+}
+
 SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
                     const DensityProbe& density, const SampleSink& on_sample) {
   if (!(criterion.sample_interval > 0.0) || !(criterion.window >= criterion.sample_interval))

@@ -101,7 +101,7 @@ DepositionOutcome run_deposition(const Scenario& sc, std::span<const double> rad
   for (std::size_t begin = 0; begin < radii.size(); begin += slice) {
     const std::size_t count = std::min(slice, radii.size() - begin);
     if (deposition.deposit(radii.subspan(begin, count), sc.material.density, layer) < count) break;
-    progress.update(fmt::format("{} of {} particles placed", begin + count, radii.size()),
+    progress.update({fmt::format("{} of {} particles placed", begin + count, radii.size())},
                     static_cast<double>(begin + count) / static_cast<double>(radii.size()));
   }
   const double seconds = seconds_since(t0);
@@ -321,7 +321,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
 
   t0 = Clock::now();
   progress.start_stage("analysis");
-  progress.update("virtual boxes", 0.0);
+  progress.update({"virtual boxes"}, 0.0);
   const PackingReport report = analyze(sc, particles);
   progress.clear();
   wall_clock["analysis"] = seconds_since(t0);

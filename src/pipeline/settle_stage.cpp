@@ -90,15 +90,20 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
   DemSystem dem(particles, sc.container, model, settings);
   const std::size_t free_count = dem.free_count();
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
+  QuietForecast forecast(criterion);
   const auto record = [&](const SettleSample& s) {
     series.samples.push_back({time_offset + s.time, layer, s.density, s.translational_per_particle_mgd,
                               s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                               s.contacts.max_overlap, s.contacts.coordination});
-    progress.update(fmt::format("{:.3f} s simulated (quiet or {:g} s), density {}, kinetic energy {:.1e} m g d",
-                                s.time, stage.max_time,
-                                std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density),
-                                s.translational_per_particle_mgd),
-                    s.time / stage.max_time, true);
+    forecast.add(s);
+    const std::optional<double> end = forecast.expected_end();
+    progress.update({fmt::format("{:.3f} s simulated", s.time),
+                     fmt::format("density {}", std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density)),
+                     fmt::format("kinetic energy {:.1e} m g d (quiet below {:.0e})", s.translational_per_particle_mgd,
+                                 criterion.kinetic_fraction),
+                     fmt::format("max_time {:g} s", stage.max_time)},
+                    s.time / end.value_or(stage.max_time),
+                    end ? Progress::TimeLeft::Estimate : Progress::TimeLeft::AtMost);
   };
   const SettleResult result = settle(dem, particles, criterion, density, record);
   dem.finish();

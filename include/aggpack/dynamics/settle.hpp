@@ -1,7 +1,9 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string_view>
+#include <vector>
 
 #include "aggpack/dynamics/dem_system.hpp"
 
@@ -35,6 +37,25 @@ struct SettleResult {
   std::size_t steps = 0;
   std::size_t rebuilds = 0;     // neighbour-list builds
   SettleSample last;
+};
+
+// When a settling run will end, forecast from its samples so far. Once the bed has stopped
+// collapsing, its kinetic energy decays, about exponentially over any stretch but more slowly
+// as the bed locks up: log energy fitted against time over the later half of the time since
+// its peak (at least five samples) gives when it falls below the threshold; the run then
+// needs the quiet window on top. No forecast while the energy is not falling.
+// The density condition is not forecast: it is usually met long before the energy one.
+class QuietForecast {
+ public:
+  explicit QuietForecast(const QuietCriterion& criterion) : criterion_(criterion) {}
+  void add(const SettleSample& sample);
+  // Simulated time (s since the start) at which the run should end, at most max_time.
+  [[nodiscard]] std::optional<double> expected_end() const;
+
+ private:
+  QuietCriterion criterion_;
+  std::vector<double> time_, log_energy_;
+  double last_loud_ = 0.0;  // last sample time above the energy threshold
 };
 
 using DensityProbe = std::function<double(const ParticleStore&)>;
