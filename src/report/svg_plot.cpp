@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -19,12 +20,28 @@ constexpr double kLeft = 70, kRight = 20, kTop = 36, kBottom = 52;
 constexpr std::array<const char*, 8> kPalette{"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e",
                                               "#9467bd", "#8c564b", "#e377c2", "#17becf"};
 
+// Decimals enough to tell the ticks apart exactly: a step of 0.0025 needs four (0.7075,
+// 0.7100, ...), not the three its order of magnitude suggests.
+int tick_decimals(double step) {
+  for (int decimals = 0; decimals < 15; ++decimals) {
+    const double scaled = step * std::pow(10.0, decimals);
+    if (std::abs(scaled - std::round(scaled)) < 1e-6 * std::max(1.0, scaled)) return decimals;
+  }
+  return 15;
+}
+
 std::string tick_label(double v, const Axis& axis) {
   if (axis.log) return fmt::format("{:g}", v);
   const double step = axis.ticks.size() > 1 ? axis.ticks[1] - axis.ticks[0] : 1.0;
-  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10(step) + 1e-9)));
-  return fmt::format("{:.{}f}", v, decimals);
+  return fmt::format("{:.{}f}", v, tick_decimals(step));
 }
+
+struct Rect {
+  double x, y, w, h;
+  [[nodiscard]] bool contains(double px, double py, double margin) const {
+    return px >= x - margin && px <= x + w + margin && py >= y - margin && py <= y + h + margin;
+  }
+};
 
 }  // namespace
 
@@ -104,12 +121,9 @@ std::string svg_plot(const Plot& plot) {
            x <= x_axis.hi + 1e-12 && y >= y_axis.lo - 1e-12 && y <= y_axis.hi + 1e-12;
   };
 
-  std::string svg = fmt::format(
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
-      "font-family=\"sans-serif\" font-size=\"12\" data-x-range=\"{2:.9g} {3:.9g}\" data-y-range=\"{4:.9g} {5:.9g}\">\n"
-      "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-      "<text x=\"{6}\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">{7}</text>\n",
-      kWidth, kHeight, x_axis.lo, x_axis.hi, y_axis.lo, y_axis.hi, kLeft + w / 2, xml_escape(plot.title));
+  // The body; the root element, whose height depends on where the legend goes, comes last.
+  std::string svg = fmt::format("<text x=\"{}\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">{}</text>\n",
+                                kLeft + w / 2, xml_escape(plot.title));
   for (const double t : x_axis.ticks)
     svg += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"#ddd\"/>"
                        "<text x=\"{0:.2f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
@@ -125,27 +139,32 @@ std::string svg_plot(const Plot& plot) {
   svg += fmt::format("<text transform=\"translate(16 {}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
                      kTop + h / 2, xml_escape(plot.y_label));
 
+  // The series first, remembering every pixel they mark: the legend goes where it hides none.
+  std::vector<std::pair<double, double>> marked;  // pixels of points, error bars and lines
+  const auto mark_segment = [&](double x0, double y0, double x1, double y1) {
+    const int steps = std::max(1, static_cast<int>(std::hypot(x1 - x0, y1 - y0) / 3.0));
+    for (int k = 0; k <= steps; ++k)
+      marked.emplace_back(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps);
+  };
   std::size_t next_colour = 0, labelled = 0, longest = 0;
-  for (const PlotSeries& s : plot.series)
-    if (!s.label.empty()) ++labelled, longest = std::max(longest, s.label.size());
-  // The legend: a white box sized to its labels (about 6.6 px per character at 12 px).
-  const double legend_w = 44 + 6.6 * static_cast<double>(longest), legend_h = 8 + 16 * static_cast<double>(labelled);
-  const double legend_x = kLeft + w - legend_w - 6;
-  const double legend_top = plot.legend_at_bottom ? kTop + h - legend_h - 6 : kTop + 6;
-  std::string legend;
-  if (labelled > 0)
-    legend = fmt::format("<rect x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" fill=\"white\" "
-                         "fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
-                         legend_x, legend_top, legend_w, legend_h);
-  double legend_y = legend_top + 14;
+  std::vector<std::string> colours;
   for (const PlotSeries& s : plot.series) {
+    if (!s.label.empty()) ++labelled, longest = std::max(longest, s.label.size());
     const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
+    colours.push_back(colour);
     const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
     svg += fmt::format("<g class=\"series\" data-label=\"{}\">\n", xml_escape(s.label));
     if (s.mark != Mark::Points) {
       std::string points;
-      for (std::size_t i = 0; i < s.x.size(); ++i)
-        if (inside(s.x[i], s.y[i])) points += fmt::format("{:.2f},{:.2f} ", px(s.x[i]), py(s.y[i]));
+      std::optional<std::pair<double, double>> previous;
+      for (std::size_t i = 0; i < s.x.size(); ++i) {
+        if (!inside(s.x[i], s.y[i])) continue;
+        const double x = px(s.x[i]), y = py(s.y[i]);
+        points += fmt::format("{:.2f},{:.2f} ", x, y);
+        if (previous) mark_segment(previous->first, previous->second, x, y);
+        marked.emplace_back(x, y);
+        previous = {x, y};
+      }
       svg += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.8\"{} points=\"{}\"/>\n", colour,
                          dash, points);
     }
@@ -155,26 +174,65 @@ std::string svg_plot(const Plot& plot) {
         const double lo = std::max(y_axis.lo, s.y[i] - s.y_error[i]), hi = std::min(y_axis.hi, s.y[i] + s.y_error[i]);
         svg += fmt::format("<path d=\"M{0:.2f} {1:.2f}V{2:.2f}M{3:.2f} {1:.2f}h8M{3:.2f} {2:.2f}h8\" stroke=\"{4}\"/>\n",
                            px(s.x[i]), py(lo), py(hi), px(s.x[i]) - 4, colour);
+        mark_segment(px(s.x[i]) - 4, py(lo), px(s.x[i]) + 4, py(hi));
       }
-      if (s.mark != Mark::Line)
+      if (s.mark != Mark::Line) {
         svg += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3.5\" fill=\"{}\"/>\n", px(s.x[i]), py(s.y[i]),
                            colour);
+        marked.emplace_back(px(s.x[i]), py(s.y[i]));
+      }
     }
     svg += "</g>\n";
-    if (!s.label.empty()) {
-      if (s.mark == Mark::Points)
-        legend += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"{}\"/>", legend_x + 19, legend_y, colour);
-      else
-        legend += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" stroke=\"{3}\" "
-                              "stroke-width=\"2\"{4}/>",
-                              legend_x + 8, legend_y, legend_x + 30, colour, dash);
-      legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, xml_escape(s.label));
-      legend_y += 16;
+  }
+
+  // The legend: a white box sized to its labels (about 6.6 px per character at 12 px), in the
+  // first corner of the plot area where it covers nothing drawn, else below the plot.
+  const double legend_w = 44 + 6.6 * static_cast<double>(longest), legend_h = 8 + 16 * static_cast<double>(labelled);
+  const double left = kLeft + 6, right = kLeft + w - legend_w - 6, top = kTop + 6, bottom = kTop + h - legend_h - 6;
+  std::vector<Rect> corners = {{right, top, legend_w, legend_h}, {left, top, legend_w, legend_h},
+                               {right, bottom, legend_w, legend_h}, {left, bottom, legend_w, legend_h}};
+  if (plot.legend_at_bottom) std::rotate(corners.begin(), corners.begin() + 2, corners.end());
+  constexpr double kClearance = 4.0;  // px: the radius of a point, and a little air
+  std::optional<Rect> place;
+  for (const Rect& corner : corners)
+    if (std::none_of(marked.begin(), marked.end(),
+                     [&](const auto& m) { return corner.contains(m.first, m.second, kClearance); })) {
+      place = corner;
+      break;
     }
+  double height = kHeight;
+  if (!place) {  // outside: below the x-axis label, the picture grows to hold it
+    place = Rect{kLeft, kHeight - 4, legend_w, legend_h};
+    height = kHeight + legend_h + 4;
+  }
+  std::string legend;
+  if (labelled > 0)
+    legend = fmt::format("<rect class=\"legend\" x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" "
+                         "fill=\"white\" fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
+                         place->x, place->y, place->w, place->h);
+  const double legend_x = place->x;
+  double legend_y = place->y + 14;
+  for (std::size_t k = 0; k < plot.series.size(); ++k) {
+    const PlotSeries& s = plot.series[k];
+    if (s.label.empty()) continue;
+    const std::string& colour = colours[k];
+    const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
+    if (s.mark == Mark::Points)
+      legend += fmt::format("<circle cx=\"{:.1f}\" cy=\"{:.1f}\" r=\"3.5\" fill=\"{}\"/>", legend_x + 19, legend_y, colour);
+    else
+      legend += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" stroke=\"{3}\" "
+                            "stroke-width=\"2\"{4}/>",
+                            legend_x + 8, legend_y, legend_x + 30, colour, dash);
+    legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, xml_escape(s.label));
+    legend_y += 16;
   }
   svg += legend;
-  svg += "</svg>\n";
-  return svg;
+  return fmt::format(
+             "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
+             "font-family=\"sans-serif\" font-size=\"12\" data-x-range=\"{2:.9g} {3:.9g}\" "
+             "data-y-range=\"{4:.9g} {5:.9g}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
+             kWidth, height, x_axis.lo, x_axis.hi, y_axis.lo, y_axis.hi) +
+         svg + "</svg>\n";
 }
 
 }  // namespace aggpack

@@ -70,5 +70,69 @@ TEST(SvgPlot, FixedRangeIsKeptAndOutsidePointsAreDropped) {
   EXPECT_EQ(circles, 2u);  // the point at 0.9 lies above the fixed range
 }
 
+// sweep.svg read 0.708, 0.710, 0.712, 0.715 for ticks 0.0025 apart.
+TEST(SvgPlot, TickLabelsOfAStepOfTwoAndAHalfShowEveryDigit) {
+  Plot plot;
+  plot.series.push_back({"", {0, 1}, {0.7005, 0.7120}, {}, Mark::Points, false, ""});
+  const auto [x, y] = plot_axes(plot);
+  ASSERT_NEAR(y.ticks[1] - y.ticks[0], 0.0025, 1e-12);
+  const std::string svg = svg_plot(plot);
+  for (const char* label : {">0.7000<", ">0.7025<", ">0.7050<", ">0.7075<", ">0.7100<", ">0.7125<"})
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
+  plot.series = {{"", {0, 1}, {0, 25}, {}, Mark::Points, false, ""}};  // step 5: no decimals
+  EXPECT_NE(svg_plot(plot).find(">25<"), std::string::npos);
+}
+
+struct Circle {
+  double x, y;
+};
+struct LegendBox {
+  double x, y, w, h;
+};
+std::vector<Circle> data_circles(const std::string& svg) {
+  // Only inside the series groups: the legend's own markers are not data.
+  std::vector<Circle> out;
+  const std::regex group("<g class=\"series\"[^>]*>([\\s\\S]*?)</g>"), circle("<circle cx=\"([0-9.]+)\" cy=\"([0-9.]+)\"");
+  for (auto g = std::sregex_iterator(svg.begin(), svg.end(), group); g != std::sregex_iterator(); ++g) {
+    const std::string body = (*g)[1];
+    for (auto c = std::sregex_iterator(body.begin(), body.end(), circle); c != std::sregex_iterator(); ++c)
+      out.push_back({std::stod((*c)[1]), std::stod((*c)[2])});
+  }
+  return out;
+}
+LegendBox legend_box(const std::string& svg) {
+  std::smatch m;
+  EXPECT_TRUE(std::regex_search(svg, m, std::regex("<rect class=\"legend\" x=\"([0-9.]+)\" y=\"([0-9.]+)\" "
+                                                   "width=\"([0-9.]+)\" height=\"([0-9.]+)\"")));
+  return {std::stod(m[1]), std::stod(m[2]), std::stod(m[3]), std::stod(m[4])};
+}
+std::size_t points_under(const LegendBox& b, const std::vector<Circle>& circles) {
+  std::size_t n = 0;
+  for (const Circle& c : circles)
+    n += c.x + 3.5 >= b.x && c.x - 3.5 <= b.x + b.w && c.y + 3.5 >= b.y && c.y - 3.5 <= b.y + b.h;
+  return n;
+}
+
+// Fig. 9: the legend box covered the paper's mix 3 point.
+TEST(SvgPlot, TheLegendHidesNoPoint) {
+  Plot plot;
+  plot.legend_at_bottom = true;
+  // Points in the top-right and bottom-right corners, as in Fig. 9.
+  plot.series.push_back({"aggpack after deposition", {29, 33, 36, 43}, {0.72, 0.70, 0.62, 0.74}, {}, Mark::Points, false, ""});
+  plot.series.push_back({"paper, computed", {30, 43}, {0.64, 0.615}, {}, Mark::Points, false, ""});
+  plot.series.push_back({"experiment", {31, 42}, {0.741, 0.703}, {}, Mark::Points, false, ""});
+  std::string svg = svg_plot(plot);
+  ASSERT_EQ(data_circles(svg).size(), 8u);
+  EXPECT_EQ(points_under(legend_box(svg), data_circles(svg)), 0u) << svg;
+  EXPECT_NE(svg.find("height=\"400\""), std::string::npos);  // a corner was free: the size is unchanged
+  // Points in every corner: the legend moves below the plot, and the picture grows.
+  plot.series.push_back({"corners", {29, 29, 43, 43}, {0.615, 0.741, 0.615, 0.741}, {}, Mark::Points, false, ""});
+  svg = svg_plot(plot);
+  const LegendBox below = legend_box(svg);
+  EXPECT_EQ(points_under(below, data_circles(svg)), 0u) << svg;
+  EXPECT_GT(below.y, 400.0 - 52.0);  // under the plot area
+  EXPECT_NE(svg.find("height=\"" + std::to_string(static_cast<int>(400 + below.h + 4)) + "\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace aggpack
