@@ -28,28 +28,31 @@ std::optional<double> QuietForecast::expected_end() const {
   const double threshold = std::log(criterion_.kinetic_fraction);
   // Already below: quiet once the window has passed since the last loud sample.
   if (log_energy_.back() <= threshold) return std::min(criterion_.max_time, std::max(now, last_loud_ + criterion_.window));
-  // The decay over the later half of the time since the energy's peak: long enough that a
-  // burst (an avalanche, a rattler) does not dominate, recent enough to follow a decay that
-  // slows down as the bed locks up.
+  // A power of time fitted over the later half of the time since the energy's peak: long
+  // enough that a burst (an avalanche, a rattler) does not dominate, recent enough to follow
+  // a decay that slows down as the bed locks up. (Measured on Examples 1 and 2: median of the
+  // forecast time left over the true one 0.97 and 1.00; an exponential fit gives 0.5.)
   const std::size_t peak = static_cast<std::size_t>(
       std::max_element(log_energy_.begin(), log_energy_.end()) - log_energy_.begin());
   const double from = 0.5 * (time_[peak] + now);
-  double n = 0, st = 0, se = 0, stt = 0, ste = 0;
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (std::size_t i = peak; i < time_.size(); ++i) {
-    if (time_[i] < from) continue;
+    if (time_[i] < from || !(time_[i] > 0.0)) continue;
+    const double x = std::log(time_[i]), y = log_energy_[i];
     n += 1;
-    st += time_[i];
-    se += log_energy_[i];
-    stt += time_[i] * time_[i];
-    ste += time_[i] * log_energy_[i];
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
   }
   if (n < 5) return std::nullopt;
-  const double denominator = n * stt - st * st;
+  const double denominator = n * sxx - sx * sx;
   if (!(denominator > 0)) return std::nullopt;
-  const double slope = (n * ste - st * se) / denominator;
+  const double slope = (n * sxy - sx * sy) / denominator;
   if (!(slope < 0)) return std::nullopt;
-  const double fitted_now = (se - slope * st) / n + slope * now;
-  const double crossing = now + std::max(0.0, (fitted_now - threshold) / -slope);
+  const double intercept = (sy - slope * sx) / n;
+  // exp of at most 700: a slope near zero would overflow to a forecast of infinity.
+  const double crossing = std::max(now, std::exp(std::min(700.0, (threshold - intercept) / slope)));
   return std::min(criterion_.max_time, crossing + criterion_.window);
 }
 

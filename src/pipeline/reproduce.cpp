@@ -5,12 +5,14 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 #include <iostream>
+#include <omp.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
@@ -83,6 +85,9 @@ std::string stat_text(const SeedStatistics& s, int decimals = 4) {
   if (std::isnan(s.sd)) return fmt::format("{:.{}f}", s.mean, decimals);
   return fmt::format("{:.{}f} ± {:.{}f}", s.mean, decimals, s.sd, decimals);
 }
+
+// "1 seed", "3 seeds".
+std::string counted(std::size_t n, const std::string& noun) { return fmt::format("{} {}{}", n, noun, n == 1 ? "" : "s"); }
 
 std::string value_text(double v, int decimals = 4) { return std::isnan(v) ? "—" : fmt::format("{:.{}f}", v, decimals); }
 
@@ -270,20 +275,25 @@ std::string trend_text(const std::vector<Table2Outcome>& mixes) {
     measured.push_back(m.row.experiment);
   }
   if (fa.size() < 2) return {};
-  double largest_sd = 0.0;
+  // The scatter between seeds, where there were several.
+  std::optional<double> largest_sd;
   for (const Table2Outcome& m : mixes)
-    if (!std::isnan(m.final_stats().sd)) largest_sd = std::max(largest_sd, m.final_stats().sd);
+    if (!std::isnan(m.final_stats().sd)) largest_sd = std::max(largest_sd.value_or(0.0), m.final_stats().sd);
+  const std::string scatter =
+      largest_sd ? fmt::format("within the scatter between seeds (sd up to {:.3f}, from the small virtual boxes: "
+                               "LV = 1.6-2.2 in against particles of up to 1 in)",
+                               *largest_sd)
+                 : std::string("though one seed per mix cannot say how much of that is scatter between seeds "
+                               "(run with --seeds 3)");
   return fmt::format(
       "Fitted against Fa %, the density changes by {:+.4f} per 10 points of Fa in the experiments, {:+.4f} in the "
       "paper's computation and {:+.4f} in ours: the experiments lose density as sand replaces coarse aggregate "
       "over this range, {}",
       slope_per_10(fa, measured), slope_per_10(fa, paper), slope_per_10(fa, ours),
       std::abs(slope_per_10(fa, ours)) < 0.5 * std::abs(slope_per_10(fa, measured))
-          ? fmt::format("while ours change less than half as much, within the scatter between seeds (sd up to "
-                        "{:.3f}, from the small virtual boxes: LV = 1.6-2.2 in against particles of up to 1 in). "
-                        "With the sand cut at 0.04 in, this range of Fa lies on the flat top of the spheres' density "
-                        "curve (README, aggpack sweep).",
-                        largest_sd)
+          ? fmt::format("while ours change less than half as much, {}. With the sand cut at 0.04 in, this range of "
+                        "Fa lies on the flat top of the spheres' density curve (README, aggpack sweep).",
+                        scatter)
           : std::string("and ours follow."));
 }
 
@@ -451,12 +461,13 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   Document doc;
   doc.title = "Does aggpack reproduce Fu and Dekelbab (2003)?";
   auto& b = doc.blocks;
+  const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   b.emplace_back(Paragraph{fmt::format(
-      "aggpack {}, {} run: {} seed(s) per case, {} runs in {:.0f} s of wall time ({:.1f} min) on {} thread(s). "
+      "aggpack {}, {} run: {} per case, {} in {:.0f} s of wall time ({:.1f} min) on {}{}. "
       "Command: {}. Every number below comes from the runs under runs/ (summary.json, timeseries.csv); "
       "reproduce.json has them all.",
-      kVersion, options.quick ? "QUICK" : "full", plan.seeds, campaign.runs_done(), wall, wall / 60.0,
-      options.threads > 0 ? fmt::format("{}", options.threads) : std::string("all"),
+      kVersion, options.quick ? "QUICK" : "full", counted(plan.seeds, "seed"), counted(campaign.runs_done(), "run"),
+      wall, wall / 60.0, counted(threads, "thread"), options.threads > 0 ? "" : " (all cores)",
       options.command_line.empty() ? std::string("aggpack reproduce") : options.command_line)});
   if (options.quick)
     b.emplace_back(Paragraph{
@@ -490,15 +501,22 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     ++mixes_with_values;
   }
   const bool table2_has_dem = !mixes.empty() && mixes.front().dynamics.count > 0;
-  if (mixes_with_values > 0)
-    headline.rows.push_back(
-        {"Table 2: mean error against the experiments over the eight mixes", "—", "—",
-         fmt::format("{:+.1f} %", sum_paper_error / static_cast<double>(mixes_with_values)),
-         fmt::format("{:+.1f} %{}", sum_ours_error / static_cast<double>(mixes_with_values),
-                     table2_has_dem ? "" : " (after deposition)"),
-         "0.703–0.741", "—"});
   headline.caption = "Packing density: ours is the mean ± sd over seeds of the mean over the virtual boxes.";
   b.emplace_back(headline);
+  // Table 2 in percentages, in its own table: its numbers are errors, not densities.
+  if (mixes_with_values > 0) {
+    Table errors;
+    errors.header = {"case", "mixes", "measured density", "paper's computation − experiment",
+                     table2_has_dem ? "ours after DEM − experiment" : "ours after deposition − experiment"};
+    const auto [lowest, highest] = std::minmax_element(
+        mixes.begin(), mixes.end(), [](const Table2Outcome& a, const Table2Outcome& c) { return a.row.experiment < c.row.experiment; });
+    errors.rows.push_back({"Table 2: mean error against the experiments", fmt::format("{}", mixes_with_values),
+                           fmt::format("{:.3f}–{:.3f}", lowest->row.experiment, highest->row.experiment),
+                           fmt::format("{:+.1f} %", sum_paper_error / static_cast<double>(mixes_with_values)),
+                           fmt::format("{:+.1f} %", sum_ours_error / static_cast<double>(mixes_with_values))});
+    errors.caption = "Mean over the mixes of (computed − measured) / measured.";
+    b.emplace_back(errors);
+  }
 
   // Examples.
   for (const PaperExample* ex : {&kExample1, &kExample2}) {
@@ -560,11 +578,14 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
       RenderOptions view;
       view.d_lo = 0.5 * kInch;
       view.d_hi = 1.0 * kInch;
+      view.supersample = 2;
+      view.legend = true;
       const std::string before = figures.add("example2_after_deposition.png",
                                              encode_png(render_spheres(*r.result.deposited, frame, view)));
       const std::string after = figures.add("example2_after_dem.png", encode_png(render_spheres(r.result.particles, frame, view)));
       b.emplace_back(Figure{before, "Example 2 after deposition (the paper's Fig. 6a), seed 1: 0.5 in spheres dark "
-                                    "blue, 1 in spheres yellow."});
+                                    "blue, 1 in spheres yellow (colour bar below); the scale bar holds in the picture "
+                                    "plane (an orthographic view)."});
       b.emplace_back(Figure{after, "Example 2 after DEM settling (Fig. 6b), seed 1, same view and colours."});
     }
   }
@@ -614,8 +635,10 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     plot.series = {dep, paper, exp};
     if (!dyn.x.empty()) plot.series.insert(plot.series.begin() + 1, dyn);
     const std::string fig = figures.add("table2_density_vs_fa.svg", svg_plot(plot));
-    b.emplace_back(Figure{fig, "Computed and measured density against Fa % (the paper's Fig. 9); error bars: sd over "
-                               "seeds (ours) and over the four virtual boxes (paper)."});
+    b.emplace_back(Figure{fig, fmt::format("Computed and measured density against Fa % (the paper's Fig. 9); error "
+                                           "bars: {}sd over the four virtual boxes (paper).",
+                                           plan.seeds > 1 ? "sd over seeds (ours) and "
+                                                          : "ours has one seed per mix, so no bar; ")});
   }
   {
     b.emplace_back(Paragraph{fmt::format(
@@ -645,13 +668,16 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   if (!mixes.empty() && !mixes.front().runs.empty()) {
     const CaseRun& r = mixes.front().runs.front();
     const Box frame = bed_frame(r.result.particles, container_box(r.result.summary));
+    // The sand is 1 mm in a 5 in container, about 5 pixels at 720: 3 x 3 rays per pixel keep it round.
     RenderOptions section;
     section.cut_away = true;
+    section.supersample = 3;
+    section.legend = true;
     const std::string fig = figures.add(fmt::format("table2_mix{}_packing.png", mixes.front().row.mix),
                                         encode_png(render_spheres(r.result.particles, frame, section)));
     b.emplace_back(Figure{fig, fmt::format("Table 2 mix {} ({} particles), seed 1, the deposited bed cut through its "
                                            "middle, coloured by diameter (viridis: {:.1f} mm dark blue to {:.1f} mm "
-                                           "yellow).",
+                                           "yellow, colour bar and scale bar below the picture).",
                                            mixes.front().row.mix, particle_count(r),
                                            1e3 * r.result.summary["bed"]["d_min_m"].get<double>(),
                                            1e3 * r.result.summary["bed"]["d_max_m"].get<double>())});
@@ -687,20 +713,20 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
       "the particle count (about five times more per halving of the cut-off). A wider container or periodic "
       "sides show how much wall effect the virtual boxes leave." + number_sampling});
 
-  // Notes.
+  // Notes, case by case: each run says what its numbers depend on.
   b.emplace_back(Heading{2, "Modelling notes (seed 1 of each case)"});
-  std::vector<std::string> notes;
-  const auto collect = [&](const CaseRun& r) {
-    for (const auto& n : r.result.summary["modelling_notes"])
-      if (std::find(notes.begin(), notes.end(), n.get<std::string>()) == notes.end()) notes.push_back(n.get<std::string>());
+  const auto notes_of = [&](const std::string& case_name, const CaseRun& r) {
+    b.emplace_back(Heading{3, case_name});
+    Table notes_table;
+    notes_table.header = {"note"};
+    for (const auto& n : r.result.summary["modelling_notes"]) notes_table.rows.push_back({n.get<std::string>()});
+    b.emplace_back(notes_table);
   };
   for (const PaperExample* ex : {&kExample1, &kExample2})
-    if (!examples_run[ex->id].runs.empty()) collect(examples_run[ex->id].runs.front());
-  if (!mixes.empty() && !mixes.front().runs.empty()) collect(mixes.front().runs.front());
-  Table notes_table;
-  notes_table.header = {"note"};
-  for (const std::string& n : notes) notes_table.rows.push_back({n});
-  b.emplace_back(notes_table);
+    if (!examples_run[ex->id].runs.empty()) notes_of(ex->title, examples_run[ex->id].runs.front());
+  if (!mixes.empty() && !mixes.front().runs.empty())
+    notes_of(fmt::format("Table 2 mix {} (the other mixes differ only in Ca/Fa)", mixes.front().row.mix),
+             mixes.front().runs.front());
 
   result["aggpack_version"] = kVersion;
   result["mode"] = options.quick ? "quick" : "full";

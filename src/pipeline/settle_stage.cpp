@@ -169,9 +169,9 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const nlohmann::json
                                 stage.layers));
   const std::size_t cut = d.at("runs_ended_by_max_time").get<std::size_t>();
   if (cut > 0)
-    notes.push_back(fmt::format("dynamics: {} settling run(s) reached max_time = {:g} s before the bed was quiet; "
+    notes.push_back(fmt::format("dynamics: {} settling run{} reached max_time = {:g} s before the bed was quiet; "
                                 "the bed may still be moving",
-                                cut, stage.max_time));
+                                cut, cut == 1 ? "" : "s", stage.max_time));
   return notes;
 }
 

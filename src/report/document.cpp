@@ -62,6 +62,7 @@ std::string to_html(const Document& doc, const std::map<std::string, std::string
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>\n"
       "body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; padding: 0 1em; line-height: 1.45; }}\n"
       "table {{ border-collapse: collapse; margin: 0.5em 0 1.2em; font-size: 0.92em; }}\n"
+      ".table-scroll {{ overflow-x: auto; max-width: 100%; }}\n"
       "th, td {{ border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: right; }}\n"
       "th {{ background: #eee; }} td:first-child, th:first-child {{ text-align: left; }}\n"
       "figure {{ margin: 1em 0; }} figcaption {{ font-size: 0.9em; color: #333; }}\n"
@@ -72,7 +73,8 @@ std::string to_html(const Document& doc, const std::map<std::string, std::string
                    [&](const Heading& h) { out += fmt::format("<h{0}>{1}</h{0}>\n", h.level, xml_escape(h.text)); },
                    [&](const Paragraph& p) { out += "<p>" + xml_escape(p.text) + "</p>\n"; },
                    [&](const Table& t) {
-                     out += "<table>\n";
+                     // A wide table scrolls inside its box instead of running off a narrow page.
+                     out += "<div class=\"table-scroll\">\n<table>\n";
                      if (!t.caption.empty()) out += "<caption>" + xml_escape(t.caption) + "</caption>\n";
                      out += "<tr>";
                      for (const auto& h : t.header) out += "<th>" + xml_escape(h) + "</th>";
@@ -82,7 +84,7 @@ std::string to_html(const Document& doc, const std::map<std::string, std::string
                        for (const auto& cell : row) out += "<td>" + xml_escape(cell) + "</td>";
                        out += "</tr>\n";
                      }
-                     out += "</table>\n";
+                     out += "</table>\n</div>\n";
                    },
                    [&](const Figure& f) {
                      const auto it = figures.find(f.file);

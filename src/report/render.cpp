@@ -6,6 +6,10 @@
 #include <numbers>
 #include <vector>
 
+#include <fmt/format.h>
+
+#include "aggpack/report/bitmap_text.hpp"
+
 namespace aggpack {
 
 namespace {
@@ -37,15 +41,12 @@ Camera::Projection Camera::project(const Vec3& p) const {
   return {(dot(p, right_) - u0_) * scale_, (v0_ - dot(p, up_)) * scale_, dot(p, forward_)};
 }
 
-Image render_spheres(const ParticleStore& particles, const Box& frame, const RenderOptions& options) {
+namespace {
+// The picture at options.width (times the supersampling factor), without a legend.
+Image ray_cast(const ParticleStore& particles, const Box& frame, const RenderOptions& options, double d_lo,
+               double d_hi) {
   const Camera camera(frame, options);
   Image image(camera.width(), camera.height(), options.background);
-  double d_lo = options.d_lo, d_hi = options.d_hi;
-  if (d_lo <= 0.0 && d_hi <= 0.0 && particles.size() > 0) {
-    const auto [lo, hi] = std::minmax_element(particles.radius.begin(), particles.radius.end());
-    d_lo = 2.0 * *lo;
-    d_hi = 2.0 * *hi;
-  }
   // Light from the upper left, slightly towards the viewer (camera coordinates: right, up, forward).
   const Vec3 light = normalized(Vec3{-0.45, 0.65, -0.6});
   std::vector<double> depth(static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height()),
@@ -84,6 +85,84 @@ Image render_spheres(const ParticleStore& particles, const Box& frame, const Ren
       }
   }
   return image;
+}
+
+
+// Each n x n block of `fine` averaged into one pixel.
+Image downsampled(const Image& fine, int n) {
+  Image coarse(fine.width() / n, fine.height() / n, Rgb{});
+  for (int y = 0; y < coarse.height(); ++y)
+    for (int x = 0; x < coarse.width(); ++x) {
+      int r = 0, g = 0, b = 0;
+      for (int dy = 0; dy < n; ++dy)
+        for (int dx = 0; dx < n; ++dx) {
+          const Rgb c = fine.at(x * n + dx, y * n + dy);
+          r += c.r, g += c.g, b += c.b;
+        }
+      const int count = n * n;
+      coarse.set(x, y, {static_cast<std::uint8_t>((r + count / 2) / count), static_cast<std::uint8_t>((g + count / 2) / count),
+                        static_cast<std::uint8_t>((b + count / 2) / count)});
+    }
+  return coarse;
+}
+
+std::string millimetres(double metres) {
+  const double mm = 1e3 * metres;
+  return mm >= 100 ? fmt::format("{:.0f} mm", mm) : fmt::format("{:.3g} mm", mm);
+}
+}  // namespace
+
+Image render_spheres(const ParticleStore& particles, const Box& frame, const RenderOptions& options) {
+  double d_lo = options.d_lo, d_hi = options.d_hi;
+  if (d_lo <= 0.0 && d_hi <= 0.0 && particles.size() > 0) {
+    const auto [lo, hi] = std::minmax_element(particles.radius.begin(), particles.radius.end());
+    d_lo = 2.0 * *lo;
+    d_hi = 2.0 * *hi;
+  }
+  const int n = std::max(1, options.supersample);
+  RenderOptions fine = options;
+  fine.width = options.width * n;
+  Image picture = ray_cast(particles, frame, fine, d_lo, d_hi);
+  if (n > 1) picture = downsampled(picture, n);
+  if (!options.legend) return picture;
+  return add_legend(picture, d_lo, d_hi, Camera(frame, fine).pixels_per_metre() / n);
+}
+
+double scale_bar_length(int width, double pixels_per_metre) {
+  const double target = 0.2 * width / pixels_per_metre;
+  const double decade = std::pow(10.0, std::floor(std::log10(target)));
+  double length = decade;
+  for (const double m : {2.0, 5.0})
+    if (m * decade <= target) length = m * decade;
+  return length;
+}
+
+Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_per_metre) {
+  constexpr int kMargin = 8, kBarHeight = 12, kBarWidth = 200;
+  Image out(picture.width(), picture.height() + kLegendHeight, Rgb{255, 255, 255});
+  for (int y = 0; y < picture.height(); ++y)
+    for (int x = 0; x < picture.width(); ++x) out.set(x, y, picture.at(x, y));
+  const TextStyle text;
+  const int top = picture.height() + 6, label_top = top + kBarHeight + 4;
+  // Colour bar: "diameter", then viridis from d_lo to d_hi with both ends labelled.
+  draw_text(out, kMargin, top, "diameter", text);
+  const int bar_left = kMargin + text_width("diameter", text) + kMargin;
+  for (int x = 0; x < kBarWidth; ++x)
+    for (int y = 0; y < kBarHeight; ++y) out.set(bar_left + x, top + y, viridis(x / (kBarWidth - 1.0)));
+  draw_text(out, bar_left, label_top, millimetres(d_lo), text);
+  const std::string hi = millimetres(d_hi);
+  draw_text(out, bar_left + kBarWidth - text_width(hi, text), label_top, hi, text);
+  // Scale bar at the right: a black bar with end ticks, its length below it.
+  const double length = scale_bar_length(picture.width(), pixels_per_metre);
+  const int bar_px = static_cast<int>(std::lround(length * pixels_per_metre));
+  const int right = picture.width() - kMargin, left = right - bar_px;
+  for (int x = left; x < right; ++x)
+    for (int y = top + kBarHeight / 2 - 1; y <= top + kBarHeight / 2 + 1; ++y) out.set(x, y, {0, 0, 0});
+  for (const int x : {left, right - 1})
+    for (int y = top; y < top + kBarHeight; ++y) out.set(x, y, {0, 0, 0});
+  const std::string label = fmt::format("{:g} mm", 1e3 * length);
+  draw_text(out, right - text_width(label, text), label_top, label, text);
+  return out;
 }
 
 }  // namespace aggpack

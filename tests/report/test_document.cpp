@@ -38,6 +38,18 @@ TEST(Document, HtmlIsSelfContained) {
   EXPECT_THROW(to_html(sample(), {}), std::logic_error);
 }
 
+// At 700 px the report's summary table ran off the page: every table scrolls in its own box.
+TEST(Document, HtmlTablesScrollSidewaysInsteadOfRunningOffThePage) {
+  Document doc = sample();
+  doc.blocks.emplace_back(Table{{"a", "b"}, {{"1", "2"}}, ""});
+  const std::string html = to_html(doc, {{"figures/a.svg", "<svg></svg>"}, {"figures/b.png", "abc"}});
+  std::size_t tables = 0;
+  for (auto at = html.find("<table>"); at != std::string::npos; at = html.find("<table>", at + 1), ++tables)
+    EXPECT_EQ(html.rfind("<div class=\"table-scroll\">\n", at), at - std::string("<div class=\"table-scroll\">\n").size());
+  EXPECT_EQ(tables, 2u);
+  EXPECT_NE(html.find(".table-scroll { overflow-x: auto; max-width: 100%; }"), std::string::npos);
+}
+
 TEST(Base64, KnownVectors) {
   EXPECT_EQ(base64(""), "");
   EXPECT_EQ(base64("f"), "Zg==");

@@ -86,5 +86,72 @@ TEST(Render, FramesTheBoxWithItsAspect) {
   EXPECT_LT(hi.row, lo.row);  // up is up
 }
 
+// The report's pictures had no colour bar and no scale: the legend strip carries both.
+TEST(Render, LegendHasTheColourBarAndAScaleBarOfTheRightLength) {
+  const Box frame{{0, 0, 0}, {0.1, 0.1, 0.1}};
+  ParticleStore particles;
+  particles.add({0.05, 0.05, 0.05}, 0.01, 1000.0);
+  particles.add({0.02, 0.05, 0.02}, 0.002, 1000.0);
+  RenderOptions options;
+  options.width = 400;
+  options.legend = true;
+  const Image with = render_spheres(particles, frame, options);
+  options.legend = false;
+  const Image without = render_spheres(particles, frame, options);
+  ASSERT_EQ(with.height(), without.height() + kLegendHeight);
+  ASSERT_EQ(with.width(), without.width());
+  for (int y = 0; y < without.height(); y += 7)
+    for (int x = 0; x < without.width(); x += 7) ASSERT_EQ(with.at(x, y), without.at(x, y));
+  // The colour bar runs from viridis(0) at d_min to viridis(1) at d_max, one row of it:
+  const int row = without.height() + 6 + 6;
+  std::vector<int> bar;
+  for (int x = 0; x < with.width(); ++x)
+    if (with.at(x, row) == viridis(0.0) || with.at(x, row) == viridis(1.0)) bar.push_back(x);
+  ASSERT_GE(bar.size(), 2u);
+  EXPECT_EQ(with.at(bar.front(), row), viridis(0.0));
+  EXPECT_EQ(with.at(bar.back(), row), viridis(1.0));
+  EXPECT_EQ(bar.back() - bar.front(), 199);
+  // The scale bar: black from its left tick to its right one, as long as its length in pixels.
+  const Camera camera(frame, options);
+  const double length = scale_bar_length(with.width(), camera.pixels_per_metre());
+  EXPECT_DOUBLE_EQ(length, 0.02);  // a fifth of 0.14 m of view, rounded down to 1, 2 or 5 x 10^k
+  int left = -1, right = -1;
+  for (int x = with.width() / 2; x < with.width(); ++x)
+    if (with.at(x, row) == Rgb{0, 0, 0}) {
+      if (left < 0) left = x;
+      right = x;
+    }
+  EXPECT_NEAR(right + 1 - left, length * camera.pixels_per_metre(), 1.0);
+}
+
+// A sphere a few pixels wide came out as aliased noise: with 3 x 3 rays per pixel its edge
+// pixels are blends of it and the background, which one ray per pixel never gives.
+TEST(Render, SupersamplingBlendsTheEdges) {
+  const Box frame{{0, 0, 0}, {1, 1, 1}};
+  ParticleStore particles;
+  particles.add({0.5, 0.5, 0.5}, 0.01, 1000.0);  // about 2.5 px in radius at 200 px
+  RenderOptions options;
+  options.width = 200;
+  // The sphere's own red channel is at most viridis(0.5).r = 33; a blend with white is brighter.
+  const auto blends = [&](const Image& image) {
+    std::size_t n = 0, touched = 0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) {
+        const Rgb c = image.at(x, y);
+        touched += c != Rgb{255, 255, 255};
+        n += c.r > 40 && c.r < 250;
+      }
+    return std::pair{n, touched};
+  };
+  const auto [single_blends, single_touched] = blends(render_spheres(particles, frame, options));
+  options.supersample = 3;
+  const auto [fine_blends, fine_touched] = blends(render_spheres(particles, frame, options));
+  EXPECT_EQ(single_blends, 0u);
+  EXPECT_GE(fine_blends, 8u);
+  EXPECT_GE(fine_touched, single_touched);
+  const double r_px = 0.01 * Camera(frame, options).pixels_per_metre();
+  EXPECT_NEAR(static_cast<double>(single_touched), M_PI * r_px * r_px, 2.0 * 2.0 * M_PI * r_px);
+}
+
 }  // namespace
 }  // namespace aggpack

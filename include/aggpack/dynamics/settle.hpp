@@ -40,10 +40,10 @@ struct SettleResult {
 };
 
 // When a settling run will end, forecast from its samples so far. Once the bed has stopped
-// collapsing, its kinetic energy decays, about exponentially over any stretch but more slowly
-// as the bed locks up: log energy fitted against time over the later half of the time since
-// its peak (at least five samples) gives when it falls below the threshold; the run then
-// needs the quiet window on top. No forecast while the energy is not falling.
+// collapsing, its kinetic energy decays about as a power of time, ever more slowly as the bed
+// locks up: log energy fitted against log time over the later half of the time since its peak
+// (at least five samples) gives when it falls below the threshold; the run then needs the
+// quiet window on top. No forecast while the energy is not falling.
 // The density condition is not forecast: it is usually met long before the energy one.
 class QuietForecast {
  public:

@@ -12,6 +12,8 @@ struct RenderOptions {
   double d_lo = 0.0, d_hi = 0.0; // diameters mapped to the ends of the colour map (0, 0: the bed's own range)
   Rgb background{255, 255, 255};
   bool cut_away = false;         // leave out spheres centred nearer than the frame's vertical mid-plane: a section
+  int supersample = 1;           // n x n rays per pixel, averaged: spheres a few pixels wide stay round
+  bool legend = false;           // a strip below the picture: the diameter colour bar and a scale bar
 };
 
 // An orthographic camera framing a box: world point -> pixel column, row and depth.
@@ -36,7 +38,18 @@ class Camera {
 };
 
 // Spheres ray-cast exactly (depth-buffered, Lambert-shaded), coloured by diameter with
-// viridis, seen by a camera framing `frame` (usually the container).
+// viridis, seen by a camera framing `frame` (usually the container). With `legend`, the
+// image is taller by kLegendHeight: see add_legend.
 Image render_spheres(const ParticleStore& particles, const Box& frame, const RenderOptions& options);
+
+// The strip add_legend puts below a picture, in pixels.
+inline constexpr int kLegendHeight = 44;
+// A copy of `picture` with a white strip below it holding the colour bar (viridis from d_lo
+// to d_hi, labelled in mm) on the left and, on the right, a bar of a round length (1, 2 or
+// 5 x 10^k mm, about a fifth of the width) at `pixels_per_metre`: the camera is
+// orthographic, so the bar holds for any length in the picture plane.
+Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_per_metre);
+// The scale bar's length for a picture `width` pixels wide, m.
+[[nodiscard]] double scale_bar_length(int width, double pixels_per_metre);
 
 }  // namespace aggpack
