@@ -59,9 +59,7 @@ bool is_blank_or_comment(const std::string& line) {
   const auto first = line.find_first_not_of(" \t\r");
   return first == std::string::npos || line[first] == '#';
 }
-}  // namespace
 
-namespace {
 // Where x, y, z and the size are, from a header row; nullopt when a name is missing.
 struct Columns {
   std::array<std::size_t, 4> index{0, 1, 2, 3};  // x, y, z, size
@@ -115,9 +113,12 @@ ParticleStore read_particle_file(const std::filesystem::path& file, double lengt
               *csv ? "" : ", or rows of exactly four numbers x y z r", line));
         columns = *header;
         has_header = true;
-        min_fields = *std::max_element(columns.index.begin(), columns.index.end()) + 1;
-        max_fields = *csv ? std::numeric_limits<std::size_t>::max() : fields.size();
-        if (!*csv) min_fields = fields.size();
+        if (*csv) {
+          min_fields = *std::max_element(columns.index.begin(), columns.index.end()) + 1;
+          max_fields = std::numeric_limits<std::size_t>::max();
+        } else {
+          min_fields = max_fields = fields.size();
+        }
         continue;
       }
     }

@@ -51,7 +51,7 @@ void check_expected_count(double expected, const GradedParticles& g) {
 }
 
 std::string cut_note(const GradingSource& source, const GradingCut& cut) {
-  const std::string snapped = snapped_sieves_text(source.grading);
+  const std::string snapped = snapped_sieves_text(snapped_sieves_json(source.grading));
   return fmt::format("{} ({}): sizes {:.4g} to {:.4g} mm generated; {:.2f} % of the volume finer and {:.2f} % coarser "
                      "was cut off and the rest renormalised proportionally{}",
                      source.key, source.grading.name, cut.d_lo * 1e3, cut.d_hi * 1e3, 100 * cut.cut_below,

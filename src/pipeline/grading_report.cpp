@@ -19,10 +19,11 @@ nlohmann::json snapped_sieves_json(const Grading& g) {
   return j;
 }
 
-std::string snapped_sieves_text(const Grading& g) {
+std::string snapped_sieves_text(const nlohmann::json& snapped) {
   std::vector<std::string> moves;
-  for (const SnappedSieve& s : g.snapped)
-    moves.push_back(fmt::format("{} {:.4g} -> {:.4g} mm", s.name, 1e3 * s.given, 1e3 * s.standard));
+  for (const auto& m : snapped)
+    moves.push_back(fmt::format("{} {:.4g} -> {:.4g} mm", m.at("sieve").get<std::string>(),
+                                1e3 * m.at("given_m").get<double>(), 1e3 * m.at("standard_m").get<double>()));
   if (moves.empty()) return {};
   return fmt::format("openings within {:g} % of a standard sieve taken as that sieve (ASTM E11 series): {}",
                      100 * kSieveSnapTolerance, fmt::join(moves, ", "));
@@ -46,7 +47,7 @@ nlohmann::json curve_json(const Grading& g) {
   j["d50_m"] = opening_at_percent(g, 50);
   j["d90_m"] = opening_at_percent(g, 90);
   j["snapped_sieves"] = snapped_sieves_json(g);
-  if (!g.snapped.empty()) j["snapped_note"] = snapped_sieves_text(g);
+  if (!g.snapped.empty()) j["snapped_note"] = snapped_sieves_text(j["snapped_sieves"]);
   return j;
 }
 }  // namespace

@@ -19,6 +19,7 @@
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
+#include "aggpack/pipeline/grading_report.hpp"
 #include "aggpack/pipeline/settle_stage.hpp"
 
 namespace aggpack {
@@ -39,17 +40,17 @@ double fit_into_container(ParticleStore& particles, const Container& container, 
     Vec3& p = particles.position[i];
     const double r = particles.radius[i];
     p = container.wrapped(p);
-    // How far the sphere reaches beyond each boundary (positive: it overlaps it).
-    double overlap = std::max(b.lo.z - (p.z - r), (p.z + r) - b.hi.z);
-    const char* where = b.lo.z - (p.z - r) >= (p.z + r) - b.hi.z ? "the floor" : "the top of the container";
-    if (!container.periodic) {
-      const std::array<std::pair<double, const char*>, 4> sides{{{b.lo.x - (p.x - r), "the wall x = x_min"},
-                                                                 {(p.x + r) - b.hi.x, "the wall x = x_max"},
-                                                                 {b.lo.y - (p.y - r), "the wall y = y_min"},
-                                                                 {(p.y + r) - b.hi.y, "the wall y = y_max"}}};
-      for (const auto& [depth, side] : sides)
-        if (depth > overlap) overlap = depth, where = side;
-    }
+    // How far the sphere reaches beyond each boundary (positive: it overlaps it); periodic
+    // sides have only the floor and the top.
+    const std::array<std::pair<double, const char*>, 6> reach{{{b.lo.z - (p.z - r), "the floor"},
+                                                               {(p.z + r) - b.hi.z, "the top of the container"},
+                                                               {b.lo.x - (p.x - r), "the wall x = x_min"},
+                                                               {(p.x + r) - b.hi.x, "the wall x = x_max"},
+                                                               {b.lo.y - (p.y - r), "the wall y = y_min"},
+                                                               {(p.y + r) - b.hi.y, "the wall y = y_max"}}};
+    const auto deepest = std::max_element(reach.begin(), container.periodic ? reach.begin() + 2 : reach.end(),
+                                          [](const auto& a, const auto& c) { return a.first < c.first; });
+    const auto [overlap, where] = *deepest;
     if (overlap > tolerance * r)
       throw InputError(fmt::format(
           "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, reaches {:.3g} m "
@@ -57,7 +58,7 @@ double fit_into_container(ParticleStore& particles, const Container& container, 
           "particles.boundary_overlap_tolerance accepts up to {:g} r (a contact overlap), not an intrusion",
           file.string(), i, i + 1, p.x, p.y, p.z, r, overlap, overlap / r, where, b.lo.x, b.hi.x, b.lo.y, b.hi.y,
           b.lo.z, b.hi.z, tolerance));
-    largest = std::max(largest, overlap / r);
+    largest = std::max(largest, overlap / r);  // a sphere clear of every boundary counts as 0
   }
   return largest;
 }
@@ -398,6 +399,8 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
           fmt::print(log, "    {:>8} {:>10.4g} {:>9.2f} {:>9.2f}\n", row["sieve"].get<std::string>(),
                      1e3 * row["opening_m"].get<double>(), row["target_percent"].get<double>(),
                      row["generated_percent"].get<double>());
+        if (const std::string snapped = snapped_sieves_text(c["snapped_sieves"]); !snapped.empty())
+          fmt::print(log, "    {}\n", snapped);
         if (c.contains("band"))
           fmt::print(log, "    band {}: {}\n", c["band"]["name"].get<std::string>(),
                      c["band"]["all_inside"].get<bool>() ? "inside at every sieve" : "OUTSIDE at some sieves");

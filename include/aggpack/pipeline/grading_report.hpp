@@ -24,9 +24,9 @@ struct GradingQuery {
 nlohmann::json band_check_json(const Band& band, const BandCheck& check);
 
 // The openings make_grading moved to the standard sieve series: [{ sieve, given_m,
-// standard_m }], and the same in words for the output (empty when none moved).
+// standard_m }], and that list in words for the output (empty when none moved).
 nlohmann::json snapped_sieves_json(const Grading& grading);
-std::string snapped_sieves_text(const Grading& grading);
+std::string snapped_sieves_text(const nlohmann::json& snapped_sieves);
 
 // Throws InputError for unknown names, bad files and cut-offs that leave nothing.
 nlohmann::json describe_grading(const GradingQuery& query);
