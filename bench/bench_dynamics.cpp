@@ -21,23 +21,9 @@
 
 #include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/io/lammps_data.hpp"
 #include "peak_rss.hpp"
 
-namespace {
-
-void write_lammps_data(const std::string& file, const aggpack::ParticleStore& bed, const aggpack::Container& c,
-                       double density) {
-  auto out = fmt::output_file(file);
-  out.print("aggpack bed for LAMMPS\n\n{} atoms\n1 atom types\n\n", bed.size());
-  double top = 0.0;
-  for (const auto& p : bed.position) top = std::max(top, p.z);
-  out.print("{:.17g} {:.17g} xlo xhi\n{:.17g} {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n\nAtoms # sphere\n\n",
-            c.bounds.lo.x, c.bounds.hi.x, c.bounds.lo.y, c.bounds.hi.y, c.bounds.lo.z, top + 0.1);
-  for (std::size_t i = 0; i < bed.size(); ++i)
-    out.print("{} 1 {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, 2.0 * bed.radius[i], density,
-              bed.position[i].x, bed.position[i].y, bed.position[i].z);
-}
-}  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
@@ -46,10 +32,10 @@ int main(int argc, char** argv) {
   }
   const auto count = static_cast<std::size_t>(std::atof(argv[1]));
   std::size_t steps = 2000, settle_steps = 2000;
-  std::string lammps_data;
+  std::string lammps_file;
   for (int a = 2; a < argc; ++a) {
     const std::string arg = argv[a];
-    if (arg == "--lammps-data" && a + 1 < argc) lammps_data = argv[++a];
+    if (arg == "--lammps-data" && a + 1 < argc) lammps_file = argv[++a];
     else if (arg == "--settle-steps" && a + 1 < argc) settle_steps = std::strtoull(argv[++a], nullptr, 10);
     else steps = std::strtoull(argv[a], nullptr, 10);
   }
@@ -76,7 +62,11 @@ int main(int argc, char** argv) {
   const long rss_before = peak_rss_kib();
   aggpack::DemSystem dem(bed, container, model, settings);
   dem.run(settle_steps);
-  if (!lammps_data.empty()) write_lammps_data(lammps_data, bed, container, density);
+  if (!lammps_file.empty()) {
+    double top = 0.0;
+    for (std::size_t i = 0; i < bed.size(); ++i) top = std::max(top, bed.position[i].z + bed.radius[i]);
+    fmt::output_file(lammps_file).print("{}", aggpack::lammps_data(bed, container, density, top + 0.1));
+  }
   const std::size_t rebuilds_before = dem.rebuilds();
   const auto t0 = std::chrono::steady_clock::now();
   dem.run(steps);

@@ -1,5 +1,7 @@
 #include "aggpack/core/units.hpp"
 
+#include "aggpack/core/text.hpp"
+
 #include <array>
 #include <cctype>
 #include <cerrno>
@@ -20,11 +22,6 @@ constexpr std::array<LengthUnit, 8> kUnits{{
     {"yd", 0.9144L},
 }};
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 }  // namespace
 
 std::span<const LengthUnit> length_units() { return kUnits; }

@@ -46,14 +46,7 @@ LinearInZ vertical_normal_component(const Obstacle& o, const Vec3& p) {
 }
 }  // namespace
 
-const char* to_string(DepositionEnd end) {
-  switch (end) {
-    case DepositionEnd::AllPlaced: return "all_placed";
-    case DepositionEnd::FillHeight: return "fill_height";
-    case DepositionEnd::Unplaceable: return "unplaceable";
-  }
-  return "unknown";
-}
+std::string_view to_string(DepositionEnd end) { return name_of(kDepositionEndNames, end); }
 
 DropAndRoll::DropAndRoll(ParticleStore& bed, const Container& container, std::span<const double> radii_to_come,
                          const DepositionSettings& settings, Rng rng)

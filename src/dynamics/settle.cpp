@@ -12,7 +12,7 @@
 namespace aggpack {
 
 std::string_view settle_end_name(SettleEnd end) {
-  return end == SettleEnd::Quiet ? "quiet" : "max_time";
+  return name_of(kSettleEndNames, end);
 }
 
 void QuietForecast::add(const SettleSample& sample) {

@@ -13,36 +13,22 @@
 #include <vector>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
 
 namespace aggpack {
 
 namespace {
-std::string lower_trimmed(std::string s) {
-  s.erase(0, s.find_first_not_of(" \t\r\""));
-  s.erase(s.find_last_not_of(" \t\r\"") + 1);
+// A header name or a number cell: trimmed, quotes dropped, lower case.
+std::string lower_trimmed(std::string_view text) {
+  std::string s(trim(text));
+  s.erase(0, s.find_first_not_of('"'));
+  s.erase(s.find_last_not_of('"') + 1);
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
   return s;
 }
 
 std::vector<std::string> split(const std::string& line, bool csv) {
-  std::vector<std::string> out;
-  if (csv) {
-    std::size_t start = 0;
-    for (std::size_t comma = line.find(','); ; comma = line.find(',', start)) {
-      out.push_back(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start));
-      if (comma == std::string::npos) break;
-      start = comma + 1;
-    }
-  } else {
-    std::size_t i = 0;
-    while (i < line.size()) {
-      while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-      const std::size_t start = i;
-      while (i < line.size() && !std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-      if (i > start) out.push_back(line.substr(start, i - start));
-    }
-  }
-  return out;
+  return csv ? split_csv_fields(line) : split_words(line);
 }
 
 std::optional<double> to_number(const std::string& text) {
@@ -56,8 +42,8 @@ std::optional<double> to_number(const std::string& text) {
 }
 
 bool is_blank_or_comment(const std::string& line) {
-  const auto first = line.find_first_not_of(" \t\r");
-  return first == std::string::npos || line[first] == '#';
+  const std::string_view t = trim(line);
+  return t.empty() || t.front() == '#';
 }
 
 // Where x, y, z and the size are, from a header row; nullopt when a name is missing.

@@ -89,12 +89,9 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
     if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"", unit));
     g.grading = read_grading_csv(relative_to(scenario_dir, *file).string(), static_cast<double>(*factor),
                                  s.string("percent_column").value_or("percent_passing"));
-  } else if (const auto law = s.choice("law", {"fuller", "power_045", "andreasen", "modified_andreasen"})) {
+  } else if (const auto law = s.choice("law", kGradingLawNames)) {
     GradingLaw l;
-    l.kind = *law == "fuller"      ? GradingLawKind::Fuller
-             : *law == "power_045" ? GradingLawKind::Power045
-             : *law == "andreasen" ? GradingLawKind::Andreasen
-                                   : GradingLawKind::ModifiedAndreasen;
+    l.kind = *law;
     l.d_max = s.required(s.length("law_d_max"), "law_d_max", "the largest size of the law, such as \"1 in\"");
     l.q = s.number("q", kPositive).value_or(l.kind == GradingLawKind::Andreasen ? 0.37 : 0.5);
     l.d_min = s.length("law_d_min").value_or(0.0);
@@ -144,11 +141,9 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
     if (s.has("ca_fa")) s.fail("ca_fa", "applies only to a coarse/fine mix");
     p.main = read_grading_source(*s.table("grading"), scenario_dir);
   }
-  p.sampling = s.choice("sampling", {"mass", "number"}).value_or("mass") == "mass" ? SamplingMode::Mass
-                                                                                  : SamplingMode::Number;
-  const auto order = s.choice("order", {"interleaved", "shuffled"}).value_or(mix ? "interleaved" : "shuffled");
-  if (!mix && order == "interleaved") s.fail("order", "'interleaved' applies only to a coarse/fine mix");
-  p.order = order == "interleaved" ? MixOrder::Interleaved : MixOrder::Shuffled;
+  p.sampling = s.choice("sampling", kSamplingModeNames).value_or(SamplingMode::Mass);
+  p.order = s.choice("order", kMixOrderNames).value_or(mix ? MixOrder::Interleaved : MixOrder::Shuffled);
+  if (!mix && p.order == MixOrder::Interleaved) s.fail("order", "'interleaved' applies only to a coarse/fine mix");
   const auto count = s.integer("count", 1, 1'000'000'000);
   const auto solid_volume = s.number("solid_volume", kPositive);
   p.fill_height = s.length("fill_height");
@@ -200,8 +195,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   for (auto k : {"length_unit", "boundary_overlap_tolerance"})
     if (s.has(k)) s.fail(k, "applies only to particles read with 'from'");
   SizeSpec spec;
-  spec.order = s.choice("order", {"shuffled", "as_listed"}).value_or("shuffled") == "shuffled" ? SizeOrder::Shuffled
-                                                                                                : SizeOrder::AsListed;
+  spec.order = s.choice("order", kSizeOrderNames).value_or(SizeOrder::Shuffled);
   const auto count = s.integer("count", 1, 1'000'000'000);
   const auto solid_volume = s.number("solid_volume", kPositive);
   if (const auto d = s.length("diameter")) {
@@ -408,7 +402,7 @@ nlohmann::json to_json(const Scenario& sc) {
     }
     if (spec.total_count) p["count"] = *spec.total_count;
     if (spec.solid_volume) p["solid_volume_m3"] = *spec.solid_volume;
-    p["order"] = spec.order == SizeOrder::Shuffled ? "shuffled" : "as_listed";
+    p["order"] = name_of(kSizeOrderNames, spec.order);
   }
   if (const auto& g = sc.particles.graded) {
     const auto source = [](const GradingSource& gs) {
@@ -425,8 +419,8 @@ nlohmann::json to_json(const Scenario& sc) {
       p["gradings"].push_back(source(*g->fine));
       p["ca_fa"] = g->ca_fa;
     }
-    p["sampling"] = g->sampling == SamplingMode::Mass ? "mass" : "number";
-    p["order"] = g->order == MixOrder::Interleaved ? "interleaved" : "shuffled";
+    p["sampling"] = name_of(kSamplingModeNames, g->sampling);
+    p["order"] = name_of(kMixOrderNames, g->order);
     if (g->amount.count) p["count"] = *g->amount.count;
     if (g->amount.solid_volume) p["solid_volume_m3"] = *g->amount.solid_volume;
     if (g->fill_height) {

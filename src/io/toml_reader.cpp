@@ -151,6 +151,11 @@ std::optional<std::string> TomlSection::string(std::string_view key) const {
 
 std::optional<std::string> TomlSection::choice(std::string_view key,
                                                std::initializer_list<std::string_view> choices) const {
+  return choice(key, std::vector<std::string_view>(choices));
+}
+
+std::optional<std::string> TomlSection::choice(std::string_view key,
+                                               const std::vector<std::string_view>& choices) const {
   auto s = string(key);
   if (!s) return s;
   if (std::find(choices.begin(), choices.end(), *s) != choices.end()) return s;

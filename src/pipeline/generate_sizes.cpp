@@ -69,7 +69,7 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
     const GradedParticles& g = *source.graded;
     const GradingCut main_cut = cut_grading(g.main.grading, g.main.d_min, g.main.d_max, g.main.key);
     const GradingSampler main(main_cut, g.sampling);
-    out.report["sampling"] = g.sampling == SamplingMode::Mass ? "mass" : "number";
+    out.report["sampling"] = name_of(kSamplingModeNames, g.sampling);
     out.report["within_interval"] = g.sampling == SamplingMode::Mass
                                         ? "volume uniform in log diameter (as the curve between sieves)"
                                         : "uniform in diameter by number (the paper's Eq. 11)";
@@ -93,7 +93,7 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
       for (double d : coarse_d) vc += volume(d);
       for (double d : fine_d) vf += volume(d);
       out.report["method"] = "mix";
-      out.report["order"] = g.order == MixOrder::Interleaved ? "interleaved" : "shuffled";
+      out.report["order"] = name_of(kMixOrderNames, g.order);
       out.report["ca_fa_requested"] = g.ca_fa;
       out.report["ca_fa_generated"] = vf > 0 ? vc / vf : 0.0;
       out.report["components"] = {component_report(g.main, main_cut, coarse_d),

@@ -15,6 +15,7 @@
 #include <omp.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/dynamics/contact_law.hpp"
 #include "aggpack/io/atomic_file.hpp"
@@ -64,9 +65,7 @@ std::vector<Table2Row> read_table2(const fs::path& file) {
       header = false;
       continue;
     }
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+    const std::vector<std::string> f = split_csv_fields(line);
     try {
       if (f.size() < 7) throw std::invalid_argument("too few columns");
       rows.push_back({std::stoi(f[0]), f[1], std::stod(f[2]), std::stod(f[3]), std::stod(f[4]), std::stod(f[5]),

@@ -198,8 +198,8 @@ nlohmann::json modelling_notes(const Scenario& sc, bool auto_box, const nlohmann
         "deposition: kinematic drop-and-roll, a geometric steepest descent without inertia or friction "
         "(material friction and restitution are not used by this stage); spheres dropped one at a time at "
         "uniformly random (x, y), in {} order; contact tolerance {:g} x diameter",
-        sc.particles.graded ? (sc.particles.graded->order == MixOrder::Interleaved ? "interleaved" : "shuffled")
-                            : (sc.particles.sizes->order == SizeOrder::Shuffled ? "shuffled" : "listed"),
+        sc.particles.graded ? name_of(kMixOrderNames, sc.particles.graded->order)
+                            : name_of(kSizeOrderNames, sc.particles.sizes->order),
         sc.deposition->tolerance));
     if (d.at("end") != "all_placed")
       notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed",

@@ -9,28 +9,13 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
 
 namespace aggpack {
 
 namespace {
 constexpr double kInch = 0.0254;
 constexpr double kMm = 0.001;
-
-std::string trim(std::string s) {
-  const auto not_space = [](unsigned char c) { return !std::isspace(c); };
-  s.erase(s.begin(), std::find_if(s.begin(), s.end(), not_space));
-  s.erase(std::find_if(s.rbegin(), s.rend(), not_space).base(), s.end());
-  return s;
-}
-
-std::vector<std::string> split_csv(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string field;
-  while (std::getline(ss, field, ',')) out.push_back(trim(field));
-  if (!line.empty() && line.back() == ',') out.emplace_back();
-  return out;
-}
 
 Grading grading_in_inches(std::string name, std::vector<std::pair<const char*, std::pair<double, double>>> rows) {
   std::vector<Sieve> sieves;
@@ -151,11 +136,11 @@ Grading read_grading_csv(const std::string& file, double length_unit, const std:
   double unit = length_unit;
   while (std::getline(in, line)) {
     ++line_no;
-    line = trim(line);
+    line = std::string(trim(line));
     // "# text" is a comment; "#4,4.75,95" is a sieve row.
     if (line.empty() || (line[0] == '#' && (line.size() == 1 || std::isspace(static_cast<unsigned char>(line[1])))))
       continue;
-    const auto fields = split_csv(line);
+    const auto fields = split_csv_fields(line);
     if (header.empty()) {
       header = fields;
       for (std::size_t c = 0; c < header.size(); ++c) {
@@ -318,8 +303,7 @@ Grading grading_from_law(const GradingLaw& law) {
     }
   sieves.push_back({"d_max", law.d_max, 100.0});
   rows.push_back("d_max");
-  const char* names[] = {"fuller", "power_045", "andreasen", "modified_andreasen"};
-  return make_grading(names[static_cast<int>(law.kind)], std::move(sieves), "grading law", rows);
+  return make_grading(std::string(name_of(kGradingLawNames, law.kind)), std::move(sieves), "grading law", rows);
 }
 
 }  // namespace aggpack

@@ -1,11 +1,13 @@
 #pragma once
 #include <array>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <vector>
 
+#include "aggpack/core/enum_names.hpp"
 #include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/core/rng.hpp"
@@ -27,6 +29,9 @@ enum class DepositionEnd {
   FillHeight,    // a sphere would have rested with its top above the fill height
   Unplaceable,   // a sphere found no rest in max_redrops drops
 };
+inline constexpr std::array kDepositionEndNames{EnumName<DepositionEnd>{DepositionEnd::AllPlaced, "all_placed"},
+                                                EnumName<DepositionEnd>{DepositionEnd::FillHeight, "fill_height"},
+                                                EnumName<DepositionEnd>{DepositionEnd::Unplaceable, "unplaceable"}};
 
 struct DepositionStats {
   std::size_t requested = 0;
@@ -104,6 +109,6 @@ class DropAndRoll {
   std::vector<Vec3> normals_;       // scratch: contact normals
 };
 
-[[nodiscard]] const char* to_string(DepositionEnd end);
+[[nodiscard]] std::string_view to_string(DepositionEnd end);
 
 }  // namespace aggpack

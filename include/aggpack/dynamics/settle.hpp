@@ -1,10 +1,12 @@
 #pragma once
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <optional>
 #include <string_view>
 #include <vector>
 
+#include "aggpack/core/enum_names.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
 
 namespace aggpack {
@@ -21,6 +23,8 @@ struct QuietCriterion {
 };
 
 enum class SettleEnd { Quiet, MaxTime };
+inline constexpr std::array kSettleEndNames{EnumName<SettleEnd>{SettleEnd::Quiet, "quiet"},
+                                            EnumName<SettleEnd>{SettleEnd::MaxTime, "max_time"}};
 std::string_view settle_end_name(SettleEnd end);
 
 struct SettleSample {

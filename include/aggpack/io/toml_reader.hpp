@@ -1,4 +1,5 @@
 #pragma once
+#include "aggpack/core/enum_names.hpp"
 #include <cstdint>
 #include <initializer_list>
 #include <map>
@@ -46,6 +47,13 @@ class TomlSection {
   std::optional<std::string> string(std::string_view key) const;
   // One of `choices`; the message lists them.
   std::optional<std::string> choice(std::string_view key, std::initializer_list<std::string_view> choices) const;
+  std::optional<std::string> choice(std::string_view key, const std::vector<std::string_view>& choices) const;
+  // One of an enum's names (its EnumName table), as the value.
+  template <class E, std::size_t N>
+  std::optional<E> choice(std::string_view key, const std::array<EnumName<E>, N>& table) const {
+    const auto name = choice(key, names_of(table));
+    return name ? value_of(table, *name) : std::nullopt;
+  }
   // A string with a unit ("1 in") or a bare number (metres).
   std::optional<double> length(std::string_view key, NumberRange range = kPositive) const;
   std::optional<std::vector<double>> length_list(std::string_view key) const;

@@ -1,4 +1,7 @@
 #pragma once
+#include <array>
+
+#include "aggpack/core/enum_names.hpp"
 #include <optional>
 #include <string>
 #include <string_view>
@@ -93,6 +96,11 @@ std::vector<std::string> named_band_names();
 //   fuller: 100 (d/D)^0.5; power_045: 100 (d/D)^0.45; andreasen: 100 (d/D)^q;
 //   modified_andreasen (Dinger-Funk): 100 (d^q - dmin^q) / (D^q - dmin^q).
 enum class GradingLawKind { Fuller, Power045, Andreasen, ModifiedAndreasen };
+inline constexpr std::array kGradingLawNames{
+    EnumName<GradingLawKind>{GradingLawKind::Fuller, "fuller"},
+    EnumName<GradingLawKind>{GradingLawKind::Power045, "power_045"},
+    EnumName<GradingLawKind>{GradingLawKind::Andreasen, "andreasen"},
+    EnumName<GradingLawKind>{GradingLawKind::ModifiedAndreasen, "modified_andreasen"}};
 struct GradingLaw {
   GradingLawKind kind = GradingLawKind::Fuller;
   double d_max = 0.0;  // m

@@ -1,8 +1,10 @@
 #pragma once
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <vector>
 
+#include "aggpack/core/enum_names.hpp"
 #include "aggpack/core/rng.hpp"
 #include "aggpack/sizes/grading.hpp"
 
@@ -16,6 +18,8 @@ namespace aggpack {
 //          fraction, linearly in diameter within the interval. For reproducing the paper only:
 //          it makes far too few fines by volume.
 enum class SamplingMode { Mass, Number };
+inline constexpr std::array kSamplingModeNames{EnumName<SamplingMode>{SamplingMode::Mass, "mass"},
+                                               EnumName<SamplingMode>{SamplingMode::Number, "number"}};
 
 // The part of a grading that is generated: [d_lo, d_hi] after the cut-offs, with the volume
 // fractions cut off below d_min (including anything finer than the smallest sieve) and above
@@ -66,6 +70,8 @@ std::vector<double> sample_diameters(const GradingSampler& sampler, const Amount
 // one coarse particle, then fine particles until the running fine volume reaches the coarse
 // volume / ratio, repeated; the amount counts both. Shuffled: the same particles, shuffled.
 enum class MixOrder { Interleaved, Shuffled };
+inline constexpr std::array kMixOrderNames{EnumName<MixOrder>{MixOrder::Interleaved, "interleaved"},
+                                           EnumName<MixOrder>{MixOrder::Shuffled, "shuffled"}};
 // `is_fine`, when given, receives 1 for each fine particle, in the same order.
 std::vector<double> sample_mix(const GradingSampler& coarse, const GradingSampler& fine, double coarse_to_fine,
                                const Amount& amount, MixOrder order, Rng& rng,

@@ -1,8 +1,10 @@
 #pragma once
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <vector>
 
+#include "aggpack/core/enum_names.hpp"
 #include "aggpack/core/rng.hpp"
 
 namespace aggpack {
@@ -15,6 +17,8 @@ struct SizeClass {
 };
 
 enum class SizeOrder { Shuffled, AsListed };
+inline constexpr std::array kSizeOrderNames{EnumName<SizeOrder>{SizeOrder::Shuffled, "shuffled"},
+                                            EnumName<SizeOrder>{SizeOrder::AsListed, "as_listed"}};
 
 // Monosized is a single class with a count. Classes given by volume fraction need
 // either total_count or solid_volume to say how much to generate.

@@ -1,0 +1,20 @@
+#pragma once
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace aggpack {
+
+// The one trim and the two field splitters every reader of text files uses.
+
+// `text` without leading and trailing whitespace.
+[[nodiscard]] std::string_view trim(std::string_view text);
+
+// The comma-separated fields of a CSV line, each trimmed; "a,,b," gives four fields, the
+// empty ones included. (No quoting: aggpack's files and the sieve tables it reads have none.)
+[[nodiscard]] std::vector<std::string> split_csv_fields(std::string_view line);
+
+// The whitespace-separated words of a line; runs of blanks count as one separator.
+[[nodiscard]] std::vector<std::string> split_words(std::string_view line);
+
+}  // namespace aggpack
