@@ -1,5 +1,7 @@
 #include "aggpack/dynamics/contact_law.hpp"
 
+#include "aggpack/dynamics/contact_law_registry.hpp"
+
 #include <cmath>
 #include <numbers>
 
@@ -114,10 +116,8 @@ ContactModel make_contact_model(const ContactParameters& p) {
       effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio, p.wall_youngs_modulus, p.wall_poisson_ratio),
       effective_shear_modulus(p.youngs_modulus, p.poisson_ratio, p.wall_youngs_modulus, p.wall_poisson_ratio),
       damping, p.friction_wall, p.rolling_friction};
-  if (p.friction_model == "mindlin") return {HertzMindlin{particle}, HertzMindlin{wall}};
-  if (p.friction_model == "fu2003") return {SlidingFrictionFu2003{particle}, SlidingFrictionFu2003{wall}};
-  throw InputError(fmt::format("friction_model \"{}\" is unknown: expected \"mindlin\" or \"fu2003\"",
-                               p.friction_model));
+  const ContactLawEntry& law = contact_law(p.friction_model);
+  return {law.make(particle), law.make(wall)};
 }
 
 }  // namespace aggpack

@@ -5,6 +5,7 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/io/toml_reader.hpp"
 #include "aggpack/sizes/grading.hpp"
 
@@ -248,7 +249,9 @@ DynamicsStage read_dynamics(const TomlSection& s) {
   s.allow_only({"friction_model", "time_step", "time_step_safety", "max_time", "sample_interval", "quiet_window",
                 "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity"});
   DynamicsStage d;
-  d.friction_model = s.choice("friction_model", {"mindlin", "fu2003"}).value_or(d.friction_model);
+  std::vector<std::string_view> laws;
+  for (const ContactLawEntry& law : contact_laws()) laws.push_back(law.name);
+  d.friction_model = s.choice("friction_model", laws).value_or(d.friction_model);
   d.time_step = s.number("time_step", {0.0, 1.0, true, false});
   d.time_step_safety = s.number("time_step_safety", {0.0, 1.0, true, false}).value_or(d.time_step_safety);
   d.max_time = s.number("max_time", {0.0, 1e4, true, false}).value_or(d.max_time);

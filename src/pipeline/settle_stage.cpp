@@ -10,6 +10,7 @@
 
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 
@@ -62,8 +63,7 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
       throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
     }
   }();
-  const double rayleigh = rayleigh_time(r_min, sc.material.density, sc.material.youngs_modulus,
-                                        sc.material.poisson_ratio);
+  const double rayleigh = stable_time_scale(contact_parameters(sc), r_min, sc.material.density);
   DemSettings settings;
   settings.gravity = {0.0, 0.0, -stage.gravity};
   settings.time_step = stage.time_step.value_or(stage.time_step_safety * rayleigh);
@@ -140,18 +140,7 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const nlohmann::json
   const DynamicsStage& stage = *sc.dynamics;
   const Material& m = sc.material;
   std::vector<std::string> notes;
-  if (stage.friction_model == "mindlin")
-    notes.push_back(fmt::format(
-        "dynamics: DEM with Hertz normal force, restitution damping (Tsuji form, e = {:g} solved exactly), Mindlin "
-        "tangential spring with history capped by Coulomb friction (particle {:g}, wall {:g}){}; velocity Verlet",
-        m.restitution, m.friction_particle, m.friction_wall,
-        m.rolling_friction > 0 ? fmt::format(", rolling resistance {:g}", m.rolling_friction) : std::string()));
-  else
-    notes.push_back(fmt::format(
-        "dynamics: the paper's friction law (fu2003): Hertz normal force with restitution damping (e = {:g}) and "
-        "sliding friction mu F_n against the sliding velocity (particle {:g}, wall {:g}), no tangential spring, so "
-        "contacts never stick; kept for reproduction, not the recommended model",
-        m.restitution, m.friction_particle, m.friction_wall));
+  notes.push_back(contact_law(stage.friction_model).describe(contact_parameters(sc)));
   notes.push_back(fmt::format(
       "dynamics: Young's modulus {:.3g} GPa (walls {:.3g} GPa), Poisson ratio {:g}{}; mean overlap {:.2e} and "
       "maximum overlap {:.2e} of r_i + r_j at the end",

@@ -1,4 +1,5 @@
 #include "aggpack/dynamics/contact_law.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
 
 #include <gtest/gtest.h>
 
@@ -156,6 +157,46 @@ TEST(MakeContactModel, ChoosesTheLawByNameAndRejectsBadValues) {
   p = {};
   p.restitution = 0.0;
   EXPECT_THROW(make_contact_model(p), InputError);
+}
+
+}  // namespace
+}  // namespace aggpack
+
+namespace aggpack {
+namespace {
+
+// One table: each entry builds its own law, describes it and gives LAMMPS keywords that carry
+// the parameters it was given.
+TEST(ContactLawRegistry, EveryLawBuildsDescribesAndTranslatesItself) {
+  ASSERT_EQ(contact_laws().size(), 2u);
+  ContactParameters p;
+  p.youngs_modulus = 3e9;
+  p.poisson_ratio = 0.3;
+  p.wall_youngs_modulus = 200e9;
+  p.wall_poisson_ratio = 0.3;
+  p.friction_particle = 0.17;
+  p.friction_wall = 0.5;
+  for (const ContactLawEntry& law : contact_laws()) {
+    p.friction_model = std::string(law.name);
+    EXPECT_EQ(&contact_law(law.name), &law);
+    EXPECT_EQ(make_contact_model(p).particle.index(), law.make(ContactCoefficients{}).index()) << law.name;
+    EXPECT_NE(law.describe(p).find("e = 0.5"), std::string::npos) << law.describe(p);
+    const std::string particle = law.lammps_keywords(p, false), wall = law.lammps_keywords(p, true);
+    EXPECT_EQ(particle.rfind("hertz/material 3e+09 0.5 0.3 damping tsuji", 0), 0u) << particle;
+    EXPECT_EQ(wall.rfind("hertz/material 2e+11 0.5 0.3 damping tsuji", 0), 0u) << wall;
+    EXPECT_NE(particle.find(" 0.17"), std::string::npos) << particle;
+    EXPECT_NE(wall.find(" 0.5"), std::string::npos) << wall;
+    EXPECT_FALSE(law.lammps_differences.empty());
+  }
+  // The Mindlin tangential damping ratio is aggpack's sqrt(4 G*/E*), which for one material is
+  // sqrt(2 (1 - nu) / (2 - nu)) = 0.907485213 at nu = 0.3.
+  p.friction_model = "mindlin";
+  EXPECT_NE(contact_law("mindlin").lammps_keywords(p, false).find("tangential mindlin NULL 0.907485213 0.17"),
+            std::string::npos)
+      << contact_law("mindlin").lammps_keywords(p, false);
+  EXPECT_THROW((void)contact_law("coulomb"), InputError);
+  // The default time step's scale is the Rayleigh time of the smallest sphere.
+  EXPECT_DOUBLE_EQ(stable_time_scale(p, 0.005, 2650.0), rayleigh_time(0.005, 2650.0, 3e9, 0.3));
 }
 
 }  // namespace

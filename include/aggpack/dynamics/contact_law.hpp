@@ -146,9 +146,9 @@ struct ContactModel {
   ContactLaw wall;
 };
 
-// What a user states; make_contact_model is the one place that knows the law names.
+// What a user states; the law's name is looked up in contact_laws() (contact_law_registry.hpp).
 struct ContactParameters {
-  std::string friction_model = "mindlin";  // "mindlin" or "fu2003"
+  std::string friction_model = "mindlin";  // a name of contact_laws()
   double youngs_modulus = 50e9;            // Pa
   double poisson_ratio = 0.25;
   double wall_youngs_modulus = 200e9;      // Pa (steel)
@@ -158,11 +158,6 @@ struct ContactParameters {
   double restitution = 0.5;
   double rolling_friction = 0.0;
 };
-
-inline const std::vector<std::string>& friction_model_names() {
-  static const std::vector<std::string> names{"mindlin", "fu2003"};
-  return names;
-}
 
 // Throws std::invalid_argument naming the parameter, its value and the allowed range.
 ContactModel make_contact_model(const ContactParameters& p);

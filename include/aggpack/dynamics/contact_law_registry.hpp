@@ -1,0 +1,34 @@
+#pragma once
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "aggpack/dynamics/contact_law.hpp"
+
+namespace aggpack {
+
+// The one table of contact laws: the scenario's choice list (dynamics.friction_model), the
+// modelling notes, make_contact_model and the LAMMPS bridge all read it. A new law is a new
+// value type in contact_law.hpp and one entry here.
+struct ContactLawEntry {
+  std::string_view name;     // dynamics.friction_model
+  std::string_view summary;  // a phrase for lists and help
+  ContactLaw (*make)(const ContactCoefficients& coefficients);
+  // The modelling note: the law and the parameters it was given, in words.
+  std::string (*describe)(const ContactParameters& parameters);
+  // The equivalent LAMMPS `pair_style granular` coefficients (`pair_coeff * *` for
+  // particles; the same keywords after `fix wall/gran ... granular` for walls, which take the
+  // wall's E and nu), and how the two codes' definitions differ.
+  std::string (*lammps_keywords)(const ContactParameters& parameters, bool wall);
+  std::string_view lammps_differences;
+};
+
+[[nodiscard]] std::span<const ContactLawEntry> contact_laws();
+// Throws InputError naming the known laws.
+[[nodiscard]] const ContactLawEntry& contact_law(std::string_view name);
+
+// Both Hertz laws resolve a contact in a fraction of the Rayleigh-wave time of the smallest
+// sphere; the time step's default is dynamics.time_step_safety times this.
+[[nodiscard]] double stable_time_scale(const ContactParameters& parameters, double smallest_radius, double density);
+
+}  // namespace aggpack

@@ -1,0 +1,91 @@
+#include "aggpack/dynamics/contact_law_registry.hpp"
+
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "aggpack/core/error.hpp"
+
+namespace aggpack {
+
+namespace {
+
+std::string rolling_text(const ContactParameters& p) {
+  return p.rolling_friction > 0 ? fmt::format(", rolling resistance {:g}", p.rolling_friction) : std::string();
+}
+
+// LAMMPS's hertz/material takes E, the damping coefficient (with `damping tsuji`, the
+// restitution e) and nu of the material; a wall/gran wall takes the wall's.
+std::string lammps_normal(const ContactParameters& p, bool wall) {
+  return fmt::format("hertz/material {:.9g} {:.9g} {:.9g} damping tsuji", wall ? p.wall_youngs_modulus : p.youngs_modulus,
+                     p.restitution, wall ? p.wall_poisson_ratio : p.poisson_ratio);
+}
+
+std::string lammps_rolling(const ContactParameters& p) {
+  // sds: k_roll, gamma_roll, mu_roll. Ours is a constant torque mu_r R* F_n: the closest is a
+  // stiff spring capped at mu_roll, which slides at once.
+  return p.rolling_friction > 0 ? fmt::format(" rolling sds 1e12 0 {:.9g}", p.rolling_friction) : std::string();
+}
+
+const std::array<ContactLawEntry, 2> kLaws{{
+    {"mindlin", "Hertz-Mindlin with history, restitution damping, Coulomb cap (recommended)",
+     [](const ContactCoefficients& c) -> ContactLaw { return HertzMindlin{c}; },
+     [](const ContactParameters& p) {
+       return fmt::format(
+           "dynamics: DEM with Hertz normal force, restitution damping (Tsuji form, e = {:g} solved exactly), Mindlin "
+           "tangential spring with history capped by Coulomb friction (particle {:g}, wall {:g}){}; velocity Verlet",
+           p.restitution, p.friction_particle, p.friction_wall, rolling_text(p));
+     },
+     [](const ContactParameters& p, bool wall) {
+       const double g_star = effective_shear_modulus(p.youngs_modulus, p.poisson_ratio,
+                                                     wall ? p.wall_youngs_modulus : p.youngs_modulus,
+                                                     wall ? p.wall_poisson_ratio : p.poisson_ratio);
+       const double e_star = effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio,
+                                                      wall ? p.wall_youngs_modulus : p.youngs_modulus,
+                                                      wall ? p.wall_poisson_ratio : p.poisson_ratio);
+       return fmt::format("{} tangential mindlin NULL {:.9g} {:.9g}{}", lammps_normal(p, wall),
+                          std::sqrt(4.0 * g_star / e_star), wall ? p.friction_wall : p.friction_particle,
+                          lammps_rolling(p));
+     },
+     "LAMMPS's tsuji damping maps e to the damping coefficient by a fitted polynomial, aggpack by solving the "
+     "dimensionless impact exactly (the restitution differs by up to about 1 %); the tangential damping ratio "
+     "sqrt(4 G*/E*) is given explicitly (LAMMPS's own default is 1); aggpack's rolling resistance is a constant "
+     "torque, LAMMPS's sds a spring capped at the same torque"},
+    {"fu2003", "the paper's sliding friction: mu F_n against the sliding velocity, no spring (never sticks)",
+     [](const ContactCoefficients& c) -> ContactLaw { return SlidingFrictionFu2003{c}; },
+     [](const ContactParameters& p) {
+       return fmt::format(
+           "dynamics: the paper's friction law (fu2003): Hertz normal force with restitution damping (e = {:g}) and "
+           "sliding friction mu F_n against the sliding velocity (particle {:g}, wall {:g}), no tangential spring, so "
+           "contacts never stick; kept for reproduction, not the recommended model{}",
+           p.restitution, p.friction_particle, p.friction_wall, rolling_text(p));
+     },
+     [](const ContactParameters& p, bool wall) {
+       // linear_nohistory: F_t = -min(mu F_n, gamma_t |v_t|) along v_t; a huge gamma_t makes it mu F_n.
+       return fmt::format("{} tangential linear_nohistory 1e12 {:.9g}{}", lammps_normal(p, wall),
+                          wall ? p.friction_wall : p.friction_particle, lammps_rolling(p));
+     },
+     "no exact LAMMPS equivalent: tangential linear_nohistory with a very large damping gives mu F_n against the "
+     "sliding velocity, but caps at gamma_t |v_t| where aggpack regularises below 1e-6 m/s"},
+}};
+
+}  // namespace
+
+std::span<const ContactLawEntry> contact_laws() { return kLaws; }
+
+const ContactLawEntry& contact_law(std::string_view name) {
+  for (const ContactLawEntry& law : kLaws)
+    if (law.name == name) return law;
+  std::vector<std::string_view> names;
+  for (const ContactLawEntry& law : kLaws) names.push_back(law.name);
+  throw InputError(fmt::format("friction_model \"{}\" is unknown: expected one of \"{}\"", name,
+                               fmt::join(names, "\", \"")));
+}
+
+double stable_time_scale(const ContactParameters& parameters, double smallest_radius, double density) {
+  return rayleigh_time(smallest_radius, density, parameters.youngs_modulus, parameters.poisson_ratio);
+}
+
+}  // namespace aggpack
