@@ -1,5 +1,7 @@
 #include "aggpack/dynamics/dem_system.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -41,6 +43,7 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   if (!(settings.time_step > 0.0)) throw InputError(fmt::format("time step {} s must be > 0", settings.time_step));
   n_ = static_cast<std::uint32_t>(particles.size());
   threaded_ = n_ >= kThreadedFrom;
+  threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
   double d_min = 0.0;
   if (n_ > 0) d_min = 2.0 * *std::min_element(p_.radius.begin(), p_.radius.end());
   skin_ = settings.skin > 0.0 ? settings.skin : 0.1 * d_min;
@@ -105,7 +108,7 @@ void DemSystem::build_neighbour_list() {
   };
 
   std::vector<std::uint32_t> offset(n + 1, 0);
-#pragma omp parallel for schedule(dynamic, 512) if (threaded_)
+#pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
     if (p_.frozen[i]) continue;
     std::uint32_t count = 0;
@@ -115,7 +118,7 @@ void DemSystem::build_neighbour_list() {
   for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
   std::vector<std::uint32_t> other(offset[n]);
   std::vector<Vec3> spring(offset[n]);
-#pragma omp parallel for schedule(dynamic, 512) if (threaded_)
+#pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
     if (p_.frozen[i]) continue;
     std::uint32_t e = offset[i];
@@ -138,7 +141,7 @@ void DemSystem::build_neighbour_list() {
 bool DemSystem::list_is_stale() const {
   const double limit = 0.25 * skin_ * skin_;  // moved more than half the skin
   bool stale = false;
-#pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_)
+#pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i)
     if (norm2(p_.position[i] - listed_position_[i]) > limit) stale = true;
   return stale;
@@ -154,7 +157,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
   const Vec3* w = p_.angular_velocity.data();
   const double* radius = p_.radius.data();
   const double* mass = p_.mass.data();
-#pragma omp parallel for schedule(dynamic, 256) if (threaded_)
+#pragma omp parallel for schedule(dynamic, 256) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
     if (p_.frozen[i]) continue;
     const Vec3 xi = x[i], vi = v[i], wi = w[i];
@@ -220,7 +223,7 @@ void DemSystem::compute_forces() {
 }
 
 void DemSystem::kick(double half_step) {
-#pragma omp parallel for schedule(static) if (threaded_)
+#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
     if (p_.frozen[i]) continue;
     p_.velocity[i] += force_[i] * (half_step / p_.mass[i]);
@@ -230,7 +233,7 @@ void DemSystem::kick(double half_step) {
 
 void DemSystem::drift() {
   const double dt = settings_.time_step;
-#pragma omp parallel for schedule(static) if (threaded_)
+#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] += p_.velocity[i] * dt;
 }
 
@@ -250,7 +253,7 @@ void DemSystem::run(std::size_t steps) {
 DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
   const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
   std::vector<KineticEnergy> partial(blocks);
-#pragma omp parallel for schedule(static) if (threaded_)
+#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::size_t b = 0; b < blocks; ++b) {
     KineticEnergy sum;
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
@@ -278,7 +281,7 @@ ContactStatistics DemSystem::contact_statistics() const {
   const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
   std::vector<Partial> partial(blocks);
   const Box& bounds = container_.bounds;
-#pragma omp parallel for schedule(static) if (threaded_)
+#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::size_t b = 0; b < blocks; ++b) {
     Partial s;
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);

@@ -60,17 +60,15 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   std::ostringstream discard;
   CaseRun c{run_scenario(scenario, options, discard)};
   ++done_;
-  const auto& stages = c.result.summary.at("stages");
-  if (stages.contains("deposition") && stages["deposition"].contains("density"))
-    c.after_deposition = stages["deposition"]["density"]["mean"].get<double>();
-  if (stages.contains("dynamics")) c.after_dynamics = stages["dynamics"]["density"]["mean"].get<double>();
+  c.after_deposition = c.result.report.density_after_deposition();
+  c.after_dynamics = c.result.report.density_after_dynamics();
   if (log_) {
     progress_.clear();
     fmt::print(*log_, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s)\n", label, seed,
                c.final_density(),
                std::isnan(c.after_dynamics) ? std::string(" after deposition")
                                             : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
-               c.result.particles.size(), c.result.summary["wall_clock_s"]["total"].get<double>());
+               c.result.report.particles.size(), c.result.summary["wall_clock_s"]["total"].get<double>());
     log_->flush();
   }
   return c;

@@ -169,7 +169,7 @@ std::string density_time_plot(const PaperExample& ex, const std::vector<CaseRun>
   for (std::size_t k = 0; k < runs.size(); ++k) {
     PlotSeries s;
     s.label = fmt::format("aggpack, seed {}", runs[k].result.summary["seed"].get<std::uint64_t>());
-    for (const TimeSample& sample : runs[k].result.series.samples)
+    for (const TimeSample& sample : runs[k].result.report.series.samples)
       if (!std::isnan(sample.density)) {
         s.x.push_back(sample.time);
         s.y.push_back(sample.density);
@@ -402,8 +402,8 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   // a Table 2 bed holds 10^5-10^6 spheres.
   const auto keep_bed_if = [](bool keep, CaseRun run) {
     if (!keep) {
-      run.result.particles = ParticleStore{};
-      run.result.deposited.reset();
+      run.result.report.particles = ParticleStore{};
+      run.result.report.deposited.reset();
     }
     return run;
   };
@@ -571,17 +571,17 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
           stat_text(dep), stat_text(dyn), difference_text(dyn.mean, ex->experiment), dyn.mean - dep.mean,
           examples_run[kExample1.id].dynamics.mean - examples_run[kExample1.id].deposition.mean,
           box_spread(runs), 100.0 * box_spread(runs) / dyn.mean)});
-    if (ex == &kExample2 && !runs.empty() && runs.front().result.deposited) {
+    if (ex == &kExample2 && !runs.empty() && runs.front().result.report.deposited) {
       const CaseRun& r = runs.front();
-      const Box frame = bed_frame(r.result.particles, container_box(r.result.summary));
+      const Box frame = bed_frame(r.result.report.particles, container_box(r.result.summary));
       RenderOptions view;
       view.d_lo = 0.5 * kInch;
       view.d_hi = 1.0 * kInch;
       view.supersample = 2;
       view.legend = true;
       const std::string before = figures.add("example2_after_deposition.png",
-                                             encode_png(render_spheres(*r.result.deposited, frame, view)));
-      const std::string after = figures.add("example2_after_dem.png", encode_png(render_spheres(r.result.particles, frame, view)));
+                                             encode_png(render_spheres(*r.result.report.deposited, frame, view)));
+      const std::string after = figures.add("example2_after_dem.png", encode_png(render_spheres(r.result.report.particles, frame, view)));
       b.emplace_back(Figure{before, "Example 2 after deposition (the paper's Fig. 6a), seed 1: 0.5 in spheres dark "
                                     "blue, 1 in spheres yellow (colour bar below); the scale bar holds in the picture "
                                     "plane (an orthographic view)."});
@@ -666,14 +666,14 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   }
   if (!mixes.empty() && !mixes.front().runs.empty()) {
     const CaseRun& r = mixes.front().runs.front();
-    const Box frame = bed_frame(r.result.particles, container_box(r.result.summary));
+    const Box frame = bed_frame(r.result.report.particles, container_box(r.result.summary));
     // The sand is 1 mm in a 5 in container, about 5 pixels at 720: 3 x 3 rays per pixel keep it round.
     RenderOptions section;
     section.cut_away = true;
     section.supersample = 3;
     section.legend = true;
     const std::string fig = figures.add(fmt::format("table2_mix{}_packing.png", mixes.front().row.mix),
-                                        encode_png(render_spheres(r.result.particles, frame, section)));
+                                        encode_png(render_spheres(r.result.report.particles, frame, section)));
     b.emplace_back(Figure{fig, fmt::format("Table 2 mix {} ({} particles), seed 1, the deposited bed cut through its "
                                            "middle, coloured by diameter (viridis: {:.1f} mm dark blue to {:.1f} mm "
                                            "yellow, colour bar and scale bar below the picture).",

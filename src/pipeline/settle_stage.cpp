@@ -6,7 +6,6 @@
 #include <limits>
 
 #include <fmt/format.h>
-#include <omp.h>
 
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
@@ -46,8 +45,8 @@ ContactParameters contact_parameters(const Scenario& sc) {
 
 }  // namespace
 
-nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
-                          TimeSeries& series, Progress& progress) {
+SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
+                       int threads, TimeSeries& series, Progress& progress) {
   const DynamicsStage& stage = *sc.dynamics;
   for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = particles.layer[i] < layer ? 1 : 0;
   double r_min = std::numeric_limits<double>::infinity();
@@ -68,6 +67,7 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
   settings.gravity = {0.0, 0.0, -stage.gravity};
   settings.time_step = stage.time_step.value_or(stage.time_step_safety * rayleigh);
   settings.skin = stage.skin.value_or(0.0);
+  settings.threads = threads;
 
   AnalysisRequest request;
   request.cube_sides = sc.analysis.box_sides;
@@ -110,35 +110,33 @@ nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uin
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = 0;
 
-  nlohmann::json j;
-  j["layer"] = layer;
-  j["particles_settled"] = free_count;
-  j["particles_frozen"] = particles.size() - free_count;
-  j["ended_by"] = std::string(settle_end_name(result.end));
-  j["simulated_time_s"] = result.simulated_time;
-  j["steps"] = result.steps;
-  j["time_step_s"] = settings.time_step;
-  j["rayleigh_time_s"] = rayleigh;
-  j["time_step_source"] = stage.time_step ? "scenario" : "time_step_safety x Rayleigh time";
-  j["skin_m"] = dem.skin();
-  j["neighbour_list_builds"] = result.rebuilds;
-  j["final"] = {{"density", std::isnan(result.last.density) ? nlohmann::json() : nlohmann::json(result.last.density)},
-                {"translational_energy_per_particle_mgd", result.last.translational_per_particle_mgd},
-                {"mean_overlap_rel", result.last.contacts.mean_overlap},
-                {"max_overlap_rel", result.last.contacts.max_overlap},
-                {"coordination", result.last.contacts.coordination}};
-  j["wall_clock_s"] = seconds;
-  j["particle_steps_per_second"] =
+  SettlingRun run;
+  run.layer = layer;
+  run.particles_settled = free_count;
+  run.particles_frozen = particles.size() - free_count;
+  run.ended_by = result.end;
+  run.simulated_time = result.simulated_time;
+  run.steps = result.steps;
+  run.time_step = settings.time_step;
+  run.rayleigh_time = rayleigh;
+  run.time_step_from_scenario = stage.time_step.has_value();
+  run.skin = dem.skin();
+  run.neighbour_list_builds = result.rebuilds;
+  run.last = result.last;
+  run.wall_clock_s = seconds;
+  run.particle_steps_per_second =
       seconds > 0 ? static_cast<double>(free_count) * static_cast<double>(result.steps) / seconds : 0.0;
-  j["threads"] = omp_get_max_threads();
-  j["memory_bytes_per_particle"] =
+  run.threads = dem.threads();
+  run.memory_bytes_per_particle =
       static_cast<double>(dem.memory_bytes()) / static_cast<double>(std::max<std::size_t>(1, particles.size()));
-  return j;
+  return run;
 }
 
-std::vector<std::string> dynamics_notes(const Scenario& sc, const nlohmann::json& d) {
+std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report) {
   const DynamicsStage& stage = *sc.dynamics;
   const Material& m = sc.material;
+  // The stage's time step and source are its first run's, the overlaps its last run's.
+  const SettlingRun &first = report.runs.front(), &last = report.runs.back();
   std::vector<std::string> notes;
   notes.push_back(contact_law(stage.friction_model).describe(contact_parameters(sc)));
   notes.push_back(fmt::format(
@@ -148,15 +146,16 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const nlohmann::json
       m.youngs_modulus < 20e9 ? " (below the 30-70 GPa of natural aggregate: where the spheres stand for rock "
                                 "this is a reduced stiffness, which allows a longer time step and overlaps more)"
                               : "",
-      d.at("final").at("mean_overlap_rel").get<double>(), d.at("final").at("max_overlap_rel").get<double>()));
+      last.last.contacts.mean_overlap, last.last.contacts.max_overlap));
   notes.push_back(fmt::format("dynamics: time step {:.3g} s ({}), Rayleigh time of the smallest sphere {:.3g} s",
-                              d.at("time_step_s").get<double>(), d.at("time_step_source").get<std::string>(),
-                              d.at("rayleigh_time_s").get<double>()));
+                              first.time_step,
+                              first.time_step_from_scenario ? "scenario" : "time_step_safety x Rayleigh time",
+                              first.rayleigh_time));
   if (stage.layers > 1)
     notes.push_back(fmt::format("dynamics: layer by layer ({} layers, equal particle counts in deposition order): "
                                 "each layer is deposited, then settled with the layers below frozen",
                                 stage.layers));
-  const std::size_t cut = d.at("runs_ended_by_max_time").get<std::size_t>();
+  const std::size_t cut = report.runs_ended_by_max_time();
   if (cut > 0)
     notes.push_back(fmt::format("dynamics: {} settling run{} reached max_time = {:g} s before the bed was quiet; "
                                 "the bed may still be moving",

@@ -13,6 +13,7 @@ struct DemSettings {
   Vec3 gravity{0.0, 0.0, -9.81};  // m/s^2
   double time_step = 1e-5;        // s
   double skin = 0.0;              // m; Verlet-list skin, 0: 0.1 of the smallest diameter
+  int threads = 0;                // OpenMP threads for this system's loops; 0: OpenMP's default
 };
 
 // Contact statistics of the free particles (frozen ones are not counted).
@@ -82,6 +83,10 @@ class DemSystem {
   double grid_bed_volume_ = 0.0;             // m^3, sizes the grid's sparse levels
   std::uint32_t n_ = 0;
   bool threaded_ = false;  // OpenMP loops for beds large enough to gain from them
+  int threads_ = 1;        // threads of those loops (the results do not depend on it)
+
+ public:
+  [[nodiscard]] int threads() const { return threads_; }
   std::size_t free_count_ = 0;
   std::vector<double> inverse_inertia_;      // 1 / (2/5 m R^2), 0 when frozen
   std::vector<Vec3> force_, torque_;

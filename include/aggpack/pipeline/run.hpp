@@ -6,12 +6,26 @@
 
 #include <nlohmann/json.hpp>
 
-#include "aggpack/core/particle_store.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/progress.hpp"
-#include "aggpack/pipeline/settle_stage.hpp"
+#include "aggpack/pipeline/run_report.hpp"
 
 namespace aggpack {
+
+// How to run a scenario, beyond the scenario itself.
+struct RunControls {
+  int threads = 0;                        // OpenMP threads of the DEM; 0: OpenMP's default
+  std::optional<std::string> stop_after;  // end the protocol after this stage
+};
+
+// The library's entry point: runs the scenario's protocol and its final analysis. Writes no
+// file and prints nothing; progress goes to `progress`. Throws InputError for bad input.
+RunReport run(const Scenario& scenario, const RunControls& controls, Progress& progress);
+
+// particles.csv, supports.csv, timeseries.csv, particles.vtp and summary.json into `dir`,
+// each atomically (README, "Output files"). `seconds_so_far` is the run's wall time before
+// the outputs, for summary.json's total. Returns the summary it wrote.
+nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far);
 
 struct RunOptions {
   ScenarioOverrides overrides;
@@ -23,14 +37,12 @@ struct RunOptions {
 
 struct RunResult {
   std::filesystem::path output_directory;
-  nlohmann::json summary;
-  ParticleStore particles;                   // the final bed
-  std::optional<ParticleStore> deposited;    // the bed after deposition, when DEM then moved it
-  TimeSeries series;                         // the settling runs' samples (empty without dynamics)
+  RunReport report;
+  nlohmann::json summary;  // what summary.json holds
 };
 
-// Loads the scenario, runs its stages, analyses the result and writes particles.csv,
-// particles.vtp and summary.json atomically. Nothing is written when the input is bad.
+// `aggpack run`: loads the scenario, runs it, writes the outputs and prints the result lines
+// to `log` (unless quiet). Nothing is written when the input is bad.
 RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log);
 
 // Validates a scenario (and the particle file it names) without running or writing.

@@ -3,11 +3,10 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/progress.hpp"
+#include "aggpack/pipeline/reports.hpp"
 
 namespace aggpack {
 
@@ -28,12 +27,12 @@ struct TimeSeries {
 };
 
 // Settles the bed with the scenario's [dynamics] and [material] (particles whose layer is
-// below `layer` are frozen), appending samples from `time_offset` on. Returns the stage's
-// summary (ended_by, steps, time step, overlaps, ...).
-nlohmann::json settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
-                          TimeSeries& series, Progress& progress);
+// below `layer` are frozen), appending samples from `time_offset` on, with `threads` OpenMP
+// threads (0: OpenMP's default). Returns what the run did (ended_by, steps, time step, ...).
+SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
+                       int threads, TimeSeries& series, Progress& progress);
 
 // Modelling notes for the dynamics stage: the law, the stiffness, what ended each run.
-std::vector<std::string> dynamics_notes(const Scenario& sc, const nlohmann::json& dynamics_summary);
+std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report);
 
 }  // namespace aggpack

@@ -1,0 +1,57 @@
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/dynamics/settle.hpp"
+
+namespace aggpack {
+
+// What the steps of a run report, as values: layers and settling runs add up by these
+// types, and summary.json is written from them once (to_json), never read back.
+
+// One deposition step (a layer, or the whole bed); `+=` adds a later layer.
+struct DepositionReport {
+  std::size_t requested = 0;
+  DepositionStats stats;        // stats.requested is unused: `requested` counts the step's spheres
+  double fill_height = 0.0;     // m
+  double wall_clock_s = 0.0;
+
+  DepositionReport& operator+=(const DepositionReport& layer);
+};
+
+// One settling run (a layer, or the whole bed).
+struct SettlingRun {
+  std::uint32_t layer = 0;
+  std::size_t particles_settled = 0, particles_frozen = 0;
+  SettleEnd ended_by = SettleEnd::MaxTime;
+  double simulated_time = 0.0;  // s
+  std::size_t steps = 0;
+  double time_step = 0.0, rayleigh_time = 0.0;  // s
+  bool time_step_from_scenario = false;          // else time_step_safety x Rayleigh time
+  double skin = 0.0;                              // m
+  std::size_t neighbour_list_builds = 0;
+  SettleSample last;                              // the final sample
+  double wall_clock_s = 0.0;
+  double particle_steps_per_second = 0.0;
+  int threads = 1;
+  double memory_bytes_per_particle = 0.0;
+};
+
+// Every settling run of a dynamics stage, in order.
+struct SettlingReport {
+  std::vector<SettlingRun> runs;
+  [[nodiscard]] double simulated_time() const;
+  [[nodiscard]] std::size_t runs_ended_by_max_time() const;
+};
+
+// The forms summary.json has always had (the README's stable keys): `stages.deposition`
+// and `stages.dynamics` without their density and coordination, which the analysis adds.
+nlohmann::json to_json(const DepositionReport& report);
+nlohmann::json to_json(const SettlingRun& run);
+nlohmann::json to_json(const SettlingReport& report);
+
+}  // namespace aggpack

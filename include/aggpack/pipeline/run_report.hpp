@@ -1,0 +1,51 @@
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/core/particle_store.hpp"
+#include "aggpack/deposition/contact_geometry.hpp"
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/pipeline/analyze.hpp"
+#include "aggpack/pipeline/generate_sizes.hpp"
+#include "aggpack/pipeline/reports.hpp"
+#include "aggpack/pipeline/settle_stage.hpp"
+
+namespace aggpack {
+
+// An analysis made by a step during the run (the bed after deposition, say).
+struct StageAnalysis {
+  PackingReport report;
+  double wall_clock_s = 0.0;
+};
+
+// Everything a run produced, as values: what the steps reported, the final analysis, the
+// beds. summary_json() writes summary.json from it; nothing reads it back from JSON.
+struct RunReport {
+  Scenario scenario;
+  std::optional<GeneratedSizes> sizes;          // when the run generated particles
+  double largest_boundary_overlap = 0.0;        // of a particle file's spheres, / r
+  std::optional<DepositionReport> deposition;   // all deposit steps added up
+  std::optional<SettlingReport> dynamics;       // every settle step's run
+  std::map<std::string, StageAnalysis> analyses;  // by the analyse step's report_as
+  PackingReport final;                            // the bed at the end
+  bool dynamics_skipped = false;                  // [dynamics] given, but --stop-after ended the run before it
+  ParticleStore particles;                        // the final bed
+  std::optional<ParticleStore> deposited;         // the bed after a single deposition, when DEM then moved it
+  std::vector<Supports> supports;                 // what each sphere rested on after deposition
+  TimeSeries series;                              // the settling runs' samples
+  std::map<std::string, double> wall_clock_s;     // input, sizes, deposition, dynamics, analysis...
+
+  // The mean virtual-box density after deposition / after dynamics; NaN when not run.
+  [[nodiscard]] double density_after_deposition() const;
+  [[nodiscard]] double density_after_dynamics() const;
+  // summary.json (README, "Output files"), `output_seconds` and `total_seconds` included.
+  [[nodiscard]] nlohmann::json summary_json(double output_seconds, double total_seconds) const;
+  // The terminal's result lines.
+  [[nodiscard]] std::string console_summary(const std::filesystem::path& written_to) const;
+};
+
+}  // namespace aggpack

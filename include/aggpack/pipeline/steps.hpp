@@ -1,0 +1,31 @@
+#pragma once
+#include <optional>
+#include <vector>
+
+#include "aggpack/pipeline/progress.hpp"
+#include "aggpack/pipeline/protocol.hpp"
+#include "aggpack/pipeline/run_report.hpp"
+
+namespace aggpack {
+
+// What the steps of one run share: the report they fill in (its particle store is the bed)
+// and the state that passes from step to step.
+struct RunContext {
+  RunReport& report;
+  Progress& progress;
+  int threads = 0;                              // OpenMP threads of the DEM; 0: OpenMP's default
+  std::vector<double> radii;                    // the drop sequence, m
+  double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
+  std::optional<std::uint32_t> deposition_stopped_at;  // the layer whose deposition ended early
+};
+
+// One adapter per step kind, with one signature; each is the only code that knows its kind.
+void run_step(const DepositStep& step, RunContext& context);
+void run_step(const SettleStep& step, RunContext& context);
+void run_step(const AnalyseStep& step, RunContext& context);
+
+// The analysis of a scenario's bed, naming the scenario key when a box does not fit.
+PackingReport analyse_bed(const Scenario& scenario, const ParticleStore& particles);
+AnalysisRequest analysis_request(const Scenario& scenario);
+
+}  // namespace aggpack

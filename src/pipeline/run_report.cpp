@@ -1,0 +1,179 @@
+#include "aggpack/pipeline/run_report.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/version.hpp"
+#include "aggpack/pipeline/grading_report.hpp"
+
+namespace aggpack {
+
+namespace {
+
+// Every modelling choice a result depends on, said in the output.
+std::vector<std::string> modelling_notes(const RunReport& r) {
+  const Scenario& sc = r.scenario;
+  std::vector<std::string> notes;
+  if (sc.particles.file)
+    notes.push_back("particle positions were read from " + sc.particles.file->string() +
+                    (r.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
+  if (sc.container.periodic) notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
+  if (r.deposition) {
+    notes.push_back(fmt::format(
+        "deposition: kinematic drop-and-roll, a geometric steepest descent without inertia or friction "
+        "(material friction and restitution are not used by this stage); spheres dropped one at a time at "
+        "uniformly random (x, y), in {} order; contact tolerance {:g} x diameter",
+        sc.particles.graded ? name_of(kMixOrderNames, sc.particles.graded->order)
+                            : name_of(kSizeOrderNames, sc.particles.sizes->order),
+        sc.deposition->tolerance));
+    const DepositionReport& d = *r.deposition;
+    if (d.stats.end != DepositionEnd::AllPlaced)
+      notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed", to_string(d.stats.end),
+                                  d.stats.placed, d.requested));
+  }
+  if (r.sizes)
+    for (const std::string& note : r.sizes->notes) notes.push_back(note);
+  if (sc.particles.file && r.largest_boundary_overlap > 0.0)
+    notes.push_back(fmt::format("the particle file's spheres overlap the floor or walls by up to {:.3g} of their "
+                                "radius (contacts of a settled bed; accepted up to "
+                                "particles.boundary_overlap_tolerance = {:g})",
+                                r.largest_boundary_overlap, sc.particles.boundary_overlap_tolerance));
+  if (r.dynamics)
+    for (std::string& note : dynamics_notes(sc, *r.dynamics)) notes.push_back(std::move(note));
+  if (r.dynamics_skipped) notes.push_back("--stop-after deposition: the [dynamics] stage was not run");
+  if (sc.analysis.box_sides.empty())
+    notes.push_back("no analysis.box_sides given: one virtual cube of the largest admissible side was used");
+  notes.push_back("virtual cubes are centred horizontally and vertically between the floor and the free surface, "
+                  "at least one d_max from walls, floor and surface; the free surface is the equivalent height "
+                  "V_solid / (footprint area x median solid fraction of d_max-thick slices)");
+  notes.push_back(fmt::format("coordination counts sphere pairs with centre distance <= (r_i + r_j)(1 + {:g}) "
+                              "for the spheres whose centres lie in the largest box",
+                              sc.analysis.contact_tolerance));
+  return notes;
+}
+
+// An analysis as a stage's density and coordination keys.
+void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
+  const nlohmann::json j = to_json(analysis);
+  stage["density"] = j.at("density");
+  stage["coordination"] = j.at("coordination");
+}
+
+}  // namespace
+
+double RunReport::density_after_deposition() const {
+  const auto a = analyses.find("deposition");
+  return a != analyses.end() ? a->second.report.density.mean : std::numeric_limits<double>::quiet_NaN();
+}
+
+double RunReport::density_after_dynamics() const {
+  return dynamics ? final.density.mean : std::numeric_limits<double>::quiet_NaN();
+}
+
+nlohmann::json RunReport::summary_json(double output_seconds, double total_seconds) const {
+  const Scenario& sc = scenario;
+  nlohmann::json summary;
+  summary["aggpack_version"] = kVersion;
+  summary["seed"] = sc.seed;
+  summary["scenario_file"] = sc.file.string();
+  summary["scenario"] = to_json(sc);
+  summary["particle_count"] = particles.size();
+  const Box& b = sc.container.bounds;
+  summary["container"] = {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}},
+                          {"periodic", sc.container.periodic}};
+  nlohmann::json stages = nlohmann::json::object();
+  nlohmann::json wall_clock = nlohmann::json::object();
+  for (const auto& [key, seconds] : wall_clock_s) wall_clock[key] = seconds;
+  if (deposition) {
+    stages["deposition"] = to_json(*deposition);
+    if (sc.dynamics && sc.dynamics->layers > 1) stages["deposition"]["layers"] = sc.dynamics->layers;
+    wall_clock["deposition"] = deposition->wall_clock_s;
+  }
+  for (const auto& [name, analysis] : analyses) {
+    add_analysis(stages[name], analysis.report);
+    wall_clock["analysis_after_" + name] = analysis.wall_clock_s;
+  }
+  if (dynamics) {
+    stages["dynamics"] = to_json(*dynamics);
+    add_analysis(stages["dynamics"], final);
+    wall_clock["dynamics"] = stages["dynamics"]["wall_clock_s"];
+  }
+  summary["stages"] = stages;
+  if (sizes) summary["sizes"] = sizes->report;
+  if (sc.particles.file)
+    summary["input"] = {{"file", sc.particles.file->string()},
+                        {"largest_boundary_overlap_rel", largest_boundary_overlap},
+                        {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
+  summary["modelling_notes"] = modelling_notes(*this);
+  summary.update(to_json(final));
+  wall_clock["output"] = output_seconds;
+  wall_clock["total"] = total_seconds;
+  summary["wall_clock_s"] = wall_clock;
+  return summary;
+}
+
+std::string RunReport::console_summary(const std::filesystem::path& written_to) const {
+  const Scenario& sc = scenario;
+  std::string out = fmt::format("aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed);
+  auto o = std::back_inserter(out);
+  if (sizes && sc.particles.graded) {
+    const auto& z = sizes->report;
+    fmt::format_to(o, "  sizes: {} particles by {} sampling, d {:.3g}-{:.3g} mm, D10/D50/D90 {:.3g}/{:.3g}/{:.3g} mm, "
+                      "fineness modulus {:.2f}\n",
+                   z["count"].get<std::size_t>(), z["sampling"].get<std::string>(), 1e3 * z["d_min_m"].get<double>(),
+                   1e3 * z["d_max_m"].get<double>(), 1e3 * z["d10_m"].get<double>(), 1e3 * z["d50_m"].get<double>(),
+                   1e3 * z["d90_m"].get<double>(), z["fineness_modulus"].get<double>());
+    if (z.contains("ca_fa_generated"))
+      fmt::format_to(o, "  mix: Ca/Fa {:.4g} generated for {:.4g} requested ({} order)\n",
+                     z["ca_fa_generated"].get<double>(), z["ca_fa_requested"].get<double>(),
+                     z["order"].get<std::string>());
+    for (const auto& c : z["components"]) {
+      fmt::format_to(o, "  {} ({}): {} particles, cut off {:.2f} % below {:.3g} mm and {:.2f} % above {:.3g} mm; "
+                        "largest deviation from the target {:.2f} points\n",
+                     c["key"].get<std::string>(), c["grading"].get<std::string>(), c["count"].get<std::size_t>(),
+                     100 * c["cut_below_fraction"].get<double>(), 1e3 * c["d_lo_m"].get<double>(),
+                     100 * c["cut_above_fraction"].get<double>(), 1e3 * c["d_hi_m"].get<double>(),
+                     c["largest_deviation_percent"].get<double>());
+      fmt::format_to(o, "    {:>8} {:>10} {:>9} {:>9}\n", "sieve", "opening mm", "target %", "generated %");
+      for (const auto& row : c["sieves"])
+        fmt::format_to(o, "    {:>8} {:>10.4g} {:>9.2f} {:>9.2f}\n", row["sieve"].get<std::string>(),
+                       1e3 * row["opening_m"].get<double>(), row["target_percent"].get<double>(),
+                       row["generated_percent"].get<double>());
+      if (const std::string snapped = snapped_sieves_text(c["snapped_sieves"]); !snapped.empty())
+        fmt::format_to(o, "    {}\n", snapped);
+      if (c.contains("band"))
+        fmt::format_to(o, "    band {}: {}\n", c["band"]["name"].get<std::string>(),
+                       c["band"]["all_inside"].get<bool>() ? "inside at every sieve" : "OUTSIDE at some sieves");
+    }
+  }
+  if (deposition) {
+    const DepositionReport& d = *deposition;
+    fmt::format_to(o, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, {} ties\n",
+                   d.stats.placed, d.requested, to_string(d.stats.end), d.wall_clock_s,
+                   d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
+                   d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
+  }
+  if (dynamics) {
+    const nlohmann::json d = to_json(*dynamics);  // the stage's totals, as summary.json gives them
+    const SettlingRun& last = dynamics->runs.back();
+    fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
+                      "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
+                   settle_end_name(last.ended_by), sc.dynamics->friction_model, dynamics->simulated_time(),
+                   d["steps"].get<std::size_t>(), dynamics->runs.front().time_step, d["wall_clock_s"].get<double>(),
+                   1e-6 * d["particle_steps_per_second"].get<double>(), last.last.contacts.mean_overlap,
+                   last.last.contacts.max_overlap);
+    if (analyses.contains("deposition"))
+      fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", density_after_deposition(),
+                     final.density.mean);
+  }
+  for (const auto& box : final.density.boxes)
+    fmt::format_to(o, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);
+  fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}), mean coordination {:.3f} over {} spheres\n", final.density.mean,
+                 final.density.sd, final.coordination.mean, final.coordination.particles_counted);
+  fmt::format_to(o, "  wrote {}\n", written_to.string());
+  return out;
+}
+
+}  // namespace aggpack

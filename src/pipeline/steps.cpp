@@ -1,0 +1,100 @@
+#include "aggpack/pipeline/steps.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <span>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/rng.hpp"
+#include "aggpack/deposition/drop_and_roll.hpp"
+
+namespace aggpack {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+}  // namespace
+
+AnalysisRequest analysis_request(const Scenario& sc) {
+  AnalysisRequest request;
+  request.cube_sides = sc.analysis.box_sides;
+  request.contact_tolerance = sc.analysis.contact_tolerance;
+  request.slice_thickness = sc.analysis.slice_thickness;
+  request.shell_thickness = sc.analysis.shell_thickness;
+  return request;
+}
+
+PackingReport analyse_bed(const Scenario& sc, const ParticleStore& particles) {
+  try {
+    return analyze_packing(particles, sc.container, analysis_request(sc));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: analysis.box_sides: {}", sc.file.string(), e.what()));
+  }
+}
+
+void run_step(const DepositStep& step, RunContext& ctx) {
+  if (ctx.deposition_stopped_at) return;  // an earlier layer could not be placed: the bed is full
+  const Scenario& sc = ctx.report.scenario;
+  const DepositionStage& stage = *sc.deposition;
+  ParticleStore& particles = ctx.report.particles;
+  const std::size_t n = ctx.radii.size();
+  const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
+  const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
+
+  DepositionSettings settings;
+  settings.tolerance = stage.tolerance;
+  settings.max_events = stage.max_events;
+  settings.max_redrops = stage.max_redrops;
+  settings.fill_height = stage.fill_height.value_or(sc.container.height());
+  particles.reserve(particles.size() + radii.size());
+  // Each layer has its own stream, so a layer's drops do not depend on how the others went.
+  const std::uint64_t stream = static_cast<std::uint64_t>(RngPurpose::Deposition) + (std::uint64_t{step.layer} << 32);
+  DropAndRoll deposition(particles, sc.container, radii, settings, Rng(sc.seed, stream));
+  const auto t0 = Clock::now();
+  ctx.progress.start_stage(step.layers > 1 || step.layer > 0 ? fmt::format("deposition, layer {}", step.layer + 1)
+                                                             : std::string("deposition"));
+  // In slices, for the progress line; the same drops in the same order as in one call.
+  const std::size_t slice = std::max<std::size_t>(1000, radii.size() / 100);
+  for (std::size_t first = 0; first < radii.size(); first += slice) {
+    const std::size_t count = std::min(slice, radii.size() - first);
+    if (deposition.deposit(radii.subspan(first, count), sc.material.density, step.layer) < count) break;
+    ctx.progress.update({fmt::format("{} of {} particles placed", first + count, radii.size())},
+                        static_cast<double>(first + count) / static_cast<double>(radii.size()));
+  }
+  DepositionReport layer;
+  layer.requested = radii.size();
+  layer.stats = deposition.stats();
+  layer.fill_height = settings.fill_height;
+  layer.wall_clock_s = seconds_since(t0);
+  if (ctx.report.deposition) *ctx.report.deposition += layer;
+  else ctx.report.deposition = layer;
+  // The deposition's supports cover the whole bed; only the new spheres' are this step's.
+  const std::vector<Supports>& supports = deposition.supports();
+  ctx.report.supports.insert(ctx.report.supports.end(),
+                             supports.begin() + static_cast<std::ptrdiff_t>(ctx.report.supports.size()),
+                             supports.end());
+  if (layer.stats.end != DepositionEnd::AllPlaced) ctx.deposition_stopped_at = step.layer;
+}
+
+void run_step(const SettleStep& step, RunContext& ctx) {
+  if (ctx.deposition_stopped_at && step.layer > *ctx.deposition_stopped_at) return;  // that layer was never deposited
+  RunReport& r = ctx.report;
+  // The bed as deposited, kept for the report's before/after pictures (one deposition only).
+  if (step.layer == 0 && r.deposition && !r.dynamics && r.scenario.dynamics->layers == 1) r.deposited = r.particles;
+  const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, ctx.threads, r.series,
+                                     ctx.progress);
+  ctx.simulated_time += run.simulated_time;
+  if (!r.dynamics) r.dynamics.emplace();
+  r.dynamics->runs.push_back(run);
+}
+
+void run_step(const AnalyseStep& step, RunContext& ctx) {
+  const auto t0 = Clock::now();
+  StageAnalysis analysis{analyse_bed(ctx.report.scenario, ctx.report.particles), 0.0};
+  analysis.wall_clock_s = seconds_since(t0);
+  ctx.report.analyses[step.report_as] = std::move(analysis);
+}
+
+}  // namespace aggpack
