@@ -1,9 +1,12 @@
 #include "aggpack/io/scenario.hpp"
 
+#include <variant>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/overloaded.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/io/toml_reader.hpp"
@@ -307,6 +310,68 @@ OutputSettings read_output(const TomlSection& s, const std::filesystem::path& sc
 }
 }  // namespace
 
+// [[protocol]]: the steps in order, each checked against the tables that give its settings.
+Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& entries, const Scenario& sc) {
+  if (entries.empty()) root.fail("protocol", "expected at least one step");
+  if (sc.dynamics && sc.dynamics->layers > 1)
+    root.table("dynamics")->fail("layers", "with [[protocol]], give the layers on the deposit steps (layer, layers)");
+  Protocol p;
+  std::optional<std::uint32_t> layers;        // every deposit step's `layers`
+  std::vector<std::size_t> deposited_by;      // the entry that deposits each part (+1; 0: none yet)
+  std::size_t settles = 0;
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const TomlSection& e = entries[i];
+    const std::string kind = e.required(e.choice("step", {"deposit", "settle", "analyse"}), "step",
+                                        "the kind of step: \"deposit\", \"settle\" or \"analyse\"");
+    if (kind == "deposit") {
+      e.allow_only({"step", "layer", "layers"});
+      if (!sc.deposition)
+        e.fail("step", "a deposit step places generated particles with the [deposition] settings; add a "
+                       "[deposition] table (it may be empty) and give particles by size");
+      DepositStep d;
+      d.layers = static_cast<std::uint32_t>(e.integer("layers", 1, 10000).value_or(1));
+      if (layers && *layers != d.layers)
+        e.fail("layers", fmt::format("every deposit step splits the drop sequence alike; an earlier one has "
+                                     "layers = {}, this one {}",
+                                     *layers, d.layers));
+      d.layer = static_cast<std::uint32_t>(e.integer("layer", 0, d.layers - 1).value_or(0));
+      layers = d.layers;
+      deposited_by.resize(d.layers, 0);
+      if (deposited_by[d.layer] != 0)
+        e.fail("layer", fmt::format("part {} of {} is already deposited by {}", d.layer, d.layers,
+                                    entries[deposited_by[d.layer] - 1].path()));
+      deposited_by[d.layer] = i + 1;
+      p.steps.push_back({"deposition", d});
+    } else if (kind == "settle") {
+      e.allow_only({"step", "layer"});
+      if (!sc.dynamics) e.fail("step", "a settle step takes its settings from a [dynamics] table; add one");
+      SettleStep st;
+      st.layer = static_cast<std::uint32_t>(e.integer("layer", 0, layers.value_or(1) - 1).value_or(0));
+      ++settles;
+      p.steps.push_back({"dynamics", st});
+    } else {
+      e.allow_only({"step", "name"});
+      const std::string name = e.required(e.string("name"), "name",
+                                          "the name of its results in summary.json (stages.<name>)");
+      if (name.empty() || name == "dynamics")
+        e.fail("name", "expected a name other than \"dynamics\" (whose density is the final analysis)");
+      for (const Step& s : p.steps)
+        if (const auto* a = std::get_if<AnalyseStep>(&s.kind); a && a->report_as == name)
+          e.fail("name", fmt::format("another analyse step is already named \"{}\"", name));
+      p.steps.push_back({name, AnalyseStep{name}});
+    }
+  }
+  if (sc.deposition) {
+    if (deposited_by.empty()) root.fail("protocol", "[deposition] is given but no deposit step places the particles");
+    for (std::size_t k = 0; k < deposited_by.size(); ++k)
+      if (deposited_by[k] == 0)
+        root.fail("protocol", fmt::format("no deposit step places part {} of {}: each part is deposited once", k,
+                                          deposited_by.size()));
+  }
+  if (sc.dynamics && settles == 0) root.fail("protocol", "[dynamics] is given but no settle step uses it");
+  return p;
+}
+
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {
   ScenarioOrigin origin{file.string(), {}};
   toml::table root;
@@ -323,7 +388,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition",
-                "dynamics"});
+                "dynamics", "protocol"});
 
   Scenario sc;
   sc.file = file;
@@ -378,11 +443,25 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
     s.table("deposition")->fail("method", "deposition places generated particles, but particles.from gives "
                                           "positions already; remove [deposition] or give sizes instead");
   }
+  if (const auto steps = s.table_array("protocol")) sc.protocol = read_protocol(s, *steps, sc);
   return sc;
+}
+
+nlohmann::json to_json(const Protocol& protocol) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const Step& step : protocol.steps)
+    std::visit(Overloaded{[&](const DepositStep& d) {
+                            steps.push_back({{"step", "deposit"}, {"layer", d.layer}, {"layers", d.layers}});
+                          },
+                          [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
+                          [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); }},
+               step.kind);
+  return steps;
 }
 
 nlohmann::json to_json(const Scenario& sc) {
   nlohmann::json j;
+  if (sc.protocol) j["protocol"] = to_json(*sc.protocol);
   j["title"] = sc.title;
   j["seed"] = sc.seed;
   j["file"] = sc.file.string();

@@ -9,13 +9,6 @@
 
 namespace aggpack {
 
-std::vector<std::string> Protocol::stage_names() const {
-  std::vector<std::string> names;
-  for (const Step& s : steps)
-    if (std::find(names.begin(), names.end(), s.stage) == names.end()) names.push_back(s.stage);
-  return names;
-}
-
 Protocol default_protocol(const Scenario& sc) {
   Protocol p;
   const std::uint32_t layers = sc.dynamics ? static_cast<std::uint32_t>(sc.dynamics->layers) : 1;
@@ -33,6 +26,8 @@ Protocol default_protocol(const Scenario& sc) {
   if (sc.dynamics) p.steps.push_back({"dynamics", SettleStep{0}});
   return p;
 }
+
+Protocol scenario_protocol(const Scenario& sc) { return sc.protocol ? *sc.protocol : default_protocol(sc); }
 
 Protocol stop_after(const Protocol& protocol, std::string_view stage, const Scenario& sc) {
   const std::vector<std::string> names = protocol.stage_names();

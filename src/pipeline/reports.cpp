@@ -51,6 +51,7 @@ nlohmann::json to_json(const DepositionReport& r) {
   j["supports"] = {{"floor", st.resting_on_floor}, {"three", st.resting_on_three}, {"touching_a_wall", st.touching_a_wall}};
   j["wall_clock_s"] = r.wall_clock_s;
   j["particles_per_second"] = r.wall_clock_s > 0 ? static_cast<double>(st.placed) / r.wall_clock_s : 0.0;
+  if (r.layers > 1) j["layers"] = r.layers;
   return j;
 }
 

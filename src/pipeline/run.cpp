@@ -81,7 +81,7 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
 }
 
 RunReport run(const Scenario& sc, const RunControls& controls, Progress& progress) {
-  Protocol protocol = default_protocol(sc);
+  Protocol protocol = scenario_protocol(sc);
   if (controls.stop_after) protocol = stop_after(protocol, *controls.stop_after, sc);
   RunReport report;
   report.scenario = sc;

@@ -88,7 +88,6 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   for (const auto& [key, seconds] : wall_clock_s) wall_clock[key] = seconds;
   if (deposition) {
     stages["deposition"] = to_json(*deposition);
-    if (sc.dynamics && sc.dynamics->layers > 1) stages["deposition"]["layers"] = sc.dynamics->layers;
     wall_clock["deposition"] = deposition->wall_clock_s;
   }
   for (const auto& [name, analysis] : analyses) {

@@ -68,6 +68,7 @@ void run_step(const DepositStep& step, RunContext& ctx) {
   layer.stats = deposition.stats();
   layer.fill_height = settings.fill_height;
   layer.wall_clock_s = seconds_since(t0);
+  layer.layers = step.layers;
   if (ctx.report.deposition) *ctx.report.deposition += layer;
   else ctx.report.deposition = layer;
   // The deposition's supports cover the whole bed; only the new spheres' are this step's.
@@ -81,8 +82,9 @@ void run_step(const DepositStep& step, RunContext& ctx) {
 void run_step(const SettleStep& step, RunContext& ctx) {
   if (ctx.deposition_stopped_at && step.layer > *ctx.deposition_stopped_at) return;  // that layer was never deposited
   RunReport& r = ctx.report;
-  // The bed as deposited, kept for the report's before/after pictures (one deposition only).
-  if (step.layer == 0 && r.deposition && !r.dynamics && r.scenario.dynamics->layers == 1) r.deposited = r.particles;
+  // The bed as deposited, kept for the report's before/after pictures: when the whole drop
+  // sequence was deposited before the first settling.
+  if (r.deposition && !r.dynamics && r.deposition->requested == ctx.radii.size()) r.deposited = r.particles;
   const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, ctx.threads, r.series,
                                      ctx.progress);
   ctx.simulated_time += run.simulated_time;

@@ -4,16 +4,12 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/core/overloaded.hpp"
 #include "aggpack/core/xml_text.hpp"
 
 namespace aggpack {
 
 namespace {
-
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
 
 std::string md_cell(const std::string& text) {
   std::string out;

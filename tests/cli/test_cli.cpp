@@ -356,6 +356,80 @@ TEST_F(Cli, RunsDepositionThenDynamicsAndWritesTheTimeSeries) {
   EXPECT_FALSE(fs::exists(dir_ / "refused"));
 }
 
+// An explicit [[protocol]] runs the steps as given: the default order written out gives the
+// same bytes, the layered mode is plain data, and an analyse step between two others reports
+// the bed at that point under its own name.
+TEST_F(Cli, AnExplicitProtocolRunsItsSteps) {
+  const std::string base = "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 300\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n"
+                           "[analysis]\nbox_sides = [0.02]\n";
+  const auto run_text = [&](const std::string& name, const std::string& text, const std::string& extra = "") {
+    std::ofstream(dir_ / (name + ".toml")) << text;
+    const Result r = run("run " + (dir_ / (name + ".toml")).string() + " --quiet --out " + (dir_ / name).string() + extra);
+    EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.output;
+    return nlohmann::json::parse(std::ifstream(dir_ / name / "summary.json"));
+  };
+  // The default protocol, and the same written out with an extra analysis after the deposition.
+  const auto implicit = run_text("implicit", base + "[dynamics]\nmax_time = 0.03\n");
+  const auto explicit_run =
+      run_text("explicit", base + "[dynamics]\nmax_time = 0.03\n"
+                                  "[[protocol]]\nstep = \"deposit\"\n"
+                                  "[[protocol]]\nstep = \"analyse\"\nname = \"deposition\"\n"
+                                  "[[protocol]]\nstep = \"analyse\"\nname = \"loose\"\n"
+                                  "[[protocol]]\nstep = \"settle\"\n");
+  EXPECT_EQ(slurp(dir_ / "implicit" / "particles.csv"), slurp(dir_ / "explicit" / "particles.csv"));
+  EXPECT_EQ(implicit["density"], explicit_run["density"]);
+  EXPECT_EQ(explicit_run["stages"]["loose"]["density"], implicit["stages"]["deposition"]["density"]);
+  EXPECT_EQ(explicit_run["stages"]["loose"]["coordination"], implicit["stages"]["deposition"]["coordination"]);
+  EXPECT_EQ(explicit_run["scenario"]["protocol"].size(), 4u);
+  EXPECT_TRUE(explicit_run["wall_clock_s"].contains("analysis_after_loose"));
+  // --stop-after names an analyse step like a stage.
+  const auto stopped = run_text("stopped", base + "[dynamics]\nmax_time = 0.03\n"
+                                                  "[[protocol]]\nstep = \"deposit\"\n"
+                                                  "[[protocol]]\nstep = \"analyse\"\nname = \"loose\"\n"
+                                                  "[[protocol]]\nstep = \"settle\"\n",
+                                " --stop-after loose");
+  EXPECT_FALSE(stopped["stages"].contains("dynamics"));
+  EXPECT_EQ(stopped["density"], implicit["stages"]["deposition"]["density"]);
+  // Layer by layer as data: the same bytes as dynamics.layers = 2.
+  run_text("layers_key", base + "[dynamics]\nmax_time = 0.02\nlayers = 2\n");
+  run_text("layers_steps", base + "[dynamics]\nmax_time = 0.02\n"
+                                  "[[protocol]]\nstep = \"deposit\"\nlayer = 0\nlayers = 2\n"
+                                  "[[protocol]]\nstep = \"settle\"\nlayer = 0\n"
+                                  "[[protocol]]\nstep = \"deposit\"\nlayer = 1\nlayers = 2\n"
+                                  "[[protocol]]\nstep = \"settle\"\nlayer = 1\n");
+  EXPECT_EQ(slurp(dir_ / "layers_key" / "particles.csv"), slurp(dir_ / "layers_steps" / "particles.csv"));
+  EXPECT_EQ(slurp(dir_ / "layers_key" / "timeseries.csv"), slurp(dir_ / "layers_steps" / "timeseries.csv"));
+}
+
+// Protocol errors name the step and the key, exit 2 and write nothing.
+TEST_F(Cli, ProtocolErrorsNameTheStepAndTheKey) {
+  const std::string base = "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 300\n"
+                           "[deposition]\n[analysis]\nbox_sides = [0.02]\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {base + "[[protocol]]\nstep = \"pour\"\n", "protocol[0].step"},
+      {base + "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"settle\"\n",
+       "protocol[1].step: a settle step takes its settings from a [dynamics] table"},
+      {base + "[[protocol]]\nstep = \"deposit\"\nlayers = 2\n", "no deposit step places part 1 of 2"},
+      {base + "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"deposit\"\n",
+       "protocol[1].layer: part 0 of 1 is already deposited by protocol[0]"},
+      {base + "[[protocol]]\nstep = \"deposit\"\nlayers = 2\n[[protocol]]\nstep = \"deposit\"\nlayer = 1\n",
+       "protocol[1].layers: every deposit step splits the drop sequence alike"},
+      {base + "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"analyse\"\n", "protocol[1].name"},
+      {base + "[[protocol]]\nstep = \"deposit\"\nlayer = 3\n", "protocol[0].layer"},
+      {base + "[[protocol]]\nstep = \"deposit\"\nfrozen = true\n", "protocol[0].frozen"},
+      {base + "[dynamics]\nlayers = 2\n[[protocol]]\nstep = \"deposit\"\n", "dynamics.layers: with [[protocol]]"},
+      {base + "[[protocol]]\nstep = \"analyse\"\nname = \"x\"\n", "no deposit step places the particles"},
+  };
+  for (const auto& [text, expected] : cases) {
+    std::ofstream(dir_ / "bad.toml") << text;
+    const Result r = run("run " + (dir_ / "bad.toml").string() + " --out " + (dir_ / "bad").string());
+    EXPECT_EQ(r.exit_code, 2) << text << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  }
+}
+
 TEST_F(Cli, SettlesLayerByLayerWithTheLayersBelowFrozen) {
   const fs::path scenario = dir_ / "layers.toml", out = dir_ / "layers";
   std::ofstream(scenario) << settling_scenario(3);

@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aggpack/core/container.hpp"
+#include "aggpack/io/protocol.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
 #include "aggpack/sizes/size_spec.hpp"
 
@@ -103,6 +104,7 @@ struct Scenario {
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   OutputSettings output;
+  std::optional<Protocol> protocol;  // [[protocol]] as given; none: the stages' default order
 };
 
 struct ScenarioOverrides {
@@ -114,7 +116,9 @@ struct ScenarioOverrides {
 // Reads and validates a scenario. Throws InputError naming the file, line and key.
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides = {});
 
-// The scenario with every value resolved, in SI units, as written to summary.json.
+// The scenario with every value resolved, in SI units, as written to summary.json (with
+// "protocol" when the scenario gives one).
 nlohmann::json to_json(const Scenario& scenario);
+nlohmann::json to_json(const Protocol& protocol);
 
 }  // namespace aggpack

@@ -19,6 +19,7 @@ struct DepositionReport {
   DepositionStats stats;        // stats.requested is unused: `requested` counts the step's spheres
   double fill_height = 0.0;     // m
   double wall_clock_s = 0.0;
+  std::uint32_t layers = 1;     // the parts the drop sequence is deposited in
 
   DepositionReport& operator+=(const DepositionReport& layer);
 };

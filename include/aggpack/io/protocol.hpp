@@ -1,0 +1,47 @@
+#pragma once
+#include <algorithm>
+#include <cstdint>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace aggpack {
+
+// A run is a protocol: steps run in order by one loop over one particle store. Each kind
+// of step is a value type here, a `run_step(const Kind&, RunContext&)` of its own
+// (pipeline/steps.cpp) and a reader of its [[protocol]] keys (io/scenario.cpp,
+// read_protocol); the loop (pipeline/run.cpp) only visits them and never changes for a new kind.
+
+// Drop-and-roll deposition of part `layer` of `layers` equal parts of the drop sequence.
+struct DepositStep {
+  std::uint32_t layer = 0;
+  std::uint32_t layers = 1;
+};
+// DEM settling of the bed, the particles of the layers below `layer` frozen.
+struct SettleStep {
+  std::uint32_t layer = 0;
+};
+// The virtual-box analysis of the bed as it is now, reported as `stages.<report_as>`
+// (density and coordination; with the deposition's own keys when that is "deposition").
+struct AnalyseStep {
+  std::string report_as;
+};
+using StepKind = std::variant<DepositStep, SettleStep, AnalyseStep>;
+
+struct Step {
+  std::string stage;  // the stage it belongs to: what --stop-after names
+  StepKind kind;
+};
+
+struct Protocol {
+  std::vector<Step> steps;
+  // The stages in order, each once: what --stop-after may name.
+  [[nodiscard]] std::vector<std::string> stage_names() const {
+    std::vector<std::string> names;
+    for (const Step& s : steps)
+      if (std::find(names.begin(), names.end(), s.stage) == names.end()) names.push_back(s.stage);
+    return names;
+  }
+};
+
+}  // namespace aggpack
