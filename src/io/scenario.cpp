@@ -321,8 +321,8 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
   std::size_t settles = 0;
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const TomlSection& e = entries[i];
-    const std::string kind = e.required(e.choice("step", {"deposit", "settle", "analyse"}), "step",
-                                        "the kind of step: \"deposit\", \"settle\" or \"analyse\"");
+    const std::string kind = e.required(e.choice("step", {"deposit", "settle", "analyse", "snapshot"}), "step",
+                                        "the kind of step: \"deposit\", \"settle\", \"analyse\" or \"snapshot\"");
     if (kind == "deposit") {
       e.allow_only({"step", "layer", "layers"});
       if (!sc.deposition)
@@ -349,6 +349,17 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
       st.layer = static_cast<std::uint32_t>(e.integer("layer", 0, layers.value_or(1) - 1).value_or(0));
       ++settles;
       p.steps.push_back({"dynamics", st});
+    } else if (kind == "snapshot") {
+      e.allow_only({"step", "name"});
+      const std::string name = e.required(e.string("name"), "name", "the name of its file, particles_<name>.csv");
+      if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
+                              std::string::npos)
+        e.fail("name", "expected letters, digits, '_' or '-' (it names a file)");
+      for (const Step& s : p.steps)
+        if (const auto* snap = std::get_if<SnapshotStep>(&s.kind); snap && snap->name == name)
+          e.fail("name", fmt::format("another snapshot step is already named \"{}\"", name));
+      // A snapshot belongs to the stage before it: --stop-after that stage keeps it.
+      p.steps.push_back({p.steps.empty() ? std::string("input") : p.steps.back().stage, SnapshotStep{name}});
     } else {
       e.allow_only({"step", "name"});
       const std::string name = e.required(e.string("name"), "name",
@@ -454,7 +465,8 @@ nlohmann::json to_json(const Protocol& protocol) {
                             steps.push_back({{"step", "deposit"}, {"layer", d.layer}, {"layers", d.layers}});
                           },
                           [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
-                          [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); }},
+                          [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); },
+                          [&](const SnapshotStep& snap) { steps.push_back({{"step", "snapshot"}, {"name", snap.name}}); }},
                step.kind);
   return steps;
 }

@@ -121,6 +121,8 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(report.particles));
   if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(report.supports));
   if (report.dynamics) write_file_atomically(dir / "timeseries.csv", report.series.csv());
+  for (const auto& [name, bed] : report.snapshots)
+    write_file_atomically(dir / ("particles_" + name + ".csv"), particles_csv(bed));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(report.particles, provenance));
   const double output_seconds = seconds_since(t0);

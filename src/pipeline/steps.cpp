@@ -99,4 +99,6 @@ void run_step(const AnalyseStep& step, RunContext& ctx) {
   ctx.report.analyses[step.report_as] = std::move(analysis);
 }
 
+void run_step(const SnapshotStep& step, RunContext& ctx) { ctx.report.snapshots[step.name] = ctx.report.particles; }
+
 }  // namespace aggpack

@@ -402,6 +402,35 @@ TEST_F(Cli, AnExplicitProtocolRunsItsSteps) {
   EXPECT_EQ(slurp(dir_ / "layers_key" / "timeseries.csv"), slurp(dir_ / "layers_steps" / "timeseries.csv"));
 }
 
+// A step kind added after the loop (the proof that a new kind leaves the loop alone): a
+// snapshot writes the bed at its point as particles_<name>.csv.
+TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
+  std::ofstream(dir_ / "snap.toml")
+      << "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 200\n"
+         "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\nmax_time = 0.02\n"
+         "[analysis]\nbox_sides = [0.02]\n"
+         "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"snapshot\"\nname = \"loose\"\n"
+         "[[protocol]]\nstep = \"settle\"\n";
+  ASSERT_EQ(run("run " + (dir_ / "snap.toml").string() + " --quiet --out " + (dir_ / "snap").string()).exit_code, 0);
+  ASSERT_EQ(run("run " + (dir_ / "snap.toml").string() + " --quiet --stop-after deposition --out " +
+                (dir_ / "loose").string())
+                .exit_code,
+            0);
+  // The snapshot is the deposited bed (the run stopped after deposition has it as its final
+  // bed) and differs from the settled one.
+  EXPECT_EQ(slurp(dir_ / "snap" / "particles_loose.csv"), slurp(dir_ / "loose" / "particles.csv"));
+  EXPECT_EQ(slurp(dir_ / "loose" / "particles_loose.csv"), slurp(dir_ / "loose" / "particles.csv"));
+  EXPECT_NE(slurp(dir_ / "snap" / "particles_loose.csv"), slurp(dir_ / "snap" / "particles.csv"));
+  const Result csv = aggpack::testing::check_outputs("csv " + (dir_ / "snap" / "particles_loose.csv").string());
+  EXPECT_EQ(csv.exit_code, 0) << csv.output;
+  std::ofstream(dir_ / "bad.toml") << "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\n"
+                                      "count = 200\n[deposition]\n[[protocol]]\nstep = \"deposit\"\n"
+                                      "[[protocol]]\nstep = \"snapshot\"\nname = \"../x\"\n";
+  const Result bad = run("check " + (dir_ / "bad.toml").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.output.find("protocol[1].name: expected letters, digits"), std::string::npos) << bad.output;
+}
+
 // Protocol errors name the step and the key, exit 2 and write nothing.
 TEST_F(Cli, ProtocolErrorsNameTheStepAndTheKey) {
   const std::string base = "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 300\n"

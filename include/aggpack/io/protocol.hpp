@@ -26,7 +26,11 @@ struct SettleStep {
 struct AnalyseStep {
   std::string report_as;
 };
-using StepKind = std::variant<DepositStep, SettleStep, AnalyseStep>;
+// A copy of the bed as it is now, written as particles_<name>.csv beside the final one.
+struct SnapshotStep {
+  std::string name;
+};
+using StepKind = std::variant<DepositStep, SettleStep, AnalyseStep, SnapshotStep>;
 
 struct Step {
   std::string stage;  // the stage it belongs to: what --stop-after names

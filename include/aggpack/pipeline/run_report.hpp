@@ -35,6 +35,7 @@ struct RunReport {
   bool dynamics_skipped = false;                  // [dynamics] given, but --stop-after ended the run before it
   ParticleStore particles;                        // the final bed
   std::optional<ParticleStore> deposited;         // the bed after a single deposition, when DEM then moved it
+  std::map<std::string, ParticleStore> snapshots;  // beds copied by snapshot steps, by name
   std::vector<Supports> supports;                 // what each sphere rested on after deposition
   TimeSeries series;                              // the settling runs' samples
   std::map<std::string, double> wall_clock_s;     // input, sizes, deposition, dynamics, analysis...

@@ -23,6 +23,7 @@ struct RunContext {
 void run_step(const DepositStep& step, RunContext& context);
 void run_step(const SettleStep& step, RunContext& context);
 void run_step(const AnalyseStep& step, RunContext& context);
+void run_step(const SnapshotStep& step, RunContext& context);
 
 // The analysis of a scenario's bed, naming the scenario key when a box does not fit.
 PackingReport analyse_bed(const Scenario& scenario, const ParticleStore& particles);
