@@ -235,50 +235,58 @@ Material read_material(const TomlSection& s) {
   s.allow_only({"density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
                 "friction_particle", "friction_wall", "restitution", "rolling_friction"});
   Material m;
+  ContactParameters& c = m.contact;
   const NumberRange poisson{-1.0, 0.5, true, true};
   m.density = s.number("density", kPositive).value_or(m.density);
-  m.youngs_modulus = s.number("youngs_modulus", kPositive).value_or(m.youngs_modulus);
-  m.poisson_ratio = s.number("poisson_ratio", poisson).value_or(m.poisson_ratio);
-  m.wall_youngs_modulus = s.number("wall_youngs_modulus", kPositive).value_or(m.wall_youngs_modulus);
-  m.wall_poisson_ratio = s.number("wall_poisson_ratio", poisson).value_or(m.wall_poisson_ratio);
-  m.friction_particle = s.number("friction_particle", kNonNegative).value_or(m.friction_particle);
-  m.friction_wall = s.number("friction_wall", kNonNegative).value_or(m.friction_wall);
-  m.restitution = s.number("restitution", kFraction).value_or(m.restitution);
-  m.rolling_friction = s.number("rolling_friction", kNonNegative).value_or(m.rolling_friction);
+  c.youngs_modulus = s.number("youngs_modulus", kPositive).value_or(c.youngs_modulus);
+  c.poisson_ratio = s.number("poisson_ratio", poisson).value_or(c.poisson_ratio);
+  c.wall_youngs_modulus = s.number("wall_youngs_modulus", kPositive).value_or(c.wall_youngs_modulus);
+  c.wall_poisson_ratio = s.number("wall_poisson_ratio", poisson).value_or(c.wall_poisson_ratio);
+  c.friction_particle = s.number("friction_particle", kNonNegative).value_or(c.friction_particle);
+  c.friction_wall = s.number("friction_wall", kNonNegative).value_or(c.friction_wall);
+  c.restitution = s.number("restitution", kFraction).value_or(c.restitution);
+  c.rolling_friction = s.number("rolling_friction", kNonNegative).value_or(c.rolling_friction);
   return m;
 }
 
-DynamicsStage read_dynamics(const TomlSection& s) {
+// [dynamics]; its friction_model chooses the contact law of `material`.
+DynamicsStage read_dynamics(const TomlSection& s, Material& material) {
   s.allow_only({"friction_model", "time_step", "time_step_safety", "max_time", "sample_interval", "quiet_window",
                 "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity"});
   DynamicsStage d;
   std::vector<std::string_view> laws;
   for (const ContactLawEntry& law : contact_laws()) laws.push_back(law.name);
-  d.friction_model = s.choice("friction_model", laws).value_or(d.friction_model);
-  d.time_step = s.number("time_step", {0.0, 1.0, true, false});
-  d.time_step_safety = s.number("time_step_safety", {0.0, 1.0, true, false}).value_or(d.time_step_safety);
-  d.max_time = s.number("max_time", {0.0, 1e4, true, false}).value_or(d.max_time);
-  d.sample_interval = s.number("sample_interval", {0.0, 1e3, true, false}).value_or(d.sample_interval);
-  d.quiet_window = s.number("quiet_window", kPositive).value_or(d.quiet_window);
-  if (d.quiet_window < d.sample_interval)
+  material.contact.friction_model = s.choice("friction_model", laws).value_or(material.contact.friction_model);
+  d.time_step.fixed = s.number("time_step", {0.0, 1.0, true, false});
+  d.time_step.safety = s.number("time_step_safety", {0.0, 1.0, true, false}).value_or(d.time_step.safety);
+  QuietCriterion& q = d.quiet;
+  q.max_time = s.number("max_time", {0.0, 1e4, true, false}).value_or(q.max_time);
+  q.sample_interval = s.number("sample_interval", {0.0, 1e3, true, false}).value_or(q.sample_interval);
+  q.window = s.number("quiet_window", kPositive).value_or(q.window);
+  if (q.window < q.sample_interval)
     s.fail("quiet_window", fmt::format("{} s is shorter than the sample interval {} s; expected at least one "
-                                       "sample interval", d.quiet_window, d.sample_interval));
-  d.quiet_kinetic_fraction = s.number("quiet_kinetic_fraction", kPositive).value_or(d.quiet_kinetic_fraction);
-  d.density_tolerance = s.number("density_tolerance", kPositive).value_or(d.density_tolerance);
+                                       "sample interval", q.window, q.sample_interval));
+  q.kinetic_fraction = s.number("quiet_kinetic_fraction", kPositive).value_or(q.kinetic_fraction);
+  q.density_tolerance = s.number("density_tolerance", kPositive).value_or(q.density_tolerance);
   d.layers = static_cast<std::size_t>(s.integer("layers", 1, 10'000).value_or(1));
-  d.skin = s.length("skin");
-  d.gravity = s.number("gravity", kPositive).value_or(d.gravity);
+  d.dem.skin = s.length("skin").value_or(d.dem.skin);
+  d.dem.gravity = {0.0, 0.0, -s.number("gravity", kPositive).value_or(-d.dem.gravity.z)};
   return d;
 }
 
-DepositionStage read_deposition(const TomlSection& s) {
+DepositionSettings read_deposition(const TomlSection& s, const Container& container) {
   s.allow_only({"method", "tolerance", "max_events", "max_redrops", "fill_height"});
   s.choice("method", {"drop_and_roll"});
-  DepositionStage d;
+  DepositionSettings d;
   d.tolerance = s.number("tolerance", {0.0, 1e-3, true, false}).value_or(d.tolerance);
-  d.max_events = static_cast<std::size_t>(s.integer("max_events", 10, 1'000'000).value_or(1000));
-  d.max_redrops = static_cast<std::size_t>(s.integer("max_redrops", 0, 1'000'000).value_or(100));
-  d.fill_height = s.length("fill_height");
+  d.max_events = static_cast<std::size_t>(s.integer("max_events", 10, 1'000'000).value_or(
+      static_cast<std::int64_t>(d.max_events)));
+  d.max_redrops = static_cast<std::size_t>(s.integer("max_redrops", 0, 1'000'000).value_or(
+      static_cast<std::int64_t>(d.max_redrops)));
+  d.fill_height = s.length("fill_height").value_or(container.height());
+  if (d.fill_height > container.height())
+    s.fail("fill_height", fmt::format("{:.6g} m is above the container height ({:.6g} m)", d.fill_height,
+                                      container.height()));
   return d;
 }
 
@@ -410,9 +418,9 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
                                 file.parent_path(), sc.container);
   if (const auto m = s.table("material")) sc.material = read_material(*m);
-  if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d);
+  if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d, sc.container);
   if (const auto d = s.table("dynamics")) {
-    sc.dynamics = read_dynamics(*d);
+    sc.dynamics = read_dynamics(*d, sc.material);
     if (sc.dynamics->layers > 1 && !sc.deposition)
       d->fail("layers", "layer by layer settling deposits each layer, so it needs a [deposition] table; "
                         "expected layers = 1 for a bed read from a file");
@@ -447,9 +455,6 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
     if (!sc.deposition)
       throw InputError(fmt::format("{}: particles are given by size but no stage places them; add a [deposition] "
                                    "table (it may be empty) or give positions with particles.from", where));
-    if (sc.deposition->fill_height && *sc.deposition->fill_height > sc.container.height())
-      s.table("deposition")->fail("fill_height", fmt::format("{:.6g} m is above the container height ({:.6g} m)",
-                                                             *sc.deposition->fill_height, sc.container.height()));
   } else if (sc.deposition) {
     s.table("deposition")->fail("method", "deposition places generated particles, but particles.from gives "
                                           "positions already; remove [deposition] or give sizes instead");
@@ -523,37 +528,39 @@ nlohmann::json to_json(const Scenario& sc) {
     }
   }
   if (sc.deposition) {
-    const DepositionStage& d = *sc.deposition;
+    const DepositionSettings& d = *sc.deposition;
     j["deposition"] = {{"method", "drop_and_roll"},
                        {"tolerance", d.tolerance},
                        {"max_events", d.max_events},
                        {"max_redrops", d.max_redrops},
-                       {"fill_height_m", d.fill_height.value_or(sc.container.height())}};
+                       {"fill_height_m", d.fill_height}};
   }
   if (sc.dynamics) {
     const DynamicsStage& d = *sc.dynamics;
-    j["dynamics"] = {{"friction_model", d.friction_model},
-                     {"time_step_safety", d.time_step_safety},
-                     {"max_time_s", d.max_time},
-                     {"sample_interval_s", d.sample_interval},
-                     {"quiet_window_s", d.quiet_window},
-                     {"quiet_kinetic_fraction", d.quiet_kinetic_fraction},
-                     {"density_tolerance", d.density_tolerance},
+    const QuietCriterion& q = d.quiet;
+    j["dynamics"] = {{"friction_model", sc.material.contact.friction_model},
+                     {"time_step_safety", d.time_step.safety},
+                     {"max_time_s", q.max_time},
+                     {"sample_interval_s", q.sample_interval},
+                     {"quiet_window_s", q.window},
+                     {"quiet_kinetic_fraction", q.kinetic_fraction},
+                     {"density_tolerance", q.density_tolerance},
                      {"layers", d.layers},
-                     {"gravity_m_s2", d.gravity}};
-    if (d.time_step) j["dynamics"]["time_step_s"] = *d.time_step;
-    if (d.skin) j["dynamics"]["skin_m"] = *d.skin;
+                     {"gravity_m_s2", -d.dem.gravity.z}};
+    if (d.time_step.fixed) j["dynamics"]["time_step_s"] = *d.time_step.fixed;
+    if (d.dem.skin > 0.0) j["dynamics"]["skin_m"] = d.dem.skin;
   }
   const Material& m = sc.material;
+  const ContactParameters& c = m.contact;
   j["material"] = {{"density_kg_m3", m.density},
-                   {"youngs_modulus_pa", m.youngs_modulus},
-                   {"poisson_ratio", m.poisson_ratio},
-                   {"wall_youngs_modulus_pa", m.wall_youngs_modulus},
-                   {"wall_poisson_ratio", m.wall_poisson_ratio},
-                   {"friction_particle", m.friction_particle},
-                   {"friction_wall", m.friction_wall},
-                   {"restitution", m.restitution},
-                   {"rolling_friction", m.rolling_friction}};
+                   {"youngs_modulus_pa", c.youngs_modulus},
+                   {"poisson_ratio", c.poisson_ratio},
+                   {"wall_youngs_modulus_pa", c.wall_youngs_modulus},
+                   {"wall_poisson_ratio", c.wall_poisson_ratio},
+                   {"friction_particle", c.friction_particle},
+                   {"friction_wall", c.friction_wall},
+                   {"restitution", c.restitution},
+                   {"rolling_friction", c.rolling_friction}};
   j["analysis"] = {{"box_sides_m", sc.analysis.box_sides},
                    {"placement", "centered"},
                    {"contact_tolerance", sc.analysis.contact_tolerance}};

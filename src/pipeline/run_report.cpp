@@ -159,7 +159,7 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
     const SettlingRun& last = dynamics->runs.back();
     fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
                       "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
-                   settle_end_name(last.ended_by), sc.dynamics->friction_model, dynamics->simulated_time(),
+                   settle_end_name(last.ended_by), sc.material.contact.friction_model, dynamics->simulated_time(),
                    d["steps"].get<std::size_t>(), dynamics->runs.front().time_step, d["wall_clock_s"].get<double>(),
                    1e-6 * d["particle_steps_per_second"].get<double>(), last.last.contacts.mean_overlap,
                    last.last.contacts.max_overlap);

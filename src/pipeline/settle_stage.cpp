@@ -27,23 +27,6 @@ std::string TimeSeries::csv() const {
          body;
 }
 
-namespace {
-
-ContactParameters contact_parameters(const Scenario& sc) {
-  ContactParameters p;
-  p.friction_model = sc.dynamics->friction_model;
-  p.youngs_modulus = sc.material.youngs_modulus;
-  p.poisson_ratio = sc.material.poisson_ratio;
-  p.wall_youngs_modulus = sc.material.wall_youngs_modulus;
-  p.wall_poisson_ratio = sc.material.wall_poisson_ratio;
-  p.friction_particle = sc.material.friction_particle;
-  p.friction_wall = sc.material.friction_wall;
-  p.restitution = sc.material.restitution;
-  p.rolling_friction = sc.material.rolling_friction;
-  return p;
-}
-
-}  // namespace
 
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
                        int threads, TimeSeries& series, Progress& progress) {
@@ -57,16 +40,14 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
 
   const ContactModel model = [&] {
     try {
-      return make_contact_model(contact_parameters(sc));
+      return make_contact_model(sc.material.contact);
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
     }
   }();
-  const double rayleigh = stable_time_scale(contact_parameters(sc), r_min, sc.material.density);
-  DemSettings settings;
-  settings.gravity = {0.0, 0.0, -stage.gravity};
-  settings.time_step = stage.time_step.value_or(stage.time_step_safety * rayleigh);
-  settings.skin = stage.skin.value_or(0.0);
+  const double rayleigh = stable_time_scale(sc.material.contact, r_min, sc.material.density);
+  DemSettings settings = stage.dem;
+  settings.time_step = stage.time_step.step(rayleigh);
   settings.threads = threads;
 
   AnalysisRequest request;
@@ -79,12 +60,7 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
       return std::numeric_limits<double>::quiet_NaN();  // the boxes do not fit the bed yet
     }
   };
-  QuietCriterion criterion;
-  criterion.max_time = stage.max_time;
-  criterion.sample_interval = stage.sample_interval;
-  criterion.window = stage.quiet_window;
-  criterion.kinetic_fraction = stage.quiet_kinetic_fraction;
-  criterion.density_tolerance = stage.density_tolerance;
+  const QuietCriterion& criterion = stage.quiet;
 
   const auto t0 = std::chrono::steady_clock::now();
   DemSystem dem(particles, sc.container, model, settings);
@@ -101,8 +77,8 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
                      fmt::format("density {}", std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density)),
                      fmt::format("kinetic energy {:.1e} m g d (quiet below {:.0e})", s.translational_per_particle_mgd,
                                  criterion.kinetic_fraction),
-                     fmt::format("max_time {:g} s", stage.max_time)},
-                    s.time / end.value_or(stage.max_time),
+                     fmt::format("max_time {:g} s", stage.quiet.max_time)},
+                    s.time / end.value_or(stage.quiet.max_time),
                     end ? Progress::TimeLeft::Estimate : Progress::TimeLeft::AtMost);
   };
   const SettleResult result = settle(dem, particles, criterion, density, record);
@@ -119,7 +95,7 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   run.steps = result.steps;
   run.time_step = settings.time_step;
   run.rayleigh_time = rayleigh;
-  run.time_step_from_scenario = stage.time_step.has_value();
+  run.time_step_from_scenario = stage.time_step.fixed.has_value();
   run.skin = dem.skin();
   run.neighbour_list_builds = result.rebuilds;
   run.last = result.last;
@@ -134,11 +110,11 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
 
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report) {
   const DynamicsStage& stage = *sc.dynamics;
-  const Material& m = sc.material;
+  const ContactParameters& m = sc.material.contact;
   // The stage's time step and source are its first run's, the overlaps its last run's.
   const SettlingRun &first = report.runs.front(), &last = report.runs.back();
   std::vector<std::string> notes;
-  notes.push_back(contact_law(stage.friction_model).describe(contact_parameters(sc)));
+  notes.push_back(contact_law(sc.material.contact.friction_model).describe(sc.material.contact));
   notes.push_back(fmt::format(
       "dynamics: Young's modulus {:.3g} GPa (walls {:.3g} GPa), Poisson ratio {:g}{}; mean overlap {:.2e} and "
       "maximum overlap {:.2e} of r_i + r_j at the end",
@@ -159,7 +135,7 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport
   if (cut > 0)
     notes.push_back(fmt::format("dynamics: {} settling run{} reached max_time = {:g} s before the bed was quiet; "
                                 "the bed may still be moving",
-                                cut, cut == 1 ? "" : "s", stage.max_time));
+                                cut, cut == 1 ? "" : "s", stage.quiet.max_time));
   return notes;
 }
 

@@ -37,17 +37,12 @@ PackingReport analyse_bed(const Scenario& sc, const ParticleStore& particles) {
 void run_step(const DepositStep& step, RunContext& ctx) {
   if (ctx.deposition_stopped_at) return;  // an earlier layer could not be placed: the bed is full
   const Scenario& sc = ctx.report.scenario;
-  const DepositionStage& stage = *sc.deposition;
   ParticleStore& particles = ctx.report.particles;
   const std::size_t n = ctx.radii.size();
   const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
 
-  DepositionSettings settings;
-  settings.tolerance = stage.tolerance;
-  settings.max_events = stage.max_events;
-  settings.max_redrops = stage.max_redrops;
-  settings.fill_height = stage.fill_height.value_or(sc.container.height());
+  const DepositionSettings& settings = *sc.deposition;
   particles.reserve(particles.size() + radii.size());
   // Each layer has its own stream, so a layer's drops do not depend on how the others went.
   const std::uint64_t stream = static_cast<std::uint64_t>(RngPurpose::Deposition) + (std::uint64_t{step.layer} << 32);

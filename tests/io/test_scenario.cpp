@@ -180,8 +180,8 @@ TEST_F(ScenarioTest, ReadsTheDepositionStage) {
   ASSERT_TRUE(sc.deposition);
   EXPECT_DOUBLE_EQ(sc.deposition->tolerance, 1e-8);
   EXPECT_EQ(sc.deposition->max_events, 500u);
-  EXPECT_NEAR(*sc.deposition->fill_height, 0.254, 1e-15);
-  EXPECT_EQ(to_json(sc)["deposition"]["fill_height_m"].get<double>(), *sc.deposition->fill_height);
+  EXPECT_NEAR(sc.deposition->fill_height, 0.254, 1e-15);
+  EXPECT_EQ(to_json(sc)["deposition"]["fill_height_m"].get<double>(), sc.deposition->fill_height);
 }
 
 TEST_F(ScenarioTest, ReadsAGradedMix) {

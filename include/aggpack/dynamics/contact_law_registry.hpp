@@ -1,4 +1,5 @@
 #pragma once
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -30,5 +31,13 @@ struct ContactLawEntry {
 // Both Hertz laws resolve a contact in a fraction of the Rayleigh-wave time of the smallest
 // sphere; the time step's default is dynamics.time_step_safety times this.
 [[nodiscard]] double stable_time_scale(const ContactParameters& parameters, double smallest_radius, double density);
+
+// How a run's time step is chosen: given (dynamics.time_step), or a safety factor times the
+// law's stable time scale.
+struct TimeStepRule {
+  std::optional<double> fixed;  // s
+  double safety = 0.2;
+  [[nodiscard]] double step(double time_scale) const { return fixed.value_or(safety * time_scale); }
+};
 
 }  // namespace aggpack

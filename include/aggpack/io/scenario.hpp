@@ -8,6 +8,10 @@
 #include <nlohmann/json.hpp>
 
 #include "aggpack/core/container.hpp"
+#include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/dynamics/settle.hpp"
 #include "aggpack/io/protocol.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
 #include "aggpack/sizes/size_spec.hpp"
@@ -45,16 +49,11 @@ struct ParticleSource {
   double boundary_overlap_tolerance = 0.02;
 };
 
+// [material]: the spheres' density and the contact law's parameters (dynamics.friction_model
+// chooses the law); the contact law's own struct, so each default is written once.
 struct Material {
-  double density = 2650.0;          // kg/m^3
-  double youngs_modulus = 50e9;     // Pa
-  double poisson_ratio = 0.25;
-  double wall_youngs_modulus = 200e9;  // Pa, walls and floor (steel)
-  double wall_poisson_ratio = 0.3;
-  double friction_particle = 0.17;  // particle-particle Coulomb coefficient
-  double friction_wall = 0.17;      // particle-wall and particle-floor
-  double restitution = 0.5;
-  double rolling_friction = 0.0;    // rolling resistance mu_r, 0 for none
+  double density = 2650.0;  // kg/m^3
+  ContactParameters contact;
 };
 
 struct AnalysisSettings {
@@ -64,27 +63,13 @@ struct AnalysisSettings {
   std::optional<double> shell_thickness;  // m; default d_max / 4
 };
 
-// The kinematic drop-and-roll stage ([deposition]); see docs/method.md section 3.
-struct DepositionStage {
-  double tolerance = 1e-9;        // contact tolerance relative to the dropped sphere's diameter
-  std::size_t max_events = 1000;  // events before a sphere is redropped elsewhere
-  std::size_t max_redrops = 100;  // redrops of one sphere before the stage gives up
-  std::optional<double> fill_height;  // m above the floor; default: the container height
-};
-
-// The DEM settling stage ([dynamics]); see docs/method.md section 5.
+// The DEM settling stage ([dynamics]); see docs/method.md section 5. The DEM's, the time
+// step's and the quiet criterion's own settings, and the layers of the default protocol.
 struct DynamicsStage {
-  std::string friction_model = "mindlin";  // "mindlin" or "fu2003"
-  std::optional<double> time_step;         // s; default: time_step_safety x Rayleigh time of the smallest sphere
-  double time_step_safety = 0.2;
-  double max_time = 2.0;                   // s of simulated time per settling run
-  double sample_interval = 1e-3;           // s between time-series samples
-  double quiet_window = 0.05;              // s
-  double quiet_kinetic_fraction = 1e-5;    // translational kinetic energy per particle / mean (m g d)
-  double density_tolerance = 5e-4;         // change of the virtual-box density over the window
-  std::size_t layers = 1;                  // > 1: deposit and settle layer by layer (the paper's method)
-  std::optional<double> skin;              // m; Verlet skin, default 0.1 d_min
-  double gravity = 9.81;                   // m/s^2
+  DemSettings dem;              // gravity, skin (0: 0.1 d_min); the time step comes from the rule
+  TimeStepRule time_step;
+  QuietCriterion quiet;
+  std::size_t layers = 1;       // > 1: deposit and settle layer by layer (the paper's method)
 };
 
 struct OutputSettings {
@@ -100,7 +85,7 @@ struct Scenario {
   Container container;
   ParticleSource particles;
   Material material;
-  std::optional<DepositionStage> deposition;
+  std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   OutputSettings output;
