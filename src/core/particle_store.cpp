@@ -11,7 +11,6 @@ std::size_t ParticleStore::add(const Vec3& pos, double r, double density,
   angular_velocity.push_back({});
   radius.push_back(r);
   mass.push_back(density * 4.0 / 3.0 * std::numbers::pi * r * r * r);
-  frozen.push_back(0);
   layer.push_back(layer_index);
   return radius.size() - 1;
 }
@@ -22,7 +21,6 @@ void ParticleStore::reserve(std::size_t n) {
   angular_velocity.reserve(n);
   radius.reserve(n);
   mass.reserve(n);
-  frozen.reserve(n);
   layer.reserve(n);
 }
 

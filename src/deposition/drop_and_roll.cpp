@@ -48,6 +48,10 @@ LinearInZ vertical_normal_component(const Obstacle& o, const Vec3& p) {
 
 std::string_view to_string(DepositionEnd end) { return name_of(kDepositionEndNames, end); }
 
+Rng deposition_stream(std::uint64_t seed, std::uint32_t layer) {
+  return Rng(seed, static_cast<std::uint64_t>(RngPurpose::Deposition) + (std::uint64_t{layer} << 32));
+}
+
 DropAndRoll::DropAndRoll(ParticleStore& bed, const Container& container, std::span<const double> radii_to_come,
                          const DepositionSettings& settings, Rng rng)
     : bed_(bed),

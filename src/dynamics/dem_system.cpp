@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include <stdexcept>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -37,11 +39,13 @@ constexpr std::uint32_t kThreadedFrom = 1024;
 }  // namespace
 
 DemSystem::DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
-                     const DemSettings& settings)
-    : p_(particles), container_(container), model_(model), settings_(settings) {
+                     const DemSettings& settings, std::vector<std::uint8_t> frozen)
+    : p_(particles), container_(container), model_(model), settings_(settings), frozen_(std::move(frozen)) {
   if (particles.size() >= 0xFFFFFFF0u) throw InputError("the dynamics stage holds at most 4e9 particles");
   if (!(settings.time_step > 0.0)) throw InputError(fmt::format("time step {} s must be > 0", settings.time_step));
   n_ = static_cast<std::uint32_t>(particles.size());
+  if (frozen_.empty()) frozen_.assign(n_, 0);
+  if (frozen_.size() != n_) throw std::invalid_argument("DemSystem: one frozen flag per particle");
   threaded_ = n_ >= kThreadedFrom;
   threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
   double d_min = 0.0;
@@ -52,7 +56,7 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
   inverse_inertia_.assign(n_, 0.0);
   for (std::uint32_t i = 0; i < n_; ++i) {
-    if (p_.frozen[i]) {
+    if (frozen_[i]) {
       p_.velocity[i] = {};
       p_.angular_velocity[i] = {};
       continue;
@@ -110,7 +114,7 @@ void DemSystem::build_neighbour_list() {
   std::vector<std::uint32_t> offset(n + 1, 0);
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (p_.frozen[i]) continue;
+    if (frozen_[i]) continue;
     std::uint32_t count = 0;
     for_each_entry(i, [&](std::uint32_t) { ++count; });
     offset[i + 1] = count;
@@ -120,7 +124,7 @@ void DemSystem::build_neighbour_list() {
   std::vector<Vec3> spring(offset[n]);
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (p_.frozen[i]) continue;
+    if (frozen_[i]) continue;
     std::uint32_t e = offset[i];
     for_each_entry(i, [&](std::uint32_t j) { other[e++] = j; });
     std::sort(other.begin() + offset[i], other.begin() + offset[i + 1]);
@@ -159,7 +163,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
   const double* mass = p_.mass.data();
 #pragma omp parallel for schedule(dynamic, 256) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (p_.frozen[i]) continue;
+    if (frozen_[i]) continue;
     const Vec3 xi = x[i], vi = v[i], wi = w[i];
     const double ri = radius[i], mi = mass[i];
     const Vec3 spin_i = ri * wi;
@@ -225,7 +229,7 @@ void DemSystem::compute_forces() {
 void DemSystem::kick(double half_step) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
-    if (p_.frozen[i]) continue;
+    if (frozen_[i]) continue;
     p_.velocity[i] += force_[i] * (half_step / p_.mass[i]);
     p_.angular_velocity[i] += torque_[i] * (half_step * inverse_inertia_[i]);
   }
@@ -258,7 +262,7 @@ DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
     KineticEnergy sum;
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
     for (std::size_t i = b * kSumBlock; i < end; ++i) {
-      if (p_.frozen[i]) continue;
+      if (frozen_[i]) continue;
       sum.translational += 0.5 * p_.mass[i] * norm2(p_.velocity[i]);
       sum.rotational += 0.5 * norm2(p_.angular_velocity[i]) / inverse_inertia_[i];
     }

@@ -65,7 +65,7 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
   double weight_energy = 0.0;  // sum of m g d over the free particles, J
   const double g = norm(system.gravity());
   for (std::size_t i = 0; i < particles.size(); ++i)
-    if (!particles.frozen[i]) weight_energy += particles.mass[i] * g * 2.0 * particles.radius[i];
+    if (!system.is_frozen(i)) weight_energy += particles.mass[i] * g * 2.0 * particles.radius[i];
   const std::size_t free_particles = system.free_count();
 
   const std::size_t steps_per_sample =

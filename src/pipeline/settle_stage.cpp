@@ -31,10 +31,12 @@ std::string TimeSeries::csv() const {
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
                        int threads, TimeSeries& series, Progress& progress) {
   const DynamicsStage& stage = *sc.dynamics;
-  for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = particles.layer[i] < layer ? 1 : 0;
+  // The layers below this one stay where they are (the paper's layer-by-layer method).
+  std::vector<std::uint8_t> frozen(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) frozen[i] = particles.layer[i] < layer ? 1 : 0;
   double r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles.size(); ++i)
-    if (!particles.frozen[i]) r_min = std::min(r_min, particles.radius[i]);
+    if (!frozen[i]) r_min = std::min(r_min, particles.radius[i]);
   if (!std::isfinite(r_min)) throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle",
                                                           sc.file.string()));
 
@@ -63,7 +65,7 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   const QuietCriterion& criterion = stage.quiet;
 
   const auto t0 = std::chrono::steady_clock::now();
-  DemSystem dem(particles, sc.container, model, settings);
+  DemSystem dem(particles, sc.container, model, settings, std::move(frozen));
   const std::size_t free_count = dem.free_count();
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
   QuietForecast forecast(criterion);
@@ -84,7 +86,6 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   const SettleResult result = settle(dem, particles, criterion, density, record);
   dem.finish();
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (std::size_t i = 0; i < particles.size(); ++i) particles.frozen[i] = 0;
 
   SettlingRun run;
   run.layer = layer;

@@ -7,7 +7,6 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
-#include "aggpack/core/rng.hpp"
 #include "aggpack/deposition/drop_and_roll.hpp"
 
 namespace aggpack {
@@ -44,9 +43,7 @@ void run_step(const DepositStep& step, RunContext& ctx) {
 
   const DepositionSettings& settings = *sc.deposition;
   particles.reserve(particles.size() + radii.size());
-  // Each layer has its own stream, so a layer's drops do not depend on how the others went.
-  const std::uint64_t stream = static_cast<std::uint64_t>(RngPurpose::Deposition) + (std::uint64_t{step.layer} << 32);
-  DropAndRoll deposition(particles, sc.container, radii, settings, Rng(sc.seed, stream));
+  DropAndRoll deposition(particles, sc.container, radii, settings, deposition_stream(sc.seed, step.layer));
   const auto t0 = Clock::now();
   ctx.progress.start_stage(step.layers > 1 || step.layer > 0 ? fmt::format("deposition, layer {}", step.layer + 1)
                                                              : std::string("deposition"));

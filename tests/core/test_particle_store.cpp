@@ -16,11 +16,10 @@ TEST(ParticleStore, AddKeepsEveryArrayInStepAndComputesTheMass) {
   EXPECT_EQ(j, 1u);
   EXPECT_EQ(p.size(), 2u);
   for (std::size_t n : {p.position.size(), p.velocity.size(), p.angular_velocity.size(), p.radius.size(),
-                        p.mass.size(), p.frozen.size(), p.layer.size()})
+                        p.mass.size(), p.layer.size()})
     EXPECT_EQ(n, 2u);
   EXPECT_NEAR(p.mass[0], 2000.0 * 4.0 / 3.0 * std::numbers::pi * 0.125, 1e-12);
   EXPECT_EQ(p.layer[0], 3u);
-  EXPECT_EQ(p.frozen[1], 0);
   EXPECT_EQ(p.velocity[1], Vec3{});
 }
 

@@ -63,6 +63,29 @@ TEST(DemSystem, SphereOnTheFloorRestsAtTheHertzStaticOverlap) {
   EXPECT_LT(std::abs(store.velocity[0].z), 1e-6);
 }
 
+// A frozen sphere holds its place exactly and still carries the one resting on it: the upper
+// sphere comes to rest at the static Hertz overlap with it, as on the floor but with R* = r/2.
+TEST(DemSystem, AFrozenSphereDoesNotMoveAndCarriesTheOneAbove) {
+  const double r = 0.01;
+  ParticleStore store = sphere_on_the_floor(r);
+  store.add({0.05, 0.05, 3.0 * r}, r, kDensity);
+  const Vec3 below = store.position[0];
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings, {1, 0});
+  EXPECT_EQ(dem.free_count(), 1u);
+  EXPECT_TRUE(dem.is_frozen(0));
+  dem.run(40000);
+  EXPECT_EQ(store.position[0], below);
+  EXPECT_EQ(store.velocity[0], Vec3{});
+  // Walls and spheres are one material here, so the pair's E* is the wall's; R* = r / 2.
+  const double expected = hertz_static_overlap(store.mass[1] * 9.81, kEStar, 0.5 * r);
+  EXPECT_NEAR(2.0 * r - (store.position[1].z - store.position[0].z), expected, 0.01 * expected);
+  EXPECT_THROW(DemSystem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings,
+                         {1}),
+               std::invalid_argument);
+}
+
 struct Impact {
   double rebound_ratio;
   double contact_time;

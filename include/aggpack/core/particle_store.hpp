@@ -15,7 +15,6 @@ struct ParticleStore {
   std::vector<Vec3> angular_velocity;  // rad/s
   std::vector<double> radius;          // m
   std::vector<double> mass;            // kg
-  std::vector<std::uint8_t> frozen;    // 1: the dynamics stage does not move it
   std::vector<std::uint32_t> layer;    // deposition layer, 0 for a single pass
 
   // The only way to grow the store. Solid sphere of the given density (kg/m^3).

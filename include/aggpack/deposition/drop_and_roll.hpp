@@ -111,4 +111,8 @@ class DropAndRoll {
 
 [[nodiscard]] std::string_view to_string(DepositionEnd end);
 
+// The random stream of the drops of layer `layer` (0 for a single pass): each layer has its
+// own, so a layer's drops do not depend on how the others went.
+[[nodiscard]] Rng deposition_stream(std::uint64_t seed, std::uint32_t layer);
+
 }  // namespace aggpack

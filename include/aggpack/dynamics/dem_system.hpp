@@ -34,8 +34,9 @@ struct ContactStatistics {
 // the two forces are exact opposites and the two tangential histories stay opposite.
 class DemSystem {
  public:
+  // `frozen[i]` = 1: particle i does not move (it still pushes on the others); empty: none.
   DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
-            const DemSettings& settings);
+            const DemSettings& settings, std::vector<std::uint8_t> frozen = {});
 
   // Advances n steps.
   void run(std::size_t steps);
@@ -58,6 +59,7 @@ class DemSystem {
   [[nodiscard]] KineticEnergy kinetic_energy() const;
   [[nodiscard]] ContactStatistics contact_statistics() const;
   [[nodiscard]] std::size_t free_count() const { return free_count_; }
+  [[nodiscard]] bool is_frozen(std::size_t i) const { return frozen_[i] != 0; }
   // Neighbour-list entries, for memory accounting.
   [[nodiscard]] std::size_t list_entries() const { return other_.size(); }
   [[nodiscard]] std::size_t memory_bytes() const;
@@ -88,6 +90,7 @@ class DemSystem {
  public:
   [[nodiscard]] int threads() const { return threads_; }
   std::size_t free_count_ = 0;
+  std::vector<std::uint8_t> frozen_;        // 1 per particle that does not move
   std::vector<double> inverse_inertia_;      // 1 / (2/5 m R^2), 0 when frozen
   std::vector<Vec3> force_, torque_;
   std::vector<Vec3> listed_position_;        // positions when the list was built
