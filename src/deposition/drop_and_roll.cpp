@@ -66,7 +66,8 @@ DropAndRoll::DropAndRoll(ParticleStore& bed, const Container& container, std::sp
     grid_.insert(static_cast<std::uint32_t>(i), bed.position[i], bed.radius[i]);
 }
 
-std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, std::uint32_t layer) {
+std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, std::uint32_t layer,
+                                 const DepositionObserver& observer) {
   const Box& b = container_.bounds;
   std::size_t placed = 0;
   for (const double r : radii) {
@@ -93,6 +94,7 @@ std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, 
       supports_.push_back(result.supports);
       ++placed;
       ++stats_.placed;
+      if (observer.on_placed && observer.every > 0 && placed % observer.every == 0) observer.on_placed(placed);
       stats_.events += result.events;
       stats_.max_events_one_sphere = std::max(stats_.max_events_one_sphere, result.events);
       const auto& ids = result.supports.ids;

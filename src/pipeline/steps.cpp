@@ -47,14 +47,11 @@ void run_step(const DepositStep& step, RunContext& ctx) {
   const auto t0 = Clock::now();
   ctx.progress.start_stage(step.layers > 1 || step.layer > 0 ? fmt::format("deposition, layer {}", step.layer + 1)
                                                              : std::string("deposition"));
-  // In slices, for the progress line; the same drops in the same order as in one call.
-  const std::size_t slice = std::max<std::size_t>(1000, radii.size() / 100);
-  for (std::size_t first = 0; first < radii.size(); first += slice) {
-    const std::size_t count = std::min(slice, radii.size() - first);
-    if (deposition.deposit(radii.subspan(first, count), sc.material.density, step.layer) < count) break;
-    ctx.progress.update({fmt::format("{} of {} particles placed", first + count, radii.size())},
-                        static_cast<double>(first + count) / static_cast<double>(radii.size()));
-  }
+  const DepositionObserver observer{std::max<std::size_t>(1000, radii.size() / 100), [&](std::size_t placed) {
+    ctx.progress.update({fmt::format("{} of {} particles placed", placed, radii.size())},
+                        static_cast<double>(placed) / static_cast<double>(radii.size()));
+  }};
+  deposition.deposit(radii, sc.material.density, step.layer, observer);
   DepositionReport layer;
   layer.requested = radii.size();
   layer.stats = deposition.stats();

@@ -333,3 +333,25 @@ TEST(DropAndRollBeds, StopsAtTheFillHeight) {
 
 }  // namespace
 }  // namespace aggpack
+
+namespace aggpack {
+namespace {
+
+// The progress observer sees every `every`-th placement and changes nothing: the same bed
+// with and without it.
+TEST(DropAndRoll, TheObserverSeesEveryNthPlacementAndChangesNothing) {
+  const Container container = Container::square(0.1, 0.2, false);
+  const std::vector<double> radii(95, 0.005);
+  ParticleStore watched, plain;
+  std::vector<std::size_t> seen;
+  DropAndRoll a(watched, container, radii, DepositionSettings{}, Rng(7, 2));
+  a.deposit(radii, 2650.0, 0, {10, [&](std::size_t placed) { seen.push_back(placed); }});
+  DropAndRoll b(plain, container, radii, DepositionSettings{}, Rng(7, 2));
+  b.deposit(radii, 2650.0);
+  EXPECT_EQ(seen, (std::vector<std::size_t>{10, 20, 30, 40, 50, 60, 70, 80, 90}));
+  ASSERT_EQ(watched.size(), plain.size());
+  for (std::size_t i = 0; i < plain.size(); ++i) EXPECT_EQ(watched.position[i], plain.position[i]);
+}
+
+}  // namespace
+}  // namespace aggpack

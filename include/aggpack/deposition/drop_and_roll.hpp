@@ -1,8 +1,8 @@
 #pragma once
 #include <array>
-#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <span>
 #include <vector>
@@ -57,6 +57,13 @@ struct DropResult {
   std::vector<Vec3> path;    // the centre after the first fall and after each event (record_paths)
 };
 
+// Who watches a deposit: `on_placed(placed so far in this call)` after every `every`
+// spheres placed (for a progress line; it sees nothing it could change).
+struct DepositionObserver {
+  std::size_t every = 1000;
+  std::function<void(std::size_t placed)> on_placed;
+};
+
 // The kinematic drop-and-roll deposition of docs/method.md section 3: each sphere falls
 // from above the bed, then rolls on one support (a great circle) or two (their circle),
 // event by event in closed form, until the upward vertical lies in the cone of its contact
@@ -71,7 +78,8 @@ class DropAndRoll {
 
   // Drops spheres of the given radii one by one at uniformly random (x, y) and adds each to
   // the bed where it comes to rest. Stops early at the fill height; returns how many it placed.
-  std::size_t deposit(std::span<const double> radii, double density, std::uint32_t layer = 0);
+  std::size_t deposit(std::span<const double> radii, double density, std::uint32_t layer = 0,
+                      const DepositionObserver& observer = {});
 
   // One drop of a sphere of radius r at (x, y), without adding it to the bed.
   DropResult drop(double x, double y, double r);
