@@ -68,7 +68,7 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
                c.final_density(),
                std::isnan(c.after_dynamics) ? std::string(" after deposition")
                                             : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
-               c.result.report.particles.size(), c.result.summary["wall_clock_s"]["total"].get<double>());
+               c.result.report.particles.size(), c.result.wall_clock_s);
     log_->flush();
   }
   return c;

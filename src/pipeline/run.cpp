@@ -136,9 +136,10 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   Progress silent;
   Progress& progress = options.progress ? *options.progress : silent;
   const Scenario sc = load_scenario(scenario_file, options.overrides);
-  RunResult result{sc.output.directory, run(sc, {options.threads, options.stop_after}, progress), {}};
+  RunResult result{sc.output.directory, run(sc, {options.threads, options.stop_after}, progress), {}, 0.0};
   // Outputs only once everything has been computed: bad input leaves no files behind.
   result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
+  result.wall_clock_s = seconds_since(t_start);
   if (!options.quiet) fmt::print(log, "{}", result.report.console_summary(result.output_directory));
   return result;
 }

@@ -38,7 +38,8 @@ struct RunOptions {
 struct RunResult {
   std::filesystem::path output_directory;
   RunReport report;
-  nlohmann::json summary;  // what summary.json holds
+  nlohmann::json summary;   // what summary.json holds
+  double wall_clock_s = 0.0;  // the whole run, outputs included
 };
 
 // `aggpack run`: loads the scenario, runs it, writes the outputs and prints the result lines
