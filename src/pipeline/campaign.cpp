@@ -60,6 +60,7 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   std::ostringstream discard;
   CaseRun c{run_scenario(scenario, options, discard)};
   ++done_;
+  c.particle_count = c.result.report.particles.size();
   c.after_deposition = c.result.report.density_after_deposition();
   c.after_dynamics = c.result.report.density_after_dynamics();
   if (log_) {

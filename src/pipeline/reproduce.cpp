@@ -17,7 +17,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/text.hpp"
 #include "aggpack/core/version.hpp"
-#include "aggpack/dynamics/contact_law.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/pipeline/campaign.hpp"
 #include "aggpack/report/document.hpp"
@@ -124,14 +124,14 @@ struct SeedRuns {
 double box_spread(const std::vector<CaseRun>& runs) {
   if (runs.empty()) return kNaN;
   double lo = 1.0, hi = 0.0;
-  for (const auto& box : runs.front().result.summary["density"]["boxes"]) {
-    lo = std::min(lo, box["density"].get<double>());
-    hi = std::max(hi, box["density"].get<double>());
+  for (const BoxDensity& box : runs.front().result.report.final.density.boxes) {
+    lo = std::min(lo, box.density);
+    hi = std::max(hi, box.density);
   }
   return hi - lo;
 }
 
-std::size_t particle_count(const CaseRun& r) { return r.result.summary.at("particle_count").get<std::size_t>(); }
+std::size_t particle_count(const CaseRun& r) { return r.particle_count; }
 
 // Figures are kept in memory for the HTML page and written as files for report.md.
 class FigureSet {
@@ -168,7 +168,7 @@ std::string density_time_plot(const PaperExample& ex, const std::vector<CaseRun>
   double t_max = 0.0, lo = std::min(ex.after_deposition, ex.experiment), hi = std::max(ex.after_dem, ex.experiment);
   for (std::size_t k = 0; k < runs.size(); ++k) {
     PlotSeries s;
-    s.label = fmt::format("aggpack, seed {}", runs[k].result.summary["seed"].get<std::uint64_t>());
+    s.label = fmt::format("aggpack, seed {}", runs[k].result.report.scenario.seed);
     for (const TimeSample& sample : runs[k].result.report.series.samples)
       if (!std::isnan(sample.density)) {
         s.x.push_back(sample.time);
@@ -195,12 +195,6 @@ Box bed_frame(const ParticleStore& particles, const Box& container) {
   for (std::size_t i = 0; i < particles.size(); ++i) top = std::max(top, particles.position[i].z + particles.radius[i]);
   frame.hi.z = std::min(container.hi.z, top);
   return frame;
-}
-
-Box container_box(const nlohmann::json& summary) {
-  const auto& c = summary.at("container");
-  return {{c["lo"][0].get<double>(), c["lo"][1].get<double>(), c["lo"][2].get<double>()},
-          {c["hi"][0].get<double>(), c["hi"][1].get<double>(), c["hi"][2].get<double>()}};
 }
 
 // One column of a component's sieve report (target or generated) as a grading curve.
@@ -300,19 +294,18 @@ std::string trend_text(const std::vector<Table2Outcome>& mixes) {
 std::string table2_dem_text(const std::vector<Table2Outcome>& mixes) {
   if (mixes.empty() || mixes.front().runs.empty()) return {};
   if (mixes.front().dynamics.count > 0) return "The DEM column settles each deposited bed as for the examples.";
-  const nlohmann::json& summary = mixes.front().runs.front().result.summary;
-  const auto& material = summary["scenario"]["material"];
-  const double r_min = 0.5 * summary["sizes"]["d_min_m"].get<double>();
-  const double step = 0.2 * rayleigh_time(r_min, material["density_kg_m3"].get<double>(),
-                                          material["youngs_modulus_pa"].get<double>(),
-                                          material["poisson_ratio"].get<double>());
-  const double particle_steps = static_cast<double>(summary["particle_count"].get<std::size_t>()) * 0.5 / step;
+  const CaseRun& first = mixes.front().runs.front();
+  const Material& material = first.result.report.scenario.material;
+  const double r_min = 0.5 * first.result.report.final.bed.d_min;
+  // The default time step a [dynamics] table would take for these beds.
+  const double step = TimeStepRule{}.step(stable_time_scale(material.contact, r_min, material.density));
+  const double particle_steps = static_cast<double>(particle_count(first)) * 0.5 / step;
   return fmt::format(
       "These beds are not settled by DEM: {} particles down to {:.2f} mm need time steps of {:.1e} s at the "
       "aggregate's stiffness, so half a second of settling is {:.0e} particle-steps, about {:.0f} hours per bed at "
       "the 3 million particle-steps per second of BENCHMARKS.md. The examples show what DEM adds to a deposited "
       "bed (+0.01 to +0.02). Add a [dynamics] table to a Table 2 scenario to run it anyway.",
-      summary["particle_count"].get<std::size_t>(), 2e3 * r_min, step, particle_steps, particle_steps / 3e6 / 3600.0);
+      particle_count(first), 2e3 * r_min, step, particle_steps, particle_steps / 3e6 / 3600.0);
 }
 
 // A variant of the sensitivity study: extra --set overrides on Table 2 mix 3.
@@ -375,9 +368,40 @@ Plan make_plan(const ReproduceOptions& o) {
   return p;
 }
 
-}  // namespace
+// What a reproduction ran: every case's runs over seeds.
+struct Reproduction {
+  Plan plan;
+  std::map<std::string, SeedRuns> examples;  // by PaperExample::id
+  std::vector<Table2Outcome> mixes;
+  std::vector<Variant> variants;             // of the sensitivity mix, in the plan's order
+  std::size_t runs = 0;
+  double wall_clock_s = 0.0;
+  // Mix 3 (the paper's own example of a blend), or the first mix.
+  [[nodiscard]] const Table2Outcome& sensitivity_mix() const {
+    const auto mix3 = std::find_if(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.row.mix == 3; });
+    return mix3 != mixes.end() ? *mix3 : mixes.front();
+  }
+};
 
-nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
+// Table 2's mean errors against the experiments, in per cent, over the mixes that have a value.
+struct Table2Errors {
+  double ours = 0.0, paper = 0.0;
+  std::size_t mixes = 0;
+};
+Table2Errors table2_errors(const std::vector<Table2Outcome>& mixes) {
+  Table2Errors e;
+  for (const Table2Outcome& m : mixes) {
+    if (m.final_stats().count == 0) continue;
+    e.ours += 100.0 * (m.final_stats().mean - m.row.experiment) / m.row.experiment;
+    e.paper += 100.0 * (m.row.paper_mean - m.row.experiment) / m.row.experiment;
+    ++e.mixes;
+  }
+  if (e.mixes > 0) e.ours /= static_cast<double>(e.mixes), e.paper /= static_cast<double>(e.mixes);
+  return e;
+}
+
+// Runs every case of the plan: Examples 1 and 2, the Table 2 mixes and the sensitivity variants.
+Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   const Plan plan = make_plan(options);
   const fs::path examples = options.examples;
   const std::vector<Table2Row> table2 = read_table2(examples / "fu2003_table2.csv");
@@ -408,8 +432,10 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     return run;
   };
 
+  Reproduction rep;
+  rep.plan = plan;
   // Examples 1 and 2.
-  std::map<std::string, SeedRuns> examples_run;
+  std::map<std::string, SeedRuns>& examples_run = rep.examples;
   for (const PaperExample* ex : {&kExample1, &kExample2})
     for (std::size_t s = 1; s <= seeds; ++s)
       examples_run[ex->id].add(keep_bed_if(
@@ -417,7 +443,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
                                                    runs_dir / ex->id / fmt::format("seed_{}", s))));
 
   // Table 2.
-  std::vector<Table2Outcome> mixes;
+  std::vector<Table2Outcome>& mixes = rep.mixes;
   for (const Table2Row& row : table2) {
     Table2Outcome m;
     m.row = row;
@@ -431,10 +457,9 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   }
 
   // Sensitivity of Table 2 mix 3 to the choices the paper leaves open.
-  const auto mix3 = std::find_if(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.row.mix == 3; });
-  const Table2Outcome& sensitivity_mix = mix3 != mixes.end() ? *mix3 : mixes.front();
+  const Table2Outcome& sensitivity_mix = rep.sensitivity_mix();
   const Table2Row& sensitivity_row = sensitivity_mix.row;
-  std::vector<Variant> variants;
+  std::vector<Variant>& variants = rep.variants;
   for (std::size_t v = 0; v < plan.sensitivity.size(); ++v) {
     const SensitivityCase& spec = plan.sensitivity[v];
     Variant variant;
@@ -453,20 +478,23 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     variants.push_back(std::move(variant));
   }
   campaign.clear_progress();
-  const double wall = campaign.seconds();
+  rep.runs = campaign.runs_done();
+  rep.wall_clock_s = campaign.seconds();
+  return rep;
 
-  // ---- the report ----
-  FigureSet figures(options.out);
-  Document doc;
-  doc.title = "Does aggpack reproduce Fu and Dekelbab (2003)?";
+}
+
+// What was run, how, and in which mode.
+void compose_header(Document& doc, const Reproduction& rep, const ReproduceOptions& options) {
   auto& b = doc.blocks;
+  const Plan& plan = rep.plan;
   const int threads = options.threads > 0 ? options.threads : omp_get_max_threads();
   b.emplace_back(Paragraph{fmt::format(
       "aggpack {}, {} run: {} per case, {} in {:.0f} s of wall time ({:.1f} min) on {}{}. "
       "Command: {}. Every number below comes from the runs under runs/ (summary.json, timeseries.csv); "
       "reproduce.json has them all.",
-      kVersion, options.quick ? "QUICK" : "full", counted(plan.seeds, "seed"), counted(campaign.runs_done(), "run"),
-      wall, wall / 60.0, counted(threads, "thread"), options.threads > 0 ? "" : " (all cores)",
+      kVersion, options.quick ? "QUICK" : "full", counted(plan.seeds, "seed"), counted(rep.runs, "run"),
+      rep.wall_clock_s, rep.wall_clock_s / 60.0, counted(threads, "thread"), options.threads > 0 ? "" : " (all cores)",
       options.command_line.empty() ? std::string("aggpack reproduce") : options.command_line)});
   if (options.quick)
     b.emplace_back(Paragraph{
@@ -474,14 +502,20 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
         "simulated (before the beds are quiet) and two rows of the Table 2 sensitivity study. Its numbers are "
         "indicative; run aggpack reproduce without --quick for the report of record."});
 
+}
+
+// The summary tables: the examples against the paper and the experiments, and Table 2's errors.
+void compose_summary(Document& doc, nlohmann::json& result, const Reproduction& rep) {
+  const std::map<std::string, SeedRuns>& examples_run = rep.examples;
+  const std::vector<Table2Outcome>& mixes = rep.mixes;
+  auto& b = doc.blocks;
   // Headline.
   b.emplace_back(Heading{2, "Summary"});
   Table headline;
   headline.header = {"case", "paper after deposition", "ours after deposition", "paper after DEM", "ours after DEM",
                      "experiment", "ours - experiment"};
-  nlohmann::json result;
   for (const PaperExample* ex : {&kExample1, &kExample2}) {
-    const SeedRuns& outcome = examples_run[ex->id];
+    const SeedRuns& outcome = examples_run.at(ex->id);
     headline.rows.push_back({ex->title, value_text(ex->after_deposition, 3), stat_text(outcome.deposition),
                              value_text(ex->after_dem, 3), stat_text(outcome.dynamics), value_text(ex->experiment),
                              difference_text(outcome.dynamics.mean, ex->experiment)});
@@ -491,47 +525,45 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
         {"paper", {{"after_deposition", ex->after_deposition}, {"after_dynamics", ex->after_dem}}},
         {"experiment", ex->experiment}};
   }
-  double sum_ours_error = 0, sum_paper_error = 0;
-  std::size_t mixes_with_values = 0;
-  for (const Table2Outcome& m : mixes) {
-    if (m.final_stats().count == 0) continue;
-    sum_ours_error += 100.0 * (m.final_stats().mean - m.row.experiment) / m.row.experiment;
-    sum_paper_error += 100.0 * (m.row.paper_mean - m.row.experiment) / m.row.experiment;
-    ++mixes_with_values;
-  }
+  const Table2Errors e = table2_errors(mixes);
   const bool table2_has_dem = !mixes.empty() && mixes.front().dynamics.count > 0;
   headline.caption = "Packing density: ours is the mean ± sd over seeds of the mean over the virtual boxes.";
   b.emplace_back(headline);
   // Table 2 in percentages, in its own table: its numbers are errors, not densities.
-  if (mixes_with_values > 0) {
+  if (e.mixes > 0) {
     Table errors;
     errors.header = {"case", "mixes", "measured density", "paper's computation − experiment",
                      table2_has_dem ? "ours after DEM − experiment" : "ours after deposition − experiment"};
     const auto [lowest, highest] = std::minmax_element(
         mixes.begin(), mixes.end(), [](const Table2Outcome& a, const Table2Outcome& c) { return a.row.experiment < c.row.experiment; });
-    errors.rows.push_back({"Table 2: mean error against the experiments", fmt::format("{}", mixes_with_values),
+    errors.rows.push_back({"Table 2: mean error against the experiments", fmt::format("{}", e.mixes),
                            fmt::format("{:.3f}–{:.3f}", lowest->row.experiment, highest->row.experiment),
-                           fmt::format("{:+.1f} %", sum_paper_error / static_cast<double>(mixes_with_values)),
-                           fmt::format("{:+.1f} %", sum_ours_error / static_cast<double>(mixes_with_values))});
+                           fmt::format("{:+.1f} %", e.paper), fmt::format("{:+.1f} %", e.ours)});
     errors.caption = "Mean over the mixes of (computed − measured) / measured.";
     b.emplace_back(errors);
   }
 
+}
+
+// One section per example: its runs, its boxes, its density-time figure, a paragraph and pictures.
+void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep) {
+  const std::map<std::string, SeedRuns>& examples_run = rep.examples;
+  auto& b = doc.blocks;
   // Examples.
   for (const PaperExample* ex : {&kExample1, &kExample2}) {
-    const SeedRuns& outcome = examples_run[ex->id];
+    const SeedRuns& outcome = examples_run.at(ex->id);
     const auto& runs = outcome.runs;
     const SeedStatistics &dep = outcome.deposition, &dyn = outcome.dynamics;
     b.emplace_back(Heading{2, ex->title});
     Table t;
     t.header = {"seed", "particles", "after deposition", "after DEM", "DEM ended by", "simulated s", "max overlap / (r_i + r_j)"};
     for (const CaseRun& r : runs) {
-      const auto& d = r.result.summary["stages"]["dynamics"];
-      t.rows.push_back({fmt::format("{}", r.result.summary["seed"].get<std::uint64_t>()),
-                        fmt::format("{}", particle_count(r)), value_text(r.after_deposition),
-                        value_text(r.after_dynamics), d.value("ended_by", std::string("—")),
-                        fmt::format("{:.2f}", d.value("simulated_time_s", 0.0)),
-                        fmt::format("{:.1e}", d["final"].value("max_overlap_rel", 0.0))});
+      const std::optional<SettlingReport>& d = r.result.report.dynamics;
+      t.rows.push_back({fmt::format("{}", r.result.report.scenario.seed), fmt::format("{}", particle_count(r)),
+                        value_text(r.after_deposition), value_text(r.after_dynamics),
+                        d ? std::string(settle_end_name(d->runs.back().ended_by)) : std::string("—"),
+                        fmt::format("{:.2f}", d ? d->simulated_time() : 0.0),
+                        fmt::format("{:.1e}", d ? d->runs.back().last.contacts.max_overlap : 0.0)});
     }
     t.rows.push_back({"mean ± sd", "", stat_text(dep), stat_text(dyn), "", "", ""});
     t.rows.push_back({"paper", "", value_text(ex->after_deposition, 3), value_text(ex->after_dem, 3), "", "", ""});
@@ -541,8 +573,8 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
       Table boxes;
       boxes.caption = "Final density in each virtual box (seed 1): the paper's point that the box size hardly matters.";
       boxes.header = {"box side LV (in)", "density"};
-      for (const auto& box : runs.front().result.summary["density"]["boxes"])
-        boxes.rows.push_back({fmt::format("{:.2f}", box["side_m"].get<double>() / kInch), value_text(box["density"].get<double>())});
+      for (const BoxDensity& box : runs.front().result.report.final.density.boxes)
+        boxes.rows.push_back({fmt::format("{:.2f}", box.side / kInch), value_text(box.density)});
       b.emplace_back(boxes);
     }
     const std::string fig = figures.add(fmt::format("{}_density_vs_time.svg", ex->id), density_time_plot(*ex, runs));
@@ -569,11 +601,11 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
           "0.66 is at the high end of what frictional spheres give. The box-size table shows the paper's "
           "virtual-box point: the six LV span {:.4f}, {:.1f} % of the density (the paper: 0.43-1.53 %).",
           stat_text(dep), stat_text(dyn), difference_text(dyn.mean, ex->experiment), dyn.mean - dep.mean,
-          examples_run[kExample1.id].dynamics.mean - examples_run[kExample1.id].deposition.mean,
+          examples_run.at(kExample1.id).dynamics.mean - examples_run.at(kExample1.id).deposition.mean,
           box_spread(runs), 100.0 * box_spread(runs) / dyn.mean)});
     if (ex == &kExample2 && !runs.empty() && runs.front().result.report.deposited) {
       const CaseRun& r = runs.front();
-      const Box frame = bed_frame(r.result.report.particles, container_box(r.result.summary));
+      const Box frame = bed_frame(r.result.report.particles, r.result.report.scenario.container.bounds);
       RenderOptions view;
       view.d_lo = 0.5 * kInch;
       view.d_hi = 1.0 * kInch;
@@ -589,6 +621,82 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
     }
   }
 
+}
+
+// Table 2: the mixes, Fig. 9, a paragraph, each mix's grading and one bed.
+// The paper's Fig. 9 redrawn: density against Fa %, ours, the paper's and the experiments'.
+void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
+  auto& b = doc.blocks;
+  const std::vector<Table2Outcome>& mixes = rep.mixes;
+  const Plan& plan = rep.plan;
+  Plot plot;
+  plot.title = "Table 2: density against the sand fraction (the paper's Fig. 9)";
+  plot.legend_at_bottom = true;
+  plot.x_label = "fine aggregate Fa (% of aggregate volume)";
+  plot.y_label = "packing density";
+  PlotSeries dep{"aggpack after deposition", {}, {}, {}, Mark::LineAndPoints, true, "#2ca02c"};
+  PlotSeries dyn{"aggpack after DEM", {}, {}, {}, Mark::LineAndPoints, false, "#1f77b4"};
+  PlotSeries paper{"paper, computed", {}, {}, {}, Mark::Points, false, "#d62728"};
+  PlotSeries exp{"experiment", {}, {}, {}, Mark::Points, false, "#000000"};
+  for (const Table2Outcome& m : mixes) {
+    dep.x.push_back(m.row.fa_percent), dep.y.push_back(m.deposition.mean);
+    dep.y_error.push_back(std::isnan(m.deposition.sd) ? 0.0 : m.deposition.sd);
+    if (m.dynamics.count) {
+      dyn.x.push_back(m.row.fa_percent), dyn.y.push_back(m.dynamics.mean);
+      dyn.y_error.push_back(std::isnan(m.dynamics.sd) ? 0.0 : m.dynamics.sd);
+    }
+    paper.x.push_back(m.row.fa_percent), paper.y.push_back(m.row.paper_mean), paper.y_error.push_back(m.row.paper_sd);
+    exp.x.push_back(m.row.fa_percent), exp.y.push_back(m.row.experiment);
+  }
+  plot.series = {dep, paper, exp};
+  if (!dyn.x.empty()) plot.series.insert(plot.series.begin() + 1, dyn);
+  const std::string fig = figures.add("table2_density_vs_fa.svg", svg_plot(plot));
+  b.emplace_back(Figure{fig, fmt::format("Computed and measured density against Fa % (the paper's Fig. 9); error "
+                                         "bars: {}sd over the four virtual boxes (paper).",
+                                         plan.seeds > 1 ? "sd over seeds (ours) and "
+                                                        : "ours has one seed per mix, so no bar; ")});
+}
+
+// Each mix's generated grading against its target, and one bed cut open.
+void compose_table2_figures(Document& doc, FigureSet& figures, const Reproduction& rep) {
+  auto& b = doc.blocks;
+  const std::vector<Table2Outcome>& mixes = rep.mixes;
+  for (const Table2Outcome& m : mixes) {
+    if (m.runs.empty() || !m.runs.front().result.report.sizes) continue;
+    const std::string fig = figures.add(fmt::format("table2_mix{}_grading.svg", m.row.mix),
+                                        grading_plot(m.row, m.runs.front().result.report.sizes->report));
+    const auto& comps = m.runs.front().result.report.sizes->report["components"];
+    b.emplace_back(Figure{fig, fmt::format(
+        "Mix {}: the blend's generated grading (seed 1, by volume) against its target. The target is the blend "
+        "after the cut-offs, renormalised: they remove {:.1f} % of the coarse and {:.1f} % of the sand volume.",
+        m.row.mix, comps.size() > 0 ? 100 * comps[0]["cut_below_fraction"].get<double>() : kNaN,
+        comps.size() > 1 ? 100 * comps[1]["cut_below_fraction"].get<double>() : kNaN)});
+  }
+  if (!mixes.empty() && !mixes.front().runs.empty()) {
+    const CaseRun& r = mixes.front().runs.front();
+    const Box frame = bed_frame(r.result.report.particles, r.result.report.scenario.container.bounds);
+    // The sand is 1 mm in a 5 in container, about 5 pixels at 720: 3 x 3 rays per pixel keep it round.
+    RenderOptions section;
+    section.cut_away = true;
+    section.supersample = 3;
+    section.legend = true;
+    const std::string fig = figures.add(fmt::format("table2_mix{}_packing.png", mixes.front().row.mix),
+                                        encode_png(render_spheres(r.result.report.particles, frame, section)));
+    b.emplace_back(Figure{fig, fmt::format("Table 2 mix {} ({} particles), seed 1, the deposited bed cut through its "
+                                           "middle, coloured by diameter (viridis: {:.1f} mm dark blue to {:.1f} mm "
+                                           "yellow, colour bar and scale bar below the picture).",
+                                           mixes.front().row.mix, particle_count(r),
+                                           1e3 * r.result.report.final.bed.d_min,
+                                           1e3 * r.result.report.final.bed.d_max)});
+  }
+
+}
+
+void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
+  const std::vector<Table2Outcome>& mixes = rep.mixes;
+  const std::vector<Variant>& variants = rep.variants;
+  auto& b = doc.blocks;
+  const Table2Errors errors = table2_errors(mixes);
   // Table 2.
   b.emplace_back(Heading{2, "Table 2: eight concrete aggregate blends"});
   Table t2;
@@ -611,34 +719,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   t2.caption = "Ours: mean ± sd over seeds; the differences use ours after DEM (after deposition when DEM was not run).";
   b.emplace_back(t2);
   result["table2"] = t2_json;
-  {
-    Plot plot;
-    plot.title = "Table 2: density against the sand fraction (the paper's Fig. 9)";
-    plot.legend_at_bottom = true;
-    plot.x_label = "fine aggregate Fa (% of aggregate volume)";
-    plot.y_label = "packing density";
-    PlotSeries dep{"aggpack after deposition", {}, {}, {}, Mark::LineAndPoints, true, "#2ca02c"};
-    PlotSeries dyn{"aggpack after DEM", {}, {}, {}, Mark::LineAndPoints, false, "#1f77b4"};
-    PlotSeries paper{"paper, computed", {}, {}, {}, Mark::Points, false, "#d62728"};
-    PlotSeries exp{"experiment", {}, {}, {}, Mark::Points, false, "#000000"};
-    for (const Table2Outcome& m : mixes) {
-      dep.x.push_back(m.row.fa_percent), dep.y.push_back(m.deposition.mean);
-      dep.y_error.push_back(std::isnan(m.deposition.sd) ? 0.0 : m.deposition.sd);
-      if (m.dynamics.count) {
-        dyn.x.push_back(m.row.fa_percent), dyn.y.push_back(m.dynamics.mean);
-        dyn.y_error.push_back(std::isnan(m.dynamics.sd) ? 0.0 : m.dynamics.sd);
-      }
-      paper.x.push_back(m.row.fa_percent), paper.y.push_back(m.row.paper_mean), paper.y_error.push_back(m.row.paper_sd);
-      exp.x.push_back(m.row.fa_percent), exp.y.push_back(m.row.experiment);
-    }
-    plot.series = {dep, paper, exp};
-    if (!dyn.x.empty()) plot.series.insert(plot.series.begin() + 1, dyn);
-    const std::string fig = figures.add("table2_density_vs_fa.svg", svg_plot(plot));
-    b.emplace_back(Figure{fig, fmt::format("Computed and measured density against Fa % (the paper's Fig. 9); error "
-                                           "bars: {}sd over the four virtual boxes (paper).",
-                                           plan.seeds > 1 ? "sd over seeds (ours) and "
-                                                          : "ours has one seed per mix, so no bar; ")});
-  }
+  compose_fig9(doc, figures, rep);
   {
     b.emplace_back(Paragraph{fmt::format(
         "Table 2. The paper prints neither the sand gradings nor the container nor the fines cut-off. We use its "
@@ -649,40 +730,17 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
         "The paper explained its -10 % by the spheres standing for irregular aggregate; spheres of a well-graded "
         "blend can pack as densely as the measured aggregate when the sand keeps its volume in its own sizes "
         "(mass sampling). {} {} {}",
-        mixes_with_values ? sum_ours_error / static_cast<double>(mixes_with_values) : kNaN,
-        mixes_with_values ? sum_paper_error / static_cast<double>(mixes_with_values) : kNaN, cutoff_text(variants),
+        errors.mixes ? errors.ours : kNaN, errors.mixes ? errors.paper : kNaN, cutoff_text(variants),
         trend_text(mixes), table2_dem_text(mixes))});
   }
-  for (const Table2Outcome& m : mixes) {
-    if (m.runs.empty() || !m.runs.front().result.summary.contains("sizes")) continue;
-    const std::string fig = figures.add(fmt::format("table2_mix{}_grading.svg", m.row.mix),
-                                        grading_plot(m.row, m.runs.front().result.summary["sizes"]));
-    const auto& comps = m.runs.front().result.summary["sizes"]["components"];
-    b.emplace_back(Figure{fig, fmt::format(
-        "Mix {}: the blend's generated grading (seed 1, by volume) against its target. The target is the blend "
-        "after the cut-offs, renormalised: they remove {:.1f} % of the coarse and {:.1f} % of the sand volume.",
-        m.row.mix, comps.size() > 0 ? 100 * comps[0]["cut_below_fraction"].get<double>() : kNaN,
-        comps.size() > 1 ? 100 * comps[1]["cut_below_fraction"].get<double>() : kNaN)});
-  }
-  if (!mixes.empty() && !mixes.front().runs.empty()) {
-    const CaseRun& r = mixes.front().runs.front();
-    const Box frame = bed_frame(r.result.report.particles, container_box(r.result.summary));
-    // The sand is 1 mm in a 5 in container, about 5 pixels at 720: 3 x 3 rays per pixel keep it round.
-    RenderOptions section;
-    section.cut_away = true;
-    section.supersample = 3;
-    section.legend = true;
-    const std::string fig = figures.add(fmt::format("table2_mix{}_packing.png", mixes.front().row.mix),
-                                        encode_png(render_spheres(r.result.report.particles, frame, section)));
-    b.emplace_back(Figure{fig, fmt::format("Table 2 mix {} ({} particles), seed 1, the deposited bed cut through its "
-                                           "middle, coloured by diameter (viridis: {:.1f} mm dark blue to {:.1f} mm "
-                                           "yellow, colour bar and scale bar below the picture).",
-                                           mixes.front().row.mix, particle_count(r),
-                                           1e3 * r.result.summary["bed"]["d_min_m"].get<double>(),
-                                           1e3 * r.result.summary["bed"]["d_max_m"].get<double>())});
-  }
+  compose_table2_figures(doc, figures, rep);
+}
 
-  // Sensitivity.
+// How Table 2 mix 3 moves with the choices the paper leaves open.
+void compose_sensitivity(Document& doc, nlohmann::json& result, const Reproduction& rep) {
+  const std::vector<Variant>& variants = rep.variants;
+  auto& b = doc.blocks;
+  const Table2Row& sensitivity_row = rep.sensitivity_mix().row;
   b.emplace_back(Heading{3, fmt::format("How the Table 2 result moves with the choices the paper leaves open (mix {})",
                                         sensitivity_row.mix)});
   Table sens;
@@ -712,26 +770,49 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
       "the particle count (about five times more per halving of the cut-off). A wider container or periodic "
       "sides show how much wall effect the virtual boxes leave." + number_sampling});
 
+}
+
+// The modelling notes, case by case.
+void compose_notes(Document& doc, const Reproduction& rep) {
+  const std::map<std::string, SeedRuns>& examples_run = rep.examples;
+  const std::vector<Table2Outcome>& mixes = rep.mixes;
+  auto& b = doc.blocks;
   // Notes, case by case: each run says what its numbers depend on.
   b.emplace_back(Heading{2, "Modelling notes (seed 1 of each case)"});
   const auto notes_of = [&](const std::string& case_name, const CaseRun& r) {
     b.emplace_back(Heading{3, case_name});
     Table notes_table;
     notes_table.header = {"note"};
-    for (const auto& n : r.result.summary["modelling_notes"]) notes_table.rows.push_back({n.get<std::string>()});
+    for (const std::string& n : r.result.report.modelling_notes()) notes_table.rows.push_back({n});
     b.emplace_back(notes_table);
   };
   for (const PaperExample* ex : {&kExample1, &kExample2})
-    if (!examples_run[ex->id].runs.empty()) notes_of(ex->title, examples_run[ex->id].runs.front());
+    if (!examples_run.at(ex->id).runs.empty()) notes_of(ex->title, examples_run.at(ex->id).runs.front());
   if (!mixes.empty() && !mixes.front().runs.empty())
     notes_of(fmt::format("Table 2 mix {} (the other mixes differ only in Ca/Fa)", mixes.front().row.mix),
              mixes.front().runs.front());
 
+}
+
+}  // namespace
+
+nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
+  const Reproduction rep = run_cases(options, log);
+  FigureSet figures(options.out);
+  Document doc;
+  doc.title = "Does aggpack reproduce Fu and Dekelbab (2003)?";
+  nlohmann::json result;
+  compose_header(doc, rep, options);
+  compose_summary(doc, result, rep);
+  compose_examples(doc, figures, rep);
+  compose_table2(doc, figures, result, rep);
+  compose_sensitivity(doc, result, rep);
+  compose_notes(doc, rep);
   result["aggpack_version"] = kVersion;
   result["mode"] = options.quick ? "quick" : "full";
-  result["seeds"] = plan.seeds;
-  result["runs"] = campaign.runs_done();
-  result["wall_clock_s"] = wall;
+  result["seeds"] = rep.plan.seeds;
+  result["runs"] = rep.runs;
+  result["wall_clock_s"] = rep.wall_clock_s;
   result["command_line"] = options.command_line;
   nlohmann::json figure_list = nlohmann::json::array();
   for (const auto& [file, content] : figures.files()) figure_list.push_back(file);
@@ -743,7 +824,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   write_file_atomically(options.out / "reproduce.json", result.dump(2) + "\n");
   if (!options.quiet)
     fmt::print(log, "report: {} and {} ({:.1f} min)\n", (options.out / "report.html").string(),
-               (options.out / "report.md").string(), wall / 60.0);
+               (options.out / "report.md").string(), rep.wall_clock_s / 60.0);
   return result;
 }
 

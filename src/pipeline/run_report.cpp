@@ -12,8 +12,18 @@ namespace aggpack {
 
 namespace {
 
+// An analysis as a stage's density and coordination keys.
+void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
+  const nlohmann::json j = to_json(analysis);
+  stage["density"] = j.at("density");
+  stage["coordination"] = j.at("coordination");
+}
+
+}  // namespace
+
 // Every modelling choice a result depends on, said in the output.
-std::vector<std::string> modelling_notes(const RunReport& r) {
+std::vector<std::string> RunReport::modelling_notes() const {
+  const RunReport& r = *this;
   const Scenario& sc = r.scenario;
   std::vector<std::string> notes;
   if (sc.particles.file)
@@ -53,15 +63,6 @@ std::vector<std::string> modelling_notes(const RunReport& r) {
                               sc.analysis.contact_tolerance));
   return notes;
 }
-
-// An analysis as a stage's density and coordination keys.
-void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
-  const nlohmann::json j = to_json(analysis);
-  stage["density"] = j.at("density");
-  stage["coordination"] = j.at("coordination");
-}
-
-}  // namespace
 
 double RunReport::density_after_deposition() const {
   const auto a = analyses.find("deposition");
@@ -105,7 +106,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["input"] = {{"file", sc.particles.file->string()},
                         {"largest_boundary_overlap_rel", largest_boundary_overlap},
                         {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
-  summary["modelling_notes"] = modelling_notes(*this);
+  summary["modelling_notes"] = modelling_notes();
   summary.update(to_json(final));
   wall_clock["output"] = output_seconds;
   wall_clock["total"] = total_seconds;

@@ -24,6 +24,7 @@ SeedStatistics seed_statistics(const std::vector<double>& values);
 // One scenario run of a campaign (reproduce, sweep), with the densities it is judged by.
 struct CaseRun {
   RunResult result;
+  std::size_t particle_count = 0;  // kept when a campaign drops the bed itself to save memory
   double after_deposition = std::numeric_limits<double>::quiet_NaN();  // mean over the virtual boxes
   double after_dynamics = std::numeric_limits<double>::quiet_NaN();
   [[nodiscard]] double final_density() const { return std::isnan(after_dynamics) ? after_deposition : after_dynamics; }

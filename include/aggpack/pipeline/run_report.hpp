@@ -43,6 +43,8 @@ struct RunReport {
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;
   [[nodiscard]] double density_after_dynamics() const;
+  // Every modelling choice the results depend on, in words (summary.json's modelling_notes).
+  [[nodiscard]] std::vector<std::string> modelling_notes() const;
   // summary.json (README, "Output files"), `output_seconds` and `total_seconds` included.
   [[nodiscard]] nlohmann::json summary_json(double output_seconds, double total_seconds) const;
   // The terminal's result lines.
