@@ -8,6 +8,7 @@
 #include <optional>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -33,19 +34,39 @@ namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInch = 0.0254;
 
-// Fu and Dekelbab (2003), section 3 (docs/method.md section 6).
+// One of the paper's two examples (section 3), as examples/fu2003_examples.csv gives it.
 struct PaperExample {
-  const char* id;
-  const char* short_name;
-  const char* title;
-  const char* scenario;
-  const char* figure;  // the paper's density-vs-time figure
-  double after_deposition, after_dem, experiment;
+  std::string id, short_name, title, scenario, figure;  // figure: the paper's density-vs-time figure
+  double after_deposition = 0, after_dem = 0, experiment = 0;
+  double box_spread_min_percent = kNaN, box_spread_max_percent = kNaN;  // over the paper's virtual boxes
 };
-constexpr PaperExample kExample1{"example1", "Example 1", "Example 1: 1733 monosized 1 in spheres, L = 12 in", "example1.toml",
-                                 "Fig. 4", 0.558, 0.604, 0.6108};
-constexpr PaperExample kExample2{"example2", "Example 2", "Example 2: 2000 x 0.5 in + 1000 x 1 in spheres, L = 10 in",
-                                 "example2.toml", "Fig. 7", 0.576, 0.66, 0.660};
+
+std::vector<PaperExample> read_examples(const fs::path& file) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("{}: cannot open the paper's examples (give --examples DIR)", file.string()));
+  std::vector<PaperExample> rows;
+  std::string line;
+  bool header = true;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    if (std::exchange(header, false)) continue;
+    const std::vector<std::string> f = split_csv_fields(line);
+    const auto optional_number = [](const std::string& cell) { return cell.empty() ? kNaN : std::stod(cell); };
+    try {
+      if (f.size() != 10) throw std::invalid_argument("columns");
+      rows.push_back({f[0], f[1], f[2], f[3], f[4], std::stod(f[5]), std::stod(f[6]), std::stod(f[7]),
+                      optional_number(f[8]), optional_number(f[9])});
+    } catch (const std::exception&) {
+      throw InputError(fmt::format("{}:{}: expected id,short_name,title,scenario,figure,after_deposition,after_dem,"
+                                   "experiment,box_spread_min_percent,box_spread_max_percent",
+                                   file.string(), number));
+    }
+  }
+  for (const char* id : {"example1", "example2"})
+    if (std::none_of(rows.begin(), rows.end(), [&](const PaperExample& e) { return e.id == id; }))
+      throw InputError(fmt::format("{}: no row for {}", file.string(), id));
+  return rows;
+}
 
 struct Table2Row {
   int mix = 0;
@@ -272,10 +293,14 @@ std::string trend_text(const std::vector<Table2Outcome>& mixes) {
   std::optional<double> largest_sd;
   for (const Table2Outcome& m : mixes)
     if (!std::isnan(m.final_stats().sd)) largest_sd = std::max(largest_sd.value_or(0.0), m.final_stats().sd);
+  // The virtual boxes and the largest particle, from the first mix's run.
+  const RunReport& first = mixes.front().runs.front().result.report;
+  const auto [lv_lo, lv_hi] = std::minmax_element(first.final.density.boxes.begin(), first.final.density.boxes.end(),
+                                                  [](const BoxDensity& a, const BoxDensity& c) { return a.side < c.side; });
   const std::string scatter =
       largest_sd ? fmt::format("within the scatter between seeds (sd up to {:.3f}, from the small virtual boxes: "
-                               "LV = 1.6-2.2 in against particles of up to 1 in)",
-                               *largest_sd)
+                               "LV = {:.1f}-{:.1f} in against particles of up to {:.2g} in)",
+                               *largest_sd, lv_lo->side / kInch, lv_hi->side / kInch, first.final.bed.d_max / kInch)
                  : std::string("though one seed per mix cannot say how much of that is scatter between seeds "
                                "(run with --seeds 3)");
   return fmt::format(
@@ -284,14 +309,15 @@ std::string trend_text(const std::vector<Table2Outcome>& mixes) {
       "over this range, {}",
       slope_per_10(fa, measured), slope_per_10(fa, paper), slope_per_10(fa, ours),
       std::abs(slope_per_10(fa, ours)) < 0.5 * std::abs(slope_per_10(fa, measured))
-          ? fmt::format("while ours change less than half as much, {}. With the sand cut at 0.04 in, this range of "
-                        "Fa lies on the flat top of the spheres' density curve (README, aggpack sweep).",
-                        scatter)
+          ? fmt::format("while ours change less than half as much, {}. With the sand cut at {:.2g} mm, this range "
+                        "of Fa lies on the flat top of the spheres' density curve (README, aggpack sweep).",
+                        scatter, 1e3 * first.final.bed.d_min)
           : std::string("and ours follow."));
 }
 
-// Why Table 2 has no DEM column unless the scenarios ask for it: the cost, from the first run.
-std::string table2_dem_text(const std::vector<Table2Outcome>& mixes) {
+// Why Table 2 has no DEM column unless the scenarios ask for it: the cost of the first bed at
+// the DEM speed our examples just ran at, and what DEM added to them.
+std::string table2_dem_text(const std::vector<Table2Outcome>& mixes, const std::map<std::string, SeedRuns>& examples) {
   if (mixes.empty() || mixes.front().runs.empty()) return {};
   if (mixes.front().dynamics.count > 0) return "The DEM column settles each deposited bed as for the examples.";
   const CaseRun& first = mixes.front().runs.front();
@@ -300,12 +326,26 @@ std::string table2_dem_text(const std::vector<Table2Outcome>& mixes) {
   // The default time step a [dynamics] table would take for these beds.
   const double step = TimeStepRule{}.step(stable_time_scale(material.contact, r_min, material.density));
   const double particle_steps = static_cast<double>(particle_count(first)) * 0.5 / step;
+  double speed = 0.0, gain_lo = kNaN, gain_hi = kNaN;
+  for (const auto& [id, runs] : examples) {
+    for (const CaseRun& r : runs.runs)
+      if (r.result.report.dynamics)
+        for (const SettlingRun& run : r.result.report.dynamics->runs) speed = std::max(speed, run.particle_steps_per_second);
+    const double gain = runs.dynamics.mean - runs.deposition.mean;
+    if (std::isnan(gain)) continue;
+    gain_lo = std::isnan(gain_lo) ? gain : std::min(gain_lo, gain);
+    gain_hi = std::isnan(gain_hi) ? gain : std::max(gain_hi, gain);
+  }
+  if (!(speed > 0.0)) return fmt::format("These beds are not settled by DEM: {} particles down to {:.2f} mm need time "
+                                         "steps of {:.1e} s at the aggregate's stiffness.",
+                                         particle_count(first), 2e3 * r_min, step);
   return fmt::format(
       "These beds are not settled by DEM: {} particles down to {:.2f} mm need time steps of {:.1e} s at the "
       "aggregate's stiffness, so half a second of settling is {:.0e} particle-steps, about {:.0f} hours per bed at "
-      "the 3 million particle-steps per second of BENCHMARKS.md. The examples show what DEM adds to a deposited "
-      "bed (+0.01 to +0.02). Add a [dynamics] table to a Table 2 scenario to run it anyway.",
-      particle_count(first), 2e3 * r_min, step, particle_steps, particle_steps / 3e6 / 3600.0);
+      "the {:.1f} million particle-steps per second the examples ran at here. The examples show what DEM adds to a "
+      "deposited bed ({:+.3f} to {:+.3f}). Add a [dynamics] table to a Table 2 scenario to run it anyway.",
+      particle_count(first), 2e3 * r_min, step, particle_steps, particle_steps / speed / 3600.0, 1e-6 * speed, gain_lo,
+      gain_hi);
 }
 
 // A variant of the sensitivity study: extra --set overrides on Table 2 mix 3.
@@ -322,6 +362,8 @@ struct Variant : SeedRuns {
 // How the density moves with the sand cut-off, from the variants of the cut-off series.
 std::string cutoff_text(const std::vector<Variant>& variants) {
   std::vector<std::pair<double, double>> series;  // cut-off (in), mean density
+  if (variants.empty()) return {};
+  const Variant& shipped = variants.front();  // the plan's first variant is the scenario as shipped
   for (const Variant& v : variants)
     if (!std::isnan(v.spec.sand_cut_in)) series.emplace_back(v.spec.sand_cut_in, v.deposition.mean);
   if (series.size() < 3) return {};
@@ -332,8 +374,8 @@ std::string cutoff_text(const std::vector<Variant>& variants) {
       "This agreement rests on the sand cut-off, which the paper does not give: for mix 3 the density after "
       "deposition keeps rising as the cut-off falls ({}), with no sign of levelling off, so with the whole sand "
       "our spheres would pack denser than the measured aggregate, as smooth spheres pack denser than crushed "
-      "stone. The shipped 0.04 in is a cost choice (about 3e5 particles), not a converged one.",
-      list);
+      "stone. The shipped {:g} in is a cost choice ({} particles), not a converged one.",
+      list, shipped.spec.sand_cut_in, shipped.runs.empty() ? std::size_t{0} : shipped.runs.front().particle_count);
 }
 
 // What each mode runs. The quick mode exercises every table and figure in a few minutes.
@@ -371,12 +413,16 @@ Plan make_plan(const ReproduceOptions& o) {
 // What a reproduction ran: every case's runs over seeds.
 struct Reproduction {
   Plan plan;
+  std::vector<PaperExample> paper;           // examples/fu2003_examples.csv
   std::map<std::string, SeedRuns> examples;  // by PaperExample::id
   std::vector<Table2Outcome> mixes;
   std::vector<Variant> variants;             // of the sensitivity mix, in the plan's order
   std::size_t runs = 0;
   double wall_clock_s = 0.0;
   // Mix 3 (the paper's own example of a blend), or the first mix.
+  [[nodiscard]] const PaperExample& example(std::string_view id) const {
+    return *std::find_if(paper.begin(), paper.end(), [&](const PaperExample& e) { return e.id == id; });
+  }
   [[nodiscard]] const Table2Outcome& sensitivity_mix() const {
     const auto mix3 = std::find_if(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.row.mix == 3; });
     return mix3 != mixes.end() ? *mix3 : mixes.front();
@@ -405,10 +451,11 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   const Plan plan = make_plan(options);
   const fs::path examples = options.examples;
   const std::vector<Table2Row> table2 = read_table2(examples / "fu2003_table2.csv");
-  for (const char* f : {kExample1.scenario, kExample2.scenario})
-    if (!fs::exists(examples / f))
+  const std::vector<PaperExample> paper = read_examples(examples / "fu2003_examples.csv");
+  for (const PaperExample& ex : paper)
+    if (!fs::exists(examples / ex.scenario))
       throw InputError(fmt::format("{}: not found (give --examples DIR, the folder of the shipped scenarios)",
-                                   (examples / f).string()));
+                                   (examples / ex.scenario).string()));
   for (const Table2Row& row : table2) {
     const fs::path f = examples / fmt::format("table2_mix{}.toml", row.mix);
     if (!fs::exists(f)) throw InputError(fmt::format("{}: not found (one scenario per Table 2 mix)", f.string()));
@@ -434,13 +481,14 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
 
   Reproduction rep;
   rep.plan = plan;
+  rep.paper = paper;
   // Examples 1 and 2.
   std::map<std::string, SeedRuns>& examples_run = rep.examples;
-  for (const PaperExample* ex : {&kExample1, &kExample2})
+  for (const PaperExample& ex : paper)
     for (std::size_t s = 1; s <= seeds; ++s)
-      examples_run[ex->id].add(keep_bed_if(
-          ex == &kExample2 && s == 1, campaign.run(ex->title, examples / ex->scenario, plan.example_sets, s,
-                                                   runs_dir / ex->id / fmt::format("seed_{}", s))));
+      examples_run[ex.id].add(keep_bed_if(
+          ex.id == "example2" && s == 1, campaign.run(ex.title, examples / ex.scenario, plan.example_sets, s,
+                                                     runs_dir / ex.id / fmt::format("seed_{}", s))));
 
   // Table 2.
   std::vector<Table2Outcome>& mixes = rep.mixes;
@@ -514,7 +562,8 @@ void compose_summary(Document& doc, nlohmann::json& result, const Reproduction& 
   Table headline;
   headline.header = {"case", "paper after deposition", "ours after deposition", "paper after DEM", "ours after DEM",
                      "experiment", "ours - experiment"};
-  for (const PaperExample* ex : {&kExample1, &kExample2}) {
+  for (const PaperExample& ex_row : rep.paper) {
+    const PaperExample* ex = &ex_row;
     const SeedRuns& outcome = examples_run.at(ex->id);
     headline.rows.push_back({ex->title, value_text(ex->after_deposition, 3), stat_text(outcome.deposition),
                              value_text(ex->after_dem, 3), stat_text(outcome.dynamics), value_text(ex->experiment),
@@ -550,7 +599,8 @@ void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep
   const std::map<std::string, SeedRuns>& examples_run = rep.examples;
   auto& b = doc.blocks;
   // Examples.
-  for (const PaperExample* ex : {&kExample1, &kExample2}) {
+  for (const PaperExample& ex_row : rep.paper) {
+    const PaperExample* ex = &ex_row;
     const SeedRuns& outcome = examples_run.at(ex->id);
     const auto& runs = outcome.runs;
     const SeedStatistics &dep = outcome.deposition, &dyn = outcome.dynamics;
@@ -580,30 +630,33 @@ void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep
     const std::string fig = figures.add(fmt::format("{}_density_vs_time.svg", ex->id), density_time_plot(*ex, runs));
     b.emplace_back(Figure{fig, fmt::format("Density in the virtual boxes during DEM settling (the paper's {}), one "
                                            "curve per seed; dashed: the paper's values and the experiment.", ex->figure)});
-    if (ex == &kExample1)
+    if (ex->id == "example1")
       b.emplace_back(Paragraph{fmt::format(
-          "Example 1. Our drop-and-roll deposition gives {} against the paper's 0.558: ours is the exact steepest "
+          "Example 1. Our drop-and-roll deposition gives {} against the paper's {:.3f}: ours is the exact steepest "
           "descent with three supports (docs/method.md section 3), which sits near the random loose packing "
-          "limit of about 0.58 for monosized spheres measured away from walls, while the paper's 0.558 is "
-          "below it. DEM settling then gives {} against the paper's 0.604 and the experiment's 0.6108 ({} "
+          "limit for monosized spheres measured away from walls (docs/validation.md), while the paper's value is "
+          "below it. DEM settling then gives {} against the paper's {:.3f} and the experiment's {:.4f} ({} "
           "from the experiment). We stay below the references because the DEM starts from a bed that is already "
-          "at rest almost everywhere and, with μ = 0.17 and a Mindlin spring, most contacts stick; the paper's own "
-          "sliding law (friction_model = \"fu2003\", contacts never stick) reaches 0.605 from the same start "
-          "(docs/validation.md), which is most likely how the paper got there. The curve has the paper's shape: "
-          "a rise over the first 0.2-0.3 s, then flat.",
-          stat_text(dep), stat_text(dyn), difference_text(dyn.mean, ex->experiment))});
+          "at rest almost everywhere and, with a Mindlin spring, most contacts stick; the paper's own "
+          "sliding law (friction_model = \"fu2003\", contacts never stick) reaches the paper's value from the same "
+          "start (docs/validation.md), which is most likely how the paper got there.",
+          stat_text(dep), ex->after_deposition, stat_text(dyn), ex->after_dem, ex->experiment,
+          difference_text(dyn.mean, ex->experiment))});
     else
       b.emplace_back(Paragraph{fmt::format(
-          "Example 2. Deposition gives {} against the paper's 0.576 and DEM {} against the paper's about 0.66 "
-          "and the experiment's 0.660 ({} from the experiment). Settling adds {:+.4f} here and {:+.4f} to "
-          "Example 1 (the paper: +0.084 and +0.046): the same sticking contacts hold our bed, and LAMMPS "
-          "and LIGGGHTS pours of the same spheres reach only 0.635-0.643 (docs/validation.md), so the paper's "
-          "0.66 is at the high end of what frictional spheres give. The box-size table shows the paper's "
-          "virtual-box point: the six LV span {:.4f}, {:.1f} % of the density (the paper: 0.43-1.53 %).",
-          stat_text(dep), stat_text(dyn), difference_text(dyn.mean, ex->experiment), dyn.mean - dep.mean,
-          examples_run.at(kExample1.id).dynamics.mean - examples_run.at(kExample1.id).deposition.mean,
-          box_spread(runs), 100.0 * box_spread(runs) / dyn.mean)});
-    if (ex == &kExample2 && !runs.empty() && runs.front().result.report.deposited) {
+          "Example 2. Deposition gives {} against the paper's {:.3f} and DEM {} against the paper's about {:.2f} "
+          "and the experiment's {:.3f} ({} from the experiment). Settling adds {:+.4f} here and {:+.4f} to "
+          "Example 1 (the paper: {:+.3f} and {:+.3f}): the same sticking contacts hold our bed, and LAMMPS and "
+          "LIGGGHTS pours of the same spheres also stay below the paper (docs/validation.md), so its value is at "
+          "the high end of what frictional spheres give. The box-size table shows the paper's virtual-box point: "
+          "the six LV span {:.4f}, {:.1f} % of the density (the paper: {:g}-{:g} %).",
+          stat_text(dep), ex->after_deposition, stat_text(dyn), ex->after_dem, ex->experiment,
+          difference_text(dyn.mean, ex->experiment), dyn.mean - dep.mean,
+          examples_run.at("example1").dynamics.mean - examples_run.at("example1").deposition.mean,
+          ex->after_dem - ex->after_deposition,
+          rep.example("example1").after_dem - rep.example("example1").after_deposition, box_spread(runs),
+          100.0 * box_spread(runs) / dyn.mean, ex->box_spread_min_percent, ex->box_spread_max_percent)});
+    if (ex->id == "example2" && !runs.empty() && runs.front().result.report.deposited) {
       const CaseRun& r = runs.front();
       const Box frame = bed_frame(r.result.report.particles, r.result.report.scenario.container.bounds);
       RenderOptions view;
@@ -727,11 +780,11 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
         "generated volume per sieve interval follows the curve; the paper's Eq. 11 makes the curve a number "
         "fraction, see the sensitivity table) and the container and cut-off justified in the scenario files. "
         "Over the eight mixes our densities average {:+.1f} % from the experiments, against the paper's {:+.1f} %. "
-        "The paper explained its -10 % by the spheres standing for irregular aggregate; spheres of a well-graded "
+        "The paper explained its {:+.0f} % by the spheres standing for irregular aggregate; spheres of a well-graded "
         "blend can pack as densely as the measured aggregate when the sand keeps its volume in its own sizes "
         "(mass sampling). {} {} {}",
-        errors.mixes ? errors.ours : kNaN, errors.mixes ? errors.paper : kNaN, cutoff_text(variants),
-        trend_text(mixes), table2_dem_text(mixes))});
+        errors.mixes ? errors.ours : kNaN, errors.mixes ? errors.paper : kNaN, errors.paper, cutoff_text(variants),
+        trend_text(mixes), table2_dem_text(mixes, rep.examples))});
   }
   compose_table2_figures(doc, figures, rep);
 }
@@ -786,8 +839,8 @@ void compose_notes(Document& doc, const Reproduction& rep) {
     for (const std::string& n : r.result.report.modelling_notes()) notes_table.rows.push_back({n});
     b.emplace_back(notes_table);
   };
-  for (const PaperExample* ex : {&kExample1, &kExample2})
-    if (!examples_run.at(ex->id).runs.empty()) notes_of(ex->title, examples_run.at(ex->id).runs.front());
+  for (const PaperExample& ex : rep.paper)
+    if (!examples_run.at(ex.id).runs.empty()) notes_of(ex.title, examples_run.at(ex.id).runs.front());
   if (!mixes.empty() && !mixes.front().runs.empty())
     notes_of(fmt::format("Table 2 mix {} (the other mixes differ only in Ca/Fa)", mixes.front().row.mix),
              mixes.front().runs.front());
