@@ -11,28 +11,6 @@
 namespace aggpack {
 
 namespace {
-// Calls visit(centre) for the sphere and, in a periodic container, each image of it
-// that reaches into the footprint from outside.
-template <class Visit>
-void for_each_image(const Vec3& p, double r, const Container& container, Visit&& visit) {
-  if (!container.periodic) {
-    visit(p);
-    return;
-  }
-  const Box& b = container.bounds;
-  const auto shifts = [&](double v, double lo, double hi, double (&out)[3]) {
-    int n = 0;
-    out[n++] = 0.0;
-    if (v - r < lo) out[n++] = hi - lo;
-    if (v + r > hi) out[n++] = lo - hi;
-    return n;
-  };
-  double sx[3], sy[3];
-  const int nx = shifts(p.x, b.lo.x, b.hi.x, sx), ny = shifts(p.y, b.lo.y, b.hi.y, sy);
-  for (int i = 0; i < nx; ++i)
-    for (int j = 0; j < ny; ++j) visit(Vec3{p.x + sx[i], p.y + sy[j], p.z});
-}
-
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   const auto mid = v.begin() + static_cast<long>(v.size() / 2);
@@ -57,7 +35,7 @@ double solid_volume_in_box(const ParticleStore& particles, const Container& cont
   double volume = 0.0;
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const double r = particles.radius[i];
-    for_each_image(particles.position[i], r, container,
+    container.for_each_image(particles.position[i], r,
                    [&](const Vec3& c) { volume += sphere_box_volume(c, r, box); });
   }
   return volume;
@@ -74,7 +52,7 @@ Profile vertical_profile(const ParticleStore& particles, const Container& contai
   std::vector<double> volume(static_cast<std::size_t>(bins), 0.0);
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const double r = particles.radius[i];
-    for_each_image(particles.position[i], r, container, [&](const Vec3& c) {
+    container.for_each_image(particles.position[i], r, [&](const Vec3& c) {
       const long first = std::max(0L, static_cast<long>(std::floor((c.z - r - z0) / thickness)));
       const long last = std::min(bins - 1, static_cast<long>(std::floor((c.z + r - z0) / thickness)));
       for (long k = first; k <= last; ++k) {

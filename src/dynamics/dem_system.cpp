@@ -17,19 +17,6 @@
 namespace aggpack {
 namespace {
 
-// Walls in entry order: the floor, then the side walls unless the sides are periodic.
-enum Wall : std::uint32_t { kFloorWall = 0, kXLow, kXHigh, kYLow, kYHigh };
-
-// Distance from a centre to wall w and the unit normal from the centre towards the wall.
-inline double wall_distance(const Box& b, std::uint32_t w, const Vec3& x, Vec3& towards) {
-  switch (w) {
-    case kFloorWall: towards = {0, 0, -1}; return x.z - b.lo.z;
-    case kXLow: towards = {-1, 0, 0}; return x.x - b.lo.x;
-    case kXHigh: towards = {1, 0, 0}; return b.hi.x - x.x;
-    case kYLow: towards = {0, -1, 0}; return x.y - b.lo.y;
-    default: towards = {0, 1, 0}; return b.hi.y - x.y;
-  }
-}
 
 constexpr std::size_t kSumBlock = 1024;  // fixed blocks make sums independent of thread count
 // Below this many particles a step is too short to pay for waking threads (and on a busy
@@ -72,17 +59,9 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
 }
 
 Vec3 DemSystem::separation(const Vec3& from, const Vec3& to) const {
-  // Positions stay within one period of the box between list builds, so one shift is
-  // enough; the branches are symmetric, so b - a is exactly -(a - b).
-  Vec3 d = to - from;
-  if (container_.periodic) {
-    const double lx = container_.length_x(), ly = container_.length_y();
-    if (d.x > 0.5 * lx) d.x -= lx;
-    else if (d.x < -0.5 * lx) d.x += lx;
-    if (d.y > 0.5 * ly) d.y -= ly;
-    else if (d.y < -0.5 * ly) d.y += ly;
-  }
-  return d;
+  // Positions stay within one period of the box between list builds, so the container's
+  // minimum image applies; it is exactly antisymmetric, so b - a is exactly -(a - b).
+  return container_.minimum_image(to - from);
 }
 
 void DemSystem::build_neighbour_list() {
@@ -93,8 +72,7 @@ void DemSystem::build_neighbour_list() {
   MultilevelGrid grid(container_, p_.radius, grid_bed_volume_);
   grid.reserve(n);
   for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, p_.position[i], p_.radius[i]);
-  const std::uint32_t wall_count = container_.periodic ? 1 : 5;
-  const Box& bounds = container_.bounds;
+  const std::uint32_t wall_count = container_.plane_count();
 
   // Calls add(entry) for every neighbour and wall within the skin of free particle i.
   const auto for_each_entry = [&](std::uint32_t i, auto&& add) {
@@ -107,7 +85,7 @@ void DemSystem::build_neighbour_list() {
     });
     for (std::uint32_t w = 0; w < wall_count; ++w) {
       Vec3 towards;
-      if (wall_distance(bounds, w, xi, towards) < ri + skin_) add(n + w);
+      if (container_.plane_distance(w, xi, towards) < ri + skin_) add(n + w);
     }
   };
 
@@ -155,7 +133,6 @@ template <class Law>
 void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
   const std::uint32_t n = n_;
   const double dt = settings_.time_step;
-  const Box& bounds = container_.bounds;
   const Vec3* x = p_.position.data();
   const Vec3* v = p_.velocity.data();
   const Vec3* w = p_.angular_velocity.data();
@@ -197,13 +174,14 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
         f += c.force;
         t += ri * cross(k.normal, c.tangential) + c.rolling_torque;
       } else {
-        const double distance = wall_distance(bounds, j - n, xi, k.normal);
+        const double distance = container_.plane_distance(j - n, xi, k.normal);
         if (distance >= ri) {
           spring_[e] = {};
           continue;
         }
         k.overlap = ri - distance;
-        k.velocity = vi + cross(spin_i, k.normal);
+        // The wall's own motion (at rest today; a tapped container moves) enters the contact.
+        k.velocity = vi - container_.plane_velocity(j - n, time_) + cross(spin_i, k.normal);
         k.spin = wi;
         k.r_eff = ri;
         k.m_eff = mi;
@@ -284,7 +262,6 @@ ContactStatistics DemSystem::contact_statistics() const {
   };
   const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
   std::vector<Partial> partial(blocks);
-  const Box& bounds = container_.bounds;
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::size_t b = 0; b < blocks; ++b) {
     Partial s;
@@ -300,7 +277,7 @@ ContactStatistics DemSystem::contact_statistics() const {
         } else {
           Vec3 towards;
           diameter = 2.0 * ri;
-          overlap = ri - wall_distance(bounds, j - n_, p_.position[i], towards);
+          overlap = ri - container_.plane_distance(j - n_, p_.position[i], towards);
         }
         if (overlap <= 0.0) continue;
         s.max_overlap = std::max(s.max_overlap, overlap / diameter);

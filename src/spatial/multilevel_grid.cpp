@@ -17,6 +17,7 @@ int cells_along(double extent, double min_width) {
 
 MultilevelGrid::MultilevelGrid(const Container& container, std::span<const double> radii, double bed_volume)
     : lo_(container.bounds.lo),
+      container_(container),
       period_x_(container.length_x()),
       period_y_(container.length_y()),
       periodic_(container.periodic) {

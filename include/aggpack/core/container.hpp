@@ -5,9 +5,11 @@
 
 namespace aggpack {
 
-// The container: a floor at bounds.lo.z and side walls at the x and y faces of `bounds`;
-// with periodic sides, x and y wrap instead. Scenarios make square containers with the
-// floor at z = 0; a packing file from another tool gets its own bounding box.
+// The container, the one owner of the boundary: a floor at bounds.lo.z and side walls at
+// the x and y faces of `bounds`; with periodic sides, x and y wrap instead. Deposition, the
+// DEM, the grid and the analysis ask it for gaps, normals, images and the walls' motion.
+// Scenarios make square containers with the floor at z = 0; a packing file from another
+// tool gets its own bounding box.
 struct Container {
   Box bounds;
   bool periodic = false;
@@ -29,6 +31,73 @@ struct Container {
     p.y = wrap(p.y, bounds.lo.y, length_y());
     return p;
   }
+
+  // The displacement d taken to its nearest periodic image (|d.x| <= L_x / 2 and the same in
+  // y) when the sides are periodic, for displacements within one and a half periods; d
+  // itself otherwise. The branches are symmetric, so minimum_image(-d) is exactly -minimum_image(d).
+  [[nodiscard]] Vec3 minimum_image(Vec3 d) const {
+    if (!periodic) return d;
+    const double lx = length_x(), ly = length_y();
+    if (d.x > 0.5 * lx) d.x -= lx;
+    else if (d.x < -0.5 * lx) d.x += lx;
+    if (d.y > 0.5 * ly) d.y -= ly;
+    else if (d.y < -0.5 * ly) d.y += ly;
+    return d;
+  }
+
+  // Calls visit(centre) for a sphere of radius r at p and, with periodic sides, for each
+  // image of it that reaches into the footprint across a side.
+  template <class Visit>
+  void for_each_image(const Vec3& p, double r, Visit&& visit) const {
+    if (!periodic) {
+      visit(p);
+      return;
+    }
+    const auto shifts = [&](double v, double lo, double hi, double (&out)[3]) {
+      int n = 0;
+      out[n++] = 0.0;
+      if (v - r < lo) out[n++] = hi - lo;
+      if (v + r > hi) out[n++] = lo - hi;
+      return n;
+    };
+    double sx[3], sy[3];
+    const int nx = shifts(p.x, bounds.lo.x, bounds.hi.x, sx), ny = shifts(p.y, bounds.lo.y, bounds.hi.y, sy);
+    for (int i = 0; i < nx; ++i)
+      for (int j = 0; j < ny; ++j) visit(Vec3{p.x + sx[i], p.y + sy[j], p.z});
+  }
+
+  // The planes a sphere can touch, by index: the floor, then the four side walls (x low,
+  // x high, y low, y high) unless the sides are periodic.
+  enum Plane : unsigned { kFloor = 0, kXLow, kXHigh, kYLow, kYHigh };
+  [[nodiscard]] unsigned plane_count() const { return periodic ? 1u : 5u; }
+  // Distance from a centre x to plane w (positive inside the container); `towards` is set
+  // to the unit normal from x towards the plane.
+  [[nodiscard]] double plane_distance(unsigned w, const Vec3& x, Vec3& towards) const {
+    switch (w) {
+      case kFloor: towards = {0, 0, -1}; return x.z - bounds.lo.z;
+      case kXLow: towards = {-1, 0, 0}; return x.x - bounds.lo.x;
+      case kXHigh: towards = {1, 0, 0}; return bounds.hi.x - x.x;
+      case kYLow: towards = {0, -1, 0}; return x.y - bounds.lo.y;
+      default: towards = {0, 1, 0}; return bounds.hi.y - x.y;
+    }
+  }
+  // Plane w as n . x = offset with n its inward unit normal.
+  struct PlaneEquation {
+    Vec3 inward;
+    double offset;
+  };
+  [[nodiscard]] PlaneEquation plane(unsigned w) const {
+    switch (w) {
+      case kFloor: return {{0, 0, 1}, bounds.lo.z};
+      case kXLow: return {{1, 0, 0}, bounds.lo.x};
+      case kXHigh: return {{-1, 0, 0}, -bounds.hi.x};
+      case kYLow: return {{0, 1, 0}, bounds.lo.y};
+      default: return {{0, -1, 0}, -bounds.hi.y};
+    }
+  }
+  // The velocity of plane w at time t (s): at rest. A tapped or vibrated container will move
+  // here, and the DEM's wall contacts already take it into their relative velocity.
+  [[nodiscard]] Vec3 plane_velocity(unsigned /*w*/, double /*t*/) const { return {}; }
 };
 
 }  // namespace aggpack

@@ -93,16 +93,15 @@ class DropAndRoll {
   bool fall(Vec3& p, double r, double skip);
   ArcAngle first_event_on_arc(const Arc& arc, double r, double skip);
   [[nodiscard]] Obstacle sphere_obstacle(std::uint32_t k, const Vec3& p, double r) const;
-  // The floor, and the four walls unless the sides are periodic, for a sphere of radius r.
+  // The container's planes (the floor, and the four walls unless the sides are periodic) as
+  // obstacles for a sphere of radius r: its centre stays r inside each.
   template <class Visit>
   void for_each_wall_and_floor(double r, Visit&& visit) const {
-    const Box& b = container_.bounds;
-    visit(Obstacle{kFloor, true, {0, 0, 1}, b.lo.z + r});
-    if (container_.periodic) return;
-    visit(Obstacle{kWallXLow, true, {1, 0, 0}, b.lo.x + r});
-    visit(Obstacle{kWallXHigh, true, {-1, 0, 0}, -(b.hi.x - r)});
-    visit(Obstacle{kWallYLow, true, {0, 1, 0}, b.lo.y + r});
-    visit(Obstacle{kWallYHigh, true, {0, -1, 0}, -(b.hi.y - r)});
+    static constexpr std::array<std::uint32_t, 5> kIds{kFloor, kWallXLow, kWallXHigh, kWallYLow, kWallYHigh};
+    for (unsigned w = 0; w < container_.plane_count(); ++w) {
+      const Container::PlaneEquation p = container_.plane(w);
+      visit(Obstacle{kIds[w], true, p.inward, p.offset + r});
+    }
   }
 
   ParticleStore& bed_;

@@ -48,15 +48,8 @@ class MultilevelGrid {
   template <class Visit, class StopHeight>
   void for_each_below(const Vec3& p, double r, Visit&& visit, StopHeight&& stop_height) const;
 
-  // Displacement b - a, by the minimum image where the container is periodic.
-  [[nodiscard]] Vec3 separation(const Vec3& a, const Vec3& b) const {
-    Vec3 d = b - a;
-    if (periodic_) {
-      d.x -= period_x_ * std::nearbyint(d.x / period_x_);
-      d.y -= period_y_ * std::nearbyint(d.y / period_y_);
-    }
-    return d;
-  }
+  // Displacement b - a, by the container's minimum image (its centres lie in the footprint).
+  [[nodiscard]] Vec3 separation(const Vec3& a, const Vec3& b) const { return container_.minimum_image(b - a); }
 
   [[nodiscard]] std::size_t level_count() const { return levels_.size(); }
   [[nodiscard]] std::size_t memory_bytes() const;
@@ -81,6 +74,7 @@ class MultilevelGrid {
   [[nodiscard]] int wrap(int i, int n) const { return periodic_ ? ((i % n) + n) % n : i; }
 
   Vec3 lo_;
+  Container container_;  // the boundary: periodic images and the footprint
   double period_x_ = 0.0, period_y_ = 0.0;
   bool periodic_ = false;
   double radius_top_ = 0.0;        // upper radius of level 0
