@@ -1,0 +1,53 @@
+#include "aggpack/core/container.hpp"
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+namespace aggpack {
+namespace {
+
+TEST(Container, MinimumImageIsTheNearestAndExactlyAntisymmetric) {
+  const Container periodic = Container::square(1.0, 2.0, true), walls = Container::square(1.0, 2.0, false);
+  for (const Vec3 d : {Vec3{0.7, -0.7, 0.3}, Vec3{-0.2, 0.9, 1.5}, Vec3{0.5, -0.5, 0}, Vec3{1.3, -1.4, 0}}) {
+    const Vec3 m = periodic.minimum_image(d);
+    EXPECT_LE(std::abs(m.x), 0.5);
+    EXPECT_LE(std::abs(m.y), 0.5);
+    EXPECT_EQ(m.z, d.z);  // never wrapped: the floor is a wall
+    EXPECT_EQ(periodic.minimum_image(-1.0 * d), -1.0 * m);
+    EXPECT_EQ(walls.minimum_image(d), d);
+  }
+  EXPECT_EQ(periodic.minimum_image({0.7, 0, 0}).x, 0.7 - 1.0);
+}
+
+TEST(Container, ImagesOfASphereAcrossPeriodicSides) {
+  const Container c = Container::square(1.0, 1.0, true);
+  std::vector<Vec3> images;
+  c.for_each_image({0.05, 0.97, 0.5}, 0.1, [&](const Vec3& p) { images.push_back(p); });
+  ASSERT_EQ(images.size(), 4u);  // itself, across x = 0, across y = 1, across the corner
+  EXPECT_EQ(images[0], (Vec3{0.05, 0.97, 0.5}));
+  EXPECT_NEAR(images.back().x, 1.05, 1e-15);
+  EXPECT_NEAR(images.back().y, -0.03, 1e-15);
+  images.clear();
+  Container::square(1.0, 1.0, false).for_each_image({0.05, 0.97, 0.5}, 0.1, [&](const Vec3& p) { images.push_back(p); });
+  EXPECT_EQ(images.size(), 1u);
+}
+
+TEST(Container, PlanesGiveTheDistanceNormalEquationAndVelocity) {
+  const Container c{{{-1, 0, 0.5}, {2, 3, 4}}, false};
+  const Vec3 x{0.5, 2.5, 1.0};
+  const double expected[5] = {0.5, 1.5, 1.5, 2.5, 0.5};  // floor, x low, x high, y low, y high
+  ASSERT_EQ(c.plane_count(), 5u);
+  for (unsigned w = 0; w < c.plane_count(); ++w) {
+    Vec3 towards;
+    EXPECT_DOUBLE_EQ(c.plane_distance(w, x, towards), expected[w]) << w;
+    const Container::PlaneEquation p = c.plane(w);
+    EXPECT_EQ(p.inward, -1.0 * towards) << w;
+    EXPECT_DOUBLE_EQ(dot(p.inward, x) - p.offset, expected[w]) << w;
+    EXPECT_EQ(c.plane_velocity(w, 1.0), Vec3{});  // at rest until a tapping step moves it
+  }
+  EXPECT_EQ(Container::square(1, 1, true).plane_count(), 1u);  // periodic: the floor only
+}
+
+}  // namespace
+}  // namespace aggpack
