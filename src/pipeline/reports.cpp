@@ -29,6 +29,37 @@ double SettlingReport::simulated_time() const {
   return t;
 }
 
+std::size_t SettlingReport::steps() const {
+  std::size_t n = 0;
+  for (const SettlingRun& r : runs) n += r.steps;
+  return n;
+}
+
+std::size_t SettlingReport::neighbour_list_builds() const {
+  std::size_t n = 0;
+  for (const SettlingRun& r : runs) n += r.neighbour_list_builds;
+  return n;
+}
+
+double SettlingReport::wall_clock_s() const {
+  double t = 0.0;
+  for (const SettlingRun& r : runs) t += r.wall_clock_s;
+  return t;
+}
+
+double SettlingReport::particle_steps_per_second() const {
+  double particle_steps = 0.0;
+  for (const SettlingRun& r : runs) particle_steps += r.particle_steps_per_second * r.wall_clock_s;
+  const double seconds = wall_clock_s();
+  return seconds > 0 ? particle_steps / seconds : 0.0;
+}
+
+double SettlingReport::memory_bytes_per_particle() const {
+  double m = 0.0;
+  for (const SettlingRun& r : runs) m = std::max(m, r.memory_bytes_per_particle);
+  return m;
+}
+
 std::size_t SettlingReport::runs_ended_by_max_time() const {
   return static_cast<std::size_t>(
       std::count_if(runs.begin(), runs.end(), [](const SettlingRun& r) { return r.ended_by == SettleEnd::MaxTime; }));
@@ -55,6 +86,17 @@ nlohmann::json to_json(const DepositionReport& r) {
   return j;
 }
 
+namespace {
+// A run's last sample: what the bed was like when it stopped.
+nlohmann::json final_sample_json(const SettleSample& s) {
+  return {{"density", std::isnan(s.density) ? nlohmann::json() : nlohmann::json(s.density)},
+          {"translational_energy_per_particle_mgd", s.translational_per_particle_mgd},
+          {"mean_overlap_rel", s.contacts.mean_overlap},
+          {"max_overlap_rel", s.contacts.max_overlap},
+          {"coordination", s.contacts.coordination}};
+}
+}  // namespace
+
 nlohmann::json to_json(const SettlingRun& r) {
   nlohmann::json j;
   j["layer"] = r.layer;
@@ -68,12 +110,7 @@ nlohmann::json to_json(const SettlingRun& r) {
   j["time_step_source"] = r.time_step_from_scenario ? "scenario" : "time_step_safety x Rayleigh time";
   j["skin_m"] = r.skin;
   j["neighbour_list_builds"] = r.neighbour_list_builds;
-  const SettleSample& s = r.last;
-  j["final"] = {{"density", std::isnan(s.density) ? nlohmann::json() : nlohmann::json(s.density)},
-                {"translational_energy_per_particle_mgd", s.translational_per_particle_mgd},
-                {"mean_overlap_rel", s.contacts.mean_overlap},
-                {"max_overlap_rel", s.contacts.max_overlap},
-                {"coordination", s.contacts.coordination}};
+  j["final"] = final_sample_json(r.last);
   j["wall_clock_s"] = r.wall_clock_s;
   j["particle_steps_per_second"] = r.particle_steps_per_second;
   j["threads"] = r.threads;
@@ -90,28 +127,17 @@ nlohmann::json to_json(const SettlingReport& report) {
   for (const SettlingRun& r : report.runs) total["runs"].push_back(to_json(r));
   total["runs_ended_by_max_time"] = report.runs_ended_by_max_time();
   if (report.runs.size() == 1) return total;
-  std::size_t steps = 0, builds = 0;
-  double simulated = 0.0, seconds = 0.0, particle_steps = 0.0, memory = 0.0;
-  for (const SettlingRun& r : report.runs) {
-    steps += r.steps;
-    builds += r.neighbour_list_builds;
-    simulated += r.simulated_time;
-    seconds += r.wall_clock_s;
-    particle_steps += r.particle_steps_per_second * r.wall_clock_s;
-    memory = std::max(memory, r.memory_bytes_per_particle);
-  }
   const SettlingRun& last = report.runs.back();
-  const nlohmann::json last_json = to_json(last);
-  total["steps"] = steps;
-  total["neighbour_list_builds"] = builds;
-  total["simulated_time_s"] = simulated;
-  total["wall_clock_s"] = seconds;
-  total["ended_by"] = last_json["ended_by"];
-  total["final"] = last_json["final"];
+  total["steps"] = report.steps();
+  total["neighbour_list_builds"] = report.neighbour_list_builds();
+  total["simulated_time_s"] = report.simulated_time();
+  total["wall_clock_s"] = report.wall_clock_s();
+  total["ended_by"] = std::string(settle_end_name(last.ended_by));
+  total["final"] = final_sample_json(last.last);
   total["particles_settled"] = last.particles_settled + last.particles_frozen;
   total["particles_frozen"] = 0;
-  total["memory_bytes_per_particle"] = memory;
-  total["particle_steps_per_second"] = seconds > 0 ? particle_steps / seconds : 0.0;
+  total["memory_bytes_per_particle"] = report.memory_bytes_per_particle();
+  total["particle_steps_per_second"] = report.particle_steps_per_second();
   return total;
 }
 

@@ -98,7 +98,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   if (dynamics) {
     stages["dynamics"] = to_json(*dynamics);
     add_analysis(stages["dynamics"], final);
-    wall_clock["dynamics"] = stages["dynamics"]["wall_clock_s"];
+    wall_clock["dynamics"] = dynamics->wall_clock_s();
   }
   summary["stages"] = stages;
   if (sizes) summary["sizes"] = sizes->report;
@@ -156,13 +156,13 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
                    d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
   }
   if (dynamics) {
-    const nlohmann::json d = to_json(*dynamics);  // the stage's totals, as summary.json gives them
-    const SettlingRun& last = dynamics->runs.back();
+    const SettlingReport& d = *dynamics;
+    const SettlingRun& last = d.runs.back();
     fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
                       "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
                    settle_end_name(last.ended_by), sc.material.contact.friction_model, dynamics->simulated_time(),
-                   d["steps"].get<std::size_t>(), dynamics->runs.front().time_step, d["wall_clock_s"].get<double>(),
-                   1e-6 * d["particle_steps_per_second"].get<double>(), last.last.contacts.mean_overlap,
+                   d.steps(), d.runs.front().time_step, d.wall_clock_s(), 1e-6 * d.particle_steps_per_second(),
+                   last.last.contacts.mean_overlap,
                    last.last.contacts.max_overlap);
     if (analyses.contains("deposition"))
       fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", density_after_deposition(),

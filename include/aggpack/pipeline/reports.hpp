@@ -46,6 +46,11 @@ struct SettlingRun {
 struct SettlingReport {
   std::vector<SettlingRun> runs;
   [[nodiscard]] double simulated_time() const;
+  [[nodiscard]] std::size_t steps() const;
+  [[nodiscard]] std::size_t neighbour_list_builds() const;
+  [[nodiscard]] double wall_clock_s() const;
+  [[nodiscard]] double particle_steps_per_second() const;  // over all runs, weighted by their wall time
+  [[nodiscard]] double memory_bytes_per_particle() const;  // the largest run's
   [[nodiscard]] std::size_t runs_ended_by_max_time() const;
 };
 
