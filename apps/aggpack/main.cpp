@@ -219,7 +219,7 @@ int main(int argc, char** argv) {
       if (*d_min_opt) grading_query.d_min = length_argument(d_min_text, "--d-min");
       if (*d_max_opt) grading_query.d_max = length_argument(d_max_text, "--d-max");
       const auto description = aggpack::describe_grading(grading_query);
-      if (grading_json) std::cout << description.dump(2) << "\n";
+      if (grading_json) std::cout << aggpack::to_json(description).dump(2) << "\n";
       else fmt::print("{}", aggpack::format_grading(description));
     }
   } catch (const aggpack::InputError& e) {

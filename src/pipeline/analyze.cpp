@@ -85,15 +85,19 @@ nlohmann::json to_json(const DensityResult& density) {
   return {{"boxes", boxes}, {"mean", density.mean}, {"sd", density.sd}};
 }
 
+nlohmann::json to_json(const CoordinationResult& c) {
+  return {{"mean", c.mean},
+          {"particles_counted", c.particles_counted},
+          {"histogram", c.histogram},
+          {"relative_tolerance", c.relative_tolerance}};
+}
+
 nlohmann::json to_json(const PackingReport& r) {
   nlohmann::json j;
   j["density"] = to_json(r.density);
   j["bed"] = {{"floor_m", r.bed.floor}, {"surface_m", r.bed.surface}, {"top_m", r.bed.top},
               {"d_min_m", r.bed.d_min}, {"d_max_m", r.bed.d_max}};
-  j["coordination"] = {{"mean", r.coordination.mean},
-                       {"particles_counted", r.coordination.particles_counted},
-                       {"histogram", r.coordination.histogram},
-                       {"relative_tolerance", r.coordination.relative_tolerance}};
+  j["coordination"] = to_json(r.coordination);
   j["profiles"]["vertical"] = {{"z_m", r.vertical.position}, {"solid_fraction", r.vertical.solid_fraction}};
   j["profiles"]["wall_distance"] = {{"distance_m", r.wall.position},
                                     {"solid_fraction", r.wall.solid_fraction},

@@ -14,28 +14,31 @@ namespace aggpack {
 namespace {
 double volume(double d) { return std::numbers::pi / 6.0 * d * d * d; }
 
-nlohmann::json component_report(const GradingSource& source, const GradingCut& cut,
+SizesComponent component_report(const GradingSource& source, const GradingCut& cut,
                                 const std::vector<double>& diameters) {
-  const GradingReport r = report_generated(diameters, cut);
+  return {source.key, source.grading.name, cut, report_generated(diameters, cut), source.band};
+}
+
+nlohmann::json to_json(const SizesComponent& c) {
   nlohmann::json j;
-  j["key"] = source.key;
-  j["grading"] = source.grading.name;
-  j["d_lo_m"] = cut.d_lo;
-  j["d_hi_m"] = cut.d_hi;
-  j["cut_below_fraction"] = cut.cut_below;
-  j["cut_above_fraction"] = cut.cut_above;
+  j["key"] = c.key;
+  j["grading"] = c.grading;
+  j["d_lo_m"] = c.cut.d_lo;
+  j["d_hi_m"] = c.cut.d_hi;
+  j["cut_below_fraction"] = c.cut.cut_below;
+  j["cut_above_fraction"] = c.cut.cut_above;
   j["renormalisation"] = "proportional";
-  j["count"] = r.count;
-  j["solid_volume_m3"] = r.solid_volume;
-  j["largest_deviation_percent"] = r.largest_deviation;
-  j["snapped_sieves"] = snapped_sieves_json(source.grading);
+  j["count"] = c.generated.count;
+  j["solid_volume_m3"] = c.generated.solid_volume;
+  j["largest_deviation_percent"] = c.generated.largest_deviation;
+  j["snapped_sieves"] = snapped_sieves_json(c.cut.grading);
   j["sieves"] = nlohmann::json::array();
-  for (const GradingReportRow& row : r.rows)
+  for (const GradingReportRow& row : c.generated.rows)
     j["sieves"].push_back({{"sieve", row.sieve.name},
                            {"opening_m", row.sieve.opening},
                            {"target_percent", row.sieve.percent_passing},
                            {"generated_percent", row.generated}});
-  if (source.band) j["band"] = band_check_json(*source.band, check_against_band(source.grading, *source.band));
+  if (c.band) j["band"] = band_check_json(*c.band, check_against_band(c.cut.grading, *c.band));
   return j;
 }
 
@@ -51,7 +54,7 @@ void check_expected_count(double expected, const GradedParticles& g) {
 }
 
 std::string cut_note(const GradingSource& source, const GradingCut& cut) {
-  const std::string snapped = snapped_sieves_text(snapped_sieves_json(source.grading));
+  const std::string snapped = snapped_sieves_text(source.grading.snapped);
   return fmt::format("{} ({}): sizes {:.4g} to {:.4g} mm generated; {:.2f} % of the volume finer and {:.2f} % coarser "
                      "was cut off and the rest renormalised proportionally{}",
                      source.key, source.grading.name, cut.d_lo * 1e3, cut.d_hi * 1e3, 100 * cut.cut_below,
@@ -59,20 +62,44 @@ std::string cut_note(const GradingSource& source, const GradingCut& cut) {
 }
 }  // namespace
 
+nlohmann::json to_json(const SizesReport& r) {
+  nlohmann::json j{{"method", r.method}, {"count", r.count}};
+  if (r.sampling) {
+    const GradingReport& all = r.whole;
+    j["sampling"] = name_of(kSamplingModeNames, *r.sampling);
+    j["within_interval"] = *r.sampling == SamplingMode::Mass
+                               ? "volume uniform in log diameter (as the curve between sieves)"
+                               : "uniform in diameter by number (the paper's Eq. 11)";
+    j["solid_volume_m3"] = all.solid_volume;
+    j["d_min_m"] = all.d_min;
+    j["d_max_m"] = all.d_max;
+    j["d10_m"] = all.d10;
+    j["d50_m"] = all.d50;
+    j["d90_m"] = all.d90;
+    j["fineness_modulus"] = all.fineness_modulus;
+    j["components"] = nlohmann::json::array();
+    for (const SizesComponent& c : r.components) j["components"].push_back(to_json(c));
+  }
+  if (r.order) {
+    j["order"] = name_of(kMixOrderNames, *r.order);
+    j["ca_fa_requested"] = r.ca_fa_requested;
+    j["ca_fa_generated"] = r.ca_fa_generated;
+  }
+  return j;
+}
+
 GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) {
   GeneratedSizes out;
   Rng rng = make_rng(seed, RngPurpose::Sizes);
   if (source.sizes) {
     out.diameters = generate_diameters(*source.sizes, rng);
-    out.report = {{"method", "classes"}, {"count", out.diameters.size()}};
+    out.report.method = "classes";
+    out.report.count = out.diameters.size();
   } else {
     const GradedParticles& g = *source.graded;
     const GradingCut main_cut = cut_grading(g.main.grading, g.main.d_min, g.main.d_max, g.main.key);
     const GradingSampler main(main_cut, g.sampling);
-    out.report["sampling"] = name_of(kSamplingModeNames, g.sampling);
-    out.report["within_interval"] = g.sampling == SamplingMode::Mass
-                                        ? "volume uniform in log diameter (as the curve between sieves)"
-                                        : "uniform in diameter by number (the paper's Eq. 11)";
+    out.report.sampling = g.sampling;
     out.notes.push_back(cut_note(g.main, main_cut));
     if (g.sampling == SamplingMode::Number)
       out.notes.push_back("sizes sampled by number (the paper's Eq. 11): percent passing read as a number "
@@ -92,33 +119,26 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
       double vc = 0.0, vf = 0.0;
       for (double d : coarse_d) vc += volume(d);
       for (double d : fine_d) vf += volume(d);
-      out.report["method"] = "mix";
-      out.report["order"] = name_of(kMixOrderNames, g.order);
-      out.report["ca_fa_requested"] = g.ca_fa;
-      out.report["ca_fa_generated"] = vf > 0 ? vc / vf : 0.0;
-      out.report["components"] = {component_report(g.main, main_cut, coarse_d),
-                                  component_report(*g.fine, fine_cut, fine_d)};
+      out.report.method = "mix";
+      out.report.order = g.order;
+      out.report.ca_fa_requested = g.ca_fa;
+      out.report.ca_fa_generated = vf > 0 ? vc / vf : 0.0;
+      out.report.components = {component_report(g.main, main_cut, coarse_d),
+                               component_report(*g.fine, fine_cut, fine_d)};
       out.notes.push_back(cut_note(*g.fine, fine_cut));
     } else {
       if (g.amount.solid_volume) check_expected_count(*g.amount.solid_volume / main.mean_particle_volume(), g);
       out.diameters = sample_diameters(main, g.amount, rng);
-      out.report["method"] = "grading";
-      out.report["components"] = {component_report(g.main, main_cut, out.diameters)};
+      out.report.method = "grading";
+      out.report.components = {component_report(g.main, main_cut, out.diameters)};
     }
     if (g.fill_height)
       out.notes.push_back(fmt::format("the amount was set to fill {:.4g} m at an expected density of {:g}: "
                                       "solid volume {:.4g} m^3",
                                       *g.fill_height, g.expected_density, *g.amount.solid_volume));
     // The whole sample (both components of a mix) as one curve.
-    const GradingReport all = report_generated(out.diameters, main_cut);
-    out.report["count"] = all.count;
-    out.report["solid_volume_m3"] = all.solid_volume;
-    out.report["d_min_m"] = all.d_min;
-    out.report["d_max_m"] = all.d_max;
-    out.report["d10_m"] = all.d10;
-    out.report["d50_m"] = all.d50;
-    out.report["d90_m"] = all.d90;
-    out.report["fineness_modulus"] = all.fineness_modulus;
+    out.report.whole = report_generated(out.diameters, main_cut);
+    out.report.count = out.report.whole.count;
   }
   return out;
 }

@@ -14,9 +14,8 @@ namespace {
 
 // An analysis as a stage's density and coordination keys.
 void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
-  const nlohmann::json j = to_json(analysis);
-  stage["density"] = j.at("density");
-  stage["coordination"] = j.at("coordination");
+  stage["density"] = to_json(analysis.density);
+  stage["coordination"] = to_json(analysis.coordination);
 }
 
 }  // namespace
@@ -101,7 +100,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     wall_clock["dynamics"] = dynamics->wall_clock_s();
   }
   summary["stages"] = stages;
-  if (sizes) summary["sizes"] = sizes->report;
+  if (sizes) summary["sizes"] = to_json(sizes->report);
   if (sc.particles.file)
     summary["input"] = {{"file", sc.particles.file->string()},
                         {"largest_boundary_overlap_rel", largest_boundary_overlap},
@@ -119,33 +118,30 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
   std::string out = fmt::format("aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed);
   auto o = std::back_inserter(out);
   if (sizes && sc.particles.graded) {
-    const auto& z = sizes->report;
+    const SizesReport& z = sizes->report;
+    const GradingReport& all = z.whole;
     fmt::format_to(o, "  sizes: {} particles by {} sampling, d {:.3g}-{:.3g} mm, D10/D50/D90 {:.3g}/{:.3g}/{:.3g} mm, "
                       "fineness modulus {:.2f}\n",
-                   z["count"].get<std::size_t>(), z["sampling"].get<std::string>(), 1e3 * z["d_min_m"].get<double>(),
-                   1e3 * z["d_max_m"].get<double>(), 1e3 * z["d10_m"].get<double>(), 1e3 * z["d50_m"].get<double>(),
-                   1e3 * z["d90_m"].get<double>(), z["fineness_modulus"].get<double>());
-    if (z.contains("ca_fa_generated"))
-      fmt::format_to(o, "  mix: Ca/Fa {:.4g} generated for {:.4g} requested ({} order)\n",
-                     z["ca_fa_generated"].get<double>(), z["ca_fa_requested"].get<double>(),
-                     z["order"].get<std::string>());
-    for (const auto& c : z["components"]) {
+                   z.count, name_of(kSamplingModeNames, *z.sampling), 1e3 * all.d_min, 1e3 * all.d_max, 1e3 * all.d10,
+                   1e3 * all.d50, 1e3 * all.d90, all.fineness_modulus);
+    if (z.order)
+      fmt::format_to(o, "  mix: Ca/Fa {:.4g} generated for {:.4g} requested ({} order)\n", z.ca_fa_generated,
+                     z.ca_fa_requested, name_of(kMixOrderNames, *z.order));
+    for (const SizesComponent& c : z.components) {
       fmt::format_to(o, "  {} ({}): {} particles, cut off {:.2f} % below {:.3g} mm and {:.2f} % above {:.3g} mm; "
                         "largest deviation from the target {:.2f} points\n",
-                     c["key"].get<std::string>(), c["grading"].get<std::string>(), c["count"].get<std::size_t>(),
-                     100 * c["cut_below_fraction"].get<double>(), 1e3 * c["d_lo_m"].get<double>(),
-                     100 * c["cut_above_fraction"].get<double>(), 1e3 * c["d_hi_m"].get<double>(),
-                     c["largest_deviation_percent"].get<double>());
+                     c.key, c.grading, c.generated.count, 100 * c.cut.cut_below, 1e3 * c.cut.d_lo,
+                     100 * c.cut.cut_above, 1e3 * c.cut.d_hi, c.generated.largest_deviation);
       fmt::format_to(o, "    {:>8} {:>10} {:>9} {:>9}\n", "sieve", "opening mm", "target %", "generated %");
-      for (const auto& row : c["sieves"])
-        fmt::format_to(o, "    {:>8} {:>10.4g} {:>9.2f} {:>9.2f}\n", row["sieve"].get<std::string>(),
-                       1e3 * row["opening_m"].get<double>(), row["target_percent"].get<double>(),
-                       row["generated_percent"].get<double>());
-      if (const std::string snapped = snapped_sieves_text(c["snapped_sieves"]); !snapped.empty())
+      for (const GradingReportRow& row : c.generated.rows)
+        fmt::format_to(o, "    {:>8} {:>10.4g} {:>9.2f} {:>9.2f}\n", row.sieve.name, 1e3 * row.sieve.opening,
+                       row.sieve.percent_passing, row.generated);
+      if (const std::string snapped = snapped_sieves_text(c.cut.grading.snapped); !snapped.empty())
         fmt::format_to(o, "    {}\n", snapped);
-      if (c.contains("band"))
-        fmt::format_to(o, "    band {}: {}\n", c["band"]["name"].get<std::string>(),
-                       c["band"]["all_inside"].get<bool>() ? "inside at every sieve" : "OUTSIDE at some sieves");
+      if (c.band)
+        fmt::format_to(o, "    band {}: {}\n", c.band->name,
+                       check_against_band(c.cut.grading, *c.band).all_inside() ? "inside at every sieve"
+                                                                             : "OUTSIDE at some sieves");
     }
   }
   if (deposition) {

@@ -37,6 +37,7 @@ PackingReport analyze_packing(const ParticleStore& particles, const Container& c
                               const AnalysisRequest& request);
 
 nlohmann::json to_json(const DensityResult& density);
+nlohmann::json to_json(const CoordinationResult& coordination);
 nlohmann::json to_json(const PackingReport& report);
 
 }  // namespace aggpack

@@ -6,14 +6,35 @@
 #include <nlohmann/json.hpp>
 
 #include "aggpack/io/scenario.hpp"
+#include "aggpack/sizes/grading_sampler.hpp"
 
 namespace aggpack {
 
-// Particle diameters in drop order, with the report of what was generated (summary.json
-// "sizes") and the modelling notes it implies.
+// What one grading of a run generated, against its target.
+struct SizesComponent {
+  std::string key, grading;          // the scenario key (particles.fine, ...) and the grading's name
+  GradingCut cut;                    // the target after the cut-offs
+  GradingReport generated;           // the generated particles at every sieve of the target
+  std::optional<Band> band;          // asked for with the grading's `band`
+};
+
+// What was generated (summary.json "sizes"): by classes, or from one grading or a mix.
+struct SizesReport {
+  std::string method;                // "classes", "grading" or "mix"
+  std::size_t count = 0;
+  std::optional<SamplingMode> sampling;  // gradings only, as are the fields below
+  GradingReport whole;                   // the whole sample as one curve (count, volume, D10/D50/D90, ...)
+  std::vector<SizesComponent> components;
+  std::optional<MixOrder> order;         // a mix only, as are the two ratios
+  double ca_fa_requested = 0.0, ca_fa_generated = 0.0;
+};
+nlohmann::json to_json(const SizesReport& report);
+
+// Particle diameters in drop order, with the report of what was generated and the
+// modelling notes it implies.
 struct GeneratedSizes {
   std::vector<double> diameters;  // m
-  nlohmann::json report;
+  SizesReport report;
   std::vector<std::string> notes;
 };
 

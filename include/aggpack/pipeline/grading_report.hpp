@@ -1,10 +1,12 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "aggpack/sizes/grading.hpp"
+#include "aggpack/sizes/grading_sampler.hpp"
 
 namespace aggpack {
 
@@ -26,10 +28,24 @@ nlohmann::json band_check_json(const Band& band, const BandCheck& check);
 // The openings make_grading moved to the standard sieve series: [{ sieve, given_m,
 // standard_m }], and that list in words for the output (empty when none moved).
 nlohmann::json snapped_sieves_json(const Grading& grading);
-std::string snapped_sieves_text(const nlohmann::json& snapped_sieves);
+std::string snapped_sieves_text(const std::vector<SnappedSieve>& snapped);
+
+// What `aggpack grading` found: the grading, the fine one and their blend, the cut-offs and
+// the band check.
+struct GradingDescription {
+  Grading grading;
+  std::optional<Grading> fine, mix;  // with --mix: the fine grading and the blend at ca_fa
+  double ca_fa = 1.0;
+  std::optional<GradingCut> cut;     // with --d-min or --d-max, of the checked curve
+  std::optional<Band> band;          // with --band
+  BandCheck band_check;
+  // The curve the cut-offs and the band apply to: the blend with --mix, else the grading.
+  [[nodiscard]] const Grading& checked() const { return mix ? *mix : grading; }
+};
 
 // Throws InputError for unknown names, bad files and cut-offs that leave nothing.
-nlohmann::json describe_grading(const GradingQuery& query);
-std::string format_grading(const nlohmann::json& description);
+GradingDescription describe_grading(const GradingQuery& query);
+nlohmann::json to_json(const GradingDescription& description);  // `aggpack grading --json`
+std::string format_grading(const GradingDescription& description);
 
 }  // namespace aggpack
