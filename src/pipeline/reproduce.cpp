@@ -819,10 +819,22 @@ void compose_sensitivity(Document& doc, nlohmann::json& result, const Reproducti
           " Number sampling (the paper's Eq. 11: the sieve curve read as a number fraction) gives {} for mix {}, "
           "{:+.4f} from mass sampling: the paper's choice alone moves the result by this much.",
           stat_text(v.deposition), sensitivity_row.mix, v.deposition.mean - baseline);
+  // How the particle count grows as the cut-off falls: log count against log cut-off, fitted.
+  std::vector<double> log_cut, log_count;
+  for (const Variant& v : variants)
+    if (!std::isnan(v.spec.sand_cut_in) && !v.runs.empty() && v.runs.front().particle_count > 0) {
+      log_cut.push_back(std::log(v.spec.sand_cut_in));
+      log_count.push_back(std::log(static_cast<double>(v.runs.front().particle_count)));
+    }
+  const std::string per_halving =
+      log_cut.size() >= 2
+          ? fmt::format(" ({:.1f} times more per halving of the cut-off here)",
+                        std::pow(2.0, -slope_per_10(log_cut, log_count) / 10.0))
+          : std::string();
   b.emplace_back(Paragraph{
       "A finer sand cut-off keeps more of the sand, which fills voids between the coarse particles, at the cost of "
-      "the particle count (about five times more per halving of the cut-off). A wider container or periodic "
-      "sides show how much wall effect the virtual boxes leave." + number_sampling});
+      "the particle count" + per_halving + ". A wider container or periodic sides show how much wall effect the "
+      "virtual boxes leave." + number_sampling});
 
 }
 
