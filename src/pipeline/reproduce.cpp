@@ -34,6 +34,21 @@ namespace fs = std::filesystem;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInch = 0.0254;
 
+// Calls row(fields, line number) for every data row of a shipped CSV table (after its
+// header; '#' lines and blank lines skipped).
+template <class Row>
+void for_each_data_row(const fs::path& file, const std::string& what, Row&& row) {
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("{}: cannot open {} (give --examples DIR)", file.string(), what));
+  std::string line;
+  bool header = true;
+  for (std::size_t number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    if (std::exchange(header, false)) continue;
+    row(split_csv_fields(line), number);
+  }
+}
+
 // One of the paper's two examples (section 3), as examples/fu2003_examples.csv gives it.
 struct PaperExample {
   std::string id, short_name, title, scenario, figure;  // figure: the paper's density-vs-time figure
@@ -42,15 +57,8 @@ struct PaperExample {
 };
 
 std::vector<PaperExample> read_examples(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot open the paper's examples (give --examples DIR)", file.string()));
   std::vector<PaperExample> rows;
-  std::string line;
-  bool header = true;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == '#') continue;
-    if (std::exchange(header, false)) continue;
-    const std::vector<std::string> f = split_csv_fields(line);
+  for_each_data_row(file, "the paper's examples", [&](const std::vector<std::string>& f, std::size_t number) {
     const auto optional_number = [](const std::string& cell) { return cell.empty() ? kNaN : std::stod(cell); };
     try {
       if (f.size() != 10) throw std::invalid_argument("columns");
@@ -61,7 +69,7 @@ std::vector<PaperExample> read_examples(const fs::path& file) {
                                    "experiment,box_spread_min_percent,box_spread_max_percent",
                                    file.string(), number));
     }
-  }
+  });
   for (const char* id : {"example1", "example2"})
     if (std::none_of(rows.begin(), rows.end(), [&](const PaperExample& e) { return e.id == id; }))
       throw InputError(fmt::format("{}: no row for {}", file.string(), id));
@@ -75,18 +83,8 @@ struct Table2Row {
 };
 
 std::vector<Table2Row> read_table2(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot open the paper's Table 2 (give --examples DIR)", file.string()));
   std::vector<Table2Row> rows;
-  std::string line;
-  bool header = true;
-  for (std::size_t number = 1; std::getline(in, line); ++number) {
-    if (line.empty() || line[0] == '#') continue;
-    if (header) {
-      header = false;
-      continue;
-    }
-    const std::vector<std::string> f = split_csv_fields(line);
+  for_each_data_row(file, "the paper's Table 2", [&](const std::vector<std::string>& f, std::size_t number) {
     try {
       if (f.size() < 7) throw std::invalid_argument("too few columns");
       rows.push_back({std::stoi(f[0]), f[1], std::stod(f[2]), std::stod(f[3]), std::stod(f[4]), std::stod(f[5]),
@@ -95,7 +93,7 @@ std::vector<Table2Row> read_table2(const fs::path& file) {
       throw InputError(fmt::format("{}:{}: expected mix_id,state,ca_fa,fa_percent,phi_com_mean,phi_com_sd,phi_exp",
                                    file.string(), number));
     }
-  }
+  });
   if (rows.empty()) throw InputError(fmt::format("{}: no rows", file.string()));
   return rows;
 }

@@ -39,17 +39,20 @@ TEST(ParticleFile, WhitespaceXyzr) {
   fs::remove(f);
 }
 
+// Reading `text` as the file `name` fails with a message that contains `part`.
+void expect_refused(const std::string& name, const std::string& text, const std::string& part) {
+  const auto f = write_temp(name, text);
+  try {
+    read_particle_file(f, 1.0, 1.0);
+    ADD_FAILURE() << "accepted: " << text;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+  fs::remove(f);
+}
+
 TEST(ParticleFile, WhitespaceRowsOfOtherThanFourNumbersAreRefused) {
-  const auto refused = [](const std::string& text, const std::string& part) {
-    const auto f = write_temp("w.txt", text);
-    try {
-      read_particle_file(f, 1.0, 1.0);
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-    }
-    fs::remove(f);
-  };
+  const auto refused = [](const std::string& text, const std::string& part) { expect_refused("w.txt", text, part); };
   // A LAMMPS dump body (id type x y z radius) was read as x y z r from its first four columns.
   refused("1 1 0.1 0.2 0.3 0.05\n2 1 0.4 0.5 0.6 0.05\n", "w.txt:1: expected exactly 4 numbers per row (x y z r), got 6");
   refused("1 2 3 0.5\n1 2 3 0.5 7\n", "w.txt:2: expected exactly 4 numbers per row (x y z r), got 5");
@@ -83,16 +86,7 @@ TEST(ParticleFile, RoundTripThroughOurCsvIsExact) {
 }
 
 TEST(ParticleFile, ErrorsNameTheFileAndLine) {
-  const auto expect_error = [](const std::string& text, const std::string& part) {
-    const auto f = write_temp("e.csv", text);
-    try {
-      read_particle_file(f, 1.0, 1.0);
-      ADD_FAILURE() << "accepted: " << text;
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
-    }
-    fs::remove(f);
-  };
+  const auto expect_error = [](const std::string& text, const std::string& part) { expect_refused("e.csv", text, part); };
   expect_error("x,y,r\n1,2,3\n", "e.csv:1: a CSV particle file needs a header");
   expect_error("x,y,z,r\n1,2,3,0.5\n1,2,oops,0.5\n", "e.csv:3: field 3 (\"oops\") is not a number");
   expect_error("x,y,z,r\n1,2,3\n", "e.csv:2: expected 4 comma-separated fields");
