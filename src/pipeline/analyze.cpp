@@ -9,11 +9,6 @@
 namespace aggpack {
 
 namespace {
-std::string box_text(const Box& b) {
-  return fmt::format("[{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m", b.lo.x, b.hi.x, b.lo.y, b.hi.y,
-                     b.lo.z, b.hi.z);
-}
-
 // An explicit box must lie in the container (for a packing file: the spheres' bounding box),
 // or its density would count empty space beyond the packing as void.
 void check_inside(const Box& box, const Container& container) {

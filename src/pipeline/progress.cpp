@@ -84,10 +84,11 @@ void Progress::start_stage(std::string stage) {
   last_print_ = {};
 }
 
+bool Progress::due() const { return out_ && Clock::now() - last_print_ >= kMinInterval; }
+
 void Progress::update(const std::vector<std::string>& fields, double done, TimeLeft kind) {
-  if (!out_) return;
+  if (!due()) return;
   const auto now = Clock::now();
-  if (now - last_print_ < kMinInterval) return;
   last_print_ = now;
   const double elapsed = std::chrono::duration<double>(now - stage_start_).count();
   std::string time_left;

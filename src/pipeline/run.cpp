@@ -47,10 +47,9 @@ double fit_into_container(ParticleStore& particles, const Container& container, 
     if (overlap > tolerance * r)
       throw InputError(fmt::format(
           "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, reaches {:.3g} m "
-          "({:.3g} r) beyond {} of the container [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] x [{:.6g}, {:.6g}] m; "
-          "particles.boundary_overlap_tolerance accepts up to {:g} r (a contact overlap), not an intrusion",
-          file.string(), i, i + 1, p.x, p.y, p.z, r, overlap, overlap / r, where, b.lo.x, b.hi.x, b.lo.y, b.hi.y,
-          b.lo.z, b.hi.z, tolerance));
+          "({:.3g} r) beyond {} of the container {}; particles.boundary_overlap_tolerance accepts up to {:g} r "
+          "(a contact overlap), not an intrusion",
+          file.string(), i, i + 1, p.x, p.y, p.z, r, overlap, overlap / r, where, box_text(b), tolerance));
     largest = std::max(largest, overlap / r);  // a sphere clear of every boundary counts as 0
   }
   return largest;

@@ -74,6 +74,8 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
                               s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                               s.contacts.max_overlap, s.contacts.coordination});
     forecast.add(s);
+    // The forecast is a fit over the samples so far: only worth it for a line that will show.
+    if (!progress.due()) return;
     const std::optional<double> end = forecast.expected_end();
     progress.update({fmt::format("{:.3f} s simulated", s.time),
                      fmt::format("density {}", std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density)),

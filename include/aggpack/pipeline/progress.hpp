@@ -32,6 +32,9 @@ class Progress {
   // `fields`: what the stage reports, most important first. `done` in [0, 1] gives the time
   // left from the stage's pace so far.
   void update(const std::vector<std::string>& fields, double done, TimeLeft kind = TimeLeft::Estimate);
+  // True when an update now would be printed (enabled, and not within the refresh interval
+  // of the last one): callers can skip preparing a line that would not be shown.
+  [[nodiscard]] bool due() const;
   void clear();
 
   // The line for a terminal `columns` wide: at most columns - 1 characters (UTF-8 counted
