@@ -1,49 +1,110 @@
 #!/usr/bin/env bash
-# DEM speed and memory against LAMMPS, in one run on one machine (BENCHMARKS.md).
+# DEM speed and memory against the peer codes, in one run on one machine (BENCHMARKS.md).
 #  1. Beds at rest (1 in spheres, E = 3 GPa, e = 0.5, mu = 0.17, dt = 1e-5 s, periodic sides,
-#     a floor): aggpack on one core and, at 10^5, on two; LAMMPS (Debian `lammps`, pair_style
-#     granular, the same law) on one core on the very same bed, when `lmp` is installed.
-#  2. Example 1 from scenario to settled bed (aggpack: deposition + DEM) against LAMMPS
-#     pouring and settling the same spheres (bench/lammps/example1_pour.in, 1 s simulated).
-# Usage: bench/run_dynamics_bench.sh [build-dir] [steps]
+#     a floor), settled until quiet once and kept in bench/.cache: aggpack on one core and,
+#     at 10^5, on two; on the very same bed file, on one core, each peer that is installed:
+#     LAMMPS `pair_style granular` (the same law), LAMMPS `gran/hertz/history` (its classic
+#     kernel) and LIGGGHTS. `rounds` rounds, interleaved; the ratio is aggpack's best over
+#     the fastest peer's best.
+#  2. Example 1 and Example 2 from scenario to settled bed (aggpack: deposition + DEM) against
+#     LAMMPS pouring and settling the same spheres (bench/lammps/example{1,2}_pour.in).
+# Usage: bench/run_dynamics_bench.sh [build-dir] [steps] [rounds] [counts...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 steps=${2:-1000}
+rounds=${3:-3}
+shift $(( $# < 3 ? $# : 3 ))
+counts=("${@:-20000 100000}")
+read -r -a counts <<< "${counts[*]}"
+warmup=500
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-have_lammps=false
-command -v lmp >/dev/null && have_lammps=true
+mkdir -p bench/.cache
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(date -u +%Y-%m-%d)"
 
-lammps_rate() {  # data steps -> particle-steps per second on one core
-  local out
-  out=$(OMP_NUM_THREADS=1 taskset -c 0 lmp -in bench/lammps/bed_at_rest.in -var data "$1" -var steps "$2" -log none)
-  echo "$out" | awk '/^Loop time of/ {printf "%.4g", $9 * $12 / $4}'
-}
+peers=()
+command -v lmp >/dev/null && peers+=(lammps_granular lammps_hertz_history)
+command -v liggghts >/dev/null && peers+=(liggghts)
+echo "peers: ${peers[*]:-none installed}"
 
-for count in 20000 100000; do
-  one=$(OMP_NUM_THREADS=1 taskset -c 0 "$build/bench/bench_dynamics" "$count" "$steps" --lammps-data "$tmp/bed.data")
-  echo "aggpack 1 thread:  $one"
-  ours=$(echo "$one" | python3 -c 'import json,sys; print(json.load(sys.stdin)["particle_steps_per_second"])')
-  if [[ $count == 100000 ]]; then
-    two=$(OMP_NUM_THREADS=2 "$build/bench/bench_dynamics" "$count" "$steps")
-    echo "aggpack 2 threads: $two"
-    python3 -c 'import json,sys; k="particle_steps_per_second"; a,b=(json.loads(x)[k] for x in sys.argv[1:3]); print(f"two threads / one thread: {b/a:.2f}")' "$one" "$two"
+# peer bed -> particle-steps per second on one core (the timed run after the warm-up)
+peer_rate() {
+  local deck exe=lmp
+  case $1 in
+    lammps_granular) deck=bed_at_rest.in ;;
+    lammps_hertz_history) deck=bed_at_rest_hertz_history.in ;;
+    liggghts) deck=bed_at_rest_liggghts.in exe=liggghts ;;
+  esac
+  (cd "$tmp" && OMP_NUM_THREADS=1 taskset -c 0 "$exe" -in "$OLDPWD/bench/lammps/$deck" -var data "$2" \
+      -var steps "$steps" -var warmup "$warmup" -var bench_dir "$OLDPWD/bench/lammps" -log none) |
+    awk '/^Loop time of/ {rate = $12 * $9 / $4} END {printf "%.4g", rate}'
+}
+ours_rate() {  # threads bed count -> JSON line
+  OMP_NUM_THREADS=$1 taskset -c "$( [[ $1 == 1 ]] && echo 0 || echo 0-$(( $1 - 1 )) )" \
+    "$build/bench/bench_dynamics" "$3" "$steps" --bed "$2" --warmup "$warmup"
+}
+field() { python3 -c 'import json,sys; print(json.loads(sys.argv[1])[sys.argv[2]])' "$1" "$2"; }
+best() { printf '%s\n' "$@" | sort -g | tail -1; }
+
+for count in "${counts[@]}"; do
+  bed="$PWD/bench/.cache/bed_$count.data"
+  if [[ ! -f $bed ]]; then
+    echo "settling the bed of $count spheres until quiet (once; kept in $bed) ..."
+    OMP_NUM_THREADS=$(nproc) "$build/bench/bench_dynamics" "$count" 10 --bed "$bed" --warmup 0 >/dev/null
   fi
-  if $have_lammps; then
-    theirs=$(lammps_rate "$tmp/bed.data" "$steps")
-    python3 -c "import sys; o,t=float(sys.argv[1]),float(sys.argv[2]); print(f'{sys.argv[3]} spheres at rest: aggpack {o/1e6:.2f}, LAMMPS granular {t/1e6:.2f} million particle-steps/s; ratio {o/t:.2f}')" "$ours" "$theirs" "$count"
+  declare -A rates=()
+  one_thread=() two_threads=()
+  for round in $(seq "$rounds"); do
+    line=$(ours_rate 1 "$bed" "$count")
+    echo "round $round aggpack 1 thread:  $line"
+    one_thread+=("$(field "$line" particle_steps_per_second)")
+    if [[ $count -ge 100000 && $(nproc) -ge 2 ]]; then
+      line=$(ours_rate 2 "$bed" "$count")
+      echo "round $round aggpack 2 threads: $line"
+      two_threads+=("$(field "$line" particle_steps_per_second)")
+    fi
+    for peer in "${peers[@]}"; do
+      rate=$(peer_rate "$peer" "$bed")
+      echo "round $round $peer: $rate particle-steps/s"
+      rates[$peer]="${rates[$peer]:-} $rate"
+    done
+  done
+  ours=$(best "${one_thread[@]}")
+  summary="$count spheres at rest, million particle-steps/s on one core (best of $rounds): aggpack $(python3 -c "print(f'{$ours/1e6:.2f}')")"
+  fastest=0 fastest_name=""
+  for peer in "${peers[@]}"; do
+    # shellcheck disable=SC2086
+    b=$(best ${rates[$peer]})
+    summary+=", $peer $(python3 -c "print(f'{$b/1e6:.2f}')")"
+    if python3 -c "import sys; sys.exit(0 if $b > $fastest else 1)"; then fastest=$b fastest_name=$peer; fi
+  done
+  echo "$summary"
+  if [[ -n $fastest_name ]]; then
+    echo "$count spheres: aggpack / fastest peer ($fastest_name) = $(python3 -c "print(f'{$ours/$fastest:.2f}')")"
   fi
+  if [[ ${#two_threads[@]} -gt 0 ]]; then
+    echo "$count spheres: two threads / one thread = $(python3 -c "print(f'{$(best "${two_threads[@]}")/$ours:.2f}')")"
+  fi
+  unset rates
 done
 
-start=$(date +%s.%N)
-OMP_NUM_THREADS=1 taskset -c 0 "$build/aggpack" run examples/example1.toml --quiet --threads 1 --out "$tmp/ex1"
-ours=$(echo "$(date +%s.%N) - $start" | bc)
-echo "Example 1, scenario to settled bed, aggpack one core: ${ours} s"
-if $have_lammps; then
+# Scenario to settled bed on one core, against LAMMPS pouring and settling the same spheres.
+for example in 1 2; do
   start=$(date +%s.%N)
-  (cd "$tmp" && OMP_NUM_THREADS=1 taskset -c 0 lmp -in "$OLDPWD/bench/lammps/example1_pour.in" -var time 1.0 -log none >/dev/null)
-  theirs=$(echo "$(date +%s.%N) - $start" | bc)
-  echo "Example 1, pour and settle 1 s, LAMMPS one core: ${theirs} s; aggpack / LAMMPS = $(echo "scale=3; $ours / $theirs" | bc)"
-fi
+  OMP_NUM_THREADS=1 taskset -c 0 "$build/aggpack" run "examples/example$example.toml" --quiet --threads 1 \
+    --out "$tmp/ex$example"
+  ours=$(echo "$(date +%s.%N) - $start" | bc)
+  simulated=$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1]))["stages"]["dynamics"]; print(sum(r["simulated_time_s"] for r in d["runs"]))' "$tmp/ex$example/summary.json")
+  echo "Example $example, scenario to settled bed, aggpack one core: ${ours} s (${simulated} s simulated)"
+  # LAMMPS pours from a loose gas: 1 s simulated lets it fall and come to rest (the same
+  # quiet test aggpack applies ends its runs earlier; the decks say how they were chosen).
+  lammps_time=1.0
+  if command -v lmp >/dev/null; then
+    start=$(date +%s.%N)
+    (cd "$tmp" && OMP_NUM_THREADS=1 taskset -c 0 lmp -in "$OLDPWD/bench/lammps/example${example}_pour.in" \
+       -var time "$lammps_time" -log none >/dev/null)
+    theirs=$(echo "$(date +%s.%N) - $start" | bc)
+    echo "Example $example, pour and settle ${lammps_time} s, LAMMPS one core: ${theirs} s; aggpack / LAMMPS = $(echo "scale=3; $ours / $theirs" | bc)"
+  fi
+done

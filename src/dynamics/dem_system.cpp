@@ -2,26 +2,44 @@
 
 #include <omp.h>
 
-#include <stdexcept>
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <utility>
 #include <variant>
 
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/dynamics/contact_batch.hpp"
 #include "aggpack/spatial/multilevel_grid.hpp"
 
 namespace aggpack {
 namespace {
 
-
 constexpr std::size_t kSumBlock = 1024;  // fixed blocks make sums independent of thread count
 // Below this many particles a step is too short to pay for waking threads (and on a busy
 // machine each barrier can cost a scheduler tick). Results do not depend on it.
 constexpr std::uint32_t kThreadedFrom = 1024;
+// Slots per force block. Larger blocks leave fewer pairs to the cross-block slots (48 bytes
+// each); there must still be several blocks per thread to balance the load. Results depend
+// on it (it fixes the summation order), the thread count does not.
+constexpr std::uint32_t kForceBlock = 2048;
+// Contacts gathered before the law is evaluated on them at once (whole rows: a batch may
+// hold more). Enough for the vector kernel's loop to run long; few enough to stay in cache.
+constexpr std::size_t kBatchContacts = 64;
+
+// Interleaves the low 21 bits of a, b and c (Morton code).
+std::uint64_t spread_bits(std::uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
 
 }  // namespace
 
@@ -35,54 +53,105 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   if (frozen_.size() != n_) throw std::invalid_argument("DemSystem: one frozen flag per particle");
   threaded_ = n_ >= kThreadedFrom;
   threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
-  double d_min = 0.0;
+  double d_min = 0.0, d_sum = 0.0;
   if (n_ > 0) d_min = 2.0 * *std::min_element(p_.radius.begin(), p_.radius.end());
   skin_ = settings.skin > 0.0 ? settings.skin : 0.1 * d_min;
   double solid = 0.0;
-  for (std::uint32_t i = 0; i < n_; ++i) solid += std::pow(p_.radius[i], 3);
-  grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
-  inverse_inertia_.assign(n_, 0.0);
+  grain_.resize(n_);
   for (std::uint32_t i = 0; i < n_; ++i) {
+    solid += std::pow(p_.radius[i], 3);
+    d_sum += 2.0 * p_.radius[i];
+    Grain& g = grain_[i];
+    g.position = p_.position[i];
+    g.radius = p_.radius[i];
+    g.mass = p_.mass[i];
     if (frozen_[i]) {
       p_.velocity[i] = {};
       p_.angular_velocity[i] = {};
       continue;
     }
     ++free_count_;
-    inverse_inertia_[i] = 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
+    g.velocity = p_.velocity[i];
+    g.angular_velocity = p_.angular_velocity[i];
+    g.inverse_inertia = 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
   }
-  force_.assign(n_, {});
-  torque_.assign(n_, {});
+  morton_cell_ = n_ > 0 ? d_sum / n_ : 1.0;
+  grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
+  user_index_.resize(n_);
+  slot_of_.resize(n_);
+  for (std::uint32_t i = 0; i < n_; ++i) user_index_[i] = slot_of_[i] = i;
+  load_.assign(n_, {});
   offset_.assign(n_ + 1, 0);
+  batches_.resize(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1);
   build_neighbour_list();
   compute_forces();
 }
 
-Vec3 DemSystem::separation(const Vec3& from, const Vec3& to) const {
-  // Positions stay within one period of the box between list builds, so the container's
-  // minimum image applies; it is exactly antisymmetric, so b - a is exactly -(a - b).
-  return container_.minimum_image(to - from);
+std::vector<std::uint32_t> DemSystem::morton_order() const {
+  // Cells of one mean diameter from the container's corner; ties keep the slot order.
+  const Vec3 lo = container_.bounds.lo;
+  const auto cell = [&](double v, double origin) {
+    const double c = std::floor((v - origin) / morton_cell_);
+    return static_cast<std::uint64_t>(std::clamp(c, 0.0, double{0x1FFFFF}));
+  };
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n_);
+#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
+  for (std::uint32_t i = 0; i < n_; ++i) {
+    const Vec3& x = grain_[i].position;
+    keys[i] = {spread_bits(cell(x.x, lo.x)) | spread_bits(cell(x.y, lo.y)) << 1 | spread_bits(cell(x.z, lo.z)) << 2, i};
+  }
+  std::sort(keys.begin(), keys.end());
+  std::vector<std::uint32_t> from(n_);
+  for (std::uint32_t s = 0; s < n_; ++s) from[s] = keys[s].second;
+  return from;
+}
+
+void DemSystem::reorder(const std::vector<std::uint32_t>& from) {
+  const auto permute = [&](auto& values) {
+    std::remove_reference_t<decltype(values)> reordered(values.size());
+    for (std::uint32_t s = 0; s < n_; ++s) reordered[s] = values[from[s]];
+    values.swap(reordered);
+  };
+  permute(grain_);
+  permute(user_index_);
+  permute(frozen_);
+  permute(load_);
+  for (std::uint32_t s = 0; s < n_; ++s) slot_of_[user_index_[s]] = s;
+  moved_from_ = from;
+}
+
+void DemSystem::write_back() {
+#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
+  for (std::uint32_t s = 0; s < n_; ++s) {
+    const std::uint32_t i = user_index_[s];
+    p_.position[i] = grain_[s].position;
+    p_.velocity[i] = grain_[s].velocity;
+    p_.angular_velocity[i] = grain_[s].angular_velocity;
+  }
 }
 
 void DemSystem::build_neighbour_list() {
   ++rebuilds_;
   const std::uint32_t n = n_;
   if (container_.periodic)
-    for (std::uint32_t i = 0; i < n; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
+    for (Grain& g : grain_) g.position = container_.wrapped(g.position);
+  reorder(morton_order());
   MultilevelGrid grid(container_, p_.radius, grid_bed_volume_);
   grid.reserve(n);
-  for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, p_.position[i], p_.radius[i]);
+  for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, grain_[i].position, grain_[i].radius);
   const std::uint32_t wall_count = container_.plane_count();
 
-  // Calls add(entry) for every neighbour and wall within the skin of free particle i.
+  // Calls add(entry) for every neighbour j > i within the skin of slot i (unless both are
+  // frozen), then for every wall within the skin of a free slot i.
   const auto for_each_entry = [&](std::uint32_t i, auto&& add) {
-    const Vec3& xi = p_.position[i];
-    const double ri = p_.radius[i];
+    const Vec3& xi = grain_[i].position;
+    const double ri = grain_[i].radius;
     grid.for_each_near(xi, ri + skin_, [&](std::uint32_t j) {
-      if (j == i) return;
-      const double reach = ri + p_.radius[j] + skin_;
-      if (norm2(separation(xi, p_.position[j])) < reach * reach) add(j);
+      if (j <= i || (frozen_[i] && frozen_[j])) return;
+      const double reach = ri + grain_[j].radius + skin_;
+      if (norm2(separation(xi, grain_[j].position)) < reach * reach) add(j);
     });
+    if (frozen_[i]) return;
     for (std::uint32_t w = 0; w < wall_count; ++w) {
       Vec3 towards;
       if (container_.plane_distance(w, xi, towards) < ri + skin_) add(n + w);
@@ -92,32 +161,63 @@ void DemSystem::build_neighbour_list() {
   std::vector<std::uint32_t> offset(n + 1, 0);
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (frozen_[i]) continue;
     std::uint32_t count = 0;
     for_each_entry(i, [&](std::uint32_t) { ++count; });
     offset[i + 1] = count;
   }
   for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
-  std::vector<std::uint32_t> other(offset[n]);
+  std::vector<std::uint32_t> other(offset[n]), cross_begin(n), cross_count(n + 1, 0);
   std::vector<Vec3> spring(offset[n]);
+  // The old list names the slots before the last reorder: old slot = moved_from_[slot].
+  const auto old_slot = [&](std::uint32_t s) { return moved_from_.empty() ? s : moved_from_[s]; };
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (frozen_[i]) continue;
     std::uint32_t e = offset[i];
     for_each_entry(i, [&](std::uint32_t j) { other[e++] = j; });
-    std::sort(other.begin() + offset[i], other.begin() + offset[i + 1]);
-    // Carry each contact's tangential history over (both lists are sorted).
-    std::uint32_t old_e = offset_[i];
-    const std::uint32_t old_end = offset_[i + 1];
-    for (std::uint32_t k = offset[i]; k < offset[i + 1] && old_e < old_end; ++k) {
-      while (old_e < old_end && other_[old_e] < other[k]) ++old_e;
-      if (old_e < old_end && other_[old_e] == other[k]) spring[k] = spring_[old_e];
+    const auto row = other.begin() + offset[i], row_end = other.begin() + offset[i + 1];
+    std::sort(row, row_end);
+    const std::uint32_t block_end = std::min(n, (i / kForceBlock + 1) * kForceBlock);
+    cross_begin[i] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, block_end) - other.begin());
+    cross_count[i + 1] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, n) - other.begin()) - cross_begin[i];
+    // Carry each contact's tangential history over from the old list, where the pair sat in
+    // the row of its lower old slot (as seen from there: the sign flips if the order did).
+    const std::uint32_t oi = old_slot(i);
+    for (std::uint32_t k = offset[i]; k < offset[i + 1]; ++k) {
+      const std::uint32_t j = other[k];
+      const std::uint32_t oj = j < n ? old_slot(j) : j;
+      const std::uint32_t owner = std::min(oi, oj), partner = std::max(oi, oj);
+      const auto first = other_.begin() + offset_[owner], last = other_.begin() + offset_[owner + 1];
+      const auto found = std::lower_bound(first, last, partner);
+      if (found == last || *found != partner) continue;
+      const Vec3& old = spring_[static_cast<std::size_t>(found - other_.begin())];
+      spring[k] = owner == oi ? old : -old;
     }
   }
+  // Cross-block slots in row order, and for each neighbour the slots it gathers.
+  std::vector<std::uint32_t> slot_base(n), reverse_offset(n + 1, 0);
+  for (std::uint32_t i = 0; i < n; ++i) {
+    slot_base[i] = cross_count[i];
+    cross_count[i + 1] += cross_count[i];
+    for (std::uint32_t k = cross_begin[i]; k < cross_begin[i] + cross_count[i + 1] - cross_count[i]; ++k)
+      ++reverse_offset[other[k] + 1];
+  }
+  for (std::uint32_t j = 0; j < n; ++j) reverse_offset[j + 1] += reverse_offset[j];
+  std::vector<std::uint32_t> reverse(cross_count[n]), filled(reverse_offset.begin(), reverse_offset.end() - 1);
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t k = cross_begin[i], slot = slot_base[i]; slot < cross_count[i + 1]; ++k, ++slot)
+      reverse[filled[other[k]]++] = slot;
+
   offset_.swap(offset);
+  cross_begin_.swap(cross_begin);
   other_.swap(other);
   spring_.swap(spring);
-  listed_position_ = p_.position;
+  slot_base_.swap(slot_base);
+  reverse_offset_.swap(reverse_offset);
+  reverse_.swap(reverse);
+  cross_.assign(cross_count[n], {});
+  moved_from_.clear();
+  listed_position_.resize(n);
+  for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
 }
 
 bool DemSystem::list_is_stale() const {
@@ -125,73 +225,151 @@ bool DemSystem::list_is_stale() const {
   bool stale = false;
 #pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i)
-    if (norm2(p_.position[i] - listed_position_[i]) > limit) stale = true;
+    if (norm2(grain_[i].position - listed_position_[i]) > limit) stale = true;
   return stale;
 }
 
 template <class Law>
 void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
+  using C = ContactBatch;
   const std::uint32_t n = n_;
   const double dt = settings_.time_step;
-  const Vec3* x = p_.position.data();
-  const Vec3* v = p_.velocity.data();
-  const Vec3* w = p_.angular_velocity.data();
-  const double* radius = p_.radius.data();
-  const double* mass = p_.mass.data();
-#pragma omp parallel for schedule(dynamic, 256) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (frozen_[i]) continue;
-    const Vec3 xi = x[i], vi = v[i], wi = w[i];
-    const double ri = radius[i], mi = mass[i];
-    const Vec3 spin_i = ri * wi;
-    Vec3 f = mi * settings_.gravity;
-    Vec3 t{};
-    const std::uint32_t end = offset_[i + 1];
-    for (std::uint32_t e = offset_[i]; e < end; ++e) {
-      const std::uint32_t j = other_[e];
-      ContactKinematics k;
-      if (j < n) {
-        const Vec3 d = separation(xi, x[j]);
-        const double rj = radius[j];
-        const double reach = ri + rj;
-        const double d2 = norm2(d);
-        if (d2 >= reach * reach) {
-          spring_[e] = {};
-          continue;
+  const Grain* grain = grain_.data();
+  ForceTorque* load = load_.data();
+  Vec3* spring = spring_.data();
+  ForceTorque* cross_slot = cross_.data();
+  const std::uint32_t* offset = offset_.data();
+  const std::uint32_t* other = other_.data();
+  const std::uint32_t blocks = (n + kForceBlock - 1) / kForceBlock;
+#pragma omp parallel if (threaded_) num_threads(threads_)
+  {
+    ContactBatch& batch = batches_[static_cast<std::size_t>(omp_get_thread_num())];
+#pragma omp for schedule(dynamic, 1)
+    for (std::uint32_t b = 0; b < blocks; ++b) {
+      const std::uint32_t begin = b * kForceBlock, end = std::min(n, begin + kForceBlock);
+      for (std::uint32_t i = begin; i < end; ++i) {
+        load[i] = {frozen_[i] ? Vec3{} : grain[i].mass * settings_.gravity, {}};
+      }
+      for (std::uint32_t first_row = begin; first_row < end;) {
+        // Gather the contacts of whole rows until the batch is full enough to pay.
+        batch.clear();
+        std::uint32_t last_row = first_row;
+        for (; last_row < end && batch.size < kBatchContacts; ++last_row) {
+          const std::uint32_t i = last_row;
+          const Grain& gi = grain[i];
+          const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
+          const double ri = gi.radius, mi = gi.mass;
+          const Vec3 spin_i = ri * wi;
+          batch.reserve_more(offset[i + 1] - offset[i]);
+          double* const column = batch.column(C::kDx);  // column c at column + c * stride
+          const std::size_t stride = batch.stride();
+          std::uint32_t* const entry = batch.entry.data();
+          std::size_t k = batch.size;
+          const auto put = [&](C::Column c, double value) { column[c * stride + k] = value; };
+          const auto put3 = [&](C::Column c, const Vec3& value) {
+            put(c, value.x);
+            put(static_cast<C::Column>(c + 1), value.y);
+            put(static_cast<C::Column>(c + 2), value.z);
+          };
+          for (std::uint32_t e = offset[i]; e < offset[i + 1] && other[e] < n; ++e) {
+            const Grain& gj = grain[other[e]];
+            const Vec3 d = separation(xi, gj.position);
+            const double rj = gj.radius;
+            const double reach = ri + rj;
+            const double d2 = norm2(d);
+            if (d2 >= reach * reach) {
+              spring[e] = {};
+              continue;
+            }
+            entry[k] = e;
+            put3(C::kDx, d);
+            put(C::kDistance2, d2);
+            put(C::kRadiusI, ri);
+            put(C::kRadiusJ, rj);
+            put(C::kMassI, mi);
+            put(C::kMassJ, gj.mass);
+            put3(C::kVx, vi - gj.velocity);
+            put3(C::kSx, spin_i + rj * gj.angular_velocity);
+            put3(C::kWx, wi - gj.angular_velocity);
+            put3(C::kUx, spring[e]);
+            ++k;
+          }
+          batch.size = k;
         }
-        // One division for 1/distance, R* and m*: q = 1 / (distance (r_i + r_j) (m_i + m_j)).
-        const double distance = std::sqrt(d2);
-        const double mj = mass[j];
-        const double reach_mass = reach * (mi + mj);
-        const double q = 1.0 / (distance * reach_mass);
-        k.normal = d * (reach_mass * q);
-        k.overlap = reach - distance;
-        k.velocity = vi - v[j] + cross(spin_i + rj * w[j], k.normal);
-        k.spin = wi - w[j];
-        k.r_eff = ri * rj * (mi + mj) * distance * q;
-        k.m_eff = mi * mj * reach * distance * q;
-        const ContactForce c = particle_law.evaluate(k, spring_[e], dt);
-        f += c.force;
-        t += ri * cross(k.normal, c.tangential) + c.rolling_torque;
-      } else {
-        const double distance = container_.plane_distance(j - n, xi, k.normal);
-        if (distance >= ri) {
-          spring_[e] = {};
-          continue;
+        evaluate(particle_law, batch, dt);
+        // Scatter in row and entry order: the fixed order of every sum.
+        const double* const column = batch.column(C::kDx);
+        const std::size_t stride = batch.stride();
+        const std::uint32_t* const entry = batch.entry.data();
+        std::size_t k = 0;
+        const auto get3 = [&](C::Column c) {
+          return Vec3{column[c * stride + k], column[(c + 1) * stride + k], column[(c + 2) * stride + k]};
+        };
+        for (std::uint32_t i = first_row; i < last_row; ++i) {
+          Vec3 f{}, t{};
+          const std::uint32_t cross_begin = cross_begin_[i], row_end = offset[i + 1];
+          std::uint32_t e = offset[i];
+          for (; e < row_end && other[e] < n; ++e) {
+            const bool crosses = e >= cross_begin;
+            if (k == batch.size || entry[k] != e) {  // not touching
+              if (crosses) cross_slot[slot_base_[i] + (e - cross_begin)] = {};
+              continue;
+            }
+            const Vec3 pair_force = get3(C::kFx), torque_j = get3(C::kTjx);
+            spring[e] = get3(C::kUx);
+            f += pair_force;
+            t += get3(C::kTix);
+            if (crosses) {
+              cross_slot[slot_base_[i] + (e - cross_begin)] = {-pair_force, torque_j};
+            } else {
+              const std::uint32_t j = other[e];
+              load[j].force += -pair_force;
+              load[j].torque += torque_j;
+            }
+            ++k;
+          }
+          const Grain& gi = grain[i];
+          const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
+          const double ri = gi.radius, mi = gi.mass;
+          for (; e < row_end; ++e) {
+            const std::uint32_t wall = other_[e] - n;
+            ContactKinematics kin;
+            const double distance = container_.plane_distance(wall, xi, kin.normal);
+            if (distance >= ri) {
+              spring[e] = {};
+              continue;
+            }
+            kin.overlap = ri - distance;
+            // The wall's own motion (at rest today; a tapped container moves) enters the contact.
+            kin.velocity = vi - container_.plane_velocity(wall, time_) + cross(ri * wi, kin.normal);
+            kin.spin = wi;
+            kin.r_eff = ri;
+            kin.m_eff = mi;
+            const ContactForce c = wall_law.evaluate(kin, spring[e], dt);
+            f += c.force;
+            t += ri * cross(kin.normal, c.tangential) + c.rolling_torque;
+          }
+          load[i].force += f;
+          load[i].torque += t;
         }
-        k.overlap = ri - distance;
-        // The wall's own motion (at rest today; a tapped container moves) enters the contact.
-        k.velocity = vi - container_.plane_velocity(j - n, time_) + cross(spin_i, k.normal);
-        k.spin = wi;
-        k.r_eff = ri;
-        k.m_eff = mi;
-        const ContactForce c = wall_law.evaluate(k, spring_[e], dt);
-        f += c.force;
-        t += ri * cross(k.normal, c.tangential) + c.rolling_torque;
+        first_row = last_row;
       }
     }
-    force_[i] = f;
-    torque_[i] = t;
+    // Every slot gathers what earlier blocks put on it, in ascending order of their rows.
+#pragma omp for schedule(static)
+    for (std::uint32_t j = 0; j < n; ++j) {
+      if (frozen_[j]) {
+        load[j] = {};
+        continue;
+      }
+      Vec3 f{}, t{};
+      for (std::uint32_t r = reverse_offset_[j]; r < reverse_offset_[j + 1]; ++r) {
+        f += cross_[reverse_[r]].force;
+        t += cross_[reverse_[r]].torque;
+      }
+      load[j].force += f;
+      load[j].torque += t;
+    }
   }
 }
 
@@ -208,15 +386,16 @@ void DemSystem::kick(double half_step) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
     if (frozen_[i]) continue;
-    p_.velocity[i] += force_[i] * (half_step / p_.mass[i]);
-    p_.angular_velocity[i] += torque_[i] * (half_step * inverse_inertia_[i]);
+    Grain& g = grain_[i];
+    g.velocity += load_[i].force * (half_step / g.mass);
+    g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
   }
 }
 
 void DemSystem::drift() {
   const double dt = settings_.time_step;
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] += p_.velocity[i] * dt;
+  for (std::uint32_t i = 0; i < n_; ++i) grain_[i].position += grain_[i].velocity * dt;
 }
 
 void DemSystem::run(std::size_t steps) {
@@ -230,6 +409,7 @@ void DemSystem::run(std::size_t steps) {
     ++steps_;
     time_ = static_cast<double>(steps_) * settings_.time_step;
   }
+  write_back();
 }
 
 DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
@@ -241,8 +421,9 @@ DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
     for (std::size_t i = b * kSumBlock; i < end; ++i) {
       if (frozen_[i]) continue;
-      sum.translational += 0.5 * p_.mass[i] * norm2(p_.velocity[i]);
-      sum.rotational += 0.5 * norm2(p_.angular_velocity[i]) / inverse_inertia_[i];
+      const Grain& g = grain_[i];
+      sum.translational += 0.5 * g.mass * norm2(g.velocity);
+      sum.rotational += 0.5 * norm2(g.angular_velocity) / g.inverse_inertia;
     }
     partial[b] = sum;
   }
@@ -267,23 +448,26 @@ ContactStatistics DemSystem::contact_statistics() const {
     Partial s;
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
     for (std::size_t i = b * kSumBlock; i < end; ++i) {
-      const double ri = p_.radius[i];
+      const double ri = grain_[i].radius;
+      const Vec3& xi = grain_[i].position;
       for (std::uint32_t e = offset_[i]; e < offset_[i + 1]; ++e) {
         const std::uint32_t j = other_[e];
         double overlap, diameter;
         if (j < n_) {
-          diameter = ri + p_.radius[j];
-          overlap = diameter - norm(separation(p_.position[i], p_.position[j]));
+          diameter = ri + grain_[j].radius;
+          overlap = diameter - norm(separation(xi, grain_[j].position));
         } else {
           Vec3 towards;
           diameter = 2.0 * ri;
-          overlap = ri - container_.plane_distance(j - n_, p_.position[i], towards);
+          overlap = ri - container_.plane_distance(j - n_, xi, towards);
         }
         if (overlap <= 0.0) continue;
         s.max_overlap = std::max(s.max_overlap, overlap / diameter);
         if (j < n_) {
-          s.overlap_sum += overlap / diameter;
-          ++s.contacts;
+          // Once for each free grain of the pair (the frozen layers below are not counted).
+          const std::size_t sides = (frozen_[i] ? 0 : 1) + (frozen_[j] ? 0 : 1);
+          s.overlap_sum += static_cast<double>(sides) * (overlap / diameter);
+          s.contacts += sides;
         }
       }
     }
@@ -304,9 +488,15 @@ ContactStatistics DemSystem::contact_statistics() const {
 }
 
 std::size_t DemSystem::memory_bytes() const {
-  return inverse_inertia_.capacity() * sizeof(double) +
-         (force_.capacity() + torque_.capacity() + listed_position_.capacity() + spring_.capacity()) * sizeof(Vec3) +
-         (offset_.capacity() + other_.capacity()) * sizeof(std::uint32_t);
+  std::size_t batches = 0;
+  for (const ContactBatch& b : batches_) batches += b.memory_bytes();
+  return grain_.capacity() * sizeof(Grain) + frozen_.capacity() +
+         (listed_position_.capacity() + spring_.capacity()) * sizeof(Vec3) +
+         (load_.capacity() + cross_.capacity()) * sizeof(ForceTorque) +
+         (user_index_.capacity() + slot_of_.capacity() + offset_.capacity() + cross_begin_.capacity() +
+          other_.capacity() + slot_base_.capacity() + reverse_offset_.capacity() + reverse_.capacity()) *
+             sizeof(std::uint32_t) +
+         batches;
 }
 
 void DemSystem::finish() {

@@ -5,6 +5,7 @@
 
 #include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
+#include "aggpack/dynamics/contact_batch.hpp"
 #include "aggpack/dynamics/contact_law.hpp"
 
 namespace aggpack {
@@ -26,12 +27,22 @@ struct ContactStatistics {
 
 // A discrete element model of the spheres in a store: Hertz contacts with the law of
 // `model`, gravity, the container's floor and side walls (or periodic sides), velocity
-// Verlet for positions and spins. Frozen particles neither move nor get forces.
+// Verlet for positions and spins. Frozen particles neither move nor feel forces.
 //
-// Forces are gathered per particle over a full Verlet list sorted by neighbour index, so
-// every sum is taken in one fixed order: results are bit-identical whatever the number of
-// OpenMP threads. Each contact is evaluated from both sides with mirrored arithmetic, so
-// the two forces are exact opposites and the two tangential histories stay opposite.
+// State. The system reads the store once, when it is made, into its own packed records
+// (position, radius, velocity, mass, spin, 96 bytes: what a contact reads of a grain lies
+// in one or two cache lines), and writes positions and velocities back to the store at the
+// end of every run(). Every index of this interface is the store's (the user's) index.
+//
+// Order. At every neighbour-list build the records are sorted along a Morton curve, so
+// that neighbours lie close in memory; the store keeps the user's order.
+//
+// Sums. A half Verlet list evaluates each pair once and applies the force to both grains,
+// so Newton's third law holds exactly. For the sums to be taken in one fixed order whatever
+// the number of OpenMP threads, the slots are cut into fixed blocks: a block's thread adds
+// the pairs inside the block directly, and writes each pair that reaches a later block into
+// a slot of its own, which the owner of that grain adds afterwards in ascending pair order.
+// Results are bit-identical for any thread count.
 class DemSystem {
  public:
   // `frozen[i]` = 1: particle i does not move (it still pushes on the others); empty: none.
@@ -46,10 +57,12 @@ class DemSystem {
   [[nodiscard]] std::size_t rebuilds() const { return rebuilds_; }
   [[nodiscard]] double time_step() const { return settings_.time_step; }
   [[nodiscard]] double skin() const { return skin_; }
+  [[nodiscard]] int threads() const { return threads_; }
   [[nodiscard]] const Vec3& gravity() const { return settings_.gravity; }
-  // Net force and torque on each particle at the current positions (gravity included).
-  [[nodiscard]] const std::vector<Vec3>& force() const { return force_; }
-  [[nodiscard]] const std::vector<Vec3>& torque() const { return torque_; }
+  // Net force and torque on particle i at the current positions (gravity included; zero on
+  // a frozen particle).
+  [[nodiscard]] Vec3 force(std::size_t i) const { return load_[slot_of_[i]].force; }
+  [[nodiscard]] Vec3 torque(std::size_t i) const { return load_[slot_of_[i]].torque; }
   // Kinetic energy of the free particles, J, summed in a fixed order.
   struct KineticEnergy {
     double translational = 0.0;
@@ -59,21 +72,41 @@ class DemSystem {
   [[nodiscard]] KineticEnergy kinetic_energy() const;
   [[nodiscard]] ContactStatistics contact_statistics() const;
   [[nodiscard]] std::size_t free_count() const { return free_count_; }
-  [[nodiscard]] bool is_frozen(std::size_t i) const { return frozen_[i] != 0; }
-  // Neighbour-list entries, for memory accounting.
+  [[nodiscard]] bool is_frozen(std::size_t i) const { return frozen_[slot_of_[i]] != 0; }
+  // Neighbour-list entries (each pair once, walls included), and those that reach a later
+  // block of slots, for memory accounting.
   [[nodiscard]] std::size_t list_entries() const { return other_.size(); }
+  [[nodiscard]] std::size_t cross_block_entries() const { return cross_.size(); }
   [[nodiscard]] std::size_t memory_bytes() const;
 
-  // Wraps positions into a periodic container (call before handing the store on).
+  // Wraps the store's positions into a periodic container (call before handing it on).
   void finish();
 
  private:
+  // What a contact reads of a grain, packed (96 bytes).
+  struct Grain {
+    Vec3 position;
+    double radius = 0.0;
+    Vec3 velocity;
+    double mass = 0.0;
+    Vec3 angular_velocity;
+    double inverse_inertia = 0.0;  // 1 / (2/5 m R^2), 0 when frozen
+  };
+
   template <class Law>
   void compute_forces(const Law& particle_law, const Law& wall_law);
   void compute_forces();
+  // Sorts the records along the Morton curve, then rebuilds the lists (carrying the
+  // contact history over).
   void build_neighbour_list();
+  [[nodiscard]] std::vector<std::uint32_t> morton_order() const;
+  // Slot s takes what slot from[s] held (records, flags, forces).
+  void reorder(const std::vector<std::uint32_t>& from);
+  void write_back();  // positions and velocities to the store, in the user's order
   [[nodiscard]] bool list_is_stale() const;
-  [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const;
+  // Positions stay within one period of the box between list builds, so the container's
+  // minimum image applies. (Inline: it is in the innermost loop.)
+  [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const { return container_.minimum_image(to - from); }
   void kick(double half_step);
   void drift();
 
@@ -82,22 +115,33 @@ class DemSystem {
   ContactModel model_;
   DemSettings settings_;
   double skin_ = 0.0;
-  double grid_bed_volume_ = 0.0;             // m^3, sizes the grid's sparse levels
+  double grid_bed_volume_ = 0.0;  // m^3, sizes the grid's sparse levels
+  double morton_cell_ = 0.0;      // m, cell of the Morton sort: the mean diameter
   std::uint32_t n_ = 0;
   bool threaded_ = false;  // OpenMP loops for beds large enough to gain from them
   int threads_ = 1;        // threads of those loops (the results do not depend on it)
-
- public:
-  [[nodiscard]] int threads() const { return threads_; }
   std::size_t free_count_ = 0;
-  std::vector<std::uint8_t> frozen_;        // 1 per particle that does not move
-  std::vector<double> inverse_inertia_;      // 1 / (2/5 m R^2), 0 when frozen
-  std::vector<Vec3> force_, torque_;
-  std::vector<Vec3> listed_position_;        // positions when the list was built
-  // Full Verlet list in CSR form: particle i's entries are [offset_[i], offset_[i + 1]).
-  // An entry is a neighbour index, or n_ + wall index for a wall; sorted ascending.
-  std::vector<std::uint32_t> offset_, other_;
-  std::vector<Vec3> spring_;                 // tangential history per entry
+  std::vector<Grain> grain_;                 // per slot
+  std::vector<std::uint32_t> user_index_;    // per slot: the grain's index in the store
+  std::vector<std::uint32_t> slot_of_;       // per store index: its slot
+  std::vector<std::uint8_t> frozen_;         // per slot: 1 for a particle that does not move
+  struct ForceTorque {
+    Vec3 force, torque;
+  };
+  std::vector<ForceTorque> load_;            // per slot: net force and torque
+  std::vector<Vec3> listed_position_;        // per slot: positions when the list was built
+  // Half Verlet list in CSR form: slot i's entries are [offset_[i], offset_[i + 1]), sorted
+  // ascending: first neighbours j > i in i's block, then neighbours in later blocks (from
+  // cross_begin_[i]), then walls (n_ + wall index). Pairs of two frozen slots are left out.
+  std::vector<std::uint32_t> offset_, cross_begin_, other_;
+  std::vector<Vec3> spring_;                 // tangential history per entry, as seen from i
+  // Force and torque that a cross-block entry puts on its neighbour j; slot_base_[i] is the
+  // first of row i's. Slot j gathers its own, cross_[reverse_[reverse_offset_[j] ...]], in
+  // ascending order of the row they come from.
+  std::vector<ForceTorque> cross_;
+  std::vector<std::uint32_t> slot_base_, reverse_offset_, reverse_;
+  std::vector<std::uint32_t> moved_from_;    // the last reorder's `from`, until the next build
+  std::vector<ContactBatch> batches_;        // one per thread: contacts gathered for the law
   double time_ = 0.0;
   std::size_t steps_ = 0, rebuilds_ = 0;
 };

@@ -1,0 +1,114 @@
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "aggpack/dynamics/contact_law.hpp"
+
+namespace aggpack {
+
+// A block of particle-particle contacts in structure-of-arrays form: the DEM gathers the
+// kinematics of the contacts of a few rows of its neighbour list, a law evaluates them all
+// at once (with SIMD where it has a vector kernel), and the DEM scatters the results in a
+// fixed order. Contact k is between grains i (the row's) and j; `d` = x_j - x_i.
+struct ContactBatch {
+  enum Column : std::uint8_t {
+    // inputs
+    kDx, kDy, kDz,           // separation x_j - x_i (minimum image), m
+    kDistance2,              // |d|^2, below (r_i + r_j)^2
+    kRadiusI, kRadiusJ, kMassI, kMassJ,
+    kVx, kVy, kVz,           // v_i - v_j
+    kSx, kSy, kSz,           // r_i w_i + r_j w_j (the contact point's speed is this x n)
+    kWx, kWy, kWz,           // w_i - w_j
+    kUx, kUy, kUz,           // tangential spring: in, and updated in place
+    // outputs
+    kFx, kFy, kFz,           // force on i (j gets the opposite)
+    kTix, kTiy, kTiz,        // torque on i
+    kTjx, kTjy, kTjz,        // torque on j
+    kColumns
+  };
+  static constexpr std::size_t kPadding = 8;  // lanes of the widest vector kernel
+
+  std::size_t size = 0;
+  std::vector<std::uint32_t> entry;  // the neighbour-list entry of each contact
+
+  // Column c holds contacts [0, size) at column(c)[k]; columns lie `stride()` apart.
+  double* column(Column c) { return values_.data() + c * stride_; }
+  [[nodiscard]] const double* column(Column c) const { return values_.data() + c * stride_; }
+  [[nodiscard]] std::size_t stride() const { return stride_; }
+  [[nodiscard]] std::size_t memory_bytes() const {
+    return values_.capacity() * sizeof(double) + entry.capacity() * sizeof(std::uint32_t);
+  }
+  void clear() { size = 0; }
+  // Makes room for `more` contacts beyond size (and the vector kernels' padding); the
+  // columns may move.
+  void reserve_more(std::size_t more);
+  // Fills the padding after the last contact with a harmless contact (vector kernels read
+  // whole vectors; the padding's results are ignored).
+  void pad();
+
+ private:
+  std::vector<double> values_;  // kColumns columns of stride_ values
+  std::size_t stride_ = 0;
+};
+
+// Evaluates every contact of the batch with the law: the reference, one contact at a time
+// through Law::evaluate.
+template <class Law>
+void evaluate_each(const Law& law, ContactBatch& batch, double dt);
+
+// The same with the law's vector kernel where it has one (HertzMindlin: Highway, dispatched
+// at run time to the best instruction set of the machine), otherwise evaluate_each. The
+// results are bit-identical to evaluate_each: IEEE square roots and divisions, no fused
+// multiply-add (the dynamics library is built with -ffp-contract=off), the same operations
+// in the same order.
+void evaluate(const HertzMindlin& law, ContactBatch& batch, double dt);
+void evaluate(const SlidingFrictionFu2003& law, ContactBatch& batch, double dt);
+
+// The instruction sets the HertzMindlin vector kernel was compiled for that this machine
+// runs, best first, and the one evaluate() uses; evaluate_with_target() forces one (tests).
+std::vector<std::string> contact_kernel_targets();
+std::string contact_kernel_target();
+void evaluate_with_target(const std::string& target, const HertzMindlin& law, ContactBatch& batch, double dt);
+
+// ---- implementation of the reference ----------------------------------------------------
+
+template <class Law>
+void evaluate_each(const Law& law, ContactBatch& b, double dt) {
+  using C = ContactBatch;
+  for (std::size_t k = 0; k < b.size; ++k) {
+    const auto in = [&](C::Column c) { return b.column(c)[k]; };
+    const Vec3 d{in(C::kDx), in(C::kDy), in(C::kDz)};
+    const double ri = in(C::kRadiusI), rj = in(C::kRadiusJ), mi = in(C::kMassI), mj = in(C::kMassJ);
+    // One division for 1/distance, R* and m*: q = 1 / (distance (r_i + r_j) (m_i + m_j)).
+    const double distance = std::sqrt(in(C::kDistance2));
+    const double reach = ri + rj;
+    const double reach_mass = reach * (mi + mj);
+    const double q = 1.0 / (distance * reach_mass);
+    ContactKinematics kin;
+    kin.normal = d * (reach_mass * q);
+    kin.overlap = reach - distance;
+    kin.velocity = Vec3{in(C::kVx), in(C::kVy), in(C::kVz)} + cross(Vec3{in(C::kSx), in(C::kSy), in(C::kSz)}, kin.normal);
+    kin.spin = {in(C::kWx), in(C::kWy), in(C::kWz)};
+    kin.r_eff = ri * rj * (mi + mj) * distance * q;
+    kin.m_eff = mi * mj * reach * distance * q;
+    Vec3 spring{in(C::kUx), in(C::kUy), in(C::kUz)};
+    const ContactForce c = law.evaluate(kin, spring, dt);
+    // j sees the opposite normal and tangential force, so the same n x F_t, and the
+    // opposite rolling torque.
+    const Vec3 arm = cross(kin.normal, c.tangential);
+    const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
+    const auto out = [&](C::Column c0, const Vec3& v) {
+      b.column(c0)[k] = v.x;
+      b.column(static_cast<C::Column>(c0 + 1))[k] = v.y;
+      b.column(static_cast<C::Column>(c0 + 2))[k] = v.z;
+    };
+    out(C::kUx, spring);
+    out(C::kFx, c.force);
+    out(C::kTix, ti);
+    out(C::kTjx, tj);
+  }
+}
+
+}  // namespace aggpack

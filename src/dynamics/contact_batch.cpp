@@ -1,0 +1,173 @@
+// The HertzMindlin law over a ContactBatch with Highway vectors, compiled for every target
+// of Highway's list and dispatched at run time. Each line mirrors one step of
+// evaluate_each + HertzMindlin::evaluate (contact_batch.hpp, contact_law.hpp), in the same
+// order, so that the results are the same bits: keep the two in step.
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "contact_batch.cpp"
+#include <hwy/foreach_target.h>  // IWYU pragma: keep
+#include <hwy/highway.h>
+
+#include "aggpack/dynamics/contact_batch.hpp"
+
+HWY_BEFORE_NAMESPACE();
+namespace aggpack::HWY_NAMESPACE {
+namespace hn = hwy::HWY_NAMESPACE;
+
+void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
+  using C = ContactBatch;
+  const hn::ScalableTag<double> d;
+  using V = hn::Vec<decltype(d)>;
+  const ContactCoefficients& c = law.c;
+  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), minus_one = hn::Set(d, -1.0);
+  const V stiffness_factor = hn::Set(d, (4.0 / 3.0) * c.e_star);
+  const V shear_factor = hn::Set(d, 8.0 * c.g_star);
+  const V damping = hn::Set(d, c.damping), friction = hn::Set(d, c.friction), step = hn::Set(d, dt);
+  const V damping_ratio = hn::Set(d, law.tangential_damping_ratio);
+  const V minus_rolling = hn::Set(d, -c.rolling), regularisation = hn::Set(d, kFrictionRegularisation);
+  const bool rolling = c.rolling != 0.0;
+  const auto max_of = [&](V a, V b2) { return hn::IfThenElse(hn::Lt(a, b2), b2, a); };  // std::max(a, b)
+  const auto load = [&](C::Column col, std::size_t k) { return hn::LoadU(d, b.column(col) + k); };
+  const auto store = [&](V v, C::Column col, std::size_t k) { hn::StoreU(v, d, b.column(col) + k); };
+  const std::size_t lanes = hn::Lanes(d);
+  for (std::size_t k = 0; k < b.size; k += lanes) {
+    const V dx = load(C::kDx, k), dy = load(C::kDy, k), dz = load(C::kDz, k);
+    const V ri = load(C::kRadiusI, k), rj = load(C::kRadiusJ, k), mi = load(C::kMassI, k), mj = load(C::kMassJ, k);
+    // Kinematics (evaluate_each).
+    const V distance = hn::Sqrt(load(C::kDistance2, k));
+    const V reach = ri + rj;
+    const V mass_sum = mi + mj;
+    const V reach_mass = reach * mass_sum;
+    const V q = one / (distance * reach_mass);
+    const V scale = reach_mass * q;
+    const V nx = dx * scale, ny = dy * scale, nz = dz * scale;
+    const V overlap = reach - distance;
+    const V sx = load(C::kSx, k), sy = load(C::kSy, k), sz = load(C::kSz, k);
+    const V vx = load(C::kVx, k) + (sy * nz - sz * ny);
+    const V vy = load(C::kVy, k) + (sz * nx - sx * nz);
+    const V vz = load(C::kVz, k) + (sx * ny - sy * nx);
+    const V r_eff = ri * rj * mass_sum * distance * q;
+    const V m_eff = mi * mj * reach * distance * q;
+    // HertzMindlin::evaluate: normal force.
+    const V sqrt_r_overlap = hn::Sqrt(r_eff * overlap);
+    const V stiffness = stiffness_factor * sqrt_r_overlap;
+    const V approach = vx * nx + vy * ny + vz * nz;
+    const V damping_n = damping * hn::Sqrt(m_eff * stiffness);
+    const V fn = max_of(zero, stiffness * overlap + damping_n * approach);
+    const V tx = vx - nx * approach, ty = vy - ny * approach, tz = vz - nz * approach;
+    // The spring follows the contact plane, grows with the sliding, and is capped.
+    V ux = load(C::kUx, k), uy = load(C::kUy, k), uz = load(C::kUz, k);
+    const V normal_part = ux * nx + uy * ny + uz * nz;
+    ux = ux - nx * normal_part;
+    uy = uy - ny * normal_part;
+    uz = uz - nz * normal_part;
+    ux = ux + tx * step;
+    uy = uy + ty * step;
+    uz = uz + tz * step;
+    const V kt = shear_factor * sqrt_r_overlap;
+    const V eta_t = damping_n * damping_ratio;
+    const V minus_kt = hn::Neg(kt);
+    V fx = ux * minus_kt - tx * eta_t, fy = uy * minus_kt - ty * eta_t, fz = uz * minus_kt - tz * eta_t;
+    const V cap = friction * fn;
+    const V ft2 = fx * fx + fy * fy + fz * fz;
+    const auto sliding = hn::Gt(ft2, cap * cap);
+    const V shrink = cap / hn::Sqrt(ft2);
+    const V slid_x = fx * shrink, slid_y = fy * shrink, slid_z = fz * shrink;
+    const V inverse = minus_one / kt;
+    ux = hn::IfThenElse(sliding, (slid_x + tx * eta_t) * inverse, ux);
+    uy = hn::IfThenElse(sliding, (slid_y + ty * eta_t) * inverse, uy);
+    uz = hn::IfThenElse(sliding, (slid_z + tz * eta_t) * inverse, uz);
+    fx = hn::IfThenElse(sliding, slid_x, fx);
+    fy = hn::IfThenElse(sliding, slid_y, fy);
+    fz = hn::IfThenElse(sliding, slid_z, fz);
+    // Rolling resistance (contact_detail::rolling_torque), zero when the law has none.
+    V rx = zero, ry = zero, rz = zero;
+    if (rolling) {
+      const V wx = load(C::kWx, k), wy = load(C::kWy, k), wz = load(C::kWz, k);
+      const V spin_scale = max_of(hn::Sqrt(wx * wx + wy * wy + wz * wz) * r_eff, regularisation);
+      const V factor = minus_rolling * r_eff * fn * r_eff / spin_scale;
+      rx = wx * factor;
+      ry = wy * factor;
+      rz = wz * factor;
+    }
+    // Outputs: the spring, the force on i, and both torques (n x F_t is the same for j).
+    store(ux, C::kUx, k);
+    store(uy, C::kUy, k);
+    store(uz, C::kUz, k);
+    store(fx - nx * fn, C::kFx, k);
+    store(fy - ny * fn, C::kFy, k);
+    store(fz - nz * fn, C::kFz, k);
+    const V ax = ny * fz - nz * fy, ay = nz * fx - nx * fz, az = nx * fy - ny * fx;
+    store(ax * ri + rx, C::kTix, k);
+    store(ay * ri + ry, C::kTiy, k);
+    store(az * ri + rz, C::kTiz, k);
+    store(ax * rj - rx, C::kTjx, k);
+    store(ay * rj - ry, C::kTjy, k);
+    store(az * rj - rz, C::kTjz, k);
+  }
+}
+
+}  // namespace aggpack::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+#include <algorithm>
+#include <stdexcept>
+
+namespace aggpack {
+
+HWY_EXPORT(EvaluateHertzMindlin);
+
+void ContactBatch::reserve_more(std::size_t more) {
+  const std::size_t needed = size + more + kPadding;
+  if (stride_ >= needed) return;
+  const std::size_t grown = std::max(needed, 2 * stride_);
+  std::vector<double> values(kColumns * grown);
+  for (std::size_t c = 0; c < kColumns; ++c)
+    std::copy_n(values_.begin() + static_cast<std::ptrdiff_t>(c * stride_), size,
+                values.begin() + static_cast<std::ptrdiff_t>(c * grown));
+  values_.swap(values);
+  stride_ = grown;
+  entry.resize(grown);
+}
+
+void ContactBatch::pad() {
+  // Unit contacts: 1 m apart, radii 1 m, masses 1 kg, at rest. They overlap, so every
+  // square root and division of the kernels stays finite.
+  for (std::size_t c = 0; c < kColumns; ++c) {
+    const bool unit = c == kDx || c == kDistance2 || (c >= kRadiusI && c <= kMassJ);
+    std::fill_n(column(static_cast<Column>(c)) + size, kPadding, unit ? 1.0 : 0.0);
+  }
+}
+
+void evaluate(const HertzMindlin& law, ContactBatch& batch, double dt) {
+  batch.pad();
+  HWY_DYNAMIC_DISPATCH(EvaluateHertzMindlin)(law, batch, dt);
+}
+
+void evaluate(const SlidingFrictionFu2003& law, ContactBatch& batch, double dt) { evaluate_each(law, batch, dt); }
+
+std::vector<std::string> contact_kernel_targets() {
+  std::vector<std::string> names;
+  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) names.emplace_back(hwy::TargetName(target));
+  return names;
+}
+
+std::string contact_kernel_target() {
+  // The dispatch picks the best supported target, the first of the list.
+  const std::vector<std::int64_t> targets = hwy::SupportedAndGeneratedTargets();
+  return targets.empty() ? std::string("none") : std::string(hwy::TargetName(targets.front()));
+}
+
+void evaluate_with_target(const std::string& target, const HertzMindlin& law, ContactBatch& batch, double dt) {
+  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
+    if (target != hwy::TargetName(t)) continue;
+    hwy::SetSupportedTargetsForTest(t);
+    evaluate(law, batch, dt);
+    hwy::SetSupportedTargetsForTest(0);
+    return;
+  }
+  throw std::invalid_argument("evaluate_with_target: " + target + " is not a target of this machine");
+}
+
+}  // namespace aggpack
+#endif  // HWY_ONCE

@@ -1,0 +1,112 @@
+#include "aggpack/dynamics/contact_batch.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "aggpack/core/rng.hpp"
+
+namespace aggpack {
+namespace {
+
+using C = ContactBatch;
+
+// `count` random touching pairs: sizes over a factor of four, overlaps up to 1 % of the
+// reach, speeds of a collision, spins, and springs long enough that some contacts slide.
+ContactBatch random_contacts(std::size_t count, std::uint64_t seed) {
+  Rng rng(seed, 7);
+  ContactBatch b;
+  b.reserve_more(count);
+  for (std::size_t k = 0; k < count; ++k) {
+    const double ri = rng.uniform(0.002, 0.008), rj = rng.uniform(0.002, 0.008);
+    Vec3 direction{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    direction = direction * (1.0 / norm(direction));
+    const Vec3 d = direction * ((ri + rj) * (1.0 - rng.uniform(1e-6, 1e-2)));
+    const auto put = [&](C::Column c, double v) { b.column(c)[k] = v; };
+    const auto put3 = [&](C::Column c, const Vec3& v) {
+      put(c, v.x);
+      put(static_cast<C::Column>(c + 1), v.y);
+      put(static_cast<C::Column>(c + 2), v.z);
+    };
+    const auto random3 = [&](double scale) {
+      return Vec3{rng.uniform(-scale, scale), rng.uniform(-scale, scale), rng.uniform(-scale, scale)};
+    };
+    put3(C::kDx, d);
+    put(C::kDistance2, norm2(d));
+    put(C::kRadiusI, ri);
+    put(C::kRadiusJ, rj);
+    put(C::kMassI, 2650.0 * 4.18879 * ri * ri * ri);
+    put(C::kMassJ, 2650.0 * 4.18879 * rj * rj * rj);
+    put3(C::kVx, random3(0.5));
+    put3(C::kSx, random3(0.05));
+    put3(C::kWx, random3(20.0));
+    put3(C::kUx, random3(k % 2 ? 1e-4 : 1e-7));
+    b.entry[k] = static_cast<std::uint32_t>(k);
+  }
+  b.size = count;
+  return b;
+}
+
+ContactCoefficients coefficients(double rolling) {
+  return {effective_youngs_modulus(50e9, 0.25, 50e9, 0.25), effective_shear_modulus(50e9, 0.25, 50e9, 0.25),
+          damping_for_restitution(0.5), 0.3, rolling};
+}
+
+// Every output column and the updated springs, for the batch's contacts.
+std::vector<double> results(const ContactBatch& b) {
+  std::vector<double> out;
+  for (const C::Column c : {C::kUx, C::kUy, C::kUz, C::kFx, C::kFy, C::kFz, C::kTix, C::kTiy, C::kTiz, C::kTjx,
+                            C::kTjy, C::kTjz})
+    out.insert(out.end(), b.column(c), b.column(c) + b.size);
+  return out;
+}
+
+// The vector kernel gives the scalar law's bits, on every instruction set this machine
+// runs, with and without rolling resistance; sizes that are not a multiple of the vector
+// length use the padding.
+TEST(ContactBatch, VectorKernelGivesTheScalarLawsBitsOnEveryTarget) {
+  const std::vector<std::string> targets = contact_kernel_targets();
+  ASSERT_FALSE(targets.empty());
+  EXPECT_EQ(contact_kernel_target(), targets.front());
+  for (const double rolling : {0.0, 0.05}) {
+    const HertzMindlin law(coefficients(rolling));
+    for (const std::size_t count : {std::size_t{1}, std::size_t{7}, std::size_t{1003}}) {
+      ContactBatch reference = random_contacts(count, 11 + count);
+      const ContactBatch input = reference;
+      evaluate_each(law, reference, 1e-6);
+      const std::vector<double> expected = results(reference);
+      // Some contacts slide (the tangential force is at the Coulomb limit mu F_n), some stick.
+      std::size_t sliding = 0;
+      for (std::size_t k = 0; k < count; ++k) {
+        const auto at = [&](C::Column c) { return reference.column(c)[k]; };
+        const Vec3 d{at(C::kDx), at(C::kDy), at(C::kDz)}, f{at(C::kFx), at(C::kFy), at(C::kFz)};
+        const Vec3 n = d * (1.0 / norm(d));
+        const double fn = -dot(f, n);
+        if (std::abs(norm(f + fn * n) - law.c.friction * fn) < 1e-9 * fn) ++sliding;
+      }
+      if (count > 100) {
+        EXPECT_GT(sliding, count / 10);
+        EXPECT_LT(sliding, count - count / 10);
+      }
+      for (const std::string& target : targets) {
+        ContactBatch vector = input;
+        evaluate_with_target(target, law, vector, 1e-6);
+        const std::vector<double> got = results(vector);
+        ASSERT_EQ(got.size(), expected.size());
+        EXPECT_EQ(0, std::memcmp(got.data(), expected.data(), got.size() * sizeof(double)))
+            << target << ", rolling " << rolling << ", " << count << " contacts";
+      }
+      ContactBatch dispatched = input;
+      evaluate(law, dispatched, 1e-6);
+      EXPECT_EQ(results(dispatched), expected);
+    }
+  }
+  ContactBatch batch = random_contacts(4, 5);
+  EXPECT_THROW(evaluate_with_target("no such target", HertzMindlin(coefficients(0.0)), batch, 1e-6),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace aggpack
