@@ -103,12 +103,12 @@ class DemSystem {
   // Slot s takes what slot from[s] held (records, flags, forces).
   void reorder(const std::vector<std::uint32_t>& from);
   void write_back();  // positions and velocities to the store, in the user's order
-  [[nodiscard]] bool list_is_stale() const;
   // Positions stay within one period of the box between list builds, so the container's
   // minimum image applies. (Inline: it is in the innermost loop.)
   [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const { return container_.minimum_image(to - from); }
   void kick(double half_step);
-  void drift();
+  // Moves the grains; true when one has moved more than half the skin since the list build.
+  bool drift();
 
   ParticleStore& p_;
   Container container_;
