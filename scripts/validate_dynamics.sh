@@ -19,7 +19,8 @@ import json, sys
 s = json.load(open(sys.argv[1]))
 dep, dyn = s["stages"]["deposition"], s["stages"]["dynamics"]
 after_dep = dep["density"]["mean"] if "density" in dep else float("nan")
-print(f"| {sys.argv[2]} | {sys.argv[3]} | {after_dep:.4f} | {dyn['density']['mean']:.4f} ± {dyn['density']['sd']:.4f} "
+after_dep_text = "— (layers)" if after_dep != after_dep else f"{after_dep:.4f}"  # no bed is only deposited
+print(f"| {sys.argv[2]} | {sys.argv[3]} | {after_dep_text} | {dyn['density']['mean']:.4f} ± {dyn['density']['sd']:.4f} "
       f"| {dyn['coordination']['mean']:.2f} | {dyn['ended_by']} | {dyn['simulated_time_s']:.2f} | "
       f"{dyn['final']['mean_overlap_rel']:.1e} / {dyn['final']['max_overlap_rel']:.1e} | {dyn['wall_clock_s']:.1f} |")
 PY
