@@ -9,6 +9,7 @@
 #  2. Example 1 and Example 2 from scenario to settled bed (aggpack: deposition + DEM) against
 #     LAMMPS pouring and settling the same spheres (bench/lammps/example{1,2}_pour.in).
 # Usage: bench/run_dynamics_bench.sh [build-dir] [steps] [rounds] [counts...]
+#        (EXAMPLES=no leaves out part 2)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -96,6 +97,7 @@ for count in "${counts[@]}"; do
 done
 
 # Scenario to settled bed on one core, against LAMMPS pouring and settling the same spheres.
+[[ ${EXAMPLES:-yes} == no ]] && exit 0
 for example in 1 2; do
   start=$(date +%s.%N)
   OMP_NUM_THREADS=1 taskset -c 0 "$build/aggpack" run "examples/example$example.toml" --quiet --threads 1 \

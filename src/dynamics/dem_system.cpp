@@ -274,7 +274,8 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
               if (ahead < n) {
                 __builtin_prefetch(&grain[ahead]);
                 __builtin_prefetch(reinterpret_cast<const char*>(&grain[ahead]) + 64);
-                __builtin_prefetch(&load[ahead], 1);
+                // Only this block's force slots: another block's may be in another core's cache.
+                if (ahead < end) __builtin_prefetch(&load[ahead], 1);
               }
             }
             const Grain& gj = grain[other[e]];

@@ -11,8 +11,9 @@ namespace aggpack {
 // A block of particle-particle contacts in structure-of-arrays form: the DEM gathers the
 // kinematics of the contacts of a few rows of its neighbour list, a law evaluates them all
 // at once (with SIMD where it has a vector kernel), and the DEM scatters the results in a
-// fixed order. Contact k is between grains i (the row's) and j; `d` = x_j - x_i.
-struct ContactBatch {
+// fixed order. Contact k is between grains i (the row's) and j; `d` = x_j - x_i. Each thread
+// has its own; they are cache-line aligned so that two threads' counters never share a line.
+struct alignas(64) ContactBatch {
   enum Column : std::uint8_t {
     // inputs
     kDx, kDy, kDz,           // separation x_j - x_i (minimum image), m
