@@ -21,7 +21,7 @@ struct alignas(64) ContactBatch {
     kRadiusI, kRadiusJ, kMassI, kMassJ,
     kVx, kVy, kVz,           // v_i - v_j
     kSx, kSy, kSz,           // r_i w_i + r_j w_j (the contact point's speed is this x n)
-    kWx, kWy, kWz,           // w_i - w_j
+    kWx, kWy, kWz,           // w_i - w_j (the DEM fills it only for a law with rolling resistance)
     kUx, kUy, kUz,           // tangential spring: in, and updated in place
     // outputs
     kFx, kFy, kFz,           // force on i (j gets the opposite)
