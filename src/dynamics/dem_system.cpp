@@ -222,142 +222,159 @@ void DemSystem::build_neighbour_list() {
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
 }
 
-template <class Law>
-void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
+std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t first_row, std::uint32_t block_end,
+                                         bool spin_needed) {
   using C = ContactBatch;
   const std::uint32_t n = n_;
-  const double dt = settings_.time_step;
   const Grain* grain = grain_.data();
-  ForceTorque* load = load_.data();
+  const ForceTorque* load = load_.data();
   Vec3* spring = spring_.data();
-  ForceTorque* cross_slot = cross_.data();
   const std::uint32_t* offset = offset_.data();
   const std::uint32_t* other = other_.data();
   const std::size_t entries = other_.size();
-  const bool rolling = particle_law.c.rolling != 0.0;
+  batch.clear();
+  std::uint32_t i = first_row;
+  for (; i < block_end && batch.size < kBatchContacts; ++i) {
+    const Grain& gi = grain[i];
+    const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
+    const double ri = gi.radius, mi = gi.mass;
+    const Vec3 spin_i = ri * wi;
+    batch.reserve_more(offset[i + 1] - offset[i]);
+    double* const column = batch.column(C::kDx);  // column c at column + c * stride
+    const std::size_t stride = batch.stride();
+    std::uint32_t* const entry = batch.entry.data();
+    std::size_t k = batch.size;
+    const auto put = [&](C::Column c, double value) { column[c * stride + k] = value; };
+    const auto put3 = [&](C::Column c, const Vec3& value) {
+      put(c, value.x);
+      put(static_cast<C::Column>(c + 1), value.y);
+      put(static_cast<C::Column>(c + 2), value.z);
+    };
+    for (std::uint32_t e = offset[i]; e < offset[i + 1] && other[e] < n; ++e) {
+      // The neighbours' records are where the time goes (cache misses): ask for the ones a
+      // few entries ahead now, and for their force slots, which the scatter adds to.
+      if (e + kPrefetchAhead < entries) {
+        const std::uint32_t ahead = other[e + kPrefetchAhead];
+        if (ahead < n) {
+          __builtin_prefetch(&grain[ahead]);
+          __builtin_prefetch(reinterpret_cast<const char*>(&grain[ahead]) + 64);
+          // Only this block's force slots: another block's may be in another core's cache.
+          if (ahead < block_end) __builtin_prefetch(&load[ahead], 1);
+        }
+      }
+      const Grain& gj = grain[other[e]];
+      const Vec3 d = separation(xi, gj.position);
+      const double rj = gj.radius;
+      const double reach = ri + rj;
+      const double d2 = norm2(d);
+      if (d2 >= reach * reach) {
+        spring[e] = {};
+        continue;
+      }
+      entry[k] = e;
+      put3(C::kDx, d);
+      put(C::kDistance2, d2);
+      put(C::kRadiusI, ri);
+      put(C::kRadiusJ, rj);
+      put(C::kMassI, mi);
+      put(C::kMassJ, gj.mass);
+      put3(C::kVx, vi - gj.velocity);
+      put3(C::kSx, spin_i + rj * gj.angular_velocity);
+      if (spin_needed) put3(C::kWx, wi - gj.angular_velocity);
+      put3(C::kUx, spring[e]);
+      ++k;
+    }
+    batch.size = k;
+  }
+  return i;
+}
+
+template <class Law>
+void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_row, std::uint32_t last_row,
+                                 const Law& wall_law) {
+  using C = ContactBatch;
+  const std::uint32_t n = n_;
+  const double dt = settings_.time_step;
+  ForceTorque* load = load_.data();
+  Vec3* spring = spring_.data();
+  const std::uint32_t* offset = offset_.data();
+  const std::uint32_t* other = other_.data();
+  const double* const column = batch.column(C::kDx);
+  const std::size_t stride = batch.stride();
+  const std::uint32_t* const entry = batch.entry.data();
+  std::size_t k = 0;
+  const auto get3 = [&](C::Column c) {
+    return Vec3{column[c * stride + k], column[(c + 1) * stride + k], column[(c + 2) * stride + k]};
+  };
+  for (std::uint32_t i = first_row; i < last_row; ++i) {
+    Vec3 f{}, t{};
+    const std::uint32_t cross_begin = cross_begin_[i], row_end = offset[i + 1];
+    std::uint32_t e = offset[i];
+    for (; e < row_end && other[e] < n; ++e) {
+      const bool crosses = e >= cross_begin;
+      if (k == batch.size || entry[k] != e) {  // not touching
+        if (crosses) cross_[slot_base_[i] + (e - cross_begin)] = {};
+        continue;
+      }
+      const Vec3 pair_force = get3(C::kFx), torque_j = get3(C::kTjx);
+      spring[e] = get3(C::kUx);
+      f += pair_force;
+      t += get3(C::kTix);
+      if (crosses) {
+        cross_[slot_base_[i] + (e - cross_begin)] = {-pair_force, torque_j};
+      } else {
+        const std::uint32_t j = other[e];
+        load[j].force += -pair_force;
+        load[j].torque += torque_j;
+      }
+      ++k;
+    }
+    // The walls, one at a time (few, and each with the wall law's coefficients).
+    const Grain& gi = grain_[i];
+    const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
+    const double ri = gi.radius, mi = gi.mass;
+    for (; e < row_end; ++e) {
+      const std::uint32_t wall = other[e] - n;
+      ContactKinematics kin;
+      const double distance = container_.plane_distance(wall, xi, kin.normal);
+      if (distance >= ri) {
+        spring[e] = {};
+        continue;
+      }
+      kin.overlap = ri - distance;
+      // The wall's own motion (at rest today; a tapped container moves) enters the contact.
+      kin.velocity = vi - container_.plane_velocity(wall, time_) + cross(ri * wi, kin.normal);
+      kin.spin = wi;
+      kin.r_eff = ri;
+      kin.m_eff = mi;
+      const ContactForce c = wall_law.evaluate(kin, spring[e], dt);
+      f += c.force;
+      t += ri * cross(kin.normal, c.tangential) + c.rolling_torque;
+    }
+    load[i].force += f;
+    load[i].torque += t;
+  }
+}
+
+template <class Law>
+void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
+  const std::uint32_t n = n_;
   const std::uint32_t blocks = (n + kForceBlock - 1) / kForceBlock;
+  const bool spin_needed = particle_law.c.rolling != 0.0;  // only rolling resistance reads w_i - w_j
 #pragma omp parallel if (threaded_) num_threads(threads_)
   {
     ContactBatch& batch = batches_[static_cast<std::size_t>(omp_get_thread_num())];
 #pragma omp for schedule(dynamic, 1)
     for (std::uint32_t b = 0; b < blocks; ++b) {
       const std::uint32_t begin = b * kForceBlock, end = std::min(n, begin + kForceBlock);
-      for (std::uint32_t i = begin; i < end; ++i) {
-        load[i] = {frozen_[i] ? Vec3{} : grain[i].mass * settings_.gravity, {}};
-      }
+      for (std::uint32_t i = begin; i < end; ++i)
+        load_[i] = {frozen_[i] ? Vec3{} : grain_[i].mass * settings_.gravity, {}};
+      // Whole rows at a time: gather their contacts, evaluate the law on all of them, then
+      // add the results in row and entry order, the fixed order of every sum.
       for (std::uint32_t first_row = begin; first_row < end;) {
-        // Gather the contacts of whole rows until the batch is full enough to pay.
-        batch.clear();
-        std::uint32_t last_row = first_row;
-        for (; last_row < end && batch.size < kBatchContacts; ++last_row) {
-          const std::uint32_t i = last_row;
-          const Grain& gi = grain[i];
-          const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
-          const double ri = gi.radius, mi = gi.mass;
-          const Vec3 spin_i = ri * wi;
-          batch.reserve_more(offset[i + 1] - offset[i]);
-          double* const column = batch.column(C::kDx);  // column c at column + c * stride
-          const std::size_t stride = batch.stride();
-          std::uint32_t* const entry = batch.entry.data();
-          std::size_t k = batch.size;
-          const auto put = [&](C::Column c, double value) { column[c * stride + k] = value; };
-          const auto put3 = [&](C::Column c, const Vec3& value) {
-            put(c, value.x);
-            put(static_cast<C::Column>(c + 1), value.y);
-            put(static_cast<C::Column>(c + 2), value.z);
-          };
-          for (std::uint32_t e = offset[i]; e < offset[i + 1] && other[e] < n; ++e) {
-            // The neighbours' records are where the time goes (cache misses): ask for the
-            // ones a few entries ahead now, and for their force slots, which the scatter adds to.
-            if (e + kPrefetchAhead < entries) {
-              const std::uint32_t ahead = other[e + kPrefetchAhead];
-              if (ahead < n) {
-                __builtin_prefetch(&grain[ahead]);
-                __builtin_prefetch(reinterpret_cast<const char*>(&grain[ahead]) + 64);
-                // Only this block's force slots: another block's may be in another core's cache.
-                if (ahead < end) __builtin_prefetch(&load[ahead], 1);
-              }
-            }
-            const Grain& gj = grain[other[e]];
-            const Vec3 d = separation(xi, gj.position);
-            const double rj = gj.radius;
-            const double reach = ri + rj;
-            const double d2 = norm2(d);
-            if (d2 >= reach * reach) {
-              spring[e] = {};
-              continue;
-            }
-            entry[k] = e;
-            put3(C::kDx, d);
-            put(C::kDistance2, d2);
-            put(C::kRadiusI, ri);
-            put(C::kRadiusJ, rj);
-            put(C::kMassI, mi);
-            put(C::kMassJ, gj.mass);
-            put3(C::kVx, vi - gj.velocity);
-            put3(C::kSx, spin_i + rj * gj.angular_velocity);
-            if (rolling) put3(C::kWx, wi - gj.angular_velocity);  // only rolling resistance reads it
-            put3(C::kUx, spring[e]);
-            ++k;
-          }
-          batch.size = k;
-        }
-        evaluate(particle_law, batch, dt);
-        // Scatter in row and entry order: the fixed order of every sum.
-        const double* const column = batch.column(C::kDx);
-        const std::size_t stride = batch.stride();
-        const std::uint32_t* const entry = batch.entry.data();
-        std::size_t k = 0;
-        const auto get3 = [&](C::Column c) {
-          return Vec3{column[c * stride + k], column[(c + 1) * stride + k], column[(c + 2) * stride + k]};
-        };
-        for (std::uint32_t i = first_row; i < last_row; ++i) {
-          Vec3 f{}, t{};
-          const std::uint32_t cross_begin = cross_begin_[i], row_end = offset[i + 1];
-          std::uint32_t e = offset[i];
-          for (; e < row_end && other[e] < n; ++e) {
-            const bool crosses = e >= cross_begin;
-            if (k == batch.size || entry[k] != e) {  // not touching
-              if (crosses) cross_slot[slot_base_[i] + (e - cross_begin)] = {};
-              continue;
-            }
-            const Vec3 pair_force = get3(C::kFx), torque_j = get3(C::kTjx);
-            spring[e] = get3(C::kUx);
-            f += pair_force;
-            t += get3(C::kTix);
-            if (crosses) {
-              cross_slot[slot_base_[i] + (e - cross_begin)] = {-pair_force, torque_j};
-            } else {
-              const std::uint32_t j = other[e];
-              load[j].force += -pair_force;
-              load[j].torque += torque_j;
-            }
-            ++k;
-          }
-          const Grain& gi = grain[i];
-          const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
-          const double ri = gi.radius, mi = gi.mass;
-          for (; e < row_end; ++e) {
-            const std::uint32_t wall = other_[e] - n;
-            ContactKinematics kin;
-            const double distance = container_.plane_distance(wall, xi, kin.normal);
-            if (distance >= ri) {
-              spring[e] = {};
-              continue;
-            }
-            kin.overlap = ri - distance;
-            // The wall's own motion (at rest today; a tapped container moves) enters the contact.
-            kin.velocity = vi - container_.plane_velocity(wall, time_) + cross(ri * wi, kin.normal);
-            kin.spin = wi;
-            kin.r_eff = ri;
-            kin.m_eff = mi;
-            const ContactForce c = wall_law.evaluate(kin, spring[e], dt);
-            f += c.force;
-            t += ri * cross(kin.normal, c.tangential) + c.rolling_torque;
-          }
-          load[i].force += f;
-          load[i].torque += t;
-        }
+        const std::uint32_t last_row = gather_contacts(batch, first_row, end, spin_needed);
+        evaluate(particle_law, batch, settings_.time_step);
+        scatter_contacts(batch, first_row, last_row, wall_law);
         first_row = last_row;
       }
     }
@@ -365,7 +382,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
 #pragma omp for schedule(static)
     for (std::uint32_t j = 0; j < n; ++j) {
       if (frozen_[j]) {
-        load[j] = {};
+        load_[j] = {};
         continue;
       }
       Vec3 f{}, t{};
@@ -373,8 +390,8 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
         f += cross_[reverse_[r]].force;
         t += cross_[reverse_[r]].torque;
       }
-      load[j].force += f;
-      load[j].torque += t;
+      load_[j].force += f;
+      load_[j].torque += t;
     }
   }
 }

@@ -96,6 +96,14 @@ class DemSystem {
   template <class Law>
   void compute_forces(const Law& particle_law, const Law& wall_law);
   void compute_forces();
+  // Gathers the contacts of whole rows from first_row on (within the block ending at
+  // block_end) until the batch is full enough; returns the row after the last one gathered.
+  std::uint32_t gather_contacts(ContactBatch& batch, std::uint32_t first_row, std::uint32_t block_end,
+                                bool spin_needed);
+  // Adds the evaluated batch to the rows [first_row, last_row), with the rows' wall contacts.
+  template <class Law>
+  void scatter_contacts(const ContactBatch& batch, std::uint32_t first_row, std::uint32_t last_row,
+                        const Law& wall_law);
   // Sorts the records along the Morton curve, then rebuilds the lists (carrying the
   // contact history over).
   void build_neighbour_list();
