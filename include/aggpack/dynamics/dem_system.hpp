@@ -41,7 +41,7 @@ struct ContactStatistics {
 // so Newton's third law holds exactly. For the sums to be taken in one fixed order whatever
 // the number of OpenMP threads, the slots are cut into fixed blocks: a block's thread adds
 // the pairs inside the block directly, and writes each pair that reaches a later block into
-// a slot of its own, which the owner of that grain adds afterwards in ascending pair order.
+// a slot of its own, which that grain adds afterwards in ascending order of the rows.
 // Results are bit-identical for any thread count.
 class DemSystem {
  public:
