@@ -16,8 +16,8 @@ build=${1:-build}
 steps=${2:-1000}
 rounds=${3:-3}
 shift $(( $# < 3 ? $# : 3 ))
-counts=("${@:-20000 100000}")
-read -r -a counts <<< "${counts[*]}"
+counts=("$@")
+[[ ${#counts[@]} -gt 0 ]] || counts=(20000 100000)
 warmup=500
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT

@@ -119,7 +119,6 @@ void DemSystem::reorder(const std::vector<std::uint32_t>& from) {
   permute(frozen_);
   permute(load_);
   for (std::uint32_t s = 0; s < n_; ++s) slot_of_[user_index_[s]] = s;
-  moved_from_ = from;
 }
 
 void DemSystem::write_back() {
@@ -137,7 +136,9 @@ void DemSystem::build_neighbour_list() {
   const std::uint32_t n = n_;
   if (container_.periodic)
     for (Grain& g : grain_) g.position = container_.wrapped(g.position);
-  reorder(morton_order());
+  // The old list names the slots before the reorder: new slot s was old slot from[s].
+  const std::vector<std::uint32_t> from = morton_order();
+  reorder(from);
   MultilevelGrid grid(container_, p_.radius, grid_bed_volume_);
   grid.reserve(n);
   for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, grain_[i].position, grain_[i].radius);
@@ -170,8 +171,6 @@ void DemSystem::build_neighbour_list() {
   for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
   std::vector<std::uint32_t> other(offset[n]), cross_begin(n), cross_count(n + 1, 0);
   std::vector<Vec3> spring(offset[n]);
-  // The old list names the slots before the last reorder: old slot = moved_from_[slot].
-  const auto old_slot = [&](std::uint32_t s) { return moved_from_.empty() ? s : moved_from_[s]; };
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
     std::uint32_t e = offset[i];
@@ -183,10 +182,10 @@ void DemSystem::build_neighbour_list() {
     cross_count[i + 1] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, n) - other.begin()) - cross_begin[i];
     // Carry each contact's tangential history over from the old list, where the pair sat in
     // the row of its lower old slot (as seen from there: the sign flips if the order did).
-    const std::uint32_t oi = old_slot(i);
+    const std::uint32_t oi = from[i];
     for (std::uint32_t k = offset[i]; k < offset[i + 1]; ++k) {
       const std::uint32_t j = other[k];
-      const std::uint32_t oj = j < n ? old_slot(j) : j;
+      const std::uint32_t oj = j < n ? from[j] : j;
       const std::uint32_t owner = std::min(oi, oj), partner = std::max(oi, oj);
       const auto first = other_.begin() + offset_[owner], last = other_.begin() + offset_[owner + 1];
       const auto found = std::lower_bound(first, last, partner);
@@ -217,7 +216,6 @@ void DemSystem::build_neighbour_list() {
   reverse_offset_.swap(reverse_offset);
   reverse_.swap(reverse);
   cross_.assign(cross_count[n], {});
-  moved_from_.clear();
   listed_position_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
 }

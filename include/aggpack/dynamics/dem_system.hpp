@@ -108,7 +108,7 @@ class DemSystem {
   // contact history over).
   void build_neighbour_list();
   [[nodiscard]] std::vector<std::uint32_t> morton_order() const;
-  // Slot s takes what slot from[s] held (records, flags, forces).
+  // Slot s takes what slot from[s] held (records, flags, forces); the lists are not touched.
   void reorder(const std::vector<std::uint32_t>& from);
   void write_back();  // positions and velocities to the store, in the user's order
   // Positions stay within one period of the box between list builds, so the container's
@@ -148,7 +148,6 @@ class DemSystem {
   // ascending order of the row they come from.
   std::vector<ForceTorque> cross_;
   std::vector<std::uint32_t> slot_base_, reverse_offset_, reverse_;
-  std::vector<std::uint32_t> moved_from_;    // the last reorder's `from`, until the next build
   std::vector<ContactBatch> batches_;        // one per thread: contacts gathered for the law
   double time_ = 0.0;
   std::size_t steps_ = 0, rebuilds_ = 0;
