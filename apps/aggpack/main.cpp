@@ -140,6 +140,8 @@ int main(int argc, char** argv) {
   reproduce_cmd->add_flag("--quick", reproduce.quick, "One seed, DEM cut at 0.25 s, two sensitivity rows (about a minute)");
   reproduce_cmd->add_option("--seeds", reproduce.seeds, "Seeds per case (default 3; 1 with --quick)")
       ->check(CLI::PositiveNumber);
+  reproduce_cmd->add_flag("--settle-table2", reproduce.settle_table2,
+                          "Also settle seed 1 of every Table 2 mix by DEM at E/1000 (hours: see BENCHMARKS.md)");
   reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
   reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
   reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads (default: all cores)")

@@ -21,6 +21,8 @@ using aggpack::testing::slurp;
 using Result = aggpack::testing::CliResult;
 Result run(const std::string& args) { return aggpack::testing::run_cli(args); }
 
+std::string fmt_mix_dir(int mix) { return "table2_mix" + std::to_string(mix); }
+
 std::size_t count_of(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (auto at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
@@ -217,6 +219,66 @@ TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   EXPECT_EQ(count_of(html, "<table>"), 11u);
   EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 11u);
   EXPECT_NE(html.find("</html>"), std::string::npos);
+}
+
+// `--settle-table2` settles seed 1 of each Table 2 mix by DEM. On a copy of the shipped
+// scenarios with two of the mixes, shrunk to beds the CI can settle (sand cut at 0.1 in, a 4 in
+// container filled to 4 in, about 1.2e4 spheres), in the quick mode (DEM cut at 0.05 s).
+TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivityStudyDeposited) {
+  const fs::path dir = fs::temp_directory_path() / ("aggpack_settle_table2_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path examples = dir / "examples";
+  fs::create_directories(dir);
+  fs::copy(AGGPACK_EXAMPLES, examples, fs::copy_options::recursive);
+  {
+    // Mixes 3 (the sensitivity study's) and 4 only.
+    std::istringstream rows(slurp(examples / "fu2003_table2.csv"));
+    std::ofstream kept(examples / "fu2003_table2.csv");
+    for (std::string line; std::getline(rows, line);)
+      if (line.empty() || !std::isdigit(static_cast<unsigned char>(line[0])) || line[0] == '3' || line[0] == '4')
+        kept << line << '\n';
+  }
+  for (const char* mix : {"table2_mix3.toml", "table2_mix4.toml"}) {
+    std::string toml = slurp(examples / mix);
+    for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
+             {"side = \"5 in\"", "side = \"4 in\""},
+             {"fill_height = \"6 in\"", "fill_height = \"4 in\""},
+             {"d_min = \"0.04 in\"", "d_min = \"0.1 in\""},
+             {"box_sides = [\"1.6 in\", \"1.8 in\", \"2 in\", \"2.2 in\"]", "box_sides = [\"1.6 in\"]"}}) {
+      const auto at = toml.find(from);
+      ASSERT_NE(at, std::string::npos) << mix << ": " << from;
+      toml.replace(at, from.size(), to);
+    }
+    std::ofstream(examples / mix) << toml;
+  }
+  const fs::path out = dir / "out";
+  const Result r = run("reproduce --quick --settle-table2 --threads 2 --examples " + examples.string() + " --out " +
+                       out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("Table 2 mix 3 (with DEM)"), std::string::npos) << r.output;
+  const auto j = nlohmann::json::parse(slurp(out / "reproduce.json"));
+  ASSERT_EQ(j["table2"].size(), 2u);
+  for (const auto& mix : j["table2"]) {
+    // Seed 1 settled at the reduced stiffness, and its density agrees with its own run's summary.
+    ASSERT_EQ(mix["after_dynamics"]["values"].size(), 1u) << mix["mix"];
+    ASSERT_EQ(mix["dem"].size(), 1u);
+    EXPECT_EQ(mix["dem"][0]["seed"], 1);
+    EXPECT_GT(mix["dem"][0]["steps"].get<double>(), 1000.0);
+    EXPECT_LT(mix["dem"][0]["max_overlap_rel"].get<double>(), 0.1);
+    const auto summary = nlohmann::json::parse(
+        slurp(out / "runs" / fmt_mix_dir(mix["mix"].get<int>()) / "seed_1" / "summary.json"));
+    EXPECT_DOUBLE_EQ(summary["stages"]["dynamics"]["density"]["mean"].get<double>(),
+                     mix["after_dynamics"]["mean"].get<double>());
+    EXPECT_DOUBLE_EQ(summary["scenario"]["material"]["youngs_modulus_pa"].get<double>(), 5e7);
+    // A graded bed densifies as it settles.
+    EXPECT_GT(mix["after_dynamics"]["mean"].get<double>(), mix["after_deposition"]["values"][0].get<double>() + 0.005);
+  }
+  // The sensitivity study stays a comparison of deposited beds.
+  for (const auto& variant : j["sensitivity"]) EXPECT_TRUE(variant["after_dynamics"].is_null()) << variant["variant"];
+  const std::string md = slurp(out / "report.md");
+  EXPECT_NE(md.find("The DEM column: 2 beds settled after deposition (seed 1 of each mix)"), std::string::npos);
+  EXPECT_NE(md.find("Young's modulus of 0.05 GPa"), std::string::npos);
+  fs::remove_all(dir);
 }
 
 class Sweep : public ::testing::Test {
