@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <utility>
@@ -48,22 +49,37 @@ std::uint64_t spread_bits(std::uint64_t v) {
 DemSystem::DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
                      const DemSettings& settings, std::vector<std::uint8_t> frozen)
     : p_(particles), container_(container), model_(model), settings_(settings), frozen_(std::move(frozen)) {
-  if (particles.size() >= 0xFFFFFFF0u) throw InputError("the dynamics stage holds at most 4e9 particles");
   if (!(settings.time_step > 0.0)) throw InputError(fmt::format("time step {} s must be > 0", settings.time_step));
-  n_ = static_cast<std::uint32_t>(particles.size());
-  if (frozen_.empty()) frozen_.assign(n_, 0);
-  if (frozen_.size() != n_) throw std::invalid_argument("DemSystem: one frozen flag per particle");
-  threaded_ = n_ >= kThreadedFrom;
+  if (frozen_.empty()) frozen_.assign(particles.size(), 0);
+  if (frozen_.size() != particles.size()) throw std::invalid_argument("DemSystem: one frozen flag per particle");
   threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
-  double d_min = 0.0, d_sum = 0.0;
-  if (n_ > 0) d_min = 2.0 * *std::min_element(p_.radius.begin(), p_.radius.end());
-  skin_ = settings.skin > 0.0 ? settings.skin : 0.1 * d_min;
-  double solid = 0.0;
+  skin_ = settings.skin;
+  admit(frozen_);
+}
+
+void DemSystem::admit_new_particles() {
+  std::vector<std::uint8_t> frozen(frozen_);
+  frozen.resize(p_.size(), 0);
+  admit(frozen);
+}
+
+// Slots n_ .. store size take the store's particles of the same index; the grains already
+// in the system keep their slots (and their contact history) until the list build sorts them.
+void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
+  if (p_.size() >= 0xFFFFFFF0u) throw InputError("the dynamics stage holds at most 4e9 particles");
+  const std::uint32_t first = n_;
+  n_ = static_cast<std::uint32_t>(p_.size());
+  threaded_ = n_ >= kThreadedFrom;
   grain_.resize(n_);
-  for (std::uint32_t i = 0; i < n_; ++i) {
-    solid += std::pow(p_.radius[i], 3);
-    d_sum += 2.0 * p_.radius[i];
+  frozen_.resize(n_);
+  user_index_.resize(n_);
+  slot_of_.resize(n_);
+  load_.resize(n_);
+  for (std::uint32_t i = first; i < n_; ++i) {
+    frozen_[i] = frozen_by_index[i];
+    user_index_[i] = slot_of_[i] = i;
     Grain& g = grain_[i];
+    g = Grain{};
     g.position = p_.position[i];
     g.radius = p_.radius[i];
     g.mass = p_.mass[i];
@@ -77,16 +93,41 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
     g.angular_velocity = p_.angular_velocity[i];
     g.inverse_inertia = 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
   }
+  // Sizes of the whole system: the skin (unless set, 0.1 of the smallest diameter, kept once
+  // chosen), the Morton cell (the mean diameter) and the grid's expected bed volume.
+  double r_min = std::numeric_limits<double>::infinity(), d_sum = 0.0, solid = 0.0;
+  for (std::uint32_t i = 0; i < n_; ++i) {
+    r_min = std::min(r_min, grain_[i].radius);
+    d_sum += 2.0 * grain_[i].radius;
+    solid += std::pow(grain_[i].radius, 3);
+  }
+  if (!(skin_ > 0.0) && n_ > 0) skin_ = 0.1 * (2.0 * r_min);
   morton_cell_ = n_ > 0 ? d_sum / n_ : 1.0;
   grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
-  user_index_.resize(n_);
-  slot_of_.resize(n_);
-  for (std::uint32_t i = 0; i < n_; ++i) user_index_[i] = slot_of_[i] = i;
-  load_.assign(n_, {});
-  offset_.assign(n_ + 1, 0);
+  offset_.resize(std::max<std::size_t>(offset_.size(), first + 1), 0);
   batches_.resize(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1);
   build_neighbour_list();
-  compute_forces();
+  if (first == 0) {
+    compute_forces();
+    return;
+  }
+  // Forces are not recomputed: that would advance every contact's spring a second time in
+  // this step. The old grains' loads stand (the reorder carried them), and a new grain, which
+  // must touch nothing, feels its weight alone.
+  for (std::uint32_t s = 0; s < n_; ++s) {
+    const std::uint32_t i = user_index_[s];
+    if (i < first) continue;
+    load_[s] = {frozen_[s] ? Vec3{} : grain_[s].mass * settings_.gravity, {}};
+    for (std::uint32_t k = offset_[s]; k < offset_[s + 1]; ++k) {
+      const std::uint32_t j = other_[k];
+      Vec3 towards;
+      const double gap = j < n_ ? norm(separation(grain_[s].position, grain_[j].position)) - grain_[s].radius -
+                                      grain_[j].radius
+                                : container_.plane_distance(j - n_, grain_[s].position, towards) - grain_[s].radius;
+      if (gap < 0.0)
+        throw std::invalid_argument(fmt::format("DemSystem: admitted particle {} touches another particle or a wall", i));
+    }
+  }
 }
 
 std::vector<std::uint32_t> DemSystem::morton_order() const {
@@ -182,10 +223,14 @@ void DemSystem::build_neighbour_list() {
     cross_count[i + 1] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, n) - other.begin()) - cross_begin[i];
     // Carry each contact's tangential history over from the old list, where the pair sat in
     // the row of its lower old slot (as seen from there: the sign flips if the order did).
+    // Grains admitted since that list (old slots from listed_count_ on) have no history; the
+    // walls' entries were numbered after the old count.
     const std::uint32_t oi = from[i];
+    if (oi >= listed_count_) continue;
     for (std::uint32_t k = offset[i]; k < offset[i + 1]; ++k) {
       const std::uint32_t j = other[k];
-      const std::uint32_t oj = j < n ? from[j] : j;
+      const std::uint32_t oj = j < n ? from[j] : listed_count_ + (j - n);
+      if (j < n && oj >= listed_count_) continue;
       const std::uint32_t owner = std::min(oi, oj), partner = std::max(oi, oj);
       const auto first = other_.begin() + offset_[owner], last = other_.begin() + offset_[owner + 1];
       const auto found = std::lower_bound(first, last, partner);
@@ -218,6 +263,7 @@ void DemSystem::build_neighbour_list() {
   cross_.assign(cross_count[n], {});
   listed_position_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
+  listed_count_ = n;
 }
 
 std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t first_row, std::uint32_t block_end,

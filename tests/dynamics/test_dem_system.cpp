@@ -190,6 +190,79 @@ TEST(DemSystem, SphereOnASteepInclineSlidesWithCoulombFriction) {
   EXPECT_GT(result.slip, 0.01);
 }
 
+// A pour admits new particles into a running system: the others keep their state and their
+// contact history. Two spheres collide obliquely without gravity, the tangential spring of
+// their contact loaded in stick. Admitting a far-away sphere mid-contact must leave the
+// collision the same to the bit, while a system rebuilt from the store at that moment (the
+// spring history lost) changes its outcome.
+TEST(DemSystem, AdmittingParticlesKeepsTheOthersStateAndContactHistory) {
+  const double r = 0.01;
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  settings.gravity = {};
+  const Container box = Container::square(1.0, 1.0, false);
+  const ContactModel model = make_contact_model(material(0.5, 1.0));
+  const auto start = [&] {
+    ParticleStore store;
+    const Vec3 a{0.5, 0.5, 0.5}, offset{std::sqrt(4.0 * r * r - 0.36 * r * r), 0.6 * r, 0.0};  // just touching
+    store.add(a, r, kDensity);
+    store.add(a - offset, r, kDensity);
+    store.velocity[1] = {0.5, 0.0, 0.0};  // the contact lasts about 1e-3 s, 100 steps
+    return store;
+  };
+  const auto add_far_sphere = [&](ParticleStore& store) {
+    store.add({0.1, 0.1, 0.1}, 0.5 * r, kDensity);
+    store.velocity.back() = {0.0, 0.0, -0.3};
+  };
+  ParticleStore alone = start();
+  DemSystem reference(alone, box, model, settings);
+  reference.run(40);
+  const Vec3 mid_spin = alone.angular_velocity[0];
+  reference.run(160);
+  ASSERT_GT(norm(mid_spin), 0.1);  // the contact carries a tangential force midway
+
+  ParticleStore grown = start();
+  DemSystem dem(grown, box, model, settings);
+  dem.run(40);
+  add_far_sphere(grown);
+  dem.admit_new_particles();
+  EXPECT_EQ(dem.free_count(), 3u);
+  dem.run(160);
+  for (std::size_t i : {0, 1}) {
+    EXPECT_EQ(std::memcmp(&grown.position[i], &alone.position[i], sizeof(Vec3)), 0) << i;
+    EXPECT_EQ(std::memcmp(&grown.velocity[i], &alone.velocity[i], sizeof(Vec3)), 0) << i;
+    EXPECT_EQ(std::memcmp(&grown.angular_velocity[i], &alone.angular_velocity[i], sizeof(Vec3)), 0) << i;
+  }
+  EXPECT_NEAR(grown.position[2].z, 0.1 - 0.3 * 160 * settings.time_step, 1e-12);  // the new sphere moved on
+
+  // The same admission through a new system (no history): the collision ends otherwise.
+  ParticleStore restarted = start();
+  {
+    DemSystem first(restarted, box, model, settings);
+    first.run(40);
+  }
+  add_far_sphere(restarted);
+  DemSystem second(restarted, box, model, settings);
+  second.run(160);
+  EXPECT_GT(norm(restarted.angular_velocity[0] - alone.angular_velocity[0]), 1e-3 * norm(alone.angular_velocity[0]));
+}
+
+// An empty system can be poured into: it starts with no particles and admits them.
+TEST(DemSystem, AnEmptySystemAdmitsParticles) {
+  ParticleStore store;
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings);
+  dem.run(10);
+  EXPECT_EQ(dem.free_count(), 0u);
+  store.add({0.05, 0.05, 0.03}, 0.01, kDensity);
+  dem.admit_new_particles();
+  EXPECT_DOUBLE_EQ(dem.skin(), 0.1 * 0.02);
+  dem.run(40000);
+  const double expected = hertz_static_overlap(store.mass[0] * 9.81, kEStar, 0.01);
+  EXPECT_NEAR(0.01 - store.position[0].z, expected, 0.02 * expected);
+}
+
 // A cloud of overlapping spheres with random velocities and spins.
 ParticleStore random_cluster(std::size_t n, double overlap_fraction, std::uint64_t seed) {
   Rng rng(seed, 99);

@@ -22,7 +22,7 @@ class Rng {
 };
 
 // Named purposes, so that adding a stage never shifts another stage's numbers.
-enum class RngPurpose : std::uint64_t { Sizes = 1, Deposition = 2, Dynamics = 3, Analysis = 4 };
+enum class RngPurpose : std::uint64_t { Sizes = 1, Deposition = 2, Dynamics = 3, Analysis = 4, Pour = 5 };
 
 inline Rng make_rng(std::uint64_t seed, RngPurpose purpose) {
   return Rng(seed, static_cast<std::uint64_t>(purpose));

@@ -52,6 +52,11 @@ class DemSystem {
   // Advances n steps.
   void run(std::size_t steps);
 
+  // Takes in the particles appended to the store since the system last read it (a pour's
+  // new batch): free, with the store's positions and velocities. The others keep their state
+  // and their contact history; the neighbour list is rebuilt.
+  void admit_new_particles();
+
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
   [[nodiscard]] std::size_t rebuilds() const { return rebuilds_; }
@@ -93,6 +98,8 @@ class DemSystem {
     double inverse_inertia = 0.0;  // 1 / (2/5 m R^2), 0 when frozen
   };
 
+  // Reads the store's particles from slot n_ on (flags by store index), then rebuilds.
+  void admit(const std::vector<std::uint8_t>& frozen_by_index);
   template <class Law>
   void compute_forces(const Law& particle_law, const Law& wall_law);
   void compute_forces();
@@ -126,6 +133,7 @@ class DemSystem {
   double grid_bed_volume_ = 0.0;  // m^3, sizes the grid's sparse levels
   double morton_cell_ = 0.0;      // m, cell of the Morton sort: the mean diameter
   std::uint32_t n_ = 0;
+  std::uint32_t listed_count_ = 0;  // n_ when the neighbour list was last built
   bool threaded_ = false;  // OpenMP loops for beds large enough to gain from them
   int threads_ = 1;        // threads of those loops (the results do not depend on it)
   std::size_t free_count_ = 0;
