@@ -290,6 +290,17 @@ DepositionSettings read_deposition(const TomlSection& s, const Container& contai
   return d;
 }
 
+PourSettings read_pour(const TomlSection& s) {
+  s.allow_only({"solid_fraction", "batches", "velocity", "gap"});
+  PourSettings p;
+  p.solid_fraction = s.number("solid_fraction", {0.0, 0.3, true, false}).value_or(p.solid_fraction);
+  p.batches = static_cast<std::size_t>(s.integer("batches", 1, 10000).value_or(1));
+  p.velocity = s.number("velocity", {0.0, 100.0, false, false}).value_or(p.velocity);
+  p.gap = s.length("gap");
+  if (p.gap && !(*p.gap >= 0.0)) s.fail("gap", "expected a length >= 0 (from the bed's top to the insertion slab)");
+  return p;
+}
+
 AnalysisSettings read_analysis(const TomlSection& s) {
   s.allow_only({"box_sides", "placement", "contact_tolerance", "slice_thickness", "shell_thickness"});
   AnalysisSettings a;
@@ -326,20 +337,26 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
   Protocol p;
   std::optional<std::uint32_t> layers;        // every deposit step's `layers`
   std::vector<std::size_t> deposited_by;      // the entry that deposits each part (+1; 0: none yet)
-  std::size_t settles = 0;
+  std::size_t settles = 0, deposits = 0, pours = 0;
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const TomlSection& e = entries[i];
-    const std::string kind = e.required(e.choice("step", {"deposit", "settle", "analyse", "snapshot"}), "step",
-                                        "the kind of step: \"deposit\", \"settle\", \"analyse\" or \"snapshot\"");
-    if (kind == "deposit") {
+    const std::string kind =
+        e.required(e.choice("step", {"deposit", "pour", "settle", "analyse", "snapshot"}), "step",
+                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"analyse\" or \"snapshot\"");
+    if (kind == "deposit" || kind == "pour") {
       e.allow_only({"step", "layer", "layers"});
-      if (!sc.deposition)
+      if (kind == "deposit" && !sc.deposition)
         e.fail("step", "a deposit step places generated particles with the [deposition] settings; add a "
                        "[deposition] table (it may be empty) and give particles by size");
+      if (kind == "pour" && !sc.pour)
+        e.fail("step", "a pour step inserts generated particles with the [pour] settings; add a [pour] table "
+                       "(it may be empty) and give particles by size");
+      if (kind == "pour" && !sc.dynamics)
+        e.fail("step", "a pour falls through the DEM with the [dynamics] settings; add a [dynamics] table");
       DepositStep d;
       d.layers = static_cast<std::uint32_t>(e.integer("layers", 1, 10000).value_or(1));
       if (layers && *layers != d.layers)
-        e.fail("layers", fmt::format("every deposit step splits the drop sequence alike; an earlier one has "
+        e.fail("layers", fmt::format("every deposit and pour step splits the drop sequence alike; an earlier one has "
                                      "layers = {}, this one {}",
                                      *layers, d.layers));
       d.layer = static_cast<std::uint32_t>(e.integer("layer", 0, d.layers - 1).value_or(0));
@@ -349,7 +366,13 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
         e.fail("layer", fmt::format("part {} of {} is already deposited by {}", d.layer, d.layers,
                                     entries[deposited_by[d.layer] - 1].path()));
       deposited_by[d.layer] = i + 1;
-      p.steps.push_back({"deposition", d});
+      if (kind == "pour") {
+        p.steps.push_back({"pour", PourStep{d.layer, d.layers}});
+        ++pours;
+      } else {
+        p.steps.push_back({"deposition", d});
+        ++deposits;
+      }
     } else if (kind == "settle") {
       e.allow_only({"step", "layer"});
       if (!sc.dynamics) e.fail("step", "a settle step takes its settings from a [dynamics] table; add one");
@@ -380,14 +403,15 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
       p.steps.push_back({name, AnalyseStep{name}});
     }
   }
-  if (sc.deposition) {
-    if (deposited_by.empty()) root.fail("protocol", "[deposition] is given but no deposit step places the particles");
-    for (std::size_t k = 0; k < deposited_by.size(); ++k)
-      if (deposited_by[k] == 0)
-        root.fail("protocol", fmt::format("no deposit step places part {} of {}: each part is deposited once", k,
-                                          deposited_by.size()));
-  }
-  if (sc.dynamics && settles == 0) root.fail("protocol", "[dynamics] is given but no settle step uses it");
+  if (sc.deposition && deposits == 0)
+    root.fail("protocol", "[deposition] is given but no deposit step places the particles");
+  if (sc.pour && pours == 0) root.fail("protocol", "[pour] is given but no pour step places the particles");
+  for (std::size_t k = 0; k < deposited_by.size(); ++k)
+    if (deposited_by[k] == 0)
+      root.fail("protocol", fmt::format("no deposit or pour step places part {} of {}: each part is placed once", k,
+                                        deposited_by.size()));
+  if (sc.dynamics && settles == 0 && pours == 0)
+    root.fail("protocol", "[dynamics] is given but no settle or pour step uses it");
   return p;
 }
 
@@ -406,7 +430,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   for (const auto& assignment : overrides.set) apply_override(root, assignment, origin);
 
   const TomlSection s(root, "", origin);
-  s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition",
+  s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",
                 "dynamics", "protocol"});
 
   Scenario sc;
@@ -419,8 +443,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
                                 file.parent_path(), sc.container);
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d, sc.container);
+  if (const auto p = s.table("pour")) sc.pour = read_pour(*p);
   if (const auto d = s.table("dynamics")) {
     sc.dynamics = read_dynamics(*d, sc.material);
+    if (sc.dynamics->layers > 1 && sc.pour)
+      d->fail("layers", "a pour settles as it goes; to pour in parts, give [[protocol]] pour steps with layer and "
+                        "layers, and expected layers = 1 here");
     if (sc.dynamics->layers > 1 && !sc.deposition)
       d->fail("layers", "layer by layer settling deposits each layer, so it needs a [deposition] table; "
                         "expected layers = 1 for a bed read from a file");
@@ -452,14 +480,25 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
       throw InputError(fmt::format("{}: container.side: with periodic sides the side ({:.6g} m) must exceed four "
                                    "times the largest diameter ({:.6g} m)", file.string(), sc.container.length_x(),
                                    4.0 * d_max));
-    if (!sc.deposition)
+    if (!sc.deposition && !sc.pour)
       throw InputError(fmt::format("{}: particles are given by size but no stage places them; add a [deposition] "
-                                   "table (it may be empty) or give positions with particles.from", where));
+                                   "or a [pour] table (it may be empty) or give positions with particles.from",
+                                   where));
   } else if (sc.deposition) {
     s.table("deposition")->fail("method", "deposition places generated particles, but particles.from gives "
                                           "positions already; remove [deposition] or give sizes instead");
+  } else if (sc.pour) {
+    s.table("pour")->fail("solid_fraction", "a pour places generated particles, but particles.from gives "
+                                            "positions already; remove [pour] or give sizes instead");
   }
-  if (const auto steps = s.table_array("protocol")) sc.protocol = read_protocol(s, *steps, sc);
+  if (sc.pour && !sc.dynamics)
+    s.table("pour")->fail("batches", "a pour falls through the DEM with the [dynamics] settings; add a [dynamics] "
+                                     "table (it may be empty)");
+  const auto steps = s.table_array("protocol");
+  if (sc.pour && sc.deposition && !steps)
+    s.fail("pour", "with both [deposition] and [pour], give the order of their steps as [[protocol]] (for example "
+                   "deposit part 0 of 2, then pour part 1 of 2)");
+  if (steps) sc.protocol = read_protocol(s, *steps, sc);
   return sc;
 }
 
@@ -468,6 +507,9 @@ nlohmann::json to_json(const Protocol& protocol) {
   for (const Step& step : protocol.steps)
     std::visit(Overloaded{[&](const DepositStep& d) {
                             steps.push_back({{"step", "deposit"}, {"layer", d.layer}, {"layers", d.layers}});
+                          },
+                          [&](const PourStep& d) {
+                            steps.push_back({{"step", "pour"}, {"layer", d.layer}, {"layers", d.layers}});
                           },
                           [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
                           [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); },
@@ -534,6 +576,11 @@ nlohmann::json to_json(const Scenario& sc) {
                        {"max_events", d.max_events},
                        {"max_redrops", d.max_redrops},
                        {"fill_height_m", d.fill_height}};
+  }
+  if (sc.pour) {
+    const PourSettings& pour = *sc.pour;
+    j["pour"] = {{"solid_fraction", pour.solid_fraction}, {"batches", pour.batches}, {"velocity_m_s", pour.velocity}};
+    if (pour.gap) j["pour"]["gap_m"] = *pour.gap;
   }
   if (sc.dynamics) {
     const DynamicsStage& d = *sc.dynamics;

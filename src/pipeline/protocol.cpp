@@ -19,6 +19,10 @@ Protocol default_protocol(const Scenario& sc) {
     }
     return p;
   }
+  if (sc.pour) {  // the pour settles as it goes: [dynamics] gives its DEM settings
+    p.steps.push_back({"pour", PourStep{0, 1}});
+    return p;
+  }
   if (sc.deposition) {
     p.steps.push_back({"deposition", DepositStep{0, 1}});
     p.steps.push_back({"deposition", AnalyseStep{"deposition"}});

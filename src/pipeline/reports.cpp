@@ -86,6 +86,18 @@ nlohmann::json to_json(const DepositionReport& r) {
   return j;
 }
 
+nlohmann::json to_json(const PourReport& r) {
+  return {{"method", "random_gas"},
+          {"particles_poured", r.poured},
+          {"batches", r.batches},
+          {"solid_fraction", r.solid_fraction},
+          {"velocity_m_s", r.velocity},
+          {"gap_m", r.gap},
+          {"lowest_slab_bottom_m", r.lowest_slab_bottom},
+          {"highest_slab_top_m", r.highest_slab_top},
+          {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
+}
+
 namespace {
 // A run's last sample: what the bed was like when it stopped.
 nlohmann::json final_sample_json(const SettleSample& s) {

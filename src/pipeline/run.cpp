@@ -73,7 +73,7 @@ InitialBed initial_particles(const Scenario& sc) {
 
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
   Scenario sc = load_scenario(scenario_file, overrides);
-  if (sc.deposition) return sc;  // the boxes can only be checked against the deposited bed
+  if (sc.deposition || sc.pour) return sc;  // the boxes can only be checked against the bed once made
   const ParticleStore particles = initial_particles(sc).particles;
   analyze_packing(particles, sc.container, analysis_request(sc));  // box placement errors surface here
   return sc;
@@ -91,7 +91,7 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   report.wall_clock_s["input"] = seconds_since(t0);
 
   RunContext context{report, progress, controls.threads, {}, 0.0, std::nullopt};
-  if (sc.deposition) {
+  if (sc.deposition || sc.pour) {
     t0 = Clock::now();
     try {
       report.sizes = generate_sizes(sc.particles, sc.seed);

@@ -42,6 +42,15 @@ std::vector<std::string> RunReport::modelling_notes() const {
       notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed", to_string(d.stats.end),
                                   d.stats.placed, d.requested));
   }
+  for (const PourReport& p : r.pours)
+    notes.push_back(fmt::format(
+        "pour: {} particles inserted as a random non-overlapping gas at solid fraction {:g} in {} batch{} (slabs of "
+        "the container's footprint from {:.4g} m to {:.4g} m above the floor, {:.3g} m above the bed's top; the next "
+        "batch once the last has fallen out of its slab), released at {:g} m/s downward, then fallen and settled by "
+        "the DEM until quiet: the packing depends on these choices (drop height, fraction, batches) as a poured lab "
+        "sample depends on how it is poured",
+        p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,
+        p.highest_slab_top - sc.container.bounds.lo.z, p.gap, p.velocity));
   if (r.sizes)
     for (const std::string& note : r.sizes->notes) notes.push_back(note);
   if (sc.particles.file && r.largest_boundary_overlap > 0.0)
@@ -89,6 +98,11 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   if (deposition) {
     stages["deposition"] = to_json(*deposition);
     wall_clock["deposition"] = deposition->wall_clock_s;
+  }
+  if (!pours.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const PourReport& p : pours) all.push_back(to_json(p));
+    stages["pour"] = pours.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
   }
   for (const auto& [name, analysis] : analyses) {
     add_analysis(stages[name], analysis.report);
@@ -151,6 +165,10 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
                    d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
                    d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
   }
+  for (const PourReport& p : pours)
+    fmt::format_to(o, "  pour: {} particles as a gas at {:g} in {} batch{}, {:.3g}-{:.3g} m above the floor\n", p.poured,
+                   p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,
+                   p.highest_slab_top - sc.container.bounds.lo.z);
   if (dynamics) {
     const SettlingReport& d = *dynamics;
     const SettlingRun& last = d.runs.back();

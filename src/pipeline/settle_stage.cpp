@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include <fmt/format.h>
 
@@ -11,6 +12,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 
 namespace aggpack {
@@ -28,6 +30,108 @@ std::string TimeSeries::csv() const {
 }
 
 
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// What every DEM run of a scenario shares: the contact model, the settings with the time
+// step for the smallest sphere, the box-density probe and the time series' sink.
+struct DemSetup {
+  ContactModel model;
+  DemSettings settings;
+  double rayleigh = 0.0;
+};
+
+DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
+  const DynamicsStage& stage = *sc.dynamics;
+  if (!std::isfinite(r_min))
+    throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle", sc.file.string()));
+  DemSetup setup{[&] {
+                   try {
+                     return make_contact_model(sc.material.contact);
+                   } catch (const InputError& e) {
+                     throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
+                   }
+                 }(),
+                 stage.dem, stable_time_scale(sc.material.contact, r_min, sc.material.density)};
+  setup.settings.time_step = stage.time_step.step(setup.rayleigh);
+  setup.settings.threads = threads;
+  return setup;
+}
+
+DensityProbe box_density(const Scenario& sc) {
+  AnalysisRequest request;
+  request.cube_sides = sc.analysis.box_sides;
+  return [&sc, request](const ParticleStore& store) {
+    try {
+      const BedGeometry bed = measure_bed(store, sc.container);
+      return measure_density(store, sc.container, virtual_boxes(sc.container, bed, request)).mean;
+    } catch (const InputError&) {
+      return std::numeric_limits<double>::quiet_NaN();  // the boxes do not fit the bed yet
+    }
+  };
+}
+
+// Appends each sample to the series and shows it on the progress line.
+class SampleRecorder {
+ public:
+  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress)
+      : stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet) {}
+  // `time` is the series' time of the sample; `phase` names what the DEM is doing.
+  void operator()(double time, const SettleSample& s, const std::string& phase) {
+    series_.samples.push_back({time, layer_, s.density, s.translational_per_particle_mgd,
+                               s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
+                               s.contacts.max_overlap, s.contacts.coordination});
+    forecast_.add(s);
+    // The forecast is a fit over the samples so far: only worth it for a line that will show.
+    if (!progress_.due()) return;
+    const std::optional<double> end = forecast_.expected_end();
+    const QuietCriterion& criterion = stage_.quiet;
+    progress_.update({phase, fmt::format("{:.3f} s simulated", s.time),
+                      fmt::format("density {}", std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density)),
+                      fmt::format("kinetic energy {:.1e} m g d (quiet below {:.0e})", s.translational_per_particle_mgd,
+                                  criterion.kinetic_fraction),
+                      fmt::format("max_time {:g} s", criterion.max_time)},
+                     s.time / end.value_or(criterion.max_time),
+                     end ? Progress::TimeLeft::Estimate : Progress::TimeLeft::AtMost);
+  }
+
+ private:
+  const DynamicsStage& stage_;
+  std::uint32_t layer_;
+  TimeSeries& series_;
+  Progress& progress_;
+  QuietForecast forecast_;
+};
+
+SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scenario& sc, std::uint32_t layer,
+                         const SettleResult& result, std::size_t steps, double simulated, Clock::time_point t0,
+                         const ParticleStore& particles) {
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  SettlingRun run;
+  run.layer = layer;
+  run.particles_settled = dem.free_count();
+  run.particles_frozen = particles.size() - dem.free_count();
+  run.ended_by = result.end;
+  run.simulated_time = simulated;
+  run.steps = steps;
+  run.time_step = setup.settings.time_step;
+  run.rayleigh_time = setup.rayleigh;
+  run.time_step_from_scenario = sc.dynamics->time_step.fixed.has_value();
+  run.skin = dem.skin();
+  run.neighbour_list_builds = dem.rebuilds();
+  run.last = result.last;
+  run.wall_clock_s = seconds;
+  run.particle_steps_per_second =
+      seconds > 0 ? static_cast<double>(dem.free_count()) * static_cast<double>(steps) / seconds : 0.0;
+  run.threads = dem.threads();
+  run.memory_bytes_per_particle =
+      static_cast<double>(dem.memory_bytes()) / static_cast<double>(std::max<std::size_t>(1, particles.size()));
+  return run;
+}
+
+}  // namespace
+
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
                        int threads, TimeSeries& series, Progress& progress) {
   const DynamicsStage& stage = *sc.dynamics;
@@ -37,78 +141,110 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   double r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (!frozen[i]) r_min = std::min(r_min, particles.radius[i]);
-  if (!std::isfinite(r_min)) throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle",
-                                                          sc.file.string()));
+  const DemSetup setup = dem_setup(sc, r_min, threads);
 
-  const ContactModel model = [&] {
-    try {
-      return make_contact_model(sc.material.contact);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
-    }
-  }();
-  const double rayleigh = stable_time_scale(sc.material.contact, r_min, sc.material.density);
-  DemSettings settings = stage.dem;
-  settings.time_step = stage.time_step.step(rayleigh);
-  settings.threads = threads;
-
-  AnalysisRequest request;
-  request.cube_sides = sc.analysis.box_sides;
-  const auto density = [&](const ParticleStore& store) {
-    try {
-      const BedGeometry bed = measure_bed(store, sc.container);
-      return measure_density(store, sc.container, virtual_boxes(sc.container, bed, request)).mean;
-    } catch (const InputError&) {
-      return std::numeric_limits<double>::quiet_NaN();  // the boxes do not fit the bed yet
-    }
-  };
-  const QuietCriterion& criterion = stage.quiet;
-
-  const auto t0 = std::chrono::steady_clock::now();
-  DemSystem dem(particles, sc.container, model, settings, std::move(frozen));
-  const std::size_t free_count = dem.free_count();
+  const auto t0 = Clock::now();
+  DemSystem dem(particles, sc.container, setup.model, setup.settings, std::move(frozen));
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
-  QuietForecast forecast(criterion);
-  const auto record = [&](const SettleSample& s) {
-    series.samples.push_back({time_offset + s.time, layer, s.density, s.translational_per_particle_mgd,
-                              s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
-                              s.contacts.max_overlap, s.contacts.coordination});
-    forecast.add(s);
-    // The forecast is a fit over the samples so far: only worth it for a line that will show.
-    if (!progress.due()) return;
-    const std::optional<double> end = forecast.expected_end();
-    progress.update({fmt::format("{:.3f} s simulated", s.time),
-                     fmt::format("density {}", std::isnan(s.density) ? std::string("-") : fmt::format("{:.4f}", s.density)),
-                     fmt::format("kinetic energy {:.1e} m g d (quiet below {:.0e})", s.translational_per_particle_mgd,
-                                 criterion.kinetic_fraction),
-                     fmt::format("max_time {:g} s", stage.quiet.max_time)},
-                    s.time / end.value_or(stage.quiet.max_time),
-                    end ? Progress::TimeLeft::Estimate : Progress::TimeLeft::AtMost);
-  };
-  const SettleResult result = settle(dem, particles, criterion, density, record);
+  SampleRecorder recorder(sc, layer, series, progress);
+  const SettleResult result = settle(dem, particles, stage.quiet, box_density(sc), [&](const SettleSample& s) {
+    recorder(time_offset + s.time, s, "settling");
+  });
   dem.finish();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return settling_run(dem, setup, sc, layer, result, result.steps, result.simulated_time, t0, particles);
+}
 
-  SettlingRun run;
-  run.layer = layer;
-  run.particles_settled = free_count;
-  run.particles_frozen = particles.size() - free_count;
-  run.ended_by = result.end;
-  run.simulated_time = result.simulated_time;
-  run.steps = result.steps;
-  run.time_step = settings.time_step;
-  run.rayleigh_time = rayleigh;
-  run.time_step_from_scenario = stage.time_step.fixed.has_value();
-  run.skin = dem.skin();
-  run.neighbour_list_builds = result.rebuilds;
-  run.last = result.last;
-  run.wall_clock_s = seconds;
-  run.particle_steps_per_second =
-      seconds > 0 ? static_cast<double>(free_count) * static_cast<double>(result.steps) / seconds : 0.0;
-  run.threads = dem.threads();
-  run.memory_bytes_per_particle =
-      static_cast<double>(dem.memory_bytes()) / static_cast<double>(std::max<std::size_t>(1, particles.size()));
-  return run;
+PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
+                 double time_offset, int threads, TimeSeries& series, Progress& progress) {
+  const PourSettings& pour = *sc.pour;
+  const DynamicsStage& stage = *sc.dynamics;
+  double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
+  for (const double r : particles.radius) r_min = std::min(r_min, r);
+  for (const double r : radii) r_min = std::min(r_min, r), r_max = std::max(r_max, r);
+  DemSetup setup = dem_setup(sc, r_min, threads);
+  // The skin is chosen for the smallest sphere still to come, not the smallest in the bed.
+  if (!(setup.settings.skin > 0.0)) setup.settings.skin = 0.1 * (2.0 * r_min);
+
+  PourRun out;
+  PourReport& report = out.pour;
+  report.poured = radii.size();
+  report.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
+  report.solid_fraction = pour.solid_fraction;
+  report.velocity = pour.velocity;
+  report.gap = pour.gap.value_or(2.0 * r_max);
+  report.lowest_slab_bottom = std::numeric_limits<double>::infinity();
+
+  const auto t0 = Clock::now();
+  DemSystem dem(particles, sc.container, setup.model, setup.settings);
+  progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
+  SampleRecorder recorder(sc, part, series, progress);
+  Rng rng = pour_stream(sc.seed, part);
+  const double g = norm(setup.settings.gravity);
+  const std::size_t steps_per_sample = std::max<std::size_t>(
+      1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / setup.settings.time_step)));
+  const auto top_of_bed = [&] {
+    double top = sc.container.bounds.lo.z;
+    for (std::size_t i = 0; i < particles.size(); ++i) top = std::max(top, particles.position[i].z + particles.radius[i]);
+    return top;
+  };
+  double weight_energy = 0.0;  // sum of m g d over the particles in the system, J
+  const auto sample = [&] {
+    SettleSample s;
+    s.time = dem.time();
+    s.density = std::numeric_limits<double>::quiet_NaN();  // the bed is still being built
+    s.kinetic_energy = dem.kinetic_energy();
+    s.translational_per_particle_mgd = weight_energy > 0.0 ? s.kinetic_energy.translational / weight_energy : 0.0;
+    s.contacts = dem.contact_statistics();
+    recorder(time_offset + s.time, s, fmt::format("pouring, {} of {} in", particles.size(), radii.size()));
+  };
+  for (std::size_t b = 0; b < report.batches; ++b) {
+    const std::size_t begin = radii.size() * b / report.batches, end = radii.size() * (b + 1) / report.batches;
+    const std::span<const double> batch = radii.subspan(begin, end - begin);
+    double solid = 0.0;
+    for (const double r : batch) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const auto t_insert = Clock::now();
+    const InsertionRegion slab = insertion_region(sc.container, top_of_bed() + report.gap, solid, pour.solid_fraction);
+    std::vector<Vec3> at;
+    try {
+      at = random_gas(sc.container, slab, batch, rng);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
+    }
+    for (std::size_t k = 0; k < batch.size(); ++k) {
+      particles.add(at[k], batch[k], sc.material.density, part);
+      particles.velocity.back() = {0.0, 0.0, -pour.velocity};
+      weight_energy += particles.mass.back() * g * 2.0 * batch[k];
+    }
+    report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
+    report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
+    report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
+    dem.admit_new_particles();
+    if (b + 1 == report.batches) break;
+    // The next batch comes once this one has fallen out of its slab (or at max_time).
+    while (dem.time() < stage.quiet.max_time) {
+      dem.run(steps_per_sample);
+      sample();
+      double highest = -std::numeric_limits<double>::infinity();
+      for (std::size_t i = particles.size() - batch.size(); i < particles.size(); ++i)
+        highest = std::max(highest, particles.position[i].z + particles.radius[i]);
+      if (highest < slab.bottom) break;
+    }
+  }
+  const double poured_at = dem.time();
+  const std::size_t pour_steps = dem.steps();
+  QuietCriterion rest = stage.quiet;
+  rest.max_time = std::max(rest.sample_interval, stage.quiet.max_time - poured_at);
+  const SettleResult result = settle(dem, particles, rest, box_density(sc), [&](const SettleSample& s) {
+    SettleSample shifted = s;
+    shifted.time += poured_at;
+    recorder(time_offset + shifted.time, shifted, "settling");
+  });
+  dem.finish();
+  SettleResult whole = result;
+  whole.last.time += poured_at;
+  out.settling = settling_run(dem, setup, sc, part, whole, pour_steps + result.steps, poured_at + result.simulated_time,
+                              t0, particles);
+  return out;
 }
 
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report) {

@@ -68,6 +68,20 @@ void run_step(const DepositStep& step, RunContext& ctx) {
   if (layer.stats.end != DepositionEnd::AllPlaced) ctx.deposition_stopped_at = step.layer;
 }
 
+void run_step(const PourStep& step, RunContext& ctx) {
+  if (ctx.deposition_stopped_at) return;  // an earlier part could not be placed: the bed is full
+  RunReport& r = ctx.report;
+  const std::size_t n = ctx.radii.size();
+  const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
+  const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
+  const PourRun run = pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, ctx.threads, r.series,
+                               ctx.progress);
+  ctx.simulated_time += run.settling.simulated_time;
+  if (!r.dynamics) r.dynamics.emplace();
+  r.dynamics->runs.push_back(run.settling);
+  r.pours.push_back(run.pour);
+}
+
 void run_step(const SettleStep& step, RunContext& ctx) {
   if (ctx.deposition_stopped_at && step.layer > *ctx.deposition_stopped_at) return;  // that layer was never deposited
   RunReport& r = ctx.report;

@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -8,6 +9,15 @@
 #include "aggpack/core/vec3.hpp"
 
 namespace aggpack {
+
+// A pour ([pour]): the spheres are inserted as a random gas above the bed, in batches, and
+// fall through the DEM until the bed is quiet.
+struct PourSettings {
+  double solid_fraction = 0.2;    // of the insertion slab
+  std::size_t batches = 1;        // equal parts by count; the next is inserted once the last has fallen
+  double velocity = 0.0;          // m/s, initial downward speed
+  std::optional<double> gap;      // m, from the bed's top to the slab's bottom; default one largest diameter
+};
 
 // Where a pour puts its spheres: a slab of the container's footprint between two heights.
 struct InsertionRegion {

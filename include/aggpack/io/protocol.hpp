@@ -17,6 +17,12 @@ struct DepositStep {
   std::uint32_t layer = 0;
   std::uint32_t layers = 1;
 };
+// A pour of part `layer` of `layers` equal parts of the drop sequence ([pour] settings): a
+// random gas above the bed, falling through the DEM ([dynamics] settings) until quiet.
+struct PourStep {
+  std::uint32_t layer = 0;
+  std::uint32_t layers = 1;
+};
 // DEM settling of the bed, the particles of the layers below `layer` frozen.
 struct SettleStep {
   std::uint32_t layer = 0;
@@ -30,7 +36,7 @@ struct AnalyseStep {
 struct SnapshotStep {
   std::string name;
 };
-using StepKind = std::variant<DepositStep, SettleStep, AnalyseStep, SnapshotStep>;
+using StepKind = std::variant<DepositStep, PourStep, SettleStep, AnalyseStep, SnapshotStep>;
 
 struct Step {
   std::string stage;  // the stage it belongs to: what --stop-after names

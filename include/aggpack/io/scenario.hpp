@@ -9,6 +9,7 @@
 
 #include "aggpack/core/container.hpp"
 #include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
 #include "aggpack/dynamics/settle.hpp"
@@ -86,6 +87,7 @@ struct Scenario {
   ParticleSource particles;
   Material material;
   std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)
+  std::optional<PourSettings> pour;              // [pour]
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   OutputSettings output;

@@ -8,7 +8,7 @@ namespace aggpack {
 
 // The protocol today's [deposition] and [dynamics] tables describe: deposit, analyse,
 // settle; or, with dynamics.layers = N, deposit and settle each layer in turn (the paper's
-// method); or settle a bed read from a file.
+// method); or settle a bed read from a file; or, with [pour], pour (which settles as it goes).
 Protocol default_protocol(const Scenario& scenario);
 
 // The scenario's own [[protocol]] when it has one, else the default above.

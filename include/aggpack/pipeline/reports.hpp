@@ -24,6 +24,18 @@ struct DepositionReport {
   DepositionReport& operator+=(const DepositionReport& layer);
 };
 
+// A pour step: what was inserted, where, and how long the insertion took.
+struct PourReport {
+  std::size_t poured = 0;
+  std::size_t batches = 0;
+  double solid_fraction = 0.0;          // of each insertion slab
+  double velocity = 0.0;                // m/s downward at insertion
+  double gap = 0.0;                     // m, from the bed's top to a slab's bottom
+  double lowest_slab_bottom = 0.0, highest_slab_top = 0.0;  // m, over the batches
+  double insertion_wall_clock_s = 0.0;  // placing the gas (the DEM is in the settling run)
+};
+nlohmann::json to_json(const PourReport& report);
+
 // One settling run (a layer, or the whole bed).
 struct SettlingRun {
   std::uint32_t layer = 0;

@@ -29,7 +29,8 @@ struct RunReport {
   std::optional<GeneratedSizes> sizes;          // when the run generated particles
   double largest_boundary_overlap = 0.0;        // of a particle file's spheres, / r
   std::optional<DepositionReport> deposition;   // all deposit steps added up
-  std::optional<SettlingReport> dynamics;       // every settle step's run
+  std::vector<PourReport> pours;                // every pour step's insertion (its DEM run is in dynamics)
+  std::optional<SettlingReport> dynamics;       // every settle and pour step's DEM run
   std::map<std::string, StageAnalysis> analyses;  // by the analyse step's report_as
   PackingReport final;                            // the bed at the end
   bool dynamics_skipped = false;                  // [dynamics] given, but --stop-after ended the run before it

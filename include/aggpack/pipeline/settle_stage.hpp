@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,17 @@ struct TimeSeries {
 // threads (0: OpenMP's default). Returns what the run did (ended_by, steps, time step, ...).
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
                        int threads, TimeSeries& series, Progress& progress);
+
+// Pours `radii` (part `part` of the drop sequence) onto the bed with the scenario's [pour],
+// [dynamics] and [material]: each batch is inserted as a random gas in a slab above the bed's
+// top, the next once the last has fallen out of its slab, then the whole bed falls until quiet.
+// The DEM grows as the batches come in; the contact history is kept throughout.
+struct PourRun {
+  PourReport pour;
+  SettlingRun settling;
+};
+PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
+                 double time_offset, int threads, TimeSeries& series, Progress& progress);
 
 // Modelling notes for the dynamics stage: the law, the stiffness, what ended each run.
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report);

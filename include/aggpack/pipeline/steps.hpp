@@ -21,6 +21,7 @@ struct RunContext {
 
 // One adapter per step kind, with one signature; each is the only code that knows its kind.
 void run_step(const DepositStep& step, RunContext& context);
+void run_step(const PourStep& step, RunContext& context);
 void run_step(const SettleStep& step, RunContext& context);
 void run_step(const AnalyseStep& step, RunContext& context);
 void run_step(const SnapshotStep& step, RunContext& context);
