@@ -46,7 +46,7 @@ std::vector<std::string> RunReport::modelling_notes() const {
     notes.push_back(fmt::format(
         "pour: {} particles inserted as a random non-overlapping gas at solid fraction {:g} in {} batch{} (slabs of "
         "the container's footprint from {:.4g} m to {:.4g} m above the floor, {:.3g} m above the bed's top; the next "
-        "batch once the last has fallen out of its slab), released at {:g} m/s downward, then fallen and settled by "
+        "batch once the last has had the time to fall its slab's height), released at {:g} m/s downward, then fallen and settled by "
         "the DEM until quiet: the packing depends on these choices (drop height, fraction, batches) as a poured lab "
         "sample depends on how it is poured",
         p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,

@@ -220,14 +220,14 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
     report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
     dem.admit_new_particles();
     if (b + 1 == report.batches) break;
-    // The next batch comes once this one has fallen out of its slab (or at max_time).
-    while (dem.time() < stage.quiet.max_time) {
+    // The next batch comes once this one has fallen through its slab's height in free fall
+    // (as LAMMPS's fix pour times its insertions), or at max_time.
+    const double height = slab.top - slab.bottom;
+    const double fall = (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * height) - pour.velocity) / g;
+    const double next = dem.time() + fall;
+    while (dem.time() < std::min(next, stage.quiet.max_time)) {
       dem.run(steps_per_sample);
       sample();
-      double highest = -std::numeric_limits<double>::infinity();
-      for (std::size_t i = particles.size() - batch.size(); i < particles.size(); ++i)
-        highest = std::max(highest, particles.position[i].z + particles.radius[i]);
-      if (highest < slab.bottom) break;
     }
   }
   const double poured_at = dem.time();

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -439,16 +440,99 @@ TEST_F(Cli, ProtocolErrorsNameTheStepAndTheKey) {
       {base + "[[protocol]]\nstep = \"pour\"\n", "protocol[0].step"},
       {base + "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"settle\"\n",
        "protocol[1].step: a settle step takes its settings from a [dynamics] table"},
-      {base + "[[protocol]]\nstep = \"deposit\"\nlayers = 2\n", "no deposit step places part 1 of 2"},
+      {base + "[[protocol]]\nstep = \"deposit\"\nlayers = 2\n", "no deposit or pour step places part 1 of 2"},
       {base + "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"deposit\"\n",
        "protocol[1].layer: part 0 of 1 is already deposited by protocol[0]"},
       {base + "[[protocol]]\nstep = \"deposit\"\nlayers = 2\n[[protocol]]\nstep = \"deposit\"\nlayer = 1\n",
-       "protocol[1].layers: every deposit step splits the drop sequence alike"},
+       "protocol[1].layers: every deposit and pour step splits the drop sequence alike"},
       {base + "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"analyse\"\n", "protocol[1].name"},
       {base + "[[protocol]]\nstep = \"deposit\"\nlayer = 3\n", "protocol[0].layer"},
       {base + "[[protocol]]\nstep = \"deposit\"\nfrozen = true\n", "protocol[0].frozen"},
       {base + "[dynamics]\nlayers = 2\n[[protocol]]\nstep = \"deposit\"\n", "dynamics.layers: with [[protocol]]"},
       {base + "[[protocol]]\nstep = \"analyse\"\nname = \"x\"\n", "no deposit step places the particles"},
+  };
+  for (const auto& [text, expected] : cases) {
+    std::ofstream(dir_ / "bad.toml") << text;
+    const Result r = run("run " + (dir_ / "bad.toml").string() + " --out " + (dir_ / "bad").string());
+    EXPECT_EQ(r.exit_code, 2) << text << "\n" << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "bad"));
+  }
+}
+
+// A pour inserts the spheres as a random gas above the floor; they fall through the DEM
+// until quiet. Every sphere ends inside the container, the count is exact, a pour onto a
+// deposited bed works, and the result is the same bytes for one and two threads.
+TEST_F(Cli, PoursAGasThatFallsIntoABed) {
+  const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
+                           "[analysis]\nbox_sides = [0.02]\n";
+  const auto run_text = [&](const std::string& name, const std::string& text, const std::string& extra = "") {
+    std::ofstream(dir_ / (name + ".toml")) << text;
+    const Result r = run("run " + (dir_ / (name + ".toml")).string() + " --quiet --out " + (dir_ / name).string() + extra);
+    EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.output;
+    return nlohmann::json::parse(std::ifstream(dir_ / name / "summary.json"));
+  };
+  const auto poured = run_text("poured", base + "[pour]\nbatches = 3\nvelocity = 0.5\n", " --threads 1");
+  EXPECT_EQ(poured["particle_count"], 300);
+  const auto& pour = poured["stages"]["pour"];
+  EXPECT_EQ(pour["particles_poured"], 300);
+  EXPECT_EQ(pour["batches"], 3);
+  EXPECT_EQ(pour["solid_fraction"], 0.2);
+  EXPECT_GT(pour["highest_slab_top_m"].get<double>(), pour["lowest_slab_bottom_m"].get<double>() + 0.05);
+  EXPECT_EQ(poured["stages"]["dynamics"]["ended_by"], "quiet");
+  EXPECT_EQ(poured["scenario"]["pour"]["batches"], 3);
+  bool noted = false;
+  for (const auto& note : poured["modelling_notes"]) noted |= note.get<std::string>().rfind("pour: 300 particles", 0) == 0;
+  EXPECT_TRUE(noted) << poured["modelling_notes"];
+  // A random loose to poured packing of monosized spheres in a narrow box (walls lower it).
+  EXPECT_GT(poured["density"]["mean"].get<double>(), 0.50);
+  EXPECT_LT(poured["density"]["mean"].get<double>(), 0.66);
+  // Every sphere inside the walls and on or above the floor (a Hertz overlap at most).
+  std::istringstream rows(slurp(dir_ / "poured" / "particles.csv"));
+  std::string line;
+  std::getline(rows, line);
+  std::size_t count = 0;
+  for (; std::getline(rows, line); ++count) {
+    double v[4];
+    ASSERT_EQ(std::sscanf(line.c_str(), "%*d,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3]), 4) << line;
+    const double x = v[0], y = v[1], z = v[2], r = v[3];
+    EXPECT_GT(x - r, -5e-5);  // max overlap 2.6e-3 of a diameter: 2.6e-5 m
+    EXPECT_LT(x + r, 0.06 + 5e-5);
+    EXPECT_GT(y - r, -5e-5);
+    EXPECT_LT(y + r, 0.06 + 5e-5);
+    EXPECT_GT(z - r, -5e-5);
+    EXPECT_LT(z, 0.15);  // fallen: 300 spheres at about 0.6 fill 0.08 m
+  }
+  EXPECT_EQ(count, 300u);
+  EXPECT_TRUE(fs::exists(dir_ / "poured" / "timeseries.csv"));
+  run_text("poured_2", base + "[pour]\nbatches = 3\nvelocity = 0.5\n", " --threads 2");
+  EXPECT_EQ(slurp(dir_ / "poured" / "particles.csv"), slurp(dir_ / "poured_2" / "particles.csv"));
+  EXPECT_EQ(slurp(dir_ / "poured" / "timeseries.csv"), slurp(dir_ / "poured_2" / "timeseries.csv"));
+  // Onto a deposited bed: half deposited, half poured on top.
+  const auto both = run_text("both", base + "[deposition]\n[pour]\n"
+                                            "[[protocol]]\nstep = \"deposit\"\nlayer = 0\nlayers = 2\n"
+                                            "[[protocol]]\nstep = \"analyse\"\nname = \"deposition\"\n"
+                                            "[[protocol]]\nstep = \"pour\"\nlayer = 1\nlayers = 2\n");
+  EXPECT_EQ(both["particle_count"], 300);
+  EXPECT_EQ(both["stages"]["deposition"]["particles_placed"], 150);
+  EXPECT_EQ(both["stages"]["pour"]["particles_poured"], 150);
+  EXPECT_GT(both["stages"]["pour"]["lowest_slab_bottom_m"].get<double>(), 0.03);  // above the deposited half
+}
+
+TEST_F(Cli, PourErrorsNameTheKey) {
+  const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
+                           "[analysis]\nbox_sides = [0.02]\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {base + "[dynamics]\n[pour]\nsolid_fraction = 0.5\n", "pour.solid_fraction"},
+      {base + "[dynamics]\n[pour]\nbatches = 0\n", "pour.batches"},
+      {base + "[dynamics]\n[pour]\nvelocity = -1\n", "pour.velocity"},
+      {base + "[dynamics]\n[pour]\nspeed = 1\n", "pour.speed"},
+      {base + "[pour]\n", "pour.batches: a pour falls through the DEM with the [dynamics] settings"},
+      {base + "[dynamics]\n[pour]\n[deposition]\n", "give the order of their steps as [[protocol]]"},
+      {base + "[dynamics]\nlayers = 2\n[pour]\n", "dynamics.layers: a pour settles as it goes"},
+      {base + "[deposition]\n[[protocol]]\nstep = \"pour\"\n", "protocol[0].step: a pour step inserts"},
+      {base + "[dynamics]\n[pour]\n[[protocol]]\nstep = \"settle\"\n", "no pour step places the particles"},
   };
   for (const auto& [text, expected] : cases) {
     std::ofstream(dir_ / "bad.toml") << text;

@@ -14,7 +14,7 @@ namespace aggpack {
 // fall through the DEM until the bed is quiet.
 struct PourSettings {
   double solid_fraction = 0.2;    // of the insertion slab
-  std::size_t batches = 1;        // equal parts by count; the next is inserted once the last has fallen
+  std::size_t batches = 1;        // equal parts by count; the next once the last has fallen its slab's height
   double velocity = 0.0;          // m/s, initial downward speed
   std::optional<double> gap;      // m, from the bed's top to the slab's bottom; default one largest diameter
 };

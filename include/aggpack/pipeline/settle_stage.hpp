@@ -35,7 +35,8 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
 
 // Pours `radii` (part `part` of the drop sequence) onto the bed with the scenario's [pour],
 // [dynamics] and [material]: each batch is inserted as a random gas in a slab above the bed's
-// top, the next once the last has fallen out of its slab, then the whole bed falls until quiet.
+// top, the next once the last has had the time to fall through its slab's height, then the
+// whole bed falls until quiet.
 // The DEM grows as the batches come in; the contact history is kept throughout.
 struct PourRun {
   PourReport pour;
