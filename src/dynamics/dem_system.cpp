@@ -54,7 +54,20 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   if (frozen_.size() != particles.size()) throw std::invalid_argument("DemSystem: one frozen flag per particle");
   threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
   skin_ = settings.skin;
+  rest_floor_ = container_.bounds.lo.z;
+  rest_top_ = container_.bounds.hi.z;
   admit(frozen_);
+}
+
+void DemSystem::set_container_motion(const ContainerMotion& motion) {
+  motion_ = motion;
+  place_container(time_);
+}
+
+void DemSystem::place_container(double t) {
+  const double offset = motion_.offset(t);
+  container_.bounds.lo.z = rest_floor_ + offset;
+  container_.bounds.hi.z = rest_top_ + offset;
 }
 
 void DemSystem::admit_new_particles() {
@@ -264,6 +277,7 @@ void DemSystem::build_neighbour_list() {
   listed_position_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
   listed_count_ = n;
+  listed_offset_ = container_offset();
 }
 
 std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t first_row, std::uint32_t block_end,
@@ -387,7 +401,7 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
       }
       kin.overlap = ri - distance;
       // The wall's own motion (at rest today; a tapped container moves) enters the contact.
-      kin.velocity = vi - container_.plane_velocity(wall, time_) + cross(ri * wi, kin.normal);
+      kin.velocity = vi - Container::plane_velocity(wall, motion_, force_time_) + cross(ri * wi, kin.normal);
       kin.spin = wi;
       kin.r_eff = ri;
       kin.m_eff = mi;
@@ -459,9 +473,11 @@ void DemSystem::kick(double half_step) {
   }
 }
 
-bool DemSystem::drift() {
+bool DemSystem::drift(double slack) {
   const double dt = settings_.time_step;
-  const double limit = 0.25 * skin_ * skin_;  // moved more than half the skin
+  // Moved more than half the skin (less what the container moved: a wall may come closer).
+  const double reach = 0.5 * skin_ - slack;
+  const double limit = slack == 0.0 ? 0.25 * skin_ * skin_ : reach > 0.0 ? reach * reach : -1.0;
   bool stale = false;
 #pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
@@ -475,7 +491,15 @@ void DemSystem::run(std::size_t steps) {
   const double half = 0.5 * settings_.time_step;
   for (std::size_t s = 0; s < steps; ++s) {
     kick(half);
-    if (drift()) build_neighbour_list();
+    // The forces of the new positions are those at the end of the step, with the container
+    // (when it moves) where it is then.
+    force_time_ = static_cast<double>(steps_ + 1) * settings_.time_step;
+    double slack = 0.0;
+    if (motion_.amplitude != 0.0) {
+      place_container(force_time_);
+      slack = std::abs(container_offset() - listed_offset_);
+    }
+    if (drift(slack)) build_neighbour_list();
     compute_forces();
     kick(half);
     ++steps_;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include <vector>
 
 namespace aggpack {
@@ -44,8 +46,17 @@ TEST(Container, PlanesGiveTheDistanceNormalEquationAndVelocity) {
     const Container::PlaneEquation p = c.plane(w);
     EXPECT_EQ(p.inward, -1.0 * towards) << w;
     EXPECT_DOUBLE_EQ(dot(p.inward, x) - p.offset, expected[w]) << w;
-    EXPECT_EQ(c.plane_velocity(w, 1.0), Vec3{});  // at rest until a tapping step moves it
+    EXPECT_EQ(Container::plane_velocity(w, ContainerMotion{}, 1.0), Vec3{});  // at rest unless moved
   }
+  // A tap: half a sine period of the displacement, every plane moving up and back as one.
+  const double w = 2.0 * std::numbers::pi * 30.0;
+  const ContainerMotion tap{0.5, 1e-3, w, 0.5};
+  EXPECT_DOUBLE_EQ(tap.end(), 0.5 + 1.0 / 60.0);
+  EXPECT_DOUBLE_EQ(tap.offset(0.5 + 1.0 / 120.0), 1e-3);                     // the top, a quarter period in
+  EXPECT_NEAR(tap.velocity(0.5 + 1e-9), 1e-3 * w, 1e-9);                      // rising at A w
+  EXPECT_NEAR(Container::plane_velocity(3, tap, tap.end() - 1e-9).z, -1e-3 * w, 1e-9);  // coming back at A w
+  EXPECT_EQ(tap.offset(0.4), 0.0);
+  EXPECT_EQ(tap.velocity(tap.end() + 1e-9), 0.0);  // stopped dead
   EXPECT_EQ(Container::square(1, 1, true).plane_count(), 1u);  // periodic: the floor only
 }
 

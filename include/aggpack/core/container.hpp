@@ -5,6 +5,30 @@
 
 namespace aggpack {
 
+// A vertical motion of the whole container, floor and walls together (a tapped or vibrated
+// bed): the displacement z(t) = A sin(w (t - start)) for `cycles` periods from `start`, at rest
+// before and after. A tap is half a period: the container rises and comes back, its peak
+// acceleration A w^2 (the tap intensity Gamma = A w^2 / g) downward at the top; it then stops
+// dead, as on an anvil.
+struct ContainerMotion {
+  double start = 0.0;              // s
+  double amplitude = 0.0;          // m
+  double angular_frequency = 0.0;  // rad/s
+  double cycles = 0.5;
+  [[nodiscard]] bool moving_at(double t) const {
+    return amplitude != 0.0 && t > start && t < end();
+  }
+  [[nodiscard]] double end() const {
+    return amplitude == 0.0 ? start : start + cycles * 2.0 * 3.14159265358979323846 / angular_frequency;
+  }
+  [[nodiscard]] double offset(double t) const {
+    return moving_at(t) ? amplitude * std::sin(angular_frequency * (t - start)) : 0.0;
+  }
+  [[nodiscard]] double velocity(double t) const {
+    return moving_at(t) ? amplitude * angular_frequency * std::cos(angular_frequency * (t - start)) : 0.0;
+  }
+};
+
 // The container, the one owner of the boundary: a floor at bounds.lo.z and side walls at
 // the x and y faces of `bounds`; with periodic sides, x and y wrap instead. Deposition, the
 // DEM, the grid and the analysis ask it for gaps, normals, images and the walls' motion.
@@ -95,9 +119,12 @@ struct Container {
       default: return {{0, -1, 0}, -bounds.hi.y};
     }
   }
-  // The velocity of plane w at time t (s): at rest. A tapped or vibrated container will move
-  // here, and the DEM's wall contacts already take it into their relative velocity.
-  [[nodiscard]] Vec3 plane_velocity(unsigned /*w*/, double /*t*/) const { return {}; }
+  // The velocity of plane w when the container moves by `motion` (the same for the floor and
+  // the walls: it moves as one), at time t (s). The DEM's wall contacts take it into their
+  // relative velocity; the DEM also moves `bounds` with the motion's offset.
+  [[nodiscard]] static Vec3 plane_velocity(unsigned /*w*/, const ContainerMotion& motion, double t) {
+    return {0.0, 0.0, motion.velocity(t)};
+  }
 };
 
 }  // namespace aggpack

@@ -52,6 +52,12 @@ class DemSystem {
   // Advances n steps.
   void run(std::size_t steps);
 
+  // Moves the container (floor and walls together) from now on as `motion` says, its
+  // displacement measured from where it rests (the container the system was made with).
+  void set_container_motion(const ContainerMotion& motion);
+  // How far the container is above its rest position now, m.
+  [[nodiscard]] double container_offset() const { return container_.bounds.lo.z - rest_floor_; }
+
   // Takes in the particles appended to the store since the system last read it (a pour's
   // new batch): free, with the store's positions and velocities. The others keep their state
   // and their contact history; the neighbour list is rebuilt.
@@ -122,8 +128,11 @@ class DemSystem {
   // minimum image applies. (Inline: it is in the innermost loop.)
   [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const { return container_.minimum_image(to - from); }
   void kick(double half_step);
-  // Moves the grains; true when one has moved more than half the skin since the list build.
-  bool drift();
+  // Moves the grains; true when one has moved more than half the skin, less `slack`, since
+  // the list build.
+  bool drift(double slack);
+  // Puts the container where its motion has it at time t.
+  void place_container(double t);
 
   ParticleStore& p_;
   Container container_;
@@ -158,6 +167,10 @@ class DemSystem {
   std::vector<std::uint32_t> slot_base_, reverse_offset_, reverse_;
   std::vector<ContactBatch> batches_;        // one per thread: contacts gathered for the law
   double time_ = 0.0;
+  double force_time_ = 0.0;          // the time of the positions the forces were computed at
+  ContainerMotion motion_;           // of the container (at rest unless set)
+  double rest_floor_ = 0.0, rest_top_ = 0.0;  // m, the container's floor and top at rest
+  double listed_offset_ = 0.0;       // the container's offset when the list was built
   std::size_t steps_ = 0, rebuilds_ = 0;
 };
 
