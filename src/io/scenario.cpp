@@ -301,6 +301,17 @@ PourSettings read_pour(const TomlSection& s) {
   return p;
 }
 
+TappingSettings read_tapping(const TomlSection& s) {
+  s.allow_only({"taps", "intensity", "frequency", "rest_time", "rest_until_quiet"});
+  TappingSettings t;
+  t.taps = static_cast<std::size_t>(s.integer("taps", 1, 100000).value_or(static_cast<std::int64_t>(t.taps)));
+  t.intensity = s.number("intensity", {0.0, 100.0, true, false}).value_or(t.intensity);
+  t.frequency = s.number("frequency", {0.0, 10000.0, true, false}).value_or(t.frequency);
+  t.rest_time = s.number("rest_time", {0.0, 100.0, true, false}).value_or(t.rest_time);
+  t.rest_until_quiet = s.boolean("rest_until_quiet").value_or(t.rest_until_quiet);
+  return t;
+}
+
 AnalysisSettings read_analysis(const TomlSection& s) {
   s.allow_only({"box_sides", "placement", "contact_tolerance", "slice_thickness", "shell_thickness"});
   AnalysisSettings a;
@@ -337,12 +348,12 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
   Protocol p;
   std::optional<std::uint32_t> layers;        // every deposit step's `layers`
   std::vector<std::size_t> deposited_by;      // the entry that deposits each part (+1; 0: none yet)
-  std::size_t settles = 0, deposits = 0, pours = 0;
+  std::size_t settles = 0, deposits = 0, pours = 0, taps = 0;
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const TomlSection& e = entries[i];
     const std::string kind =
-        e.required(e.choice("step", {"deposit", "pour", "settle", "analyse", "snapshot"}), "step",
-                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"analyse\" or \"snapshot\"");
+        e.required(e.choice("step", {"deposit", "pour", "settle", "tap", "analyse", "snapshot"}), "step",
+                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"tap\", \"analyse\" or \"snapshot\"");
     if (kind == "deposit" || kind == "pour") {
       e.allow_only({"step", "layer", "layers"});
       if (kind == "deposit" && !sc.deposition)
@@ -380,6 +391,12 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
       st.layer = static_cast<std::uint32_t>(e.integer("layer", 0, layers.value_or(1) - 1).value_or(0));
       ++settles;
       p.steps.push_back({"dynamics", st});
+    } else if (kind == "tap") {
+      e.allow_only({"step"});
+      if (!sc.tapping) e.fail("step", "a tap step takes its settings from a [tapping] table; add one");
+      if (!sc.dynamics) e.fail("step", "a tap step moves the bed through the DEM of a [dynamics] table; add one");
+      ++taps;
+      p.steps.push_back({"tapping", TapStep{}});
     } else if (kind == "snapshot") {
       e.allow_only({"step", "name"});
       const std::string name = e.required(e.string("name"), "name", "the name of its file, particles_<name>.csv");
@@ -410,8 +427,9 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
     if (deposited_by[k] == 0)
       root.fail("protocol", fmt::format("no deposit or pour step places part {} of {}: each part is placed once", k,
                                         deposited_by.size()));
-  if (sc.dynamics && settles == 0 && pours == 0)
-    root.fail("protocol", "[dynamics] is given but no settle or pour step uses it");
+  if (sc.tapping && taps == 0) root.fail("protocol", "[tapping] is given but no tap step uses it");
+  if (sc.dynamics && settles == 0 && pours == 0 && taps == 0)
+    root.fail("protocol", "[dynamics] is given but no settle, pour or tap step uses it");
   return p;
 }
 
@@ -431,7 +449,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",
-                "dynamics", "protocol"});
+                "tapping", "dynamics", "protocol"});
 
   Scenario sc;
   sc.file = file;
@@ -444,6 +462,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d, sc.container);
   if (const auto p = s.table("pour")) sc.pour = read_pour(*p);
+  if (const auto t = s.table("tapping")) {
+    sc.tapping = read_tapping(*t);
+    if (!s.table("dynamics"))
+      t->fail("taps", "tapping moves the bed through the DEM with the [dynamics] settings; add a [dynamics] table "
+                      "(it may be empty)");
+  }
   if (const auto d = s.table("dynamics")) {
     sc.dynamics = read_dynamics(*d, sc.material);
     if (sc.dynamics->layers > 1 && sc.pour)
@@ -512,6 +536,7 @@ nlohmann::json to_json(const Protocol& protocol) {
                             steps.push_back({{"step", "pour"}, {"layer", d.layer}, {"layers", d.layers}});
                           },
                           [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
+                          [&](const TapStep&) { steps.push_back({{"step", "tap"}}); },
                           [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); },
                           [&](const SnapshotStep& snap) { steps.push_back({{"step", "snapshot"}, {"name", snap.name}}); }},
                step.kind);
@@ -581,6 +606,14 @@ nlohmann::json to_json(const Scenario& sc) {
     const PourSettings& pour = *sc.pour;
     j["pour"] = {{"solid_fraction", pour.solid_fraction}, {"batches", pour.batches}, {"velocity_m_s", pour.velocity}};
     if (pour.gap) j["pour"]["gap_m"] = *pour.gap;
+  }
+  if (sc.tapping) {
+    const TappingSettings& t = *sc.tapping;
+    j["tapping"] = {{"taps", t.taps},
+                    {"intensity", t.intensity},
+                    {"frequency_hz", t.frequency},
+                    {"rest_time_s", t.rest_time},
+                    {"rest_until_quiet", t.rest_until_quiet}};
   }
   if (sc.dynamics) {
     const DynamicsStage& d = *sc.dynamics;

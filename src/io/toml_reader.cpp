@@ -149,6 +149,14 @@ std::optional<std::string> TomlSection::string(std::string_view key) const {
   return s->get();
 }
 
+std::optional<bool> TomlSection::boolean(std::string_view key) const {
+  const toml::node* n = node(key);
+  if (!n) return std::nullopt;
+  const auto* b = n->as_boolean();
+  if (!b) fail(key, fmt::format("expected true or false, got {} {}", describe_type(*n), render(*n)));
+  return b->get();
+}
+
 std::optional<std::string> TomlSection::choice(std::string_view key,
                                                std::initializer_list<std::string_view> choices) const {
   return choice(key, std::vector<std::string_view>(choices));

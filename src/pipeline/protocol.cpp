@@ -21,13 +21,18 @@ Protocol default_protocol(const Scenario& sc) {
   }
   if (sc.pour) {  // the pour settles as it goes: [dynamics] gives its DEM settings
     p.steps.push_back({"pour", PourStep{0, 1}});
-    return p;
+  } else {
+    if (sc.deposition) {
+      p.steps.push_back({"deposition", DepositStep{0, 1}});
+      p.steps.push_back({"deposition", AnalyseStep{"deposition"}});
+    }
+    if (sc.dynamics) p.steps.push_back({"dynamics", SettleStep{0}});
   }
-  if (sc.deposition) {
-    p.steps.push_back({"deposition", DepositStep{0, 1}});
-    p.steps.push_back({"deposition", AnalyseStep{"deposition"}});
+  if (sc.tapping) {  // the bed as made so far (stages.pour or stages.before_tapping), then tapped
+    const std::string before = sc.pour ? "pour" : "before_tapping";
+    p.steps.push_back({before, AnalyseStep{before}});
+    p.steps.push_back({"tapping", TapStep{}});
   }
-  if (sc.dynamics) p.steps.push_back({"dynamics", SettleStep{0}});
   return p;
 }
 

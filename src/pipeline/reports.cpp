@@ -98,6 +98,34 @@ nlohmann::json to_json(const PourReport& r) {
           {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
 }
 
+std::string TapReport::csv() const {
+  std::string body = "tap,time_s,density,translational_energy_per_particle_mgd\n";
+  const auto density_text = [](double d) { return std::isnan(d) ? std::string() : fmt::format("{:.6f}", d); };
+  fmt::format_to(std::back_inserter(body), "0,{:.9g},{},\n", time_before, density_text(density_before));
+  for (const TapSample& s : samples)
+    fmt::format_to(std::back_inserter(body), "{},{:.9g},{},{:.6g}\n", s.tap, s.time, density_text(s.density),
+                   s.translational_per_particle_mgd);
+  return body;
+}
+
+nlohmann::json to_json(const TapReport& r) {
+  const auto or_null = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
+  nlohmann::json densities = nlohmann::json::array();
+  for (const TapSample& s : r.samples) densities.push_back(or_null(s.density));
+  return {{"taps", r.taps},
+          {"intensity", r.intensity},
+          {"frequency_hz", r.frequency},
+          {"amplitude_m", r.amplitude},
+          {"rest_time_s", r.rest_time},
+          {"rest_until_quiet", r.rest_until_quiet},
+          {"density_before", or_null(r.density_before)},
+          {"density_after_each_tap", densities},
+          {"simulated_time_s", r.simulated_time},
+          {"steps", r.steps},
+          {"time_step_s", r.time_step},
+          {"wall_clock_s", r.wall_clock_s}};
+}
+
 namespace {
 // A run's last sample: what the bed was like when it stopped.
 nlohmann::json final_sample_json(const SettleSample& s) {

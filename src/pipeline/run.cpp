@@ -119,7 +119,13 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   std::filesystem::create_directories(dir);
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(report.particles));
   if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(report.supports));
-  if (report.dynamics) write_file_atomically(dir / "timeseries.csv", report.series.csv());
+  if (report.dynamics || !report.tappings.empty())
+    write_file_atomically(dir / "timeseries.csv", report.series.csv());
+  if (!report.tappings.empty()) {
+    std::string taps;
+    for (const TapReport& t : report.tappings) taps += taps.empty() ? t.csv() : t.csv().substr(t.csv().find('\n') + 1);
+    write_file_atomically(dir / "taps.csv", taps);
+  }
   for (const auto& [name, bed] : report.snapshots)
     write_file_atomically(dir / ("particles_" + name + ".csv"), particles_csv(bed));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);

@@ -51,6 +51,14 @@ std::vector<std::string> RunReport::modelling_notes() const {
         "sample depends on how it is poured",
         p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,
         p.highest_slab_top - sc.container.bounds.lo.z, p.gap, p.velocity));
+  for (const TapReport& t : r.tappings)
+    notes.push_back(fmt::format(
+        "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
+        "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
+        "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
+        "protocol (intensity, frequency, rest) as a lab's tapped density does",
+        t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
+        t.rest_until_quiet ? " at most (less once the bed was quiet)" : ""));
   if (r.sizes)
     for (const std::string& note : r.sizes->notes) notes.push_back(note);
   if (sc.particles.file && r.largest_boundary_overlap > 0.0)
@@ -98,6 +106,14 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   if (deposition) {
     stages["deposition"] = to_json(*deposition);
     wall_clock["deposition"] = deposition->wall_clock_s;
+  }
+  if (!tappings.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const TapReport& t : tappings) all.push_back(to_json(t));
+    stages["tapping"] = tappings.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
+    double seconds = 0.0;
+    for (const TapReport& t : tappings) seconds += t.wall_clock_s;
+    wall_clock["tapping"] = seconds;
   }
   if (!pours.empty()) {
     nlohmann::json all = nlohmann::json::array();
@@ -182,6 +198,14 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
       fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", density_after_deposition(),
                      final.density.mean);
   }
+  for (const TapReport& t : tappings)
+    fmt::format_to(o, "  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
+                   t.taps, t.intensity, t.frequency,
+                   std::isnan(t.density_before) ? std::string("-") : fmt::format("{:.4f}", t.density_before),
+                   t.samples.empty() || std::isnan(t.samples.back().density)
+                       ? std::string("-")
+                       : fmt::format("{:.4f}", t.samples.back().density),
+                   t.simulated_time, t.wall_clock_s);
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}), mean coordination {:.3f} over {} spheres\n", final.density.mean,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -245,6 +246,73 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   out.settling = settling_run(dem, setup, sc, part, whole, pour_steps + result.steps, poured_at + result.simulated_time,
                               t0, particles);
   return out;
+}
+
+TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, int threads, TimeSeries& series,
+                  Progress& progress) {
+  const TappingSettings& tapping = *sc.tapping;
+  const DynamicsStage& stage = *sc.dynamics;
+  double r_min = std::numeric_limits<double>::infinity();
+  for (const double r : particles.radius) r_min = std::min(r_min, r);
+  const DemSetup setup = dem_setup(sc, r_min, threads);
+  const double g = norm(setup.settings.gravity);
+  const double omega = 2.0 * std::numbers::pi * tapping.frequency;
+
+  TapReport report;
+  report.taps = tapping.taps;
+  report.intensity = tapping.intensity;
+  report.frequency = tapping.frequency;
+  report.amplitude = tapping.intensity * g / (omega * omega);
+  report.rest_time = tapping.rest_time;
+  report.rest_until_quiet = tapping.rest_until_quiet;
+  report.time_step = setup.settings.time_step;
+  const DensityProbe density = box_density(sc);
+  report.density_before = density(particles);
+  report.time_before = time_offset;
+
+  const auto t0 = Clock::now();
+  DemSystem dem(particles, sc.container, setup.model, setup.settings);
+  progress.start_stage("tapping");
+  SampleRecorder recorder(sc, 0, series, progress);
+  double weight_energy = 0.0;  // sum of m g d, J
+  for (std::size_t i = 0; i < particles.size(); ++i) weight_energy += particles.mass[i] * g * 2.0 * particles.radius[i];
+  const double dt = setup.settings.time_step;
+  const std::size_t steps_per_sample =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / dt)));
+  const auto sample = [&](bool with_density, const std::string& phase) {
+    SettleSample s;
+    s.time = dem.time();
+    s.density = with_density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
+    s.kinetic_energy = dem.kinetic_energy();
+    s.translational_per_particle_mgd = weight_energy > 0.0 ? s.kinetic_energy.translational / weight_energy : 0.0;
+    s.contacts = dem.contact_statistics();
+    recorder(time_offset + s.time, s, phase);
+    return s;
+  };
+  for (std::size_t k = 1; k <= tapping.taps; ++k) {
+    const ContainerMotion tap{dem.time(), report.amplitude, omega, 0.5};
+    dem.set_container_motion(tap);
+    const std::string phase = fmt::format("tap {} of {}", k, tapping.taps);
+    // The tap (to the step after its end, so the container is at rest again), then the rest.
+    dem.run(static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1);
+    const double rest_end = dem.time() + tapping.rest_time;
+    std::deque<double> quiet_since;  // sample times since the energy last rose above the threshold
+    SettleSample last = sample(false, phase);
+    while (dem.time() < rest_end - 0.5 * dt) {
+      dem.run(std::min(steps_per_sample, static_cast<std::size_t>(std::llround((rest_end - dem.time()) / dt))));
+      last = sample(false, phase);
+      if (!tapping.rest_until_quiet) continue;
+      if (last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) quiet_since.clear();
+      else quiet_since.push_back(last.time);
+      if (!quiet_since.empty() && quiet_since.back() - quiet_since.front() >= stage.quiet.window) break;
+    }
+    report.samples.push_back({k, time_offset + dem.time(), density(particles), last.translational_per_particle_mgd});
+  }
+  dem.finish();
+  report.simulated_time = dem.time();
+  report.steps = dem.steps();
+  report.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  return report;
 }
 
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report) {

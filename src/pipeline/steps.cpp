@@ -95,6 +95,13 @@ void run_step(const SettleStep& step, RunContext& ctx) {
   r.dynamics->runs.push_back(run);
 }
 
+void run_step(const TapStep& /*step*/, RunContext& ctx) {
+  RunReport& r = ctx.report;
+  TapReport report = tap_bed(r.scenario, r.particles, ctx.simulated_time, ctx.threads, r.series, ctx.progress);
+  ctx.simulated_time += report.simulated_time;
+  r.tappings.push_back(std::move(report));
+}
+
 void run_step(const AnalyseStep& step, RunContext& ctx) {
   const auto t0 = Clock::now();
   StageAnalysis analysis{analyse_bed(ctx.report.scenario, ctx.report.particles), 0.0};

@@ -27,6 +27,8 @@ struct PourStep {
 struct SettleStep {
   std::uint32_t layer = 0;
 };
+// Tapping of the bed as it is now ([tapping] settings, the DEM of [dynamics]).
+struct TapStep {};
 // The virtual-box analysis of the bed as it is now, reported as `stages.<report_as>`
 // (density and coordination; with the deposition's own keys when that is "deposition").
 struct AnalyseStep {
@@ -36,7 +38,7 @@ struct AnalyseStep {
 struct SnapshotStep {
   std::string name;
 };
-using StepKind = std::variant<DepositStep, PourStep, SettleStep, AnalyseStep, SnapshotStep>;
+using StepKind = std::variant<DepositStep, PourStep, SettleStep, TapStep, AnalyseStep, SnapshotStep>;
 
 struct Step {
   std::string stage;  // the stage it belongs to: what --stop-after names

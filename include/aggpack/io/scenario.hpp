@@ -73,6 +73,16 @@ struct DynamicsStage {
   std::size_t layers = 1;       // > 1: deposit and settle layer by layer (the paper's method)
 };
 
+// The tapping step ([tapping]): the container (floor and walls) tapped `taps` times, each tap
+// half a sine period of frequency f and peak acceleration intensity x g, then a rest.
+struct TappingSettings {
+  std::size_t taps = 10;
+  double intensity = 2.0;         // Gamma = A w^2 / g
+  double frequency = 30.0;        // Hz
+  double rest_time = 0.15;        // s after each tap, at most
+  bool rest_until_quiet = false;  // end a rest early once the [dynamics] quiet criterion holds
+};
+
 struct OutputSettings {
   std::filesystem::path directory;
   bool csv = true;
@@ -88,6 +98,7 @@ struct Scenario {
   Material material;
   std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)
   std::optional<PourSettings> pour;              // [pour]
+  std::optional<TappingSettings> tapping;        // [tapping]
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   OutputSettings output;

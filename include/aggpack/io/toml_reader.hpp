@@ -45,6 +45,7 @@ class TomlSection {
   std::optional<double> number(std::string_view key, NumberRange range) const;
   std::optional<std::int64_t> integer(std::string_view key, std::int64_t min, std::int64_t max) const;
   std::optional<std::string> string(std::string_view key) const;
+  std::optional<bool> boolean(std::string_view key) const;
   // One of `choices`; the message lists them.
   std::optional<std::string> choice(std::string_view key, std::initializer_list<std::string_view> choices) const;
   std::optional<std::string> choice(std::string_view key, const std::vector<std::string_view>& choices) const;

@@ -36,6 +36,29 @@ struct PourReport {
 };
 nlohmann::json to_json(const PourReport& report);
 
+// A tapping step: the density after every tap (taps.csv) and what it cost.
+struct TapSample {
+  std::size_t tap = 0;
+  double time = 0.0;     // s of simulated time since the run's DEM began, at the end of the rest
+  double density = 0.0;  // mean over the virtual boxes; NaN when they do not fit
+  double translational_per_particle_mgd = 0.0;  // at the end of the rest
+};
+struct TapReport {
+  std::size_t taps = 0;
+  double intensity = 0.0, frequency = 0.0, amplitude = 0.0;  // Gamma, Hz, m
+  double rest_time = 0.0;                                    // s, at most
+  bool rest_until_quiet = false;
+  double density_before = 0.0;                               // NaN when the boxes do not fit
+  double time_before = 0.0;                                  // s, when the first tap began
+  std::vector<TapSample> samples;
+  double simulated_time = 0.0;  // s
+  std::size_t steps = 0;
+  double time_step = 0.0;
+  double wall_clock_s = 0.0;
+  [[nodiscard]] std::string csv() const;  // taps.csv
+};
+nlohmann::json to_json(const TapReport& report);
+
 // One settling run (a layer, or the whole bed).
 struct SettlingRun {
   std::uint32_t layer = 0;

@@ -30,6 +30,7 @@ struct RunReport {
   double largest_boundary_overlap = 0.0;        // of a particle file's spheres, / r
   std::optional<DepositionReport> deposition;   // all deposit steps added up
   std::vector<PourReport> pours;                // every pour step's insertion (its DEM run is in dynamics)
+  std::vector<TapReport> tappings;              // every tap step's compaction curve
   std::optional<SettlingReport> dynamics;       // every settle and pour step's DEM run
   std::map<std::string, StageAnalysis> analyses;  // by the analyse step's report_as
   PackingReport final;                            // the bed at the end

@@ -45,6 +45,12 @@ struct PourRun {
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
                  double time_offset, int threads, TimeSeries& series, Progress& progress);
 
+// Taps the bed with the scenario's [tapping], [dynamics] and [material]: each tap moves the
+// container (floor and walls) through half a sine period of peak acceleration Gamma g, then the
+// bed rests; the box density is measured after every rest.
+TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, int threads, TimeSeries& series,
+                  Progress& progress);
+
 // Modelling notes for the dynamics stage: the law, the stiffness, what ended each run.
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report);
 

@@ -23,6 +23,7 @@ struct RunContext {
 void run_step(const DepositStep& step, RunContext& context);
 void run_step(const PourStep& step, RunContext& context);
 void run_step(const SettleStep& step, RunContext& context);
+void run_step(const TapStep& step, RunContext& context);
 void run_step(const AnalyseStep& step, RunContext& context);
 void run_step(const SnapshotStep& step, RunContext& context);
 
