@@ -431,6 +431,8 @@ struct Plan {
   int seeds;
   std::vector<std::string> example_sets;  // applied to Examples 1 and 2
   std::vector<std::string> table2_dem;    // applied to seed 1 of each Table 2 mix; none: deposition only
+  std::vector<std::string> poured_sets;   // the examples' pour-then-tap runs (exampleN_pour.toml)
+  std::string tapping_label;              // that protocol in words
   std::vector<SensitivityCase> sensitivity;
 };
 
@@ -451,6 +453,16 @@ Plan make_plan(const ReproduceOptions& o) {
     p.table2_dem = {"material.youngs_modulus=5e7",         "material.wall_youngs_modulus=5e7",
                     "dynamics.friction_model=\"mindlin\"", "dynamics.quiet_kinetic_fraction=1e-3",
                     "dynamics.quiet_window=0.02",           o.quick ? "dynamics.max_time=0.05" : "dynamics.max_time=1"};
+  // The examples poured, then tapped: 10 taps of 2 g at 30 Hz, 0.15 s apart (a light tapping;
+  // docs/validation.md has 100 taps at 2 g and 5 g).
+  p.poured_sets = {"tapping.taps=10", "tapping.intensity=2", "tapping.frequency=30", "tapping.rest_time=0.15",
+                   "output.formats=[]"};
+  p.tapping_label = "10 taps of 2 g at 30 Hz, 0.15 s apart";
+  if (o.quick) {
+    p.poured_sets = {"tapping.taps=2", "tapping.intensity=2", "tapping.frequency=30", "tapping.rest_time=0.15",
+                     "dynamics.max_time=0.6", "output.formats=[]"};
+    p.tapping_label = "2 taps of 2 g at 30 Hz, 0.15 s apart (QUICK: the pour cut at 0.6 s)";
+  }
   if (o.quick) {
     p.example_sets = {"dynamics.max_time=0.25"};
     p.sensitivity = {shipped, cut(0.06)};
@@ -473,10 +485,12 @@ struct Reproduction {
   Plan plan;
   std::vector<PaperExample> paper;           // examples/fu2003_examples.csv
   std::map<std::string, SeedRuns> examples;  // by PaperExample::id
+  std::map<std::string, SeedRuns> poured;    // the same, poured then tapped (when exampleN_pour.toml exists)
   std::vector<Table2Outcome> mixes;
   std::vector<Variant> variants;             // of the sensitivity mix, in the plan's order
   std::size_t runs = 0;
   double wall_clock_s = 0.0;
+  int threads = 0;
   // Mix 3 (the paper's own example of a blend), or the first mix.
   [[nodiscard]] const PaperExample& example(std::string_view id) const {
     return *std::find_if(paper.begin(), paper.end(), [&](const PaperExample& e) { return e.id == id; });
@@ -523,7 +537,13 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   // The shipped variant of the sensitivity study is Table 2's own mix 3: not run twice.
   const std::size_t new_variants = static_cast<std::size_t>(std::count_if(
       plan.sensitivity.begin(), plan.sensitivity.end(), [](const SensitivityCase& c) { return !c.sets.empty(); }));
-  Campaign campaign(options.threads, options.quiet, log, seeds * (2 + table2.size() + new_variants));
+  const auto pour_scenario = [&](const PaperExample& ex) {
+    return examples / (fs::path(ex.scenario).stem().string() + "_pour.toml");
+  };
+  const std::size_t poured_examples = static_cast<std::size_t>(
+      std::count_if(paper.begin(), paper.end(), [&](const PaperExample& ex) { return fs::exists(pour_scenario(ex)); }));
+  Campaign campaign(options.threads, options.quiet, log,
+                    seeds * (paper.size() + poured_examples + table2.size() + new_variants));
   const fs::path runs_dir = options.out / "runs";
   const std::vector<std::string> no_particle_files = {"output.formats=[]"};
 
@@ -547,6 +567,14 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
       examples_run[ex.id].add(keep_bed_if(
           ex.id == "example2" && s == 1, campaign.run(ex.title, examples / ex.scenario, plan.example_sets, s,
                                                      runs_dir / ex.id / fmt::format("seed_{}", s))));
+
+  // The examples poured, then tapped.
+  for (const PaperExample& ex : paper)
+    if (fs::exists(pour_scenario(ex)))
+      for (std::size_t s = 1; s <= seeds; ++s)
+        rep.poured[ex.id].add(keep_bed_if(false, campaign.run(fmt::format("{} poured and tapped", ex.short_name),
+                                                              pour_scenario(ex), plan.poured_sets, s,
+                                                              runs_dir / (ex.id + "_poured") / fmt::format("seed_{}", s))));
 
   // Table 2.
   std::vector<Table2Outcome>& mixes = rep.mixes;
@@ -594,6 +622,7 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   }
   campaign.clear_progress();
   rep.runs = campaign.runs_done();
+  rep.threads = options.threads;
   rep.wall_clock_s = campaign.seconds();
   return rep;
 
@@ -614,7 +643,8 @@ void compose_header(Document& doc, const Reproduction& rep, const ReproduceOptio
   if (options.quick)
     b.emplace_back(Paragraph{
         "This is the QUICK mode, made to check the pipeline in a few minutes: one seed, DEM stopped at 0.25 s "
-        "simulated (before the beds are quiet) and two rows of the Table 2 sensitivity study. Its numbers are "
+        "simulated (before the beds are quiet), the pours at 0.6 s and two taps, and two rows of the Table 2 "
+        "sensitivity study. Its numbers are "
         "indicative; run aggpack reproduce without --quick for the report of record."});
 
 }
@@ -741,6 +771,69 @@ void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep
     }
   }
 
+}
+
+// How the bed is made, for each example: drop-and-roll, with DEM, poured, poured and tapped,
+// against the paper and the experiment, with the wall time per run.
+void compose_protocols(Document& doc, nlohmann::json& result, const Reproduction& rep) {
+  if (rep.poured.empty()) return;
+  auto& b = doc.blocks;
+  b.emplace_back(Heading{2, "How the bed is made: four protocols for Examples 1 and 2"});
+  Table t;
+  t.header = {"case", "protocol", "density (mean ± sd over seeds)", "wall time per run, s", "ours − experiment"};
+  const auto mean_of = [](const std::vector<CaseRun>& runs, auto&& seconds) {
+    double sum = 0.0;
+    for (const CaseRun& r : runs) sum += seconds(r.result.report);
+    return runs.empty() ? kNaN : sum / static_cast<double>(runs.size());
+  };
+  const auto deposition_s = [](const RunReport& r) { return r.deposition ? r.deposition->wall_clock_s : 0.0; };
+  const auto dynamics_s = [](const RunReport& r) { return r.dynamics ? r.dynamics->wall_clock_s() : 0.0; };
+  const auto tapping_s = [](const RunReport& r) {
+    double s = 0.0;
+    for (const TapReport& tap : r.tappings) s += tap.wall_clock_s;
+    return s;
+  };
+  for (const PaperExample& ex : rep.paper) {
+    const auto found = rep.poured.find(ex.id);
+    if (found == rep.poured.end()) continue;
+    const SeedRuns& deposited = rep.examples.at(ex.id);
+    const SeedRuns& poured = found->second;
+    std::vector<double> pour_values;
+    for (const CaseRun& r : poured.runs) {
+      const auto a = r.result.report.analyses.find("pour");
+      pour_values.push_back(a != r.result.report.analyses.end() ? a->second.report.density.mean : kNaN);
+    }
+    const SeedStatistics pour_only = seed_statistics(pour_values);
+    const auto seconds = [](double s) { return std::isnan(s) ? std::string("—") : fmt::format("{:.1f}", s); };
+    const auto row = [&](const std::string& protocol, const SeedStatistics& stats, double wall) {
+      t.rows.push_back({ex.short_name, protocol, stat_text(stats), seconds(wall), difference_text(stats.mean, ex.experiment)});
+    };
+    row("drop-and-roll", deposited.deposition, mean_of(deposited.runs, deposition_s));
+    row("drop-and-roll, then DEM until quiet (the paper's method)", deposited.dynamics,
+        mean_of(deposited.runs, [&](const RunReport& r) { return deposition_s(r) + dynamics_s(r); }));
+    row("pour: a random gas at 0.2, fallen through the DEM until quiet", pour_only, mean_of(poured.runs, dynamics_s));
+    row("pour, then " + rep.plan.tapping_label, poured.dynamics,
+        mean_of(poured.runs, [&](const RunReport& r) { return dynamics_s(r) + tapping_s(r); }));
+    t.rows.push_back({ex.short_name, "the paper (drop, then DEM)", value_text(ex.after_dem, 3), "", ""});
+    t.rows.push_back({ex.short_name, "experiment", value_text(ex.experiment), "", ""});
+    result["protocols"][ex.id] = {
+        {"drop_and_roll", deposited.json(&CaseRun::after_deposition)},
+        {"drop_and_roll_then_dem", deposited.json(&CaseRun::after_dynamics)},
+        {"pour", {{"mean", std::isnan(pour_only.mean) ? nlohmann::json() : nlohmann::json(pour_only.mean)},
+                  {"sd", std::isnan(pour_only.sd) ? nlohmann::json() : nlohmann::json(pour_only.sd)},
+                  {"values", pour_values}}},
+        {"pour_then_tapping", poured.json(&CaseRun::after_dynamics)},
+        {"tapping", rep.plan.tapping_label}};
+  }
+  const int threads = rep.threads > 0 ? rep.threads : omp_get_max_threads();
+  t.caption = fmt::format("Wall time per run on {} of this machine: the stages that make the bed (deposition, "
+                          "DEM, tapping), not sizes, analysis or outputs.", counted(static_cast<std::size_t>(threads), "thread"));
+  b.emplace_back(t);
+  b.emplace_back(Paragraph{
+      "A pour (README, \"Pour\") inserts the spheres as a random gas and lets them fall through the same DEM as the "
+      "paper's settling stage; tapping (README, \"Tapping\") then moves the container up and back and lets the bed "
+      "land again, as a lab compacts a sample. The material is the examples' own in every row (docs/validation.md "
+      "compares the pours with LAMMPS and LIGGGHTS and has the compaction curves over 100 taps)."});
 }
 
 // Table 2: the mixes, Fig. 9, a paragraph, each mix's grading and one bed.
@@ -956,6 +1049,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   compose_header(doc, rep, options);
   compose_summary(doc, result, rep);
   compose_examples(doc, figures, rep);
+  compose_protocols(doc, result, rep);
   compose_table2(doc, figures, result, rep);
   compose_sensitivity(doc, result, rep);
   compose_notes(doc, rep);

@@ -3,6 +3,7 @@
 
 #include "run_cli.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -520,6 +521,36 @@ TEST_F(Cli, PoursAGasThatFallsIntoABed) {
   EXPECT_GT(both["stages"]["pour"]["lowest_slab_bottom_m"].get<double>(), 0.03);  // above the deposited half
 }
 
+// Poured, then tapped: taps.csv has the density before and after every tap, stages.tapping
+// the protocol, and the run is the same bytes for one and two threads.
+TEST_F(Cli, TapsAPouredBedAndWritesTheCompactionCurve) {
+  const std::string text = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
+                           "[analysis]\nbox_sides = [0.02]\n[pour]\n[tapping]\ntaps = 3\nintensity = 3\n"
+                           "rest_time = 0.05\n";
+  std::ofstream(dir_ / "tapped.toml") << text;
+  for (const char* threads : {"1", "2"}) {
+    const Result r = run("run " + (dir_ / "tapped.toml").string() + " --quiet --threads " + threads + " --out " +
+                         (dir_ / (std::string("tapped_") + threads)).string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "tapped_1" / "summary.json"));
+  const auto& tapping = summary["stages"]["tapping"];
+  EXPECT_EQ(tapping["taps"], 3);
+  EXPECT_EQ(tapping["density_after_each_tap"].size(), 3u);
+  EXPECT_NEAR(tapping["amplitude_m"].get<double>(), 3 * 9.81 / std::pow(2 * M_PI * 30, 2), 1e-12);
+  EXPECT_EQ(tapping["density_before"], summary["stages"]["pour"]["density"]["mean"]);  // the poured bed's analysis
+  EXPECT_EQ(tapping["density_after_each_tap"][2], summary["density"]["mean"]);
+  EXPECT_EQ(summary["scenario"]["tapping"]["intensity"], 3.0);
+  const std::string taps = slurp(dir_ / "tapped_1" / "taps.csv");
+  EXPECT_EQ(taps.rfind("tap,time_s,density,translational_energy_per_particle_mgd\n0,", 0), 0u) << taps;
+  EXPECT_EQ(std::count(taps.begin(), taps.end(), '\n'), 5);  // header, before, three taps
+  const Result csv = aggpack::testing::check_outputs("csv " + (dir_ / "tapped_1" / "taps.csv").string());
+  EXPECT_EQ(csv.exit_code, 0) << csv.output;
+  EXPECT_EQ(taps, slurp(dir_ / "tapped_2" / "taps.csv"));
+  EXPECT_EQ(slurp(dir_ / "tapped_1" / "particles.csv"), slurp(dir_ / "tapped_2" / "particles.csv"));
+}
+
 TEST_F(Cli, PourErrorsNameTheKey) {
   const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
                            "[analysis]\nbox_sides = [0.02]\n";
@@ -533,6 +564,11 @@ TEST_F(Cli, PourErrorsNameTheKey) {
       {base + "[dynamics]\nlayers = 2\n[pour]\n", "dynamics.layers: a pour settles as it goes"},
       {base + "[deposition]\n[[protocol]]\nstep = \"pour\"\n", "protocol[0].step: a pour step inserts"},
       {base + "[dynamics]\n[pour]\n[[protocol]]\nstep = \"settle\"\n", "no pour step places the particles"},
+      {base + "[deposition]\n[tapping]\n", "tapping.taps: tapping moves the bed through the DEM"},
+      {base + "[deposition]\n[dynamics]\n[tapping]\nintensity = 0\n", "tapping.intensity"},
+      {base + "[deposition]\n[dynamics]\n[tapping]\nrest_until_quiet = 1\n", "tapping.rest_until_quiet: expected true or false"},
+      {base + "[deposition]\n[dynamics]\n[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"tap\"\n",
+       "protocol[1].step: a tap step takes its settings from a [tapping] table"},
   };
   for (const auto& [text, expected] : cases) {
     std::ofstream(dir_ / "bad.toml") << text;

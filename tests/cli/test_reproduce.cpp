@@ -59,6 +59,27 @@ TEST_F(Reproduce, RunsAndPrintsWhereTheReportIs) {
   for (const char* f : {"report.html", "report.md", "reproduce.json"}) EXPECT_TRUE(fs::exists(out_ / f)) << f;
 }
 
+// The protocol table: each example made four ways, each row from its own runs.
+TEST_F(Reproduce, ProtocolTableHasFourWaysToMakeEachExampleBed) {
+  const std::string md = slurp(out_ / "report.md");
+  EXPECT_NE(md.find("## How the bed is made: four protocols for Examples 1 and 2"), std::string::npos);
+  for (const char* row : {"| Example 1 | drop-and-roll |", "| Example 1 | drop-and-roll, then DEM until quiet",
+                          "| Example 1 | pour: a random gas at 0.2", "| Example 1 | pour, then 2 taps of 2 g",
+                          "| Example 2 | the paper (drop, then DEM) | 0.660 |", "| Example 2 | experiment | 0.6600 |"})
+    EXPECT_NE(md.find(row), std::string::npos) << row;
+  const auto j = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  for (const char* ex : {"example1", "example2"}) {
+    const auto& p = j["protocols"][ex];
+    EXPECT_EQ(p["drop_and_roll"], j["examples"][ex]["after_deposition"]) << ex;
+    const auto poured = nlohmann::json::parse(slurp(out_ / "runs" / (std::string(ex) + "_poured") / "seed_1" / "summary.json"));
+    EXPECT_DOUBLE_EQ(p["pour"]["mean"].get<double>(), poured["stages"]["pour"]["density"]["mean"].get<double>()) << ex;
+    EXPECT_DOUBLE_EQ(p["pour_then_tapping"]["mean"].get<double>(), poured["density"]["mean"].get<double>()) << ex;
+    EXPECT_EQ(poured["stages"]["tapping"]["taps"], 2);
+    // A pour packs a denser bed than the drop-and-roll deposition (+0.02 to +0.03 here).
+    EXPECT_GT(p["pour"]["mean"].get<double>(), p["drop_and_roll"]["mean"].get<double>()) << ex;
+  }
+}
+
 TEST_F(Reproduce, MarkdownHasEveryTableWithThePapersNumbers) {
   const std::string md = slurp(out_ / "report.md");
   for (const char* heading : {"## Summary", "## Example 1", "## Example 2", "## Table 2", "### How the Table 2 result moves",
@@ -84,7 +105,7 @@ TEST_F(Reproduce, TextMatchesWhatWasRun) {
   const std::string md = slurp(out_ / "report.md");
   EXPECT_EQ(md.find("sd up to"), std::string::npos);
   EXPECT_EQ(md.find("(s)"), std::string::npos);
-  EXPECT_NE(md.find("1 seed per case, 11 runs in"), std::string::npos);
+  EXPECT_NE(md.find("1 seed per case, 13 runs in"), std::string::npos);
   EXPECT_NE(md.find("on 1 thread. Command:"), std::string::npos);
   EXPECT_NE(md.find("ours has one seed per mix, so no bar; sd over the four virtual boxes (paper)"), std::string::npos);
   EXPECT_EQ(md.find("sd over seeds (ours)"), std::string::npos);
@@ -214,10 +235,10 @@ TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
   EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
   // The same tables as report.md (one header rule "| --- |" each): summary, Table 2 errors,
-  // two per example, Table 2, sensitivity, notes of three cases.
+  // two per example, the protocols, Table 2, sensitivity, notes of three cases.
   EXPECT_EQ(count_of(html, "<table>"), count_of(slurp(out_ / "report.md"), "\n| --- |"));
-  EXPECT_EQ(count_of(html, "<table>"), 11u);
-  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 11u);
+  EXPECT_EQ(count_of(html, "<table>"), 12u);
+  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 12u);
   EXPECT_NE(html.find("</html>"), std::string::npos);
 }
 

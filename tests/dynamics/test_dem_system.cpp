@@ -247,6 +247,41 @@ TEST(DemSystem, AdmittingParticlesKeepsTheOthersStateAndContactHistory) {
   EXPECT_GT(norm(restarted.angular_velocity[0] - alone.angular_velocity[0]), 1e-3 * norm(alone.angular_velocity[0]));
 }
 
+// A tap moves the container up and back (half a sine period). Below Gamma = 1 the floor never
+// accelerates down faster than gravity, so a sphere resting on it rides along as a rigid body
+// (its height above the moving floor stays the Hertz rest height within a few overlaps); above
+// 1 the floor drops away faster than the sphere falls and it flies.
+TEST(DemSystem, ATapBelowOneGDoesNotLiftASphereOffTheFloorAndAboveOneGDoes) {
+  const double r = 0.01, f = 30.0, w = 2.0 * std::numbers::pi * f;
+  for (const double gamma : {0.5, 3.0}) {
+    ParticleStore store = sphere_on_the_floor(r);
+    DemSettings settings;
+    settings.time_step = 1e-5;
+    DemSystem dem(store, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings);
+    dem.run(20000);  // at rest on the floor
+    const double rest_height = store.position[0].z;
+    const double overlap = r - rest_height;
+    const ContainerMotion tap{dem.time(), gamma * 9.81 / (w * w), w, 0.5};
+    dem.set_container_motion(tap);
+    double largest_gap = 0.0, deepest = 0.0, highest_floor = 0.0;
+    while (dem.time() < tap.end() + 0.05) {
+      dem.run(1);
+      const double above_floor = store.position[0].z - dem.container_offset();
+      largest_gap = std::max(largest_gap, above_floor - rest_height);
+      deepest = std::max(deepest, rest_height - above_floor);
+      highest_floor = std::max(highest_floor, dem.container_offset());
+    }
+    EXPECT_NEAR(highest_floor, tap.amplitude, 1e-3 * tap.amplitude) << gamma;
+    if (gamma < 1.0) {
+      EXPECT_LT(largest_gap, 3.0 * overlap) << gamma;  // never off the floor (the overlap eases, no more)
+    } else {
+      EXPECT_GT(largest_gap, 0.1 * tap.amplitude) << gamma;  // flew
+    }
+    EXPECT_LT(deepest, 10.0 * overlap) << gamma;  // and lands without passing through it
+    EXPECT_EQ(dem.container_offset(), 0.0);       // back at rest
+  }
+}
+
 // An empty system can be poured into: it starts with no particles and admits them.
 TEST(DemSystem, AnEmptySystemAdmitsParticles) {
   ParticleStore store;
