@@ -465,8 +465,8 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   if (const auto t = s.table("tapping")) {
     sc.tapping = read_tapping(*t);
     if (!s.table("dynamics"))
-      t->fail("taps", "tapping moves the bed through the DEM with the [dynamics] settings; add a [dynamics] table "
-                      "(it may be empty)");
+      s.fail("tapping", "tapping moves the bed through the DEM with the [dynamics] settings; add a [dynamics] "
+                        "table (it may be empty)");
   }
   if (const auto d = s.table("dynamics")) {
     sc.dynamics = read_dynamics(*d, sc.material);
@@ -512,12 +512,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
     s.table("deposition")->fail("method", "deposition places generated particles, but particles.from gives "
                                           "positions already; remove [deposition] or give sizes instead");
   } else if (sc.pour) {
-    s.table("pour")->fail("solid_fraction", "a pour places generated particles, but particles.from gives "
-                                            "positions already; remove [pour] or give sizes instead");
+    s.fail("pour", "a pour places generated particles, but particles.from gives positions already; remove [pour] "
+                   "or give sizes instead");
   }
   if (sc.pour && !sc.dynamics)
-    s.table("pour")->fail("batches", "a pour falls through the DEM with the [dynamics] settings; add a [dynamics] "
-                                     "table (it may be empty)");
+    s.fail("pour", "a pour falls through the DEM with the [dynamics] settings; add a [dynamics] table (it may be "
+                   "empty)");
   const auto steps = s.table_array("protocol");
   if (sc.pour && sc.deposition && !steps)
     s.fail("pour", "with both [deposition] and [pour], give the order of their steps as [[protocol]] (for example "

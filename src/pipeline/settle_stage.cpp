@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
-#include <deque>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numbers>
 
@@ -12,8 +12,8 @@
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
-#include "aggpack/dynamics/settle.hpp"
 #include "aggpack/deposition/gas_insertion.hpp"
+#include "aggpack/dynamics/settle.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 
 namespace aggpack {
@@ -35,8 +35,8 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// What every DEM run of a scenario shares: the contact model, the settings with the time
-// step for the smallest sphere, the box-density probe and the time series' sink.
+// What every DEM run of a scenario shares: the contact model and the settings, with the time
+// step for the smallest sphere (its Rayleigh time kept for the report).
 struct DemSetup {
   ContactModel model;
   DemSettings settings;
