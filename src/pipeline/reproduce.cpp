@@ -773,9 +773,35 @@ void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep
 
 }
 
+// The compaction curves of the poured-and-tapped runs: density against tap number (0: as poured).
+std::string compaction_plot(const PaperExample& ex, const std::vector<CaseRun>& runs, const std::string& tapping) {
+  Plot plot;
+  plot.title = fmt::format("{} poured, then tapped: the compaction curve", ex.short_name);
+  plot.legend_at_bottom = true;
+  plot.x_label = "taps";
+  plot.y_label = "packing density in the virtual boxes";
+  double taps = 1.0, lo = ex.experiment, hi = ex.experiment;
+  for (const CaseRun& r : runs)
+    for (const TapReport& t : r.result.report.tappings) {
+      PlotSeries s;
+      s.label = fmt::format("aggpack, seed {} ({})", r.result.report.scenario.seed, tapping);
+      s.mark = Mark::LineAndPoints;
+      if (!std::isnan(t.density_before)) s.x.push_back(0.0), s.y.push_back(t.density_before);
+      for (const TapSample& sample : t.samples)
+        if (!std::isnan(sample.density)) s.x.push_back(static_cast<double>(sample.tap)), s.y.push_back(sample.density);
+      for (const double y : s.y) lo = std::min(lo, y), hi = std::max(hi, y);
+      taps = std::max(taps, static_cast<double>(t.taps));
+      plot.series.push_back(std::move(s));
+    }
+  plot.series.push_back(reference_line(fmt::format("experiment {:.4f}", ex.experiment), 0, taps, ex.experiment, "#000000"));
+  plot.x_range = {{0.0, taps}};
+  plot.y_range = {{std::floor(lo * 100 - 0.5) / 100, std::ceil(hi * 100 + 0.5) / 100}};
+  return svg_plot(plot);
+}
+
 // How the bed is made, for each example: drop-and-roll, with DEM, poured, poured and tapped,
 // against the paper and the experiment, with the wall time per run.
-void compose_protocols(Document& doc, nlohmann::json& result, const Reproduction& rep) {
+void compose_protocols(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
   if (rep.poured.empty()) return;
   auto& b = doc.blocks;
   b.emplace_back(Heading{2, "How the bed is made: four protocols for Examples 1 and 2"});
@@ -834,6 +860,15 @@ void compose_protocols(Document& doc, nlohmann::json& result, const Reproduction
       "paper's settling stage; tapping (README, \"Tapping\") then moves the container up and back and lets the bed "
       "land again, as a lab compacts a sample. The material is the examples' own in every row (docs/validation.md "
       "compares the pours with LAMMPS and LIGGGHTS and has the compaction curves over 100 taps)."});
+  for (const PaperExample& ex : rep.paper) {
+    const auto found = rep.poured.find(ex.id);
+    if (found == rep.poured.end()) continue;
+    const std::string fig = figures.add(fmt::format("{}_compaction.svg", ex.id),
+                                        compaction_plot(ex, found->second.runs, rep.plan.tapping_label));
+    b.emplace_back(Figure{fig, fmt::format("{} poured, then tapped ({}): the density after each tap (taps.csv of "
+                                           "runs/{}_poured/seed_N), one curve per seed.",
+                                           ex.short_name, rep.plan.tapping_label, ex.id)});
+  }
 }
 
 // Table 2: the mixes, Fig. 9, a paragraph, each mix's grading and one bed.
@@ -1049,7 +1084,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   compose_header(doc, rep, options);
   compose_summary(doc, result, rep);
   compose_examples(doc, figures, rep);
-  compose_protocols(doc, result, rep);
+  compose_protocols(doc, figures, result, rep);
   compose_table2(doc, figures, result, rep);
   compose_sensitivity(doc, result, rep);
   compose_notes(doc, rep);

@@ -75,6 +75,10 @@ TEST_F(Reproduce, ProtocolTableHasFourWaysToMakeEachExampleBed) {
     EXPECT_DOUBLE_EQ(p["pour"]["mean"].get<double>(), poured["stages"]["pour"]["density"]["mean"].get<double>()) << ex;
     EXPECT_DOUBLE_EQ(p["pour_then_tapping"]["mean"].get<double>(), poured["density"]["mean"].get<double>()) << ex;
     EXPECT_EQ(poured["stages"]["tapping"]["taps"], 2);
+    // The compaction curve's figure: taps 0 to 2 on its axis.
+    const auto [x0, x1] = svg_range(slurp(out_ / "figures" / (std::string(ex) + "_compaction.svg")), "x");
+    EXPECT_EQ(x0, 0.0) << ex;
+    EXPECT_EQ(x1, 2.0) << ex;
     // A pour packs a denser bed than the drop-and-roll deposition (+0.02 to +0.03 here).
     EXPECT_GT(p["pour"]["mean"].get<double>(), p["drop_and_roll"]["mean"].get<double>()) << ex;
   }
@@ -198,7 +202,7 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
       EXPECT_EQ(content.substr(1, 3), "PNG") << p;
     }
   }
-  EXPECT_EQ(svgs, 2u + 1u + 8u);  // Figs. 4 and 7, Fig. 9, eight gradings
+  EXPECT_EQ(svgs, 2u + 2u + 1u + 8u);  // Figs. 4 and 7, two compaction curves, Fig. 9, eight gradings
   EXPECT_EQ(pngs, 3u);            // Fig. 6 a and b, one Table 2 bed
 
   // Fig. 4: time from 0 to the end of the (quick) settling run; densities from the paper's
@@ -231,7 +235,7 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
 
 TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   const std::string html = slurp(out_ / "report.html");
-  EXPECT_EQ(count_of(html, "<svg"), 11u);
+  EXPECT_EQ(count_of(html, "<svg"), 13u);
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
   EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
   // The same tables as report.md (one header rule "| --- |" each): summary, Table 2 errors,
