@@ -830,7 +830,9 @@ void compose_protocols(Document& doc, FigureSet& figures, nlohmann::json& result
       pour_values.push_back(a != r.result.report.analyses.end() ? a->second.report.density.mean : kNaN);
     }
     const SeedStatistics pour_only = seed_statistics(pour_values);
-    const auto seconds = [](double s) { return std::isnan(s) ? std::string("—") : fmt::format("{:.1f}", s); };
+    const auto seconds = [](double s) {
+      return std::isnan(s) ? std::string("—") : fmt::format(fmt::runtime(s < 1.0 ? "{:.2f}" : "{:.1f}"), s);
+    };
     const auto row = [&](const std::string& protocol, const SeedStatistics& stats, double wall) {
       t.rows.push_back({ex.short_name, protocol, stat_text(stats), seconds(wall), difference_text(stats.mean, ex.experiment)});
     };
