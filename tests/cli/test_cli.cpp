@@ -522,9 +522,10 @@ TEST_F(Cli, PoursAGasThatFallsIntoABed) {
 }
 
 // Poured, then tapped: taps.csv has the density before and after every tap, stages.tapping
-// the protocol, and the run is the same bytes for one and two threads.
+// the protocol, and the run is the same bytes for one and two threads (1100 spheres: above the
+// size from which the DEM runs its loops on threads).
 TEST_F(Cli, TapsAPouredBedAndWritesTheCompactionCurve) {
-  const std::string text = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
+  const std::string text = "[container]\nside = 0.1\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 1100\n"
                            "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
                            "[analysis]\nbox_sides = [0.02]\n[pour]\n[tapping]\ntaps = 3\nintensity = 3\n"
                            "rest_time = 0.05\n";
