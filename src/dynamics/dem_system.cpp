@@ -126,19 +126,20 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
   }
   // Forces are not recomputed: that would advance every contact's spring a second time in
   // this step. The old grains' loads stand (the reorder carried them), and a new grain, which
-  // must touch nothing, feels its weight alone.
+  // must touch nothing (checked over every list entry it is in), feels its weight alone.
+  const auto is_new = [&](std::uint32_t slot) { return user_index_[slot] >= first; };
   for (std::uint32_t s = 0; s < n_; ++s) {
-    const std::uint32_t i = user_index_[s];
-    if (i < first) continue;
-    load_[s] = {frozen_[s] ? Vec3{} : grain_[s].mass * settings_.gravity, {}};
+    if (is_new(s)) load_[s] = {frozen_[s] ? Vec3{} : grain_[s].mass * settings_.gravity, {}};
     for (std::uint32_t k = offset_[s]; k < offset_[s + 1]; ++k) {
       const std::uint32_t j = other_[k];
+      if (!is_new(s) && (j >= n_ || !is_new(j))) continue;
       Vec3 towards;
       const double gap = j < n_ ? norm(separation(grain_[s].position, grain_[j].position)) - grain_[s].radius -
                                       grain_[j].radius
                                 : container_.plane_distance(j - n_, grain_[s].position, towards) - grain_[s].radius;
       if (gap < 0.0)
-        throw std::invalid_argument(fmt::format("DemSystem: admitted particle {} touches another particle or a wall", i));
+        throw std::invalid_argument(fmt::format("DemSystem: admitted particle {} touches another particle or a wall",
+                                                is_new(s) ? user_index_[s] : user_index_[j]));
     }
   }
 }

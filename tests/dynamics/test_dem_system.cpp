@@ -296,6 +296,14 @@ TEST(DemSystem, AnEmptySystemAdmitsParticles) {
   dem.run(40000);
   const double expected = hertz_static_overlap(store.mass[0] * 9.81, kEStar, 0.01);
   EXPECT_NEAR(0.01 - store.position[0].z, expected, 0.02 * expected);
+  // A new particle must touch nothing: one laid into the first (either side of it in the
+  // list's order) is refused.
+  for (const double dx : {-0.015, 0.015}) {
+    ParticleStore two = store;
+    DemSystem again(two, Container::square(0.1, 0.1, false), make_contact_model(material(0.3, 0.5)), settings);
+    two.add(store.position[0] + Vec3{dx, 0.0, 0.0}, 0.01, kDensity);
+    EXPECT_THROW(again.admit_new_particles(), std::invalid_argument) << dx;
+  }
 }
 
 // A cloud of overlapping spheres with random velocities and spins.
