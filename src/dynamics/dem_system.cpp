@@ -478,7 +478,7 @@ bool DemSystem::drift(double slack) {
   const double dt = settings_.time_step;
   // Moved more than half the skin (less what the container moved: a wall may come closer).
   const double reach = 0.5 * skin_ - slack;
-  const double limit = slack == 0.0 ? 0.25 * skin_ * skin_ : reach > 0.0 ? reach * reach : -1.0;
+  const double limit = reach > 0.0 ? reach * reach : -1.0;  // -1: rebuild now
   bool stale = false;
 #pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {

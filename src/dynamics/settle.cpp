@@ -56,16 +56,33 @@ std::optional<double> QuietForecast::expected_end() const {
   return std::min(criterion_.max_time, crossing + criterion_.window);
 }
 
+double weight_energy(const DemSystem& system, const ParticleStore& particles) {
+  double weight = 0.0;
+  const double g = norm(system.gravity());
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (!system.is_frozen(i)) weight += particles.mass[i] * g * 2.0 * particles.radius[i];
+  return weight;
+}
+
+SettleSample sample_system(const DemSystem& system, const ParticleStore& particles, double weight,
+                           const DensityProbe& density) {
+  SettleSample s;
+  s.time = system.time();
+  s.density = density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
+  s.kinetic_energy = system.kinetic_energy();
+  // Per particle over mean m g d: the free-particle count cancels.
+  s.translational_per_particle_mgd = weight > 0.0 ? s.kinetic_energy.translational / weight : 0.0;
+  s.contacts = system.contact_statistics();
+  return s;
+}
+
 SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
                     const DensityProbe& density, const SampleSink& on_sample) {
   if (!(criterion.sample_interval > 0.0) || !(criterion.window >= criterion.sample_interval))
     throw InputError(fmt::format("quiet window {} s must be at least the sample interval {} s (> 0)",
                                  criterion.window, criterion.sample_interval));
   SettleResult result;
-  double weight_energy = 0.0;  // sum of m g d over the free particles, J
-  const double g = norm(system.gravity());
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    if (!system.is_frozen(i)) weight_energy += particles.mass[i] * g * 2.0 * particles.radius[i];
+  const double weight = weight_energy(system, particles);
   const std::size_t free_particles = system.free_count();
 
   const std::size_t steps_per_sample =
@@ -73,13 +90,8 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
   const double start = system.time();
   std::deque<SettleSample> window;
   const auto take_sample = [&] {
-    SettleSample s;
+    SettleSample s = sample_system(system, particles, weight, density);
     s.time = system.time() - start;
-    s.density = density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
-    s.kinetic_energy = system.kinetic_energy();
-    // Per particle over mean m g d: the free-particle count cancels.
-    s.translational_per_particle_mgd = weight_energy > 0.0 ? s.kinetic_energy.translational / weight_energy : 0.0;
-    s.contacts = system.contact_statistics();
     if (on_sample) on_sample(s);
     return s;
   };

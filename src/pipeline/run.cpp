@@ -122,8 +122,11 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   if (report.dynamics || !report.tappings.empty())
     write_file_atomically(dir / "timeseries.csv", report.series.csv());
   if (!report.tappings.empty()) {
-    std::string taps;
-    for (const TapReport& t : report.tappings) taps += taps.empty() ? t.csv() : t.csv().substr(t.csv().find('\n') + 1);
+    std::string taps;  // one header, then every tap step's rows
+    for (const TapReport& t : report.tappings) {
+      const std::string rows = t.csv();
+      taps += taps.empty() ? rows : rows.substr(rows.find('\n') + 1);
+    }
     write_file_atomically(dir / "taps.csv", taps);
   }
   for (const auto& [name, bed] : report.snapshots)

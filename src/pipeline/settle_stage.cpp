@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <limits>
 #include <numbers>
 
@@ -188,14 +187,9 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
     for (std::size_t i = 0; i < particles.size(); ++i) top = std::max(top, particles.position[i].z + particles.radius[i]);
     return top;
   };
-  double weight_energy = 0.0;  // sum of m g d over the particles in the system, J
-  const auto sample = [&] {
-    SettleSample s;
-    s.time = dem.time();
-    s.density = std::numeric_limits<double>::quiet_NaN();  // the bed is still being built
-    s.kinetic_energy = dem.kinetic_energy();
-    s.translational_per_particle_mgd = weight_energy > 0.0 ? s.kinetic_energy.translational / weight_energy : 0.0;
-    s.contacts = dem.contact_statistics();
+  double weight = 0.0;  // of the particles in the system so far
+  const auto sample = [&] {  // no density: the bed is still being built
+    const SettleSample s = sample_system(dem, particles, weight, nullptr);
     recorder(time_offset + s.time, s, fmt::format("pouring, {} of {} in", particles.size(), radii.size()));
   };
   for (std::size_t b = 0; b < report.batches; ++b) {
@@ -214,12 +208,12 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
     for (std::size_t k = 0; k < batch.size(); ++k) {
       particles.add(at[k], batch[k], sc.material.density, part);
       particles.velocity.back() = {0.0, 0.0, -pour.velocity};
-      weight_energy += particles.mass.back() * g * 2.0 * batch[k];
     }
     report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
     report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
     report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
     dem.admit_new_particles();
+    weight = weight_energy(dem, particles);
     if (b + 1 == report.batches) break;
     // The next batch comes once this one has fallen through its slab's height in free fall
     // (as LAMMPS's fix pour times its insertions), or at max_time.
@@ -274,18 +268,12 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
   progress.start_stage("tapping");
   SampleRecorder recorder(sc, 0, series, progress);
-  double weight_energy = 0.0;  // sum of m g d, J
-  for (std::size_t i = 0; i < particles.size(); ++i) weight_energy += particles.mass[i] * g * 2.0 * particles.radius[i];
+  const double weight = weight_energy(dem, particles);
   const double dt = setup.settings.time_step;
   const std::size_t steps_per_sample =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / dt)));
-  const auto sample = [&](bool with_density, const std::string& phase) {
-    SettleSample s;
-    s.time = dem.time();
-    s.density = with_density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
-    s.kinetic_energy = dem.kinetic_energy();
-    s.translational_per_particle_mgd = weight_energy > 0.0 ? s.kinetic_energy.translational / weight_energy : 0.0;
-    s.contacts = dem.contact_statistics();
+  const auto sample = [&](const std::string& phase) {  // no density: it is measured once per tap
+    const SettleSample s = sample_system(dem, particles, weight, nullptr);
     recorder(time_offset + s.time, s, phase);
     return s;
   };
@@ -296,15 +284,15 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
     // The tap (to the step after its end, so the container is at rest again), then the rest.
     dem.run(static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1);
     const double rest_end = dem.time() + tapping.rest_time;
-    std::deque<double> quiet_since;  // sample times since the energy last rose above the threshold
-    SettleSample last = sample(false, phase);
+    std::optional<double> quiet_since;  // the first sample of the current quiet spell
+    SettleSample last = sample(phase);
     while (dem.time() < rest_end - 0.5 * dt) {
       dem.run(std::min(steps_per_sample, static_cast<std::size_t>(std::llround((rest_end - dem.time()) / dt))));
-      last = sample(false, phase);
+      last = sample(phase);
       if (!tapping.rest_until_quiet) continue;
-      if (last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) quiet_since.clear();
-      else quiet_since.push_back(last.time);
-      if (!quiet_since.empty() && quiet_since.back() - quiet_since.front() >= stage.quiet.window) break;
+      if (last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) quiet_since.reset();
+      else if (!quiet_since) quiet_since = last.time;
+      if (quiet_since && last.time - *quiet_since >= stage.quiet.window) break;
     }
     report.samples.push_back({k, time_offset + dem.time(), density(particles), last.translational_per_particle_mgd});
   }

@@ -32,6 +32,23 @@ class Cli : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
   std::string example(const std::string& name) const { return std::string(AGGPACK_EXAMPLES) + "/" + name; }
+  // Writes `text` as <name>.toml, runs it into <name>/ (expecting success) and returns its summary.
+  nlohmann::json run_text(const std::string& name, const std::string& text, const std::string& extra = "") const {
+    std::ofstream(dir_ / (name + ".toml")) << text;
+    const Result r = run("run " + (dir_ / (name + ".toml")).string() + " --quiet --out " + (dir_ / name).string() + extra);
+    EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.output;
+    return nlohmann::json::parse(std::ifstream(dir_ / name / "summary.json"));
+  }
+  // Each scenario text is refused with exit code 2, a message holding its expected words, and no output.
+  void expect_refused(const std::vector<std::pair<std::string, std::string>>& cases) const {
+    for (const auto& [text, expected] : cases) {
+      std::ofstream(dir_ / "bad.toml") << text;
+      const Result r = run("run " + (dir_ / "bad.toml").string() + " --out " + (dir_ / "bad").string());
+      EXPECT_EQ(r.exit_code, 2) << text << "\n" << r.output;
+      EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
+      EXPECT_FALSE(fs::exists(dir_ / "bad"));
+    }
+  }
   fs::path dir_;
 };
 
@@ -365,12 +382,6 @@ TEST_F(Cli, AnExplicitProtocolRunsItsSteps) {
   const std::string base = "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 300\n"
                            "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n"
                            "[analysis]\nbox_sides = [0.02]\n";
-  const auto run_text = [&](const std::string& name, const std::string& text, const std::string& extra = "") {
-    std::ofstream(dir_ / (name + ".toml")) << text;
-    const Result r = run("run " + (dir_ / (name + ".toml")).string() + " --quiet --out " + (dir_ / name).string() + extra);
-    EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.output;
-    return nlohmann::json::parse(std::ifstream(dir_ / name / "summary.json"));
-  };
   // The default protocol, and the same written out with an extra analysis after the deposition.
   const auto implicit = run_text("implicit", base + "[dynamics]\nmax_time = 0.03\n");
   const auto explicit_run =
@@ -452,13 +463,7 @@ TEST_F(Cli, ProtocolErrorsNameTheStepAndTheKey) {
       {base + "[dynamics]\nlayers = 2\n[[protocol]]\nstep = \"deposit\"\n", "dynamics.layers: with [[protocol]]"},
       {base + "[[protocol]]\nstep = \"analyse\"\nname = \"x\"\n", "no deposit step places the particles"},
   };
-  for (const auto& [text, expected] : cases) {
-    std::ofstream(dir_ / "bad.toml") << text;
-    const Result r = run("run " + (dir_ / "bad.toml").string() + " --out " + (dir_ / "bad").string());
-    EXPECT_EQ(r.exit_code, 2) << text << "\n" << r.output;
-    EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
-    EXPECT_FALSE(fs::exists(dir_ / "bad"));
-  }
+  expect_refused(cases);
 }
 
 // A pour inserts the spheres as a random gas above the floor; they fall through the DEM
@@ -468,12 +473,6 @@ TEST_F(Cli, PoursAGasThatFallsIntoABed) {
   const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
                            "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
                            "[analysis]\nbox_sides = [0.02]\n";
-  const auto run_text = [&](const std::string& name, const std::string& text, const std::string& extra = "") {
-    std::ofstream(dir_ / (name + ".toml")) << text;
-    const Result r = run("run " + (dir_ / (name + ".toml")).string() + " --quiet --out " + (dir_ / name).string() + extra);
-    EXPECT_EQ(r.exit_code, 0) << name << "\n" << r.output;
-    return nlohmann::json::parse(std::ifstream(dir_ / name / "summary.json"));
-  };
   const auto poured = run_text("poured", base + "[pour]\nbatches = 3\nvelocity = 0.5\n", " --threads 1");
   EXPECT_EQ(poured["particle_count"], 300);
   const auto& pour = poured["stages"]["pour"];
@@ -571,13 +570,7 @@ TEST_F(Cli, PourErrorsNameTheKey) {
       {base + "[deposition]\n[dynamics]\n[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"tap\"\n",
        "protocol[1].step: a tap step takes its settings from a [tapping] table"},
   };
-  for (const auto& [text, expected] : cases) {
-    std::ofstream(dir_ / "bad.toml") << text;
-    const Result r = run("run " + (dir_ / "bad.toml").string() + " --out " + (dir_ / "bad").string());
-    EXPECT_EQ(r.exit_code, 2) << text << "\n" << r.output;
-    EXPECT_NE(r.output.find(expected), std::string::npos) << expected << "\n" << r.output;
-    EXPECT_FALSE(fs::exists(dir_ / "bad"));
-  }
+  expect_refused(cases);
 }
 
 TEST_F(Cli, SettlesLayerByLayerWithTheLayersBelowFrozen) {

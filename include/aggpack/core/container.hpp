@@ -1,5 +1,6 @@
 #pragma once
 #include <cmath>
+#include <numbers>
 
 #include "aggpack/core/box.hpp"
 
@@ -19,7 +20,7 @@ struct ContainerMotion {
     return amplitude != 0.0 && t > start && t < end();
   }
   [[nodiscard]] double end() const {
-    return amplitude == 0.0 ? start : start + cycles * 2.0 * 3.14159265358979323846 / angular_frequency;
+    return amplitude == 0.0 ? start : start + cycles * 2.0 * std::numbers::pi / angular_frequency;
   }
   [[nodiscard]] double offset(double t) const {
     return moving_at(t) ? amplitude * std::sin(angular_frequency * (t - start)) : 0.0;

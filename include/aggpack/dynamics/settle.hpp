@@ -65,6 +65,14 @@ class QuietForecast {
 using DensityProbe = std::function<double(const ParticleStore&)>;
 using SampleSink = std::function<void(const SettleSample&)>;
 
+// Sum of m g d over the system's free particles, J: the scale of the quiet criterion's energy.
+double weight_energy(const DemSystem& system, const ParticleStore& particles);
+
+// The system's state now (time since it was made, energies, contacts, the probe's density, or
+// NaN without a probe), the energy per particle relative to `weight` (weight_energy above).
+SettleSample sample_system(const DemSystem& system, const ParticleStore& particles, double weight,
+                           const DensityProbe& density);
+
 // Steps `system` until the criterion is met, sampling every sample_interval (the first
 // sample is at the start). `density` measures the bed (the virtual boxes, in a run);
 // `on_sample` sees every sample, for time series and progress.
