@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 #include <algorithm>
 #include <iostream>
+#include <limits>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
@@ -12,6 +13,7 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
+#include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/reproduce.hpp"
 #include "aggpack/pipeline/run.hpp"
 #include "aggpack/pipeline/sweep.hpp"
@@ -44,23 +46,41 @@ aggpack::Box box_argument(const std::string& text, long double bare_unit) {
   return {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
 }
 
-int analyze_command(const std::string& file, const std::vector<std::string>& boxes,
-                    const std::vector<std::string>& cubes, const std::string& unit, double tolerance, bool json) {
+struct AnalyzeArguments {
+  std::string file, unit = "m";
+  std::vector<std::string> boxes, cubes;
+  double tolerance = 1e-6;
+  double overlap_tolerance = aggpack::ParticleSource{}.overlap_tolerance;
+  bool soft_contacts = false;
+  bool json = false;
+};
+
+int analyze_command(const AnalyzeArguments& a) {
+  const auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json] = a;
   const auto factor = aggpack::metres_per_unit(unit);
-  if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit", unit));
+  if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", unit));
   const auto particles = aggpack::read_particle_file(file, static_cast<double>(*factor), 1.0);
   const auto container = aggpack::bounding_container(particles);
+  const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file);
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
   // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
   for (const auto& b : boxes) request.boxes.push_back(box_argument(b, *factor));
   for (const auto& c : cubes) request.cube_sides.push_back(length_argument(c, "--cube", *factor));
-  const auto report = aggpack::analyze_packing(particles, container, request);
+  const auto report = [&] {
+    try {
+      return aggpack::analyze_packing(particles, container, request);
+    } catch (const aggpack::InputError& e) {
+      throw aggpack::InputError(fmt::format("{}: {}", file, e.what()));
+    }
+  }();
   if (json) {
     auto j = aggpack::to_json(report);
     j["aggpack_version"] = aggpack::kVersion;
     j["file"] = file;
     j["particle_count"] = particles.size();
+    if (overlap.depth_over_radius > 1e-6)
+      j["largest_pair_overlap_rel"] = overlap.depth_over_radius, j["soft_contacts"] = soft_contacts;
     const auto& cb = container.bounds;
     j["container"] = {{"lo", {cb.lo.x, cb.lo.y, cb.lo.z}}, {"hi", {cb.hi.x, cb.hi.y, cb.hi.z}}, {"periodic", false},
                       {"note", "bounding box of the spheres"}};
@@ -73,6 +93,9 @@ int analyze_command(const std::string& file, const std::vector<std::string>& box
     fmt::print("  box [{:.6g}, {:.6g}, {:.6g}] .. [{:.6g}, {:.6g}, {:.6g}] m: density {:.6f}\n", b.box.lo.x,
                b.box.lo.y, b.box.lo.z, b.box.hi.x, b.box.hi.y, b.box.hi.z, b.density);
   fmt::print("  mean density {:.6f}, sd {:.6f}\n", report.density.mean, report.density.sd);
+  if (overlap.depth_over_radius > 1e-3)
+    fmt::print("  spheres overlap by up to {:.3g} of the smaller radius (particles {} and {}): the shared volume "
+               "counts twice\n", overlap.depth_over_radius, overlap.i, overlap.j);
   fmt::print("  mean coordination {:.4f} over {} spheres in the largest box\n", report.coordination.mean,
              report.coordination.particles_counted);
   return 0;
@@ -88,13 +111,15 @@ int main(int argc, char** argv) {
   aggpack::RunOptions run;
   std::string scenario;
   std::string out_dir;
-  std::uint64_t seed = 0;
+  std::int64_t seed = 0;
   std::string stop_after;
   auto* run_cmd = app.add_subcommand("run", "Run a scenario and write particles.csv, particles.vtp, summary.json");
   run_cmd->add_option("scenario", scenario, "Scenario file (TOML)")->required();
   auto* out_opt = run_cmd->add_option("--out", out_dir, "Output directory (overrides output.directory)");
-  auto* seed_opt = run_cmd->add_option("--seed", seed, "Random seed (overrides seed)");
-  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  const auto thread_range = CLI::Range(0, aggpack::kMaxThreads, "0 (all cores) to 256");
+  auto* seed_opt = run_cmd->add_option("--seed", seed, "Random seed, 0 to 2^63-1 (overrides seed)")
+                       ->check(CLI::Range(std::int64_t{0}, std::numeric_limits<std::int64_t>::max()));
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
   run_cmd->add_option("--set", run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
   auto* stop_opt = run_cmd->add_option("--stop-after", stop_after, "Stop after this stage (deposition, dynamics)");
   run_cmd->add_flag("--quiet", run.quiet, "Print nothing on success");
@@ -104,10 +129,8 @@ int main(int argc, char** argv) {
   check_cmd->add_option("scenario", scenario, "Scenario file (TOML)")->required();
   check_cmd->add_option("--set", check_sets, "Override a scenario key: key.path=value (TOML value)");
 
-  std::string file, unit = "m";
-  std::vector<std::string> boxes, cubes;
-  double tolerance = 1e-6;
-  bool json = false;
+  AnalyzeArguments analyze;
+  auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json] = analyze;
   auto* analyze_cmd = app.add_subcommand("analyze", "Measure density, coordination and profiles of a packing file");
   analyze_cmd->add_option("file", file, "Packing: CSV with header x,y,z,r (or diameter), or whitespace x y z r")
       ->required();
@@ -116,6 +139,11 @@ int main(int argc, char** argv) {
   analyze_cmd->add_option("--length-unit", unit, "Unit of the file's numbers (m, mm, in, ...)");
   analyze_cmd->add_option("--tolerance", tolerance, "Relative contact tolerance for coordination")
       ->check(CLI::Range(0.0, 1.0));
+  analyze_cmd->add_option("--overlap-tolerance", overlap_tolerance,
+                          "Deepest overlap of two spheres accepted, / smaller radius (default 0.25)")
+      ->check(CLI::Range(0.0, 1.0));
+  analyze_cmd->add_flag("--soft-contacts", soft_contacts,
+                        "The file comes from a soft-contact DEM: accept any overlap short of a centre inside another sphere");
   analyze_cmd->add_flag("--json", json, "Print machine-readable JSON");
 
   aggpack::GradingQuery grading_query;
@@ -144,8 +172,8 @@ int main(int argc, char** argv) {
                           "Also settle seed 1 of every Table 2 mix by DEM at E/1000 (hours: see BENCHMARKS.md)");
   reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
   reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
-  reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::NonNegativeNumber);
+  reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
+      ->check(thread_range);
   reproduce_cmd->add_flag("--quiet", reproduce.quiet, "Print nothing on success, no progress line");
 
   aggpack::SweepOptions sweep;
@@ -159,7 +187,7 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
   auto* sweep_stop_opt =
       sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
-  sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads (default: all cores)")->check(CLI::NonNegativeNumber);
+  sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
   sweep_cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
 
   // CLI11 would say "A subcommand is required" for a misspelt one: name it, with the list.
@@ -184,7 +212,7 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) {
       if (*out_opt) run.overrides.output_directory = out_dir;
-      if (*seed_opt) run.overrides.seed = seed;
+      if (*seed_opt) run.overrides.seed = static_cast<std::uint64_t>(seed);
       if (*stop_opt) run.stop_after = stop_after;
       aggpack::Progress progress = aggpack::Progress::wanted(run.quiet) ? aggpack::Progress(std::cerr)
                                                                        : aggpack::Progress();
@@ -206,7 +234,7 @@ int main(int argc, char** argv) {
       const auto sc = aggpack::check_scenario(scenario, overrides);
       fmt::print("{}: ok ({})\n", scenario, sc.title);
     } else if (*analyze_cmd) {
-      return analyze_command(file, boxes, cubes, unit, tolerance, json);
+      return analyze_command(analyze);
     } else if (*grading_cmd) {
       if (grading_list) {
         for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
 
 namespace aggpack {
@@ -51,6 +52,21 @@ struct Columns {
   std::array<std::size_t, 4> index{0, 1, 2, 3};  // x, y, z, size
   bool size_is_diameter = false;
 };
+// A column that a header names twice (x, y, z and r, radius, d, diameter all count as the
+// size); the reader would otherwise take one of them silently.
+std::optional<std::string> repeated_column(const std::vector<std::string>& names) {
+  std::vector<std::string> seen;
+  for (const auto& raw : names) {
+    std::string name = lower_trimmed(raw);
+    if (name.empty()) continue;
+    const bool size = name == "r" || name == "radius" || name == "d" || name == "diameter";
+    const std::string key = size ? "size" : name;
+    if (std::find(seen.begin(), seen.end(), key) != seen.end()) return name;
+    seen.push_back(key);
+  }
+  return std::nullopt;
+}
+
 std::optional<Columns> columns_from_header(const std::vector<std::string>& names) {
   std::array<std::optional<std::size_t>, 4> found;
   Columns c;
@@ -70,32 +86,48 @@ std::optional<Columns> columns_from_header(const std::vector<std::string>& names
 }
 }  // namespace
 
-ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density) {
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot open the particle file", file.string()));
+ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density,
+                                 std::uintmax_t max_bytes) {
+  return parse_particle_text(read_input_file(file, "the particle file", max_bytes), file.string(), length_unit,
+                             density);
+}
+
+ParticleStore parse_particle_text(std::string_view text, const std::string& name, double length_unit,
+                                  double density) {
   ParticleStore store;
   std::string line;
   std::size_t line_no = 0;
+  std::size_t line_start = 0;
   Columns columns;
   std::optional<bool> csv;
   // A CSV row needs at least the named columns (others are ignored); a whitespace row has
   // exactly four numbers, or exactly as many fields as its header names.
   std::size_t min_fields = 4, max_fields = 4;
   bool has_header = false;
-  while (std::getline(in, line)) {
+  while (line_start < text.size()) {
+    const std::size_t end = std::min(text.find('\n', line_start), text.size());
+    line.assign(text.substr(line_start, end - line_start));
+    line_start = end + 1;
     ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find('\0') != std::string::npos)
+      throw InputError(fmt::format("{}:{}: a NUL byte: this is not a text file", name, line_no));
     if (is_blank_or_comment(line)) continue;
     if (!csv) {
       csv = line.find(',') != std::string::npos;
       const auto fields = split(line, *csv);
       const bool numeric = std::all_of(fields.begin(), fields.end(), [](const std::string& f) { return to_number(f); });
       if (*csv || !numeric) {
+        if (const auto twice = repeated_column(fields))
+          throw InputError(fmt::format("{}:{}: the header names the column \"{}\" twice; expected each of x, y, z "
+                                       "and r (or radius, d, diameter) once",
+                                       name, line_no, *twice));
         const auto header = columns_from_header(fields);
         if (!header)
           throw InputError(fmt::format(
               "{}:{}: a {} particle file needs a header naming the columns x, y, z and r (or radius, d, "
               "diameter){}; got \"{}\"",
-              file.string(), line_no, *csv ? "CSV" : "whitespace-separated",
+              name, line_no, *csv ? "CSV" : "whitespace-separated",
               *csv ? "" : ", or rows of exactly four numbers x y z r", line));
         columns = *header;
         has_header = true;
@@ -111,32 +143,32 @@ ParticleStore read_particle_file(const std::filesystem::path& file, double lengt
     const auto fields = split(line, *csv);
     if (fields.size() < min_fields || fields.size() > max_fields) {
       if (*csv)
-        throw InputError(fmt::format("{}:{}: expected {} comma-separated fields per row, got {}", file.string(),
+        throw InputError(fmt::format("{}:{}: expected {} comma-separated fields per row, got {}", name,
                                      line_no, min_fields, fields.size()));
       if (!has_header)
         throw InputError(fmt::format(
-            "{}:{}: expected exactly 4 numbers per row (x y z r), got {}{}", file.string(), line_no, fields.size(),
+            "{}:{}: expected exactly 4 numbers per row (x y z r), got {}{}", name, line_no, fields.size(),
             fields.size() > 4 ? "; a file with more columns (a LAMMPS dump body: id type x y z radius) needs a "
                                 "header line naming them, e.g. \"id type x y z radius\""
                               : ""));
-      throw InputError(fmt::format("{}:{}: expected {} fields per row, as the header names, got {}", file.string(),
+      throw InputError(fmt::format("{}:{}: expected {} fields per row, as the header names, got {}", name,
                                    line_no, min_fields, fields.size()));
     }
     double v[4];
     for (std::size_t k = 0; k < 4; ++k) {
       const auto value = to_number(fields[columns.index[k]]);
       if (!value)
-        throw InputError(fmt::format("{}:{}: field {} (\"{}\") is not a number", file.string(), line_no,
+        throw InputError(fmt::format("{}:{}: field {} (\"{}\") is not a number", name, line_no,
                                      columns.index[k] + 1, fields[columns.index[k]]));
       v[k] = *value * length_unit;
     }
     const double r = columns.size_is_diameter ? 0.5 * v[3] : v[3];
     if (!(r > 0.0))
-      throw InputError(fmt::format("{}:{}: the {} must be positive, got {}", file.string(), line_no,
+      throw InputError(fmt::format("{}:{}: the {} must be positive, got {}", name, line_no,
                                    columns.size_is_diameter ? "diameter" : "radius", fields[columns.index[3]]));
     store.add({v[0], v[1], v[2]}, r, density);
   }
-  if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", file.string()));
+  if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", name));
   return store;
 }
 

@@ -2,10 +2,13 @@
 
 #include <variant>
 
+#include <unistd.h>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/overloaded.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
@@ -170,7 +173,8 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
                               const Container& container) {
   s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
-                "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance"});
+                "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance",
+                "overlap_tolerance", "soft_contacts"});
   ParticleSource source;
   const bool graded = s.has("grading") || s.has("coarse") || s.has("fine");
   const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from")) + int(graded);
@@ -194,9 +198,11 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
     source.file_length_unit = static_cast<double>(*factor);
     source.boundary_overlap_tolerance =
         s.number("boundary_overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.boundary_overlap_tolerance);
+    source.overlap_tolerance = s.number("overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.overlap_tolerance);
+    source.soft_contacts = s.boolean("soft_contacts").value_or(false);
     return source;
   }
-  for (auto k : {"length_unit", "boundary_overlap_tolerance"})
+  for (auto k : {"length_unit", "boundary_overlap_tolerance", "overlap_tolerance", "soft_contacts"})
     if (s.has(k)) s.fail(k, "applies only to particles read with 'from'");
   SizeSpec spec;
   spec.order = s.choice("order", kSizeOrderNames).value_or(SizeOrder::Shuffled);
@@ -252,7 +258,8 @@ Material read_material(const TomlSection& s) {
 // [dynamics]; its friction_model chooses the contact law of `material`.
 DynamicsStage read_dynamics(const TomlSection& s, Material& material) {
   s.allow_only({"friction_model", "time_step", "time_step_safety", "max_time", "sample_interval", "quiet_window",
-                "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity"});
+                "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity",
+                "allow_unstable_time_step"});
   DynamicsStage d;
   std::vector<std::string_view> laws;
   for (const ContactLawEntry& law : contact_laws()) laws.push_back(law.name);
@@ -270,6 +277,7 @@ DynamicsStage read_dynamics(const TomlSection& s, Material& material) {
   q.density_tolerance = s.number("density_tolerance", kPositive).value_or(q.density_tolerance);
   d.layers = static_cast<std::size_t>(s.integer("layers", 1, 10'000).value_or(1));
   d.dem.skin = s.length("skin").value_or(d.dem.skin);
+  d.allow_unstable_time_step = s.boolean("allow_unstable_time_step").value_or(false);
   d.dem.gravity = {0.0, 0.0, -s.number("gravity", kPositive).value_or(-d.dem.gravity.z)};
   return d;
 }
@@ -321,6 +329,20 @@ AnalysisSettings read_analysis(const TomlSection& s) {
   a.slice_thickness = s.length("slice_thickness");
   a.shell_thickness = s.length("shell_thickness");
   return a;
+}
+
+RunLimits read_limits(const TomlSection& s) {
+  s.allow_only({"max_particles", "max_memory_gib", "max_grid_cells", "max_input_file_gib", "max_profile_bins"});
+  RunLimits l;
+  l.max_particles = static_cast<double>(s.integer("max_particles", 1, 4'000'000'000).value_or(
+      static_cast<std::int64_t>(l.max_particles)));
+  l.max_memory_gib = s.number("max_memory_gib", {0.0, 1e6, true, false});
+  l.max_grid_cells = static_cast<double>(s.integer("max_grid_cells", 1, std::int64_t{1} << 31).value_or(
+      static_cast<std::int64_t>(l.max_grid_cells)));
+  l.max_input_file_gib = s.number("max_input_file_gib", {0.0, 1e6, true, false}).value_or(l.max_input_file_gib);
+  l.max_profile_bins = static_cast<double>(s.integer("max_profile_bins", 1, 1'000'000'000).value_or(
+      static_cast<std::int64_t>(l.max_profile_bins)));
+  return l;
 }
 
 OutputSettings read_output(const TomlSection& s, const std::filesystem::path& scenario_file) {
@@ -433,15 +455,24 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
   return p;
 }
 
+double memory_limit_bytes(const RunLimits& limits) {
+  if (limits.max_memory_gib) return *limits.max_memory_gib * double(1u << 30);
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && page > 0 ? 0.8 * static_cast<double>(pages) * static_cast<double>(page) : 16.0 * (1u << 30);
+}
+
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {
+  // A scenario is a page of TOML: 16 MiB is far beyond any real one.
+  return parse_scenario(read_input_file(file, "the scenario", std::uintmax_t{16} << 20), file, overrides);
+}
+
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file, const ScenarioOverrides& overrides) {
   ScenarioOrigin origin{file.string(), {}};
   toml::table root;
   try {
-    root = toml::parse_file(file.string());
+    root = toml::parse(text, file.string());
   } catch (const toml::parse_error& e) {
     const auto& src = e.source();
-    if (src.begin.line == 0)  // the file could not be opened
-      throw InputError(fmt::format("{}: cannot read the scenario: {}", file.string(), e.description()));
     throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
                                  src.begin.column, e.description()));
   }
@@ -449,7 +480,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",
-                "tapping", "dynamics", "protocol"});
+                "tapping", "dynamics", "protocol", "limits"});
 
   Scenario sc;
   sc.file = file;
@@ -478,6 +509,7 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
                         "expected layers = 1 for a bed read from a file");
   }
   if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
+  if (const auto l = s.table("limits")) sc.limits = read_limits(*l);
   if (const auto o = s.table("output")) sc.output = read_output(*o, file);
   else sc.output.directory = "out/" + file.stem().string();
   if (overrides.output_directory) sc.output.directory = *overrides.output_directory;
@@ -628,6 +660,7 @@ nlohmann::json to_json(const Scenario& sc) {
                      {"layers", d.layers},
                      {"gravity_m_s2", -d.dem.gravity.z}};
     if (d.time_step.fixed) j["dynamics"]["time_step_s"] = *d.time_step.fixed;
+    if (d.allow_unstable_time_step) j["dynamics"]["allow_unstable_time_step"] = true;
     if (d.dem.skin > 0.0) j["dynamics"]["skin_m"] = d.dem.skin;
   }
   const Material& m = sc.material;

@@ -42,17 +42,6 @@ nlohmann::json to_json(const SizesComponent& c) {
   return j;
 }
 
-// Refuses amounts that would need more particles than a run can hold, before drawing them.
-void check_expected_count(double expected, const GradedParticles& g) {
-  constexpr double kMaxParticles = 1e8;  // about 13 GB at the deposition stage's 128 bytes per sphere
-  if (expected > kMaxParticles)
-    throw InputError(fmt::format(
-        "particles: this amount needs about {:.3g} particles (more than {:.0e}); raise the fine cut-off d_min "
-        "(now {:.4g} mm), or generate less (count, solid_volume or fill_height)",
-        expected, kMaxParticles,
-        1e3 * (g.fine ? g.fine->d_min : g.main.d_min).value_or((g.fine ? g.fine->grading : g.main.grading).smallest())));
-}
-
 std::string cut_note(const GradingSource& source, const GradingCut& cut) {
   const std::string snapped = snapped_sieves_text(source.grading.snapped);
   return fmt::format("{} ({}): sizes {:.4g} to {:.4g} mm generated; {:.2f} % of the volume finer and {:.2f} % coarser "
@@ -88,6 +77,30 @@ nlohmann::json to_json(const SizesReport& r) {
   return j;
 }
 
+double expected_particle_count(const ParticleSource& source) {
+  if (source.sizes) {
+    const SizeSpec& spec = *source.sizes;
+    if (spec.total_count) return static_cast<double>(*spec.total_count);
+    double count = 0.0, volume_per_unit_fraction = 0.0;
+    for (const SizeClass& c : spec.classes) {
+      if (c.count) count += static_cast<double>(*c.count);
+      if (c.volume_fraction) volume_per_unit_fraction += *c.volume_fraction / volume(c.diameter);
+    }
+    return count + spec.solid_volume.value_or(0.0) * volume_per_unit_fraction;
+  }
+  if (!source.graded) return 0.0;
+  const GradedParticles& g = *source.graded;
+  if (g.amount.count) return static_cast<double>(*g.amount.count);
+  const double solid = g.amount.solid_volume.value_or(0.0);
+  const double main = GradingSampler(cut_grading(g.main.grading, g.main.d_min, g.main.d_max, g.main.key), g.sampling)
+                          .mean_particle_volume();
+  if (!g.fine) return solid / main;
+  const double fine =
+      GradingSampler(cut_grading(g.fine->grading, g.fine->d_min, g.fine->d_max, g.fine->key), g.sampling)
+          .mean_particle_volume();
+  return solid / (1.0 + g.ca_fa) * (g.ca_fa / main + 1.0 / fine);
+}
+
 GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) {
   GeneratedSizes out;
   Rng rng = make_rng(seed, RngPurpose::Sizes);
@@ -107,10 +120,6 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
     if (g.fine) {
       const GradingCut fine_cut = cut_grading(g.fine->grading, g.fine->d_min, g.fine->d_max, g.fine->key);
       const GradingSampler fine(fine_cut, g.sampling);
-      if (g.amount.solid_volume)
-        check_expected_count(*g.amount.solid_volume / (1.0 + g.ca_fa) *
-                                 (g.ca_fa / main.mean_particle_volume() + 1.0 / fine.mean_particle_volume()),
-                             g);
       std::vector<std::uint8_t> is_fine;
       out.diameters = sample_mix(main, fine, g.ca_fa, g.amount, g.order, rng, &is_fine);
       std::vector<double> coarse_d, fine_d;
@@ -127,7 +136,6 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
                                component_report(*g.fine, fine_cut, fine_d)};
       out.notes.push_back(cut_note(*g.fine, fine_cut));
     } else {
-      if (g.amount.solid_volume) check_expected_count(*g.amount.solid_volume / main.mean_particle_volume(), g);
       out.diameters = sample_diameters(main, g.amount, rng);
       out.report.method = "grading";
       out.report.components = {component_report(g.main, main_cut, out.diameters)};

@@ -13,6 +13,7 @@
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/vtk.hpp"
+#include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/steps.hpp"
 
 namespace aggpack {
@@ -55,17 +56,41 @@ double fit_into_container(ParticleStore& particles, const Container& container, 
   return largest;
 }
 
-// Particles read from a file (with their largest overlap of the container / r), or an
-// empty bed for the deposition stage to fill.
+// What a run starts from, every check before work passed: particles read from a file (with
+// their largest overlaps of the container and of each other), or the generated sizes of an
+// empty bed for the deposition and pour stages to fill.
 struct InitialBed {
   ParticleStore particles;
   double largest_boundary_overlap = 0.0;
+  PairOverlap largest_pair_overlap;
+  std::optional<GeneratedSizes> sizes;
 };
-InitialBed initial_particles(const Scenario& sc) {
-  if (!sc.particles.file) return {};
-  InitialBed bed{read_particle_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density), 0.0};
-  bed.largest_boundary_overlap =
-      fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
+InitialBed initial_bed(const Scenario& sc) {
+  check_amount(sc);
+  InitialBed bed;
+  if (sc.particles.file) {
+    const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
+    bed.particles = read_particle_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
+                                       max_bytes);
+    if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
+      throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
+                                   sc.particles.file->string(), bed.particles.size(), sc.limits.max_particles));
+    bed.largest_boundary_overlap =
+        fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
+    check_sizes(sc, bed.particles.radius);
+    bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
+                                                       sc.particles.soft_contacts, sc.particles.file->string());
+    return bed;
+  }
+  try {
+    bed.sizes = generate_sizes(sc.particles, sc.seed);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
+  }
+  std::vector<double> radii;
+  radii.reserve(bed.sizes->diameters.size());
+  for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
+  check_sizes(sc, radii);
   return bed;
 }
 
@@ -73,32 +98,32 @@ InitialBed initial_particles(const Scenario& sc) {
 
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
   Scenario sc = load_scenario(scenario_file, overrides);
-  if (sc.deposition || sc.pour) return sc;  // the boxes can only be checked against the bed once made
-  const ParticleStore particles = initial_particles(sc).particles;
-  analyze_packing(particles, sc.container, analysis_request(sc));  // box placement errors surface here
+  check_output_directory(sc.output.directory, false);
+  const InitialBed bed = initial_bed(sc);
+  if (sc.deposition || sc.pour) return sc;  // the boxes can only be placed in the bed once made
+  analyse_bed(sc, bed.particles);  // box placement errors surface here
   return sc;
 }
 
 RunReport run(const Scenario& sc, const RunControls& controls, Progress& progress) {
   Protocol protocol = scenario_protocol(sc);
   if (controls.stop_after) protocol = stop_after(protocol, *controls.stop_after, sc);
+  check_thread_count(controls.threads);
   RunReport report;
   report.scenario = sc;
   auto t0 = Clock::now();
-  InitialBed initial = initial_particles(sc);
+  InitialBed initial = initial_bed(sc);
   report.particles = std::move(initial.particles);
   report.largest_boundary_overlap = initial.largest_boundary_overlap;
-  report.wall_clock_s["input"] = seconds_since(t0);
+  report.largest_pair_overlap = initial.largest_pair_overlap.depth_over_radius;
+  const double prepared_s = seconds_since(t0);  // reading the file, or drawing the sizes
+  report.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
+  if (initial.sizes) report.wall_clock_s["sizes"] = prepared_s;
 
+  if (controls.before_work) controls.before_work();
   RunContext context{report, progress, controls.threads, {}, 0.0, std::nullopt};
-  if (sc.deposition || sc.pour) {
-    t0 = Clock::now();
-    try {
-      report.sizes = generate_sizes(sc.particles, sc.seed);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
-    }
-    report.wall_clock_s["sizes"] = seconds_since(t0);
+  if (initial.sizes) {
+    report.sizes = std::move(initial.sizes);
     for (const double d : report.sizes->diameters) context.radii.push_back(0.5 * d);
   }
   for (const Step& step : protocol.steps) std::visit([&](const auto& kind) { run_step(kind, context); }, step.kind);
@@ -144,7 +169,25 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   Progress silent;
   Progress& progress = options.progress ? *options.progress : silent;
   const Scenario sc = load_scenario(scenario_file, options.overrides);
-  RunResult result{sc.output.directory, run(sc, {options.threads, options.stop_after}, progress), {}, 0.0};
+  check_thread_count(options.threads);
+  check_output_directory(sc.output.directory, false);
+  // The folder is made and probed once the input has passed its checks, before any work, not
+  // after hours of it; a run that fails later removes the folder again if it made it empty.
+  const bool existed = std::filesystem::exists(sc.output.directory);
+  const auto remove_if_made_empty = [&] {
+    std::error_code ec;
+    if (!existed && std::filesystem::is_empty(sc.output.directory, ec) && !ec)
+      std::filesystem::remove(sc.output.directory, ec);
+  };
+  RunControls controls{options.threads, options.stop_after,
+                       [&] { check_output_directory(sc.output.directory, true); }};
+  RunResult result{sc.output.directory, {}, {}, 0.0};
+  try {
+    result.report = run(sc, controls, progress);
+  } catch (...) {
+    remove_if_made_empty();
+    throw;
+  }
   // Outputs only once everything has been computed: bad input leaves no files behind.
   result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
   result.wall_clock_s = seconds_since(t_start);

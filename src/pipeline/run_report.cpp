@@ -66,6 +66,19 @@ std::vector<std::string> RunReport::modelling_notes() const {
                                 "radius (contacts of a settled bed; accepted up to "
                                 "particles.boundary_overlap_tolerance = {:g})",
                                 r.largest_boundary_overlap, sc.particles.boundary_overlap_tolerance));
+  if (sc.particles.file && r.largest_pair_overlap > 1e-3)
+    notes.push_back(fmt::format("the particle file's spheres overlap each other by up to {:.3g} of the smaller radius "
+                                "({}; accepted up to {}): the volume they share is counted twice in the densities",
+                                r.largest_pair_overlap,
+                                sc.particles.soft_contacts ? "a soft-contact DEM bed, particles.soft_contacts"
+                                                           : "contacts of a settled bed",
+                                sc.particles.soft_contacts ? std::string("one centre inside the other sphere")
+                                                           : fmt::format("particles.overlap_tolerance = {:g}",
+                                                                         sc.particles.overlap_tolerance)));
+  if (sc.dynamics && sc.dynamics->allow_unstable_time_step)
+    notes.push_back(fmt::format("dynamics.allow_unstable_time_step = true: the time step may exceed {:g} of the "
+                                "Rayleigh time, where Hertz contacts are no longer resolved; the settled density "
+                                "may be wrong", TimeStepRule::kStableFraction));
   if (r.dynamics)
     for (std::string& note : dynamics_notes(sc, *r.dynamics)) notes.push_back(std::move(note));
   if (r.dynamics_skipped) notes.push_back("--stop-after deposition: the [dynamics] stage was not run");
@@ -135,6 +148,10 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["input"] = {{"file", sc.particles.file->string()},
                         {"largest_boundary_overlap_rel", largest_boundary_overlap},
                         {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
+  if (sc.particles.file && largest_pair_overlap > 1e-6) {
+    summary["input"]["largest_pair_overlap_rel"] = largest_pair_overlap;
+    summary["input"]["soft_contacts"] = sc.particles.soft_contacts;
+  }
   summary["modelling_notes"] = modelling_notes();
   summary.update(to_json(final));
   wall_clock["output"] = output_seconds;

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
 
 namespace aggpack {
@@ -125,8 +126,14 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
 }
 
 Grading read_grading_csv(const std::string& file, double length_unit, const std::string& percent_column) {
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("{}: cannot open the grading file", file));
+  // A sieve analysis is a few dozen rows: 16 MiB is far beyond any real one.
+  return parse_grading_csv(read_input_file(file, "the grading file", std::uintmax_t{16} << 20), file, length_unit,
+                           percent_column);
+}
+
+Grading parse_grading_csv(std::string_view text, const std::string& file, double length_unit,
+                          const std::string& percent_column) {
+  std::istringstream in{std::string(text)};
   std::string line;
   std::vector<std::string> header;
   std::size_t line_no = 0;

@@ -5,6 +5,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+
 namespace aggpack {
 
 namespace {
@@ -27,9 +31,13 @@ MultilevelGrid::MultilevelGrid(const Container& container, std::span<const doubl
   radius_top_ = *max_it;
   // Levels a factor of two apart in radius: level l holds radii in (top/2^(l+1), top/2^l].
   const auto level_count = static_cast<std::size_t>(std::floor(std::log2(radius_top_ / *min_it))) + 1;
+  if (level_count > 64)
+    throw InputError(fmt::format("the radii span {:.3g} to {:.3g} m, a ratio of {:.3g}; the neighbour grid takes "
+                                 "a ratio of at most 2^64", *min_it, radius_top_, radius_top_ / *min_it));
   std::vector<std::size_t> members(level_count, 0);
   levels_.resize(level_count);
   for (double r : radii) ++members[std::min(level_count - 1, level_of(r))];
+  std::size_t columns = 0;
   for (std::size_t l = 0; l < level_count; ++l) {
     Level& level = levels_[l];
     level.max_radius = std::ldexp(radius_top_, -static_cast<int>(l));
@@ -43,8 +51,43 @@ MultilevelGrid::MultilevelGrid(const Container& container, std::span<const doubl
     level.cell_x = period_x_ / level.nx;
     level.cell_y = period_y_ / level.ny;
     level.cell_z = std::max(level.cell_x, level.cell_y);
-    level.top_layer.assign(static_cast<std::size_t>(level.nx) * level.ny, -1);
+    columns += static_cast<std::size_t>(level.nx) * level.ny;
   }
+  if (columns > kMaxCells) too_many_cells(static_cast<double>(columns), "its footprint");
+  for (Level& level : levels_) level.top_layer.assign(static_cast<std::size_t>(level.nx) * level.ny, -1);
+}
+
+double MultilevelGrid::cells_needed(const Container& container, std::span<const double> radii, double bed_volume,
+                                    double height) {
+  double cells = 0.0;
+  if (radii.empty()) return cells;
+  const auto [min_it, max_it] = std::minmax_element(radii.begin(), radii.end());
+  const double top = *max_it;
+  const double levels = std::floor(std::log2(top / *min_it)) + 1;
+  if (!(*min_it > 0.0) || levels > 64) return std::numeric_limits<double>::infinity();
+  std::vector<std::size_t> members(static_cast<std::size_t>(levels), 0);
+  for (double r : radii) {
+    auto l = static_cast<std::size_t>(std::max(0.0, std::floor(std::log2(top / r))));
+    if (l > 0 && std::ldexp(r, static_cast<int>(l)) == top) --l;
+    ++members[std::min(l, members.size() - 1)];
+  }
+  for (std::size_t l = 0; l < members.size(); ++l) {
+    const double max_radius = std::ldexp(top, -static_cast<int>(l));
+    const double sparse_cell = members[l] > 0 ? std::cbrt(bed_volume / static_cast<double>(members[l]))
+                                              : std::numeric_limits<double>::infinity();
+    const double min_width = std::max(2.0 * max_radius, sparse_cell);
+    const double nx = cells_along(container.length_x(), min_width), ny = cells_along(container.length_y(), min_width);
+    const double cell_z = std::max(container.length_x() / nx, container.length_y() / ny);
+    cells += nx * ny * std::max(1.0, std::ceil(height / cell_z));
+  }
+  return cells;
+}
+
+void MultilevelGrid::too_many_cells(double cells, std::string_view what) const {
+  throw InputError(fmt::format("the neighbour grid would need {:.3g} cells to cover {} (container {}, spheres of "
+                               "radius {:.3g} m and less), more than its limit of {:.3g}: a sphere far from the "
+                               "others, or a container far larger than its spheres",
+                               cells, what, box_text(container_.bounds), radius_top_, static_cast<double>(kMaxCells)));
 }
 
 std::size_t MultilevelGrid::level_of(double radius) const {
@@ -92,7 +135,13 @@ void MultilevelGrid::insert(std::uint32_t id, const Vec3& centre, double radius)
       column_index(centre.x, lo_.x, level.cell_x, level.nx);
   const int iz = std::max(0, layer_index(centre.z, level));
   const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
-  if (iz >= level.layers()) level.head.resize((static_cast<std::size_t>(iz) + 1) * layer_size, kEmpty);
+  if (iz >= level.layers()) {
+    std::size_t cells = (static_cast<std::size_t>(iz) + 1) * layer_size;
+    for (const Level& other : levels_) cells += &other == &level ? 0 : other.head.size();
+    if (cells > kMaxCells)
+      too_many_cells(static_cast<double>(cells), fmt::format("a sphere at height {:.6g} m", centre.z));
+    level.head.resize((static_cast<std::size_t>(iz) + 1) * layer_size, kEmpty);
+  }
   if (next_.size() <= id) next_.resize(static_cast<std::size_t>(id) + 1, kEmpty);
   std::uint32_t& head = level.head[iz * layer_size + column];
   next_[id] = head;

@@ -2,7 +2,9 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/deposition/contact_geometry.hpp"
 
@@ -17,7 +19,13 @@ namespace aggpack {
 //   numbers is never guessed at.
 // Lines starting with '#' and blank lines are skipped. Values are multiplied by
 // `length_unit` (metres per file unit). Throws InputError naming the file and line.
-ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density);
+// Refuses a file that is not a regular file, or is over `max_bytes`, before reading it.
+ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density,
+                                 std::uintmax_t max_bytes = kDefaultMaxInputFileBytes);
+
+// The same reader on text already in memory; `name` stands for the file in messages.
+ParticleStore parse_particle_text(std::string_view text, const std::string& name, double length_unit,
+                                  double density);
 
 // "id,x,y,z,r" in metres, one row per particle in store order, full double precision.
 std::string particles_csv(const ParticleStore& particles);

@@ -48,6 +48,10 @@ struct ParticleSource {
   // Largest overlap of the floor or a wall accepted from a file, as a fraction of the
   // radius: a settled bed's Hertz contacts (1e-4 r at rock stiffness, 1e-2 r at E/100).
   double boundary_overlap_tolerance = 0.02;
+  // Deepest overlap of two spheres from a file, as a fraction of the smaller radius; beyond
+  // it the file is refused unless it comes from a soft-contact DEM (soft_contacts).
+  double overlap_tolerance = 0.25;
+  bool soft_contacts = false;
 };
 
 // [material]: the spheres' density and the contact law's parameters (dynamics.friction_model
@@ -71,6 +75,7 @@ struct DynamicsStage {
   TimeStepRule time_step;
   QuietCriterion quiet;
   std::size_t layers = 1;       // > 1: deposit and settle layer by layer (the paper's method)
+  bool allow_unstable_time_step = false;  // run a step above TimeStepRule::kStableFraction (noted)
 };
 
 // The tapping step ([tapping]): the container (floor and walls) tapped `taps` times, each tap
@@ -82,6 +87,19 @@ struct TappingSettings {
   double rest_time = 0.15;        // s after each tap, at most
   bool rest_until_quiet = false;  // end a rest early once the [dynamics] quiet criterion holds
 };
+
+// [limits]: the bounds that keep any input from exhausting the machine (README, "Limits").
+// Each is checked before any work; a run that needs more is refused with the key to raise.
+struct RunLimits {
+  double max_particles = 1e8;        // particles a run may generate or read
+  std::optional<double> max_memory_gib;  // none: 80 % of the machine's physical memory
+  double max_grid_cells = 268435456;  // 2^28 cells of the neighbour grid (1 GiB); at most 2^31
+  double max_input_file_gib = 2.0;   // largest particle file read
+  double max_profile_bins = 1e6;     // slices and shells of the profiles
+};
+
+// The memory limit in bytes: max_memory_gib, or 80 % of the machine's physical memory.
+[[nodiscard]] double memory_limit_bytes(const RunLimits& limits);
 
 struct OutputSettings {
   std::filesystem::path directory;
@@ -101,6 +119,7 @@ struct Scenario {
   std::optional<TappingSettings> tapping;        // [tapping]
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
+  RunLimits limits;
   OutputSettings output;
   std::optional<Protocol> protocol;  // [[protocol]] as given; none: the stages' default order
 };
@@ -112,7 +131,11 @@ struct ScenarioOverrides {
 };
 
 // Reads and validates a scenario. Throws InputError naming the file, line and key.
+// A file that is not a regular file, or is over 16 MiB, is refused before it is read.
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides = {});
+// The same on text in memory; `file` names it in messages and anchors its relative paths.
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file,
+                        const ScenarioOverrides& overrides = {});
 
 // The scenario with every value resolved, in SI units, as written to summary.json (with
 // "protocol" when the scenario gives one).

@@ -38,6 +38,10 @@ struct GeneratedSizes {
   std::vector<std::string> notes;
 };
 
+// How many particles the source will generate (exact for counts; the expectation for a solid
+// volume), without drawing them: for the checks before a run.
+[[nodiscard]] double expected_particle_count(const ParticleSource& source);
+
 // From size classes or from gradings (one, or a coarse/fine mix), with the run's seed.
 GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed);
 

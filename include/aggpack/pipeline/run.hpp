@@ -1,5 +1,6 @@
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -16,6 +17,9 @@ namespace aggpack {
 struct RunControls {
   int threads = 0;                        // OpenMP threads of the DEM; 0: OpenMP's default
   std::optional<std::string> stop_after;  // end the protocol after this stage
+  // Called once every check before work has passed, before the first step (aggpack run makes
+  // and probes its output folder here, so a refused input leaves no folder behind).
+  std::function<void()> before_work;
 };
 
 // The library's entry point: runs the scenario's protocol and its final analysis. Writes no

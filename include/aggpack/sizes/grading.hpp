@@ -46,8 +46,12 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
 // A CSV grading: a header with `opening_in`, `opening_mm`, `opening_m` or `opening` (in
 // `length_unit` metres per unit), a percent column (`percent_column`, default
 // "percent_passing"), and optionally `sieve`; '#' lines are comments.
+// A file that is not a regular file, or is over 16 MiB, is refused before it is read.
 Grading read_grading_csv(const std::string& file, double length_unit = 0.0254,
                          const std::string& percent_column = "percent_passing");
+// The same reader on text in memory; `file` names it in messages.
+Grading parse_grading_csv(std::string_view text, const std::string& file, double length_unit = 0.0254,
+                          const std::string& percent_column = "percent_passing");
 
 // Percent passing by mass at any opening d (m): linear in log d between sieves, 100 above the
 // largest sieve, the smallest sieve's value below it.

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "aggpack/core/container.hpp"
@@ -23,6 +24,16 @@ class MultilevelGrid {
   // cell sizes); `bed_volume` is the expected volume the spheres will occupy, used to keep
   // the cells of sparse levels coarse enough that no level has many more cells than spheres.
   MultilevelGrid(const Container& container, std::span<const double> radii, double bed_volume);
+
+  // The most cells (of all levels together) a grid may hold, 2^31 (8 GiB of cell heads): a
+  // sphere that would need more (one far from the others, or a container far larger than its
+  // spheres) is refused with an InputError that says why, never an exhausted memory.
+  static constexpr std::size_t kMaxCells = std::size_t{1} << 31;
+
+  // The cells a grid for these radii would need to hold a bed `height` tall (for checks
+  // before any work; allocates nothing).
+  [[nodiscard]] static double cells_needed(const Container& container, std::span<const double> radii,
+                                           double bed_volume, double height);
 
   void reserve(std::size_t sphere_count) { next_.reserve(sphere_count); }
 
@@ -66,6 +77,7 @@ class MultilevelGrid {
   static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
 
   [[nodiscard]] std::size_t level_of(double radius) const;
+  [[noreturn]] void too_many_cells(double cells, std::string_view what) const;
   [[nodiscard]] int column_index(double v, double lo, double width, int n) const;
   [[nodiscard]] int layer_index(double z, const Level& level) const;
   // Cell range [first, last] covering [a, b] on one horizontal axis; with periodic sides the

@@ -1,0 +1,43 @@
+#pragma once
+#include <filesystem>
+#include <span>
+
+#include "aggpack/core/particle_store.hpp"
+#include "aggpack/io/scenario.hpp"
+
+namespace aggpack {
+
+// The checks of everything a run can know before computing. `aggpack check` and the start of
+// `aggpack run` call the same functions, so they refuse the same inputs with the same words;
+// each throws InputError naming the file, the key, what is wrong and what is expected.
+
+// The most OpenMP threads a run takes (--threads, RunControls::threads); 0 means OpenMP's
+// default (all cores).
+inline constexpr int kMaxThreads = 256;
+void check_thread_count(int threads);
+
+// Before any sizes are drawn: the expected particle count and memory against [limits].
+void check_amount(const Scenario& scenario);
+
+// Once the radii are known (generated, or read from the particle file): the spheres against
+// the container, the fill height and the boxes; the time step against the contact law's
+// stability limit; the neighbour grid's cells and the profiles' bins against [limits].
+void check_sizes(const Scenario& scenario, std::span<const double> radii);
+
+// The output folder: an existing directory that can be written, or a path where one can be
+// made. With `create`, makes it and writes and removes a probe file (what `run` does before
+// any work); without, only looks (what `check` does, which writes nothing).
+void check_output_directory(const std::filesystem::path& directory, bool create);
+
+// A bed read from a file: coincident spheres are refused; overlapping pairs deeper than
+// `tolerance` x the smaller radius are refused with the worst pair (unless the file comes from
+// a soft-contact DEM, `soft_contacts`, which accepts any overlap short of one centre inside the
+// other sphere). Returns the deepest overlap found / smaller radius (0 when none).
+struct PairOverlap {
+  double depth_over_radius = 0.0;
+  std::size_t i = 0, j = 0;  // the worst pair (data rows i + 1 and j + 1)
+};
+PairOverlap check_particle_overlaps(const ParticleStore& particles, const Container& container, double tolerance,
+                                    bool soft_contacts, const std::string& file);
+
+}  // namespace aggpack
