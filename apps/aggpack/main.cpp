@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <algorithm>
+#include <charconv>
+#include <csignal>
 #include <iostream>
 #include <limits>
 
@@ -20,12 +22,33 @@
 
 namespace {
 
+// The one piece of global state: a signal handler can reach nothing else. SIGINT and SIGTERM
+// ask the run to stop at its next safe point; a second signal ends the process at once.
+aggpack::StopRequest g_stop;
+extern "C" void request_stop(int signal_number) {
+  if (g_stop.requested()) {
+    std::signal(signal_number, SIG_DFL);
+    std::raise(signal_number);
+  }
+  g_stop.request(signal_number);
+}
+
 // A length given on the command line; a bare number is in `bare_unit` (metres per unit).
 double length_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
   std::string why;
   const auto v = aggpack::parse_length(text, &why, bare_unit);
   if (!v || *v <= 0.0) throw aggpack::InputError(fmt::format("{} {}: expected a positive length ({})", option, text, why));
   return *v;
+}
+
+// A seed in the range a scenario's `seed` takes, 0 to 2^63 - 1: never wrapped or saturated.
+std::uint64_t seed_argument(const std::string& text) {
+  std::int64_t value = -1;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value < 0)
+    throw aggpack::InputError(fmt::format("--seed {}: expected an integer from 0 to {} (as the scenario's seed)", text,
+                                          std::numeric_limits<std::int64_t>::max()));
+  return static_cast<std::uint64_t>(value);
 }
 
 aggpack::Box box_argument(const std::string& text, long double bare_unit) {
@@ -61,9 +84,12 @@ int analyze_command(const AnalyzeArguments& a) {
   if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", unit));
   const auto particles = aggpack::read_particle_file(file, static_cast<double>(*factor), 1.0);
   const auto container = aggpack::bounding_container(particles);
-  const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file);
+  const aggpack::RunLimits limits;  // the defaults: analyze has no scenario to raise them
+  const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file,
+                                                        limits.max_grid_cells);
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
+  request.max_profile_bins = limits.max_profile_bins;
   // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
   for (const auto& b : boxes) request.boxes.push_back(box_argument(b, *factor));
   for (const auto& c : cubes) request.cube_sides.push_back(length_argument(c, "--cube", *factor));
@@ -111,14 +137,13 @@ int main(int argc, char** argv) {
   aggpack::RunOptions run;
   std::string scenario;
   std::string out_dir;
-  std::int64_t seed = 0;
+  std::string seed;
   std::string stop_after;
   auto* run_cmd = app.add_subcommand("run", "Run a scenario and write particles.csv, particles.vtp, summary.json");
   run_cmd->add_option("scenario", scenario, "Scenario file (TOML)")->required();
   auto* out_opt = run_cmd->add_option("--out", out_dir, "Output directory (overrides output.directory)");
   const auto thread_range = CLI::Range(0, aggpack::kMaxThreads, "0 (all cores) to 256");
-  auto* seed_opt = run_cmd->add_option("--seed", seed, "Random seed, 0 to 2^63-1 (overrides seed)")
-                       ->check(CLI::Range(std::int64_t{0}, std::numeric_limits<std::int64_t>::max()));
+  auto* seed_opt = run_cmd->add_option("--seed", seed, "Random seed, 0 to 2^63-1 (overrides seed)");
   run_cmd->add_option("--threads", run.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
   run_cmd->add_option("--set", run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
   auto* stop_opt = run_cmd->add_option("--stop-after", stop_after, "Stop after this stage (deposition, dynamics)");
@@ -212,12 +237,16 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) {
       if (*out_opt) run.overrides.output_directory = out_dir;
-      if (*seed_opt) run.overrides.seed = static_cast<std::uint64_t>(seed);
+      if (*seed_opt) run.overrides.seed = seed_argument(seed);
       if (*stop_opt) run.stop_after = stop_after;
       aggpack::Progress progress = aggpack::Progress::wanted(run.quiet) ? aggpack::Progress(std::cerr)
                                                                        : aggpack::Progress();
       run.progress = &progress;
-      aggpack::run_scenario(scenario, run, std::cout);
+      run.stop = &g_stop;
+      std::signal(SIGINT, request_stop);
+      std::signal(SIGTERM, request_stop);
+      const auto result = aggpack::run_scenario(scenario, run, std::cout);
+      if (result.report.interrupted) return 128 + result.report.interrupted->signal_number;  // 130, 143
     } else if (*reproduce_cmd) {
       reproduce.out = reproduce_out;
       reproduce.examples = examples_dir;

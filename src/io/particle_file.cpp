@@ -9,12 +9,14 @@
 #include <fmt/format.h>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <optional>
 #include <vector>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
+#include "aggpack/spatial/multilevel_grid.hpp"
 
 namespace aggpack {
 
@@ -195,6 +197,57 @@ std::string supports_csv(std::span<const Supports> supports) {
                    support_name(ids[2]));
   }
   return fmt::to_string(out);
+}
+
+PairOverlap check_particle_overlaps(const ParticleStore& particles, const Container& container, double tolerance,
+                                    bool soft_contacts, const std::string& file, double max_grid_cells) {
+  PairOverlap worst;
+  if (particles.size() < 2) return worst;
+  double solid = 0.0;
+  for (const double r : particles.radius) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double cells = MultilevelGrid::cells_needed(container, particles.radius, std::max(solid / 0.6, 1e-300),
+                                                    container.height());
+  if (!(cells <= max_grid_cells))
+    throw InputError(fmt::format("{}: the spheres span {} but are at most {:.4g} m in radius: a neighbour grid over "
+                                 "them would need {:.3g} cells, more than the limit of {:.3g} (limits.max_grid_cells); "
+                                 "is a sphere far from the others, or the length unit wrong?",
+                                 file, box_text(container.bounds),
+                                 *std::max_element(particles.radius.begin(), particles.radius.end()), cells,
+                                 max_grid_cells));
+  MultilevelGrid grid(container, particles.radius, std::max(solid / 0.6, 1e-300));
+  grid.reserve(particles.size());
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const Vec3& p = particles.position[i];
+    const double r = particles.radius[i];
+    grid.for_each_near(p, r, [&](std::uint32_t j) {
+      const Vec3 d = grid.separation(particles.position[j], p);
+      const double distance = std::sqrt(norm2(d));
+      const double smaller = std::min(r, particles.radius[j]);
+      if (distance <= 1e-9 * smaller)
+        throw InputError(fmt::format("{}: particles {} and {} (data rows {} and {}) are at the same place ({:.6g}, "
+                                     "{:.6g}, {:.6g}) m: coincident spheres make no packing",
+                                     file, j, i, j + 1, i + 1, p.x, p.y, p.z));
+      const double depth = (r + particles.radius[j] - distance) / smaller;
+      if (depth > worst.depth_over_radius) worst = {depth, j, i};
+    });
+    grid.insert(static_cast<std::uint32_t>(i), p, r);
+  }
+  const double limit = soft_contacts ? 1.0 : tolerance;
+  if (worst.depth_over_radius > limit) {
+    const Vec3& a = particles.position[worst.i];
+    const Vec3& b = particles.position[worst.j];
+    throw InputError(fmt::format(
+        "{}: particles {} and {} (data rows {} and {}, at ({:.6g}, {:.6g}, {:.6g}) and ({:.6g}, {:.6g}, {:.6g}) m, "
+        "radii {:.6g} and {:.6g} m) overlap by {:.3g} of the smaller radius{}; {}",
+        file, worst.i, worst.j, worst.i + 1, worst.j + 1, a.x, a.y, a.z, b.x, b.y, b.z, particles.radius[worst.i],
+        particles.radius[worst.j], worst.depth_over_radius,
+        soft_contacts ? ": one centre is inside the other sphere" : "",
+        soft_contacts ? "expected spheres that at most touch or press into each other"
+                      : fmt::format("expected at most {:g} (particles.overlap_tolerance; set particles.soft_contacts "
+                                    "= true, or --soft-contacts, for a bed from a soft-contact DEM)",
+                                    tolerance)));
+  }
+  return worst;
 }
 
 }  // namespace aggpack

@@ -612,7 +612,7 @@ nlohmann::json to_json(const Scenario& sc) {
       if (gs.band) out["band"] = gs.band->name;
       return out;
     };
-    p["gradings"] = {source(g->main)};
+    p["gradings"] = nlohmann::json::array({source(g->main)});  // {x} alone is x itself under clang
     if (g->fine) {
       p["gradings"].push_back(source(*g->fine));
       p["ca_fa"] = g->ca_fa;

@@ -62,6 +62,17 @@ PackingReport analyze_packing(const ParticleStore& particles, const Container& c
 
   const double slice = request.slice_thickness.value_or(0.25 * bed.d_max);
   const double shell = request.shell_thickness.value_or(0.25 * bed.d_max);
+  const double slices = (bed.top - bed.floor) / slice;
+  const double shells = 0.5 * std::min(container.length_x(), container.length_y()) / shell;
+  if (!(std::max(slices, shells) <= request.max_profile_bins))
+    throw InputError(fmt::format("the profiles would need {:.3g} {} ({} {:.3g} m across {:.4g} m), more than the "
+                                 "limit of {:.3g} (limits.max_profile_bins); expected a thicker slice or shell, or a "
+                                 "packing without a sphere far from the others",
+                                 std::max(slices, shells), slices >= shells ? "slices" : "shells",
+                                 slices >= shells ? "slice thickness" : "shell thickness",
+                                 slices >= shells ? slice : shell,
+                                 slices >= shells ? bed.top - bed.floor : std::min(container.length_x(), container.length_y()),
+                                 request.max_profile_bins));
   report.vertical = vertical_profile(particles, container, slice);
   report.wall_profile_z_lo = bed.floor + bed.d_max;
   report.wall_profile_z_hi = bed.surface - bed.d_max;

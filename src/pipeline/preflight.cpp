@@ -123,6 +123,24 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
                                  "d_max / 4)",
                                  file, c.height() / slice >= 0.5 * width / shell ? "slice_thickness" : "shell_thickness",
                                  bins, sc.limits.max_profile_bins));
+
+  // A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
+  // if even that leaves no room for a virtual cube, the run would fail after all its work.
+  if (placed_here) {
+    double deepest = std::min(c.height(), solid / (0.5 * c.length_x() * c.length_y()));
+    if (sc.deposition) deepest = std::min(deepest, sc.deposition->fill_height);
+    const double room = deepest - 2.0 * d_max;
+    const double needed = sc.analysis.box_sides.empty()
+                              ? 0.0
+                              : *std::min_element(sc.analysis.box_sides.begin(), sc.analysis.box_sides.end());
+    if (room <= needed)
+      throw InputError(fmt::format(
+          "{}: particles: the bed will be at most {:.4g} m deep ({} particles, {:.4g} m^3 of solid at a solid "
+          "fraction of 0.5), which leaves no room for a virtual cube{} one d_max ({:.4g} m) from the floor and the "
+          "free surface; expected more particles (count, solid_volume or fill_height) or smaller analysis.box_sides",
+          file, deepest, radii.size(), solid,
+          needed > 0.0 ? fmt::format(" of side {:.4g} m", needed) : std::string(), d_max));
+  }
 }
 
 void check_output_directory(const fs::path& directory, bool create) {
@@ -146,55 +164,18 @@ void check_output_directory(const fs::path& directory, bool create) {
   if (ec)
     throw InputError(fmt::format("{}: cannot make the output folder: {}", shown, ec.message()));
   const fs::path probe = directory / fmt::format(".aggpack-write-probe.{}", ::getpid());
-  { std::ofstream out(probe); out << "probe\n"; if (!out) ec = std::make_error_code(std::errc::io_error); }
+  bool written = false;
+  {
+    std::ofstream out(probe);
+    out << "probe\n";
+    written = static_cast<bool>(out.flush());
+  }
   fs::remove(probe, ec);
-  if (ec) throw InputError(fmt::format("{}: cannot write into the output folder: {}", shown, ec.message()));
+  if (!written) throw InputError(fmt::format("{}: cannot write into the output folder", shown));
   // Temporary files of an earlier run into this folder that was killed mid-write.
   for (const auto& entry : fs::directory_iterator(directory, ec))
     if (entry.path().filename().string().find(".tmp.") != std::string::npos && entry.is_regular_file(ec))
       fs::remove(entry.path(), ec);
-}
-
-PairOverlap check_particle_overlaps(const ParticleStore& particles, const Container& container, double tolerance,
-                                    bool soft_contacts, const std::string& file) {
-  PairOverlap worst;
-  if (particles.size() < 2) return worst;
-  double solid = 0.0;
-  for (const double r : particles.radius) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  MultilevelGrid grid(container, particles.radius, std::max(solid / 0.6, 1e-300));
-  grid.reserve(particles.size());
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Vec3& p = particles.position[i];
-    const double r = particles.radius[i];
-    grid.for_each_near(p, r, [&](std::uint32_t j) {
-      const Vec3 d = grid.separation(particles.position[j], p);
-      const double distance = std::sqrt(norm2(d));
-      const double smaller = std::min(r, particles.radius[j]);
-      if (distance <= 1e-9 * smaller)
-        throw InputError(fmt::format("{}: particles {} and {} (data rows {} and {}) are at the same place ({:.6g}, "
-                                     "{:.6g}, {:.6g}) m: coincident spheres make no packing",
-                                     file, j, i, j + 1, i + 1, p.x, p.y, p.z));
-      const double depth = (r + particles.radius[j] - distance) / smaller;
-      if (depth > worst.depth_over_radius) worst = {depth, j, i};
-    });
-    grid.insert(static_cast<std::uint32_t>(i), p, r);
-  }
-  const double limit = soft_contacts ? 1.0 : tolerance;
-  if (worst.depth_over_radius > limit) {
-    const Vec3& a = particles.position[worst.i];
-    const Vec3& b = particles.position[worst.j];
-    throw InputError(fmt::format(
-        "{}: particles {} and {} (data rows {} and {}, at ({:.6g}, {:.6g}, {:.6g}) and ({:.6g}, {:.6g}, {:.6g}) m, "
-        "radii {:.6g} and {:.6g} m) overlap by {:.3g} of the smaller radius{}; {}",
-        file, worst.i, worst.j, worst.i + 1, worst.j + 1, a.x, a.y, a.z, b.x, b.y, b.z, particles.radius[worst.i],
-        particles.radius[worst.j], worst.depth_over_radius,
-        soft_contacts ? ": one centre is inside the other sphere" : "",
-        soft_contacts ? "expected spheres that at most touch or press into each other"
-                      : fmt::format("expected at most {:g} (particles.overlap_tolerance; set particles.soft_contacts "
-                                    "= true, or --soft-contacts, for a bed from a soft-contact DEM)",
-                                    tolerance)));
-  }
-  return worst;
 }
 
 }  // namespace aggpack

@@ -79,7 +79,8 @@ InitialBed initial_bed(const Scenario& sc) {
         fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
     check_sizes(sc, bed.particles.radius);
     bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
-                                                       sc.particles.soft_contacts, sc.particles.file->string());
+                                                       sc.particles.soft_contacts, sc.particles.file->string(),
+                                                       sc.limits.max_grid_cells);
     return bed;
   }
   try {
@@ -121,12 +122,24 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   if (initial.sizes) report.wall_clock_s["sizes"] = prepared_s;
 
   if (controls.before_work) controls.before_work();
-  RunContext context{report, progress, controls.threads, {}, 0.0, std::nullopt};
+  RunContext context{report, progress, controls.threads, controls.stop, {}, 0.0, std::nullopt};
   if (initial.sizes) {
     report.sizes = std::move(initial.sizes);
     for (const double d : report.sizes->diameters) context.radii.push_back(0.5 * d);
   }
-  for (const Step& step : protocol.steps) std::visit([&](const auto& kind) { run_step(kind, context); }, step.kind);
+  std::size_t completed = 0;
+  try {
+    for (const Step& step : protocol.steps) {
+      stop_here_if_requested(controls.stop, fmt::format("before step {} of {}", completed + 1, protocol.steps.size()));
+      std::visit([&](const auto& kind) { run_step(kind, context); }, step.kind);
+      ++completed;
+    }
+    stop_here_if_requested(controls.stop, "before the final analysis");
+  } catch (const Interrupted& stop) {
+    progress.clear();
+    report.interrupted = Interruption{stop.signal_number(), stop.where(), completed, protocol.steps.size()};
+    return report;
+  }
   report.dynamics_skipped = sc.dynamics && !report.dynamics;
 
   t0 = Clock::now();
@@ -142,6 +155,14 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   const auto t0 = Clock::now();
   const Scenario& sc = report.scenario;
   std::filesystem::create_directories(dir);
+  if (report.interrupted) {  // the bed and the samples as they stood, and what was done
+    write_file_atomically(dir / "particles.csv", particles_csv(report.particles));
+    if (!report.series.samples.empty()) write_file_atomically(dir / "timeseries.csv", report.series.csv());
+    const double output_seconds = seconds_since(t0);
+    nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
+    write_file_atomically(dir / "summary.json", summary.dump(2) + "\n");
+    return summary;
+  }
   if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(report.particles));
   if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(report.supports));
   if (report.dynamics || !report.tappings.empty())
@@ -180,7 +201,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
       std::filesystem::remove(sc.output.directory, ec);
   };
   RunControls controls{options.threads, options.stop_after,
-                       [&] { check_output_directory(sc.output.directory, true); }};
+                       [&] { check_output_directory(sc.output.directory, true); }, options.stop};
   RunResult result{sc.output.directory, {}, {}, 0.0};
   try {
     result.report = run(sc, controls, progress);
@@ -191,7 +212,13 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   // Outputs only once everything has been computed: bad input leaves no files behind.
   result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
   result.wall_clock_s = seconds_since(t_start);
-  if (!options.quiet) fmt::print(log, "{}", result.report.console_summary(result.output_directory));
+  if (const auto& stop = result.report.interrupted)
+    fmt::print(log, "aggpack: interrupted by signal {} {} ({} of {} steps done); the bed as it stood and summary.json "
+                    "(\"interrupted\": true) are in {}\n",
+               stop->signal_number, stop->where, stop->steps_completed, stop->steps_total,
+               result.output_directory.string());
+  else if (!options.quiet)
+    fmt::print(log, "{}", result.report.console_summary(result.output_directory));
   return result;
 }
 

@@ -139,7 +139,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   }
   if (dynamics) {
     stages["dynamics"] = to_json(*dynamics);
-    add_analysis(stages["dynamics"], final);
+    if (!interrupted) add_analysis(stages["dynamics"], final);
     wall_clock["dynamics"] = dynamics->wall_clock_s();
   }
   summary["stages"] = stages;
@@ -153,7 +153,18 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["input"]["soft_contacts"] = sc.particles.soft_contacts;
   }
   summary["modelling_notes"] = modelling_notes();
-  summary.update(to_json(final));
+  if (interrupted) {
+    // No final analysis: the bed in particles.csv is where the run stood when it stopped.
+    summary["interrupted"] = true;
+    summary["interruption"] = {{"signal", interrupted->signal_number},
+                               {"stopped", interrupted->where},
+                               {"steps_completed", interrupted->steps_completed},
+                               {"steps_total", interrupted->steps_total},
+                               {"note", "the stages listed are the steps that ended before the stop; particles.csv "
+                                        "and timeseries.csv hold the bed and the samples as they stood"}};
+  } else {
+    summary.update(to_json(final));
+  }
   wall_clock["output"] = output_seconds;
   wall_clock["total"] = total_seconds;
   summary["wall_clock_s"] = wall_clock;

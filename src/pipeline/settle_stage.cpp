@@ -75,10 +75,14 @@ DensityProbe box_density(const Scenario& sc) {
 // Appends each sample to the series and shows it on the progress line.
 class SampleRecorder {
  public:
-  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress)
-      : stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet) {}
-  // `time` is the series' time of the sample; `phase` names what the DEM is doing.
+  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress,
+                 const StopRequest* stop)
+      : stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet),
+        stop_(stop) {}
+  // `time` is the series' time of the sample; `phase` names what the DEM is doing. A sample
+  // is a safe point: a requested stop ends the run here.
   void operator()(double time, const SettleSample& s, const std::string& phase) {
+    stop_here_if_requested(stop_, fmt::format("while {} at {:.4f} s simulated", phase, s.time));
     series_.samples.push_back({time, layer_, s.density, s.translational_per_particle_mgd,
                                s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                                s.contacts.max_overlap, s.contacts.coordination});
@@ -102,6 +106,7 @@ class SampleRecorder {
   TimeSeries& series_;
   Progress& progress_;
   QuietForecast forecast_;
+  const StopRequest* stop_;
 };
 
 SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scenario& sc, std::uint32_t layer,
@@ -133,7 +138,7 @@ SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scen
 }  // namespace
 
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
-                       int threads, TimeSeries& series, Progress& progress) {
+                       const StageControls& controls, TimeSeries& series, Progress& progress) {
   const DynamicsStage& stage = *sc.dynamics;
   // The layers below this one stay where they are (the paper's layer-by-layer method).
   std::vector<std::uint8_t> frozen(particles.size());
@@ -141,12 +146,12 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   double r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (!frozen[i]) r_min = std::min(r_min, particles.radius[i]);
-  const DemSetup setup = dem_setup(sc, r_min, threads);
+  const DemSetup setup = dem_setup(sc, r_min, controls.threads);
 
   const auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings, std::move(frozen));
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
-  SampleRecorder recorder(sc, layer, series, progress);
+  SampleRecorder recorder(sc, layer, series, progress, controls.stop);
   const SettleResult result = settle(dem, particles, stage.quiet, box_density(sc), [&](const SettleSample& s) {
     recorder(time_offset + s.time, s, "settling");
   });
@@ -155,13 +160,13 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
 }
 
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
-                 double time_offset, int threads, TimeSeries& series, Progress& progress) {
+                 double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress) {
   const PourSettings& pour = *sc.pour;
   const DynamicsStage& stage = *sc.dynamics;
   double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
   for (const double r : particles.radius) r_min = std::min(r_min, r);
   for (const double r : radii) r_min = std::min(r_min, r), r_max = std::max(r_max, r);
-  DemSetup setup = dem_setup(sc, r_min, threads);
+  DemSetup setup = dem_setup(sc, r_min, controls.threads);
   // The skin is chosen for the smallest sphere still to come, not the smallest in the bed.
   if (!(setup.settings.skin > 0.0)) setup.settings.skin = 0.1 * (2.0 * r_min);
 
@@ -177,7 +182,7 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   const auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
-  SampleRecorder recorder(sc, part, series, progress);
+  SampleRecorder recorder(sc, part, series, progress, controls.stop);
   Rng rng = pour_stream(sc.seed, part);
   const double g = norm(setup.settings.gravity);
   const std::size_t steps_per_sample = std::max<std::size_t>(
@@ -242,13 +247,13 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   return out;
 }
 
-TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, int threads, TimeSeries& series,
-                  Progress& progress) {
+TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
+                  TimeSeries& series, Progress& progress) {
   const TappingSettings& tapping = *sc.tapping;
   const DynamicsStage& stage = *sc.dynamics;
   double r_min = std::numeric_limits<double>::infinity();
   for (const double r : particles.radius) r_min = std::min(r_min, r);
-  const DemSetup setup = dem_setup(sc, r_min, threads);
+  const DemSetup setup = dem_setup(sc, r_min, controls.threads);
   const double g = norm(setup.settings.gravity);
   const double omega = 2.0 * std::numbers::pi * tapping.frequency;
 
@@ -267,7 +272,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   const auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
   progress.start_stage("tapping");
-  SampleRecorder recorder(sc, 0, series, progress);
+  SampleRecorder recorder(sc, 0, series, progress, controls.stop);
   const double weight = weight_energy(dem, particles);
   const double dt = setup.settings.time_step;
   const std::size_t steps_per_sample =

@@ -22,6 +22,7 @@ AnalysisRequest analysis_request(const Scenario& sc) {
   request.contact_tolerance = sc.analysis.contact_tolerance;
   request.slice_thickness = sc.analysis.slice_thickness;
   request.shell_thickness = sc.analysis.shell_thickness;
+  request.max_profile_bins = sc.limits.max_profile_bins;
   return request;
 }
 
@@ -48,6 +49,7 @@ void run_step(const DepositStep& step, RunContext& ctx) {
   ctx.progress.start_stage(step.layers > 1 || step.layer > 0 ? fmt::format("deposition, layer {}", step.layer + 1)
                                                              : std::string("deposition"));
   const DepositionObserver observer{std::max<std::size_t>(1000, radii.size() / 100), [&](std::size_t placed) {
+    stop_here_if_requested(ctx.stop, fmt::format("while depositing, {} of {} particles placed", placed, radii.size()));
     ctx.progress.update({fmt::format("{} of {} particles placed", placed, radii.size())},
                         static_cast<double>(placed) / static_cast<double>(radii.size()));
   }};
@@ -74,7 +76,7 @@ void run_step(const PourStep& step, RunContext& ctx) {
   const std::size_t n = ctx.radii.size();
   const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
-  const PourRun run = pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, ctx.threads, r.series,
+  const PourRun run = pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, {ctx.threads, ctx.stop}, r.series,
                                ctx.progress);
   ctx.simulated_time += run.settling.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
@@ -88,7 +90,7 @@ void run_step(const SettleStep& step, RunContext& ctx) {
   // The bed as deposited, kept for the report's before/after pictures: when the whole drop
   // sequence was deposited before the first settling.
   if (r.deposition && !r.dynamics && r.deposition->requested == ctx.radii.size()) r.deposited = r.particles;
-  const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, ctx.threads, r.series,
+  const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, {ctx.threads, ctx.stop}, r.series,
                                      ctx.progress);
   ctx.simulated_time += run.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
@@ -97,7 +99,7 @@ void run_step(const SettleStep& step, RunContext& ctx) {
 
 void run_step(const TapStep& /*step*/, RunContext& ctx) {
   RunReport& r = ctx.report;
-  TapReport report = tap_bed(r.scenario, r.particles, ctx.simulated_time, ctx.threads, r.series, ctx.progress);
+  TapReport report = tap_bed(r.scenario, r.particles, ctx.simulated_time, {ctx.threads, ctx.stop}, r.series, ctx.progress);
   ctx.simulated_time += report.simulated_time;
   r.tappings.push_back(std::move(report));
 }

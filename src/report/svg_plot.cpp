@@ -108,7 +108,10 @@ std::pair<Axis, Axis> plot_axes(const Plot& plot) {
 }
 
 std::string svg_plot(const Plot& plot) {
-  const auto [x_axis, y_axis] = plot_axes(plot);
+  // Named, not bound: lambdas below capture them (clang before 16 cannot capture bindings).
+  const auto axes = plot_axes(plot);
+  const auto& x_axis = axes.first;
+  const auto& y_axis = axes.second;
   const double w = kWidth - kLeft - kRight, h = kHeight - kTop - kBottom;
   const auto px = [&](double x) {
     const double t = x_axis.log ? std::log10(x / x_axis.lo) / std::log10(x_axis.hi / x_axis.lo)

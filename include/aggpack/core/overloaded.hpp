@@ -7,5 +7,8 @@ template <class... F>
 struct Overloaded : F... {
   using F::operator()...;
 };
+// The guide C++20 makes implicit; clang before 17 (the fuzz build's clang 14) still needs it.
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
 
 }  // namespace aggpack

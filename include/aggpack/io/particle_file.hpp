@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "aggpack/core/input_file.hpp"
+#include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/deposition/contact_geometry.hpp"
 
@@ -34,5 +35,17 @@ std::string particles_csv(const ParticleStore& particles);
 // stage (a particle id, floor, wall_x_low, wall_x_high, wall_y_low, wall_y_high; empty when
 // fewer). Floor resters list only the floor.
 std::string supports_csv(std::span<const Supports> supports);
+
+// A bed read from a file: coincident spheres are refused; overlapping pairs deeper than
+// `tolerance` x the smaller radius are refused with the worst pair (unless the file comes from
+// a soft-contact DEM, `soft_contacts`, which accepts any overlap short of one centre inside the
+// other sphere). Returns the deepest overlap found / smaller radius (0 when none).
+struct PairOverlap {
+  double depth_over_radius = 0.0;
+  std::size_t i = 0, j = 0;  // the worst pair (data rows i + 1 and j + 1)
+};
+// The neighbour grid it uses is refused (InputError) beyond `max_grid_cells`.
+PairOverlap check_particle_overlaps(const ParticleStore& particles, const Container& container, double tolerance,
+                                    bool soft_contacts, const std::string& file, double max_grid_cells);
 
 }  // namespace aggpack

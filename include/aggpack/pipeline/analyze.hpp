@@ -18,6 +18,7 @@ struct AnalysisRequest {
   double contact_tolerance = 1e-6;
   std::optional<double> slice_thickness;  // m, default d_max / 4
   std::optional<double> shell_thickness;  // m, default d_max / 4
+  double max_profile_bins = 1e6;           // more slices or shells than this are refused
 };
 
 struct PackingReport {

@@ -2,7 +2,6 @@
 #include <filesystem>
 #include <span>
 
-#include "aggpack/core/particle_store.hpp"
 #include "aggpack/io/scenario.hpp"
 
 namespace aggpack {
@@ -28,16 +27,5 @@ void check_sizes(const Scenario& scenario, std::span<const double> radii);
 // made. With `create`, makes it and writes and removes a probe file (what `run` does before
 // any work); without, only looks (what `check` does, which writes nothing).
 void check_output_directory(const std::filesystem::path& directory, bool create);
-
-// A bed read from a file: coincident spheres are refused; overlapping pairs deeper than
-// `tolerance` x the smaller radius are refused with the worst pair (unless the file comes from
-// a soft-contact DEM, `soft_contacts`, which accepts any overlap short of one centre inside the
-// other sphere). Returns the deepest overlap found / smaller radius (0 when none).
-struct PairOverlap {
-  double depth_over_radius = 0.0;
-  std::size_t i = 0, j = 0;  // the worst pair (data rows i + 1 and j + 1)
-};
-PairOverlap check_particle_overlaps(const ParticleStore& particles, const Container& container, double tolerance,
-                                    bool soft_contacts, const std::string& file);
 
 }  // namespace aggpack

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/core/stop_request.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/progress.hpp"
 #include "aggpack/pipeline/run_report.hpp"
@@ -20,6 +21,9 @@ struct RunControls {
   // Called once every check before work has passed, before the first step (aggpack run makes
   // and probes its output folder here, so a refused input leaves no folder behind).
   std::function<void()> before_work;
+  // Checked at every safe point: once requested, the run returns what it has done, with
+  // RunReport::interrupted set (null: never stops early).
+  const StopRequest* stop = nullptr;
 };
 
 // The library's entry point: runs the scenario's protocol and its final analysis. Writes no
@@ -37,6 +41,7 @@ struct RunOptions {
   std::optional<std::string> stop_after;
   bool quiet = false;
   Progress* progress = nullptr;  // live progress on a terminal; none when null
+  const StopRequest* stop = nullptr;  // SIGINT and SIGTERM, from the CLI's handler
 };
 
 struct RunResult {

@@ -22,6 +22,14 @@ struct StageAnalysis {
   double wall_clock_s = 0.0;
 };
 
+// A run stopped at a safe point by SIGINT or SIGTERM: what it had done.
+struct Interruption {
+  int signal_number = 0;
+  std::string where;                 // "while settling at 0.1230 s simulated", ...
+  std::size_t steps_completed = 0;   // of the protocol's steps, in order
+  std::size_t steps_total = 0;
+};
+
 // Everything a run produced, as values: what the steps reported, the final analysis, the
 // beds. summary_json() writes summary.json from it; nothing reads it back from JSON.
 struct RunReport {
@@ -42,6 +50,7 @@ struct RunReport {
   std::vector<Supports> supports;                 // what each sphere rested on after deposition
   TimeSeries series;                              // the settling runs' samples
   std::map<std::string, double> wall_clock_s;     // input, sizes, deposition, dynamics, analysis...
+  std::optional<Interruption> interrupted;        // set when a signal stopped the run: no final analysis
 
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;

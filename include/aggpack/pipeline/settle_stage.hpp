@@ -1,4 +1,5 @@
 #pragma once
+#include "aggpack/core/stop_request.hpp"
 #include <cstdint>
 #include <span>
 #include <string>
@@ -27,11 +28,18 @@ struct TimeSeries {
   [[nodiscard]] std::string csv() const;
 };
 
+// What a DEM step takes beyond the scenario: OpenMP threads (0: OpenMP's default; the results
+// do not depend on them) and the stop request checked at every sample (null: none).
+struct StageControls {
+  int threads = 0;
+  const StopRequest* stop = nullptr;
+};
+
 // Settles the bed with the scenario's [dynamics] and [material] (particles whose layer is
 // below `layer` are frozen), appending samples from `time_offset` on, with `threads` OpenMP
 // threads (0: OpenMP's default). Returns what the run did (ended_by, steps, time step, ...).
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
-                       int threads, TimeSeries& series, Progress& progress);
+                       const StageControls& controls, TimeSeries& series, Progress& progress);
 
 // Pours `radii` (part `part` of the drop sequence) onto the bed with the scenario's [pour],
 // [dynamics] and [material]: each batch is inserted as a random gas in a slab above the bed's
@@ -43,13 +51,13 @@ struct PourRun {
   SettlingRun settling;
 };
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
-                 double time_offset, int threads, TimeSeries& series, Progress& progress);
+                 double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress);
 
 // Taps the bed with the scenario's [tapping], [dynamics] and [material]: each tap moves the
 // container (floor and walls) through half a sine period of peak acceleration Gamma g, then the
 // bed rests; the box density is measured after every rest.
-TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, int threads, TimeSeries& series,
-                  Progress& progress);
+TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
+                  TimeSeries& series, Progress& progress);
 
 // Modelling notes for the dynamics stage: the law, the stiffness, what ended each run.
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report);

@@ -14,6 +14,7 @@ struct RunContext {
   RunReport& report;
   Progress& progress;
   int threads = 0;                              // OpenMP threads of the DEM; 0: OpenMP's default
+  const StopRequest* stop = nullptr;            // checked at every safe point; null: never
   std::vector<double> radii;                    // the drop sequence, m
   double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
   std::optional<std::uint32_t> deposition_stopped_at;  // the layer whose deposition ended early

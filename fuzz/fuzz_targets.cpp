@@ -1,0 +1,49 @@
+#include "fuzz_targets.hpp"
+
+#include "aggpack/analysis/density.hpp"
+#include "aggpack/core/error.hpp"
+#include "aggpack/io/particle_file.hpp"
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/pipeline/generate_sizes.hpp"
+#include "aggpack/pipeline/preflight.hpp"
+#include "aggpack/sizes/grading.hpp"
+
+namespace aggpack::fuzz {
+
+void scenario_reader(std::string_view bytes) {
+  try {
+    // Relative paths in the scenario resolve beside this (absent) file.
+    const Scenario sc = parse_scenario(bytes, "/nonexistent/fuzz/scenario.toml");
+    check_amount(sc);
+    // Draw the sizes of small amounts and check them as a run would before its first step.
+    if (!sc.particles.file && expected_particle_count(sc.particles) <= 2e4) {
+      const GeneratedSizes sizes = generate_sizes(sc.particles, sc.seed);
+      std::vector<double> radii;
+      for (const double d : sizes.diameters) radii.push_back(0.5 * d);
+      check_sizes(sc, radii);
+    }
+    (void)to_json(sc);
+  } catch (const InputError&) {
+  }
+}
+
+void grading_reader(std::string_view bytes) {
+  try {
+    const Grading g = parse_grading_csv(bytes, "fuzz.csv");
+    (void)fineness_modulus(g);
+    (void)percent_passing_at(g, 1e-3);
+    (void)opening_at_percent(g, 50.0);
+  } catch (const InputError&) {
+  }
+}
+
+void particle_file_reader(std::string_view bytes) {
+  try {
+    const ParticleStore particles = parse_particle_text(bytes, "fuzz.csv", 1.0, 2650.0);
+    const Container container = bounding_container(particles);
+    (void)check_particle_overlaps(particles, container, 0.25, false, "fuzz.csv", RunLimits{}.max_grid_cells);
+  } catch (const InputError&) {
+  }
+}
+
+}  // namespace aggpack::fuzz

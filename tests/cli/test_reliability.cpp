@@ -1,0 +1,337 @@
+// Bad input of every kind (scenario, grading, particle file, command line) refused as a user
+// would want: exit code 2, a message naming the file and the key or line, what is wrong and
+// what is expected, and nothing written. Then interruption: SIGINT and SIGTERM stop a run at
+// a safe point with exit codes 130 and 143 and a summary marked "interrupted".
+#include <gtest/gtest.h>
+
+#include "run_cli.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using aggpack::testing::run_cli;
+
+// One bad input: the files it needs ({name, content}, written into the test folder, where
+// "@" in any text stands for that folder), the aggpack arguments, and words the message must hold.
+struct BadInput {
+  std::string kind;  // scenario, grading, particles, command line
+  std::vector<std::pair<std::string, std::string>> files;
+  std::string arguments;
+  std::vector<std::string> expected;
+};
+
+const std::string kBox = "[container]\nside = 0.1\nheight = 0.1\n";
+const std::string kDeposit = kBox + "[particles]\ndiameter = 0.01\ncount = 500\n[deposition]\n";
+const std::string kFromFile = kBox + "[particles]\nfrom = \"@/bed.csv\"\n[analysis]\nbox_sides = [0.02]\n";
+const std::string kGraded = "[container]\nside = \"6 in\"\nheight = \"6 in\"\n[particles]\ncount = 200\n"
+                            "[particles.grading]\nfile = \"@/g.csv\"\n[deposition]\n";
+// A 3 x 3 x 3 lattice of touching 1 cm spheres that fits kBox.
+std::string lattice() {
+  std::string s = "x,y,z,r\n";
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k)
+        s += std::to_string(0.035 + 0.01 * i) + "," + std::to_string(0.035 + 0.01 * j) + "," +
+             std::to_string(0.005 + 0.01 * k) + ",0.005\n";
+  return s;
+}
+
+std::vector<BadInput> bad_inputs() {
+  const std::string run = "run @/s.toml";
+  const auto scenario = [&](std::string text, std::vector<std::string> words) {
+    return BadInput{"scenario", {{"s.toml", std::move(text)}}, run, std::move(words)};
+  };
+  const auto particles = [&](std::string csv, std::vector<std::string> words) {
+    return BadInput{"particles", {{"s.toml", kFromFile}, {"bed.csv", std::move(csv)}}, run, std::move(words)};
+  };
+  const auto analyze = [&](std::string csv, std::string extra, std::vector<std::string> words) {
+    return BadInput{"particles", {{"bed.csv", std::move(csv)}}, "analyze @/bed.csv" + extra, std::move(words)};
+  };
+  const auto grading = [&](std::string csv, std::vector<std::string> words) {
+    return BadInput{"grading", {{"s.toml", kGraded}, {"g.csv", std::move(csv)}}, run, std::move(words)};
+  };
+  const auto grading_cli = [&](std::string csv, std::vector<std::string> words) {
+    return BadInput{"grading", {{"g.csv", std::move(csv)}}, "grading @/g.csv", std::move(words)};
+  };
+  const auto command = [&](std::string args, std::vector<std::string> words) {
+    return BadInput{"command line", {{"s.toml", kDeposit}, {"bed.csv", lattice()}}, std::move(args), std::move(words)};
+  };
+  return {
+      // Scenario files: syntax, keys, types, ranges, sections that contradict each other.
+      scenario("[container\nside = 1\n", {"s.toml:1", "TOML syntax error"}),
+      scenario("title = 3\n" + kDeposit, {"s.toml", "title", "string"}),
+      scenario("[particles]\ndiameter = 0.01\ncount = 5\n[deposition]\n", {"s.toml", "container"}),
+      scenario(kBox + "[deposition]\n", {"s.toml", "particles"}),
+      scenario(kDeposit + "colour = 1\n", {"s.toml", "colour"}),
+      scenario(kDeposit + "[material]\ndensty = 1\n", {"material.densty", "did you mean 'density'"}),
+      scenario("[container]\nside = -1\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 5\n[deposition]\n",
+               {"s.toml", "container.side"}),
+      scenario("[container]\nside = \"10 parsecs\"\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 5\n"
+               "[deposition]\n",
+               {"container.side", "unit"}),
+      scenario("[container]\nside = 0.1\nheight = 0.1\nsides = \"round\"\n[particles]\ndiameter = 0.01\ncount = 5\n"
+               "[deposition]\n",
+               {"container.sides", "walls", "periodic"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\n[deposition]\n", {"particles.count"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 0\n[deposition]\n", {"particles.count"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 1.5\n[deposition]\n", {"particles.count", "integer"}),
+      scenario(kBox + "[particles]\ndiameter = 0.2\ncount = 5\n[deposition]\n", {"s.toml", "largest diameter", "container"}),
+      scenario("[container]\nside = 0.1\nheight = 0.005\n[particles]\ndiameter = 0.01\ncount = 5\n[deposition]\n",
+               {"s.toml", "container.height", "largest diameter"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 5\n", {"s.toml", "no stage places them", "[deposition]"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 5\nfrom = \"x.csv\"\n[deposition]\n",
+               {"s.toml", "exactly one of"}),
+      scenario(kBox + "[particles]\nclasses = []\n[deposition]\n", {"particles.classes", "at least one"}),
+      scenario(kBox + "[particles]\nsolid_volume = 1e-4\nclasses = [{diameter = 0.01, volume_fraction = 0.5}]\n"
+                      "[deposition]\n",
+               {"particles.classes", "add up to 1"}),
+      scenario(kBox + "[particles]\ncount = 5\nclasses = [{diameter = 0.01, count = 5}]\n[deposition]\n",
+               {"particles.count", "no total"}),
+      scenario(kBox + "[particles]\nclasses = [{diameter = 0.01, count = 5}, {diameter = 0.02, volume_fraction = 1}]\n"
+                      "[deposition]\n",
+               {"classes", "all give a count or all give a volume_fraction"}),
+      scenario(kBox + "[particles]\ndiameter = 1e-6\ncount = 200000000\n[deposition]\n",
+               {"s.toml", "particles", "limits.max_particles"}),
+      scenario(kBox + "[particles]\ndiameter = 1e-5\ncount = 90000000\n[deposition]\n[limits]\nmax_memory_gib = 1\n",
+               {"s.toml", "GiB", "limits.max_memory_gib"}),
+      scenario(kBox + "[particles]\nclasses = [{diameter = 1e-6, volume_fraction = 1}]\nsolid_volume = 1e-3\n"
+                      "[deposition]\n",
+               {"s.toml", "limits.max_particles"}),
+      scenario("[container]\nside = 1000\nheight = 1000\n[particles]\ndiameter = 1e-4\ncount = 5\n[deposition]\n",
+               {"s.toml", "container", "cells", "limits.max_grid_cells"}),
+      scenario(kDeposit + "[limits]\nmax_grid_cells = 10\n", {"limits.max_grid_cells"}),
+      scenario(kDeposit + "[limits]\nmax_particles = -3\n", {"limits.max_particles"}),
+      scenario(kDeposit + "[limits]\nmax_memory_gib = 0\n", {"limits.max_memory_gib", "(0, "}),
+      scenario(kDeposit + "[limits]\nspeed = 1\n", {"limits.speed"}),
+      scenario(kDeposit + "[analysis]\nslice_thickness = 1e-9\n", {"s.toml", "analysis.slice_thickness", "bins"}),
+      scenario(kDeposit + "[analysis]\nshell_thickness = 1e-9\n", {"s.toml", "analysis.shell_thickness", "bins"}),
+      scenario(kDeposit + "[analysis]\nbox_sides = [0.2]\n", {"s.toml", "analysis.box_sides", "largest admissible"}),
+      scenario(kDeposit + "[analysis]\nbox_sides = [-0.01]\n", {"analysis.box_sides"}),
+      scenario(kDeposit + "[analysis]\ncontact_tolerance = 2\n", {"analysis.contact_tolerance"}),
+      scenario(kDeposit + "[analysis]\nplacement = \"random\"\n", {"analysis.placement", "centered"}),
+      scenario(kDeposit + "fill_height = 0.005\n", {"deposition.fill_height", "below the largest diameter"}),
+      scenario(kDeposit + "fill_height = 0.5\n", {"deposition.fill_height", "above the container height"}),
+      scenario(kDeposit + "method = \"rain\"\n", {"deposition.method", "drop_and_roll"}),
+      scenario(kDeposit + "tolerance = 1\n", {"deposition.tolerance"}),
+      scenario(kDeposit + "[dynamics]\ntime_step = 1e-3\n", {"s.toml", "dynamics.time_step", "Rayleigh",
+                                                               "allow_unstable_time_step"}),
+      scenario(kDeposit + "[dynamics]\ntime_step_safety = 0.75\n", {"dynamics.time_step_safety", "Rayleigh"}),
+      scenario(kDeposit + "[dynamics]\ntime_step = -1\n", {"dynamics.time_step"}),
+      scenario(kDeposit + "[dynamics]\nfriction_model = \"glue\"\n", {"dynamics.friction_model", "mindlin"}),
+      scenario(kDeposit + "[dynamics]\nmax_time = 0\n", {"dynamics.max_time"}),
+      scenario(kDeposit + "[dynamics]\nquiet_window = 0.001\nsample_interval = 0.01\n", {"dynamics.quiet_window"}),
+      scenario(kDeposit + "[dynamics]\nlayers = 0\n", {"dynamics.layers"}),
+      scenario(kDeposit + "[dynamics]\nallow_unstable_time_step = \"yes\"\n", {"dynamics.allow_unstable_time_step",
+                                                                              "true or false"}),
+      scenario(kDeposit + "[material]\npoisson_ratio = 0.7\n", {"material.poisson_ratio"}),
+      scenario(kDeposit + "[material]\nrestitution = 0\n", {"material.restitution"}),
+      scenario(kDeposit + "[material]\nyoungs_modulus = \"hard\"\n", {"material.youngs_modulus", "number"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\n", {"s.toml", "pour", "[dynamics]"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\nsolid_fraction = 0.5\n[dynamics]\n",
+               {"pour.solid_fraction"}),
+      scenario(kDeposit + "[tapping]\n", {"s.toml", "tapping", "[dynamics]"}),
+      scenario(kDeposit + "[dynamics]\n[tapping]\ntaps = 0\n", {"tapping.taps"}),
+      scenario(kDeposit + "[dynamics]\n[tapping]\nintensity = -2\n", {"tapping.intensity"}),
+      scenario(kDeposit + "[[protocol]]\nstep = \"shake\"\n", {"protocol", "shake"}),
+      scenario(kDeposit + "[output]\nformats = [\"pdf\"]\n", {"output.formats", "csv", "vtp"}),
+      scenario(kDeposit + "seed = -5\n", {"seed"}),
+      scenario("seed = 18446744073709551615\n" + kDeposit, {"s.toml"}),
+      scenario(kFromFile + "[deposition]\n", {"s.toml", "particles.from"}),
+      scenario(kBox + "[particles]\nfrom = \"@/none.csv\"\n", {"none.csv", "no such file"}),
+      scenario(kBox + "[particles]\nfrom = \"@\"\n", {"directory", "regular file"}),
+      scenario(kBox + "[particles]\nfrom = \"/dev/zero\"\n", {"/dev/zero", "not a regular file"}),
+      scenario(kBox + "[particles]\nfrom = \"@/bed.csv\"\nlength_unit = \"furlong\"\n", {"particles.length_unit"}),
+      BadInput{"scenario", {{"s.toml", kDeposit + "[output]\ndirectory = \"\"\n"}}, "check @/s.toml",
+               {"output.directory", "empty"}},
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 20\n[deposition]\n",
+               {"s.toml", "the bed will be at most", "virtual cube"}),
+      // Gradings: a scenario's sieve file, and `aggpack grading FILE`.
+      grading("opening_mm\n4.75\n", {"g.csv:1", "percent_passing"}),
+      grading("opening_mm,percent_passing\n4.75,abc\n", {"g.csv:2", "percent passing", "not a number"}),
+      grading("opening_mm,percent_passing\n4.75,\n", {"g.csv:2", "missing"}),
+      grading("opening_mm,percent_passing\n4.75,100\n2.36,120\n", {"g.csv"}),
+      grading("opening_mm,percent_passing\n4.75,50\n2.36,80\n", {"g.csv"}),
+      grading("opening_mm,percent_passing\n-4.75,100\n2.36,10\n", {"g.csv"}),
+      grading("", {"g.csv"}),
+      grading_cli("sieve,percent_passing\n#4,100\n", {"g.csv:1", "opening"}),
+      grading_cli(std::string("opening_mm,percent_passing\n4.75,1\0\0", 33), {"g.csv"}),
+      BadInput{"grading", {}, "grading @", {"directory", "regular file"}},
+      BadInput{"grading", {}, "grading /dev/zero", {"/dev/zero", "not a regular file"}},
+      BadInput{"grading", {}, "grading @/missing.csv", {"missing.csv"}},
+      // Particle files: format, numbers, and the physics of the bed.
+      particles("", {"bed.csv", "no particles"}),
+      particles("x,y,z\n0,0,0\n", {"bed.csv:1", "header", "x, y, z and r"}),
+      particles("x,y,z,r\n0.05,0.05,0.05\n", {"bed.csv:2", "fields"}),
+      particles("x,y,z,r\n0.05,0.05,abc,0.005\n", {"bed.csv:2", "not a number"}),
+      particles("x,y,z,r\n0.05,0.05,0.05,-0.005\n", {"bed.csv:2", "radius", "positive"}),
+      particles("x,y,z,r\n0.05,0.05,0.05,nan\n", {"bed.csv:2", "not a number"}),
+      particles("x,y,z,r\n0.05,0.05,1e400,0.005\n", {"bed.csv:2", "not a number"}),
+      particles("x,x,y,z,r\n0,0.05,0.05,0.05,0.005\n", {"bed.csv:1", "twice"}),
+      particles("x,y,z,r,d\n0.05,0.05,0.05,0.005,0.01\n", {"bed.csv:1", "twice"}),
+      particles("0.05 0.05 0.05 0.005 1\n", {"bed.csv:1", "exactly 4 numbers"}),
+      particles("x,y,z,r\n0.05,0.05,0.005,0.005\n0.05,0.05,0.005,0.005\n", {"bed.csv", "same place", "coincident"}),
+      particles("x,y,z,r\n0.05,0.05,0.005,0.005\n0.052,0.05,0.005,0.005\n",
+                {"bed.csv", "overlap", "particles.overlap_tolerance", "soft_contacts"}),
+      particles("x,y,z,r\n0.05,0.05,0.05,0.005\n0.05,0.05,0.5,0.005\n", {"bed.csv", "data row 2", "container"}),
+      particles("x,y,z,r\n0.05,0.05,0.003,0.005\n", {"bed.csv", "floor"}),
+      particles(lattice() + "0.05,0.05,1e6,0.005\n", {"bed.csv", "container"}),
+      analyze("x,y,z,r\n0,0,0,0.005\n1000000,1000000,0,0.005\n", "", {"bed.csv", "cells"}),
+      analyze(lattice() + "0.05,0.05,1000000,0.005\n", "", {"bed.csv", "holds no sphere"}),
+      analyze("x,y,z,r\n0,0,0,0.5\n0,0,0,0.5\n", "", {"bed.csv", "coincident"}),
+      analyze("x,y,z,r\n0,0,0,0.5\n0.1,0,0,0.5\n", "", {"bed.csv", "overlap", "--soft-contacts"}),
+      analyze("x,y,z,r\n0,0,0,0.5\n0.01,0,0,0.5\n", " --soft-contacts", {"bed.csv", "centre is inside"}),
+      analyze(lattice(), " --box 1,1,1,2,2,2", {"bed.csv", "does not lie inside the packing"}),
+      analyze(lattice(), " --cube 1", {"bed.csv", "virtual cube"}),
+      analyze(lattice(), " --box 1,2,3", {"--box", "xmin,ymin,zmin,xmax,ymax,zmax"}),
+      analyze(lattice(), " --length-unit parsec", {"--length-unit", "unknown unit"}),
+      BadInput{"particles", {}, "analyze @", {"directory", "regular file"}},
+      BadInput{"particles", {}, "analyze /dev/zero", {"/dev/zero", "not a regular file"}},
+      // The command line.
+      command("run @/s.toml --threads 100000", {"--threads", "256"}),
+      command("run @/s.toml --threads 1000", {"--threads", "256"}),
+      command("run @/s.toml --threads -1", {"--threads"}),
+      command("run @/s.toml --seed -1", {"--seed"}),
+      command("run @/s.toml --seed 18446744073709551616", {"--seed"}),
+      command("run @/s.toml --seed abc", {"--seed"}),
+      command("run @/s.toml --stop-after sieving", {"sieving"}),
+      command("run @/s.toml --set nonsense", {"--set nonsense", "key.path=value"}),
+      command("run @/s.toml --set container.side.x=1", {"--set", "not a table"}),
+      command("run @/s.toml --set particles.count=-4", {"particles.count", "--set"}),
+      command("run @/s.toml --out @/s.toml", {"s.toml", "is a file"}),
+      command("run @/s.toml --out @/s.toml/sub", {"s.toml", "is a file"}),
+      command("run @/s.toml --out ''", {"output", "empty"}),
+      command("run @/s.toml --out /proc/aggpack", {"/proc/aggpack", "cannot make the output folder"}),
+      command("check @/s.toml --set output.directory=\\\"@/s.toml\\\"", {"s.toml", "is a file"}),
+      command("check @/s.toml --set dynamics.time_step=1", {"dynamics.time_step", "Rayleigh"}),
+      command("check @/s.toml --set analysis.box_sides=[0.5]", {"analysis.box_sides", "largest admissible"}),
+      command("check @/s.toml --set particles.count=900000000", {"limits.max_particles"}),
+      command("run @/missing.toml", {"missing.toml", "no such file"}),
+      command("run @", {"directory", "regular file"}),
+      command("run /dev/zero", {"/dev/zero", "not a regular file"}),
+      command("frobnicate", {"unknown subcommand", "frobnicate"}),
+      command("run", {"scenario"}),
+      command("analyze @/bed.csv --tolerance 5", {"--tolerance"}),
+      command("analyze @/bed.csv --overlap-tolerance 2", {"--overlap-tolerance"}),
+      command("grading", {"grading"}),
+      command("grading nonesuch_grading", {"nonesuch_grading"}),
+      command("grading astm_c33_57_mid --band nowhere", {"nowhere"}),
+      command("sweep @/s.toml --fa 10:5:1", {"--fa"}),
+      command("reproduce --seeds 0", {"--seeds"}),
+      command("reproduce --threads 5000", {"--threads"}),
+  };
+}
+
+std::string substitute(std::string text, const std::string& dir) {
+  for (std::size_t at = text.find('@'); at != std::string::npos; at = text.find('@', at + dir.size()))
+    text.replace(at, 1, dir);
+  return text;
+}
+
+class Reliability : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("aggpack_reliability_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_F(Reliability, EveryBadInputIsRefusedWithExitTwoAClearMessageAndNothingWritten) {
+  const std::vector<BadInput> cases = bad_inputs();
+  std::map<std::string, int> per_kind;
+  for (const BadInput& c : cases) ++per_kind[c.kind];
+  EXPECT_GE(cases.size(), 80u);
+  for (const auto& kind : {"scenario", "grading", "particles", "command line"}) EXPECT_GE(per_kind[kind], 10) << kind;
+
+  const fs::path out = dir_ / "out";
+  for (const BadInput& c : cases) {
+    const fs::path here = dir_ / "case";
+    fs::remove_all(here);
+    fs::create_directories(here);
+    for (const auto& [name, text] : c.files) std::ofstream(here / name, std::ios::binary) << substitute(text, here.string());
+    const std::string args = substitute(c.arguments, here.string());
+    // Every run writes (if it wrote anything) into `out`, unless the case names its own folder.
+    const bool own_out = args.find("--out") != std::string::npos || args.rfind("run", 0) != 0;
+    const auto r = run_cli(args + (own_out ? "" : " --out " + out.string()));
+    SCOPED_TRACE(c.kind + ": aggpack " + args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    for (const std::string& word : c.expected)
+      EXPECT_NE(r.output.find(substitute(word, here.string())), std::string::npos) << "missing \"" << word << "\" in\n"
+                                                                                   << r.output;
+    EXPECT_FALSE(fs::exists(out)) << r.output;
+    // Nothing written beside the inputs either (a refused run makes no folder, no temporary file).
+    std::size_t files = 0;
+    for (const auto& entry : fs::recursive_directory_iterator(here)) files += entry.is_regular_file() ? 1 : 0;
+    EXPECT_EQ(files, c.files.size()) << r.output;
+  }
+}
+
+// A settling run stopped by a signal: it stops at the next sample, writes the bed as it stood,
+// its samples and a summary marked interrupted, and exits with 128 + the signal.
+int run_and_signal(const fs::path& scenario, const fs::path& out, int signal_number) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::freopen("/dev/null", "w", stdout);
+    ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--threads", "1", "--out", out.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // The folder appears once every check has passed; the DEM is then under way within a second.
+  for (int k = 0; k < 600 && !fs::exists(out); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ::kill(pid, signal_number);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+TEST_F(Reliability, SigintAndSigtermStopAtASafePointWithAnInterruptedSummary) {
+  const fs::path scenario = dir_ / "long.toml";
+  // A bed that settles for far longer than the test waits.
+  std::ofstream(scenario) << "[container]\nside = 0.1\nheight = 0.2\n[particles]\ndiameter = 0.008\ncount = 1500\n"
+                             "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n"
+                             "[dynamics]\nmax_time = 100\n";
+  for (const auto& [signal_number, code] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}}) {
+    const fs::path out = dir_ / ("stopped_" + std::to_string(signal_number));
+    EXPECT_EQ(run_and_signal(scenario, out, signal_number), code);
+    const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+    EXPECT_TRUE(summary.at("interrupted").get<bool>());
+    EXPECT_EQ(summary.at("interruption").at("signal").get<int>(), signal_number);
+    EXPECT_EQ(summary.at("seed").get<int>(), 1);
+    EXPECT_TRUE(summary.contains("aggpack_version"));
+    EXPECT_TRUE(fs::exists(out / "particles.csv"));
+    for (const auto& entry : fs::directory_iterator(out))
+      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+}
+
+// A killed run's temporary files are removed by the next run into the same folder.
+TEST_F(Reliability, ANewRunRemovesAKilledRunsTemporaryFiles) {
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out);
+  std::ofstream(out / "particles.csv.tmp.99999") << "half a file";
+  std::ofstream(dir_ / "s.toml") << kDeposit;
+  const auto r = run_cli("run " + (dir_ / "s.toml").string() + " --quiet --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(out / "particles.csv.tmp.99999"));
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+}  // namespace
