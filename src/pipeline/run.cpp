@@ -190,7 +190,6 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   Progress silent;
   Progress& progress = options.progress ? *options.progress : silent;
   const Scenario sc = load_scenario(scenario_file, options.overrides);
-  check_thread_count(options.threads);
   check_output_directory(sc.output.directory, false);
   // The folder is made and probed once the input has passed its checks, before any work, not
   // after hours of it; a run that fails later removes the folder again if it made it empty.

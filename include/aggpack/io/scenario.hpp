@@ -93,7 +93,7 @@ struct TappingSettings {
 struct RunLimits {
   double max_particles = 1e8;        // particles a run may generate or read
   std::optional<double> max_memory_gib;  // none: 80 % of the machine's physical memory
-  double max_grid_cells = 268435456;  // 2^28 cells of the neighbour grid (1 GiB); at most 2^31
+  double max_grid_cells = 67108864;  // 2^26 cells of the neighbour grid (256 MiB); at most 2^31
   double max_input_file_gib = 2.0;   // largest particle file read
   double max_profile_bins = 1e6;     // slices and shells of the profiles
 };
