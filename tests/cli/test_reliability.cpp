@@ -189,7 +189,7 @@ std::vector<BadInput> bad_inputs() {
       particles("x,y,z,r\n0.05,0.05,0.003,0.005\n", {"bed.csv", "floor"}),
       particles(lattice() + "0.05,0.05,1e6,0.005\n", {"bed.csv", "container"}),
       analyze("x,y,z,r\n0,0,0,0.005\n1000000,1000000,0,0.005\n", "", {"bed.csv", "cells"}),
-      analyze(lattice() + "0.05,0.05,1000000,0.005\n", "", {"bed.csv", "holds no sphere"}),
+      analyze(lattice() + "0.05,0.05,1000000,0.005\n", "", {"bed.csv", "cells", "far from the others"}),
       analyze("x,y,z,r\n0,0,0,0.5\n0,0,0,0.5\n", "", {"bed.csv", "coincident"}),
       analyze("x,y,z,r\n0,0,0,0.5\n0.1,0,0,0.5\n", "", {"bed.csv", "overlap", "--soft-contacts"}),
       analyze("x,y,z,r\n0,0,0,0.5\n0.01,0,0,0.5\n", " --soft-contacts", {"bed.csv", "centre is inside"}),
