@@ -105,8 +105,10 @@ int analyze_command(const AnalyzeArguments& a) {
     j["aggpack_version"] = aggpack::kVersion;
     j["file"] = file;
     j["particle_count"] = particles.size();
-    if (overlap.depth_over_radius > 1e-6)
-      j["largest_pair_overlap_rel"] = overlap.depth_over_radius, j["soft_contacts"] = soft_contacts;
+    if (overlap.depth_over_radius > 1e-6) {
+      j["largest_pair_overlap_rel"] = overlap.depth_over_radius;
+      j["soft_contacts"] = soft_contacts;
+    }
     const auto& cb = container.bounds;
     j["container"] = {{"lo", {cb.lo.x, cb.lo.y, cb.lo.z}}, {"hi", {cb.hi.x, cb.hi.y, cb.hi.z}}, {"periodic", false},
                       {"note", "bounding box of the spheres"}};
