@@ -19,6 +19,36 @@ int cells_along(double extent, double min_width) {
 }
 }  // namespace
 
+std::vector<MultilevelGrid::Level> MultilevelGrid::plan_levels(const Container& container,
+                                                               std::span<const double> radii, double bed_volume) {
+  const auto [min_it, max_it] = std::minmax_element(radii.begin(), radii.end());
+  if (!(*min_it > 0.0)) throw std::invalid_argument("MultilevelGrid: radii must be positive");
+  const double top = *max_it;
+  // Levels a factor of two apart in radius: level l holds radii in (top/2^(l+1), top/2^l].
+  const auto level_count = static_cast<std::size_t>(std::floor(std::log2(top / *min_it))) + 1;
+  if (level_count > 64)
+    throw InputError(fmt::format("the radii span {:.3g} to {:.3g} m, a ratio of {:.3g}; the neighbour grid takes "
+                                 "a ratio of at most 2^64", *min_it, top, top / *min_it));
+  std::vector<std::size_t> members(level_count, 0);
+  for (double r : radii) ++members[level_index(r, top, level_count)];
+  std::vector<Level> levels(level_count);
+  for (std::size_t l = 0; l < level_count; ++l) {
+    Level& level = levels[l];
+    level.max_radius = std::ldexp(top, -static_cast<int>(l));
+    // A sparse level (few spheres in a large bed) gets cells of about one sphere each.
+    // An empty level (a gap in the size range) gets one cell.
+    const double sparse_cell = members[l] > 0 ? std::cbrt(bed_volume / static_cast<double>(members[l]))
+                                              : std::numeric_limits<double>::infinity();
+    const double min_width = std::max(2.0 * level.max_radius, sparse_cell);
+    level.nx = cells_along(container.length_x(), min_width);
+    level.ny = cells_along(container.length_y(), min_width);
+    level.cell_x = container.length_x() / level.nx;
+    level.cell_y = container.length_y() / level.ny;
+    level.cell_z = std::max(level.cell_x, level.cell_y);
+  }
+  return levels;
+}
+
 MultilevelGrid::MultilevelGrid(const Container& container, std::span<const double> radii, double bed_volume)
     : lo_(container.bounds.lo),
       container_(container),
@@ -26,60 +56,20 @@ MultilevelGrid::MultilevelGrid(const Container& container, std::span<const doubl
       period_y_(container.length_y()),
       periodic_(container.periodic) {
   if (radii.empty()) return;
-  const auto [min_it, max_it] = std::minmax_element(radii.begin(), radii.end());
-  if (!(*min_it > 0.0)) throw std::invalid_argument("MultilevelGrid: radii must be positive");
-  radius_top_ = *max_it;
-  // Levels a factor of two apart in radius: level l holds radii in (top/2^(l+1), top/2^l].
-  const auto level_count = static_cast<std::size_t>(std::floor(std::log2(radius_top_ / *min_it))) + 1;
-  if (level_count > 64)
-    throw InputError(fmt::format("the radii span {:.3g} to {:.3g} m, a ratio of {:.3g}; the neighbour grid takes "
-                                 "a ratio of at most 2^64", *min_it, radius_top_, radius_top_ / *min_it));
-  std::vector<std::size_t> members(level_count, 0);
-  levels_.resize(level_count);
-  for (double r : radii) ++members[std::min(level_count - 1, level_of(r))];
+  radius_top_ = *std::max_element(radii.begin(), radii.end());
+  levels_ = plan_levels(container, radii, bed_volume);
   std::size_t columns = 0;
-  for (std::size_t l = 0; l < level_count; ++l) {
-    Level& level = levels_[l];
-    level.max_radius = std::ldexp(radius_top_, -static_cast<int>(l));
-    // A sparse level (few spheres in a large bed) gets cells of about one sphere each.
-    // An empty level (a gap in the size range) gets one cell.
-    const double sparse_cell = members[l] > 0 ? std::cbrt(bed_volume / static_cast<double>(members[l]))
-                                              : std::numeric_limits<double>::infinity();
-    const double min_width = std::max(2.0 * level.max_radius, sparse_cell);
-    level.nx = cells_along(period_x_, min_width);
-    level.ny = cells_along(period_y_, min_width);
-    level.cell_x = period_x_ / level.nx;
-    level.cell_y = period_y_ / level.ny;
-    level.cell_z = std::max(level.cell_x, level.cell_y);
-    columns += static_cast<std::size_t>(level.nx) * level.ny;
-  }
+  for (const Level& level : levels_) columns += static_cast<std::size_t>(level.nx) * level.ny;
   if (columns > kMaxCells) too_many_cells(static_cast<double>(columns), "its footprint");
   for (Level& level : levels_) level.top_layer.assign(static_cast<std::size_t>(level.nx) * level.ny, -1);
 }
 
 double MultilevelGrid::cells_needed(const Container& container, std::span<const double> radii, double bed_volume,
                                     double height) {
+  if (radii.empty()) return 0.0;
   double cells = 0.0;
-  if (radii.empty()) return cells;
-  const auto [min_it, max_it] = std::minmax_element(radii.begin(), radii.end());
-  const double top = *max_it;
-  const double levels = std::floor(std::log2(top / *min_it)) + 1;
-  if (!(*min_it > 0.0) || levels > 64) return std::numeric_limits<double>::infinity();
-  std::vector<std::size_t> members(static_cast<std::size_t>(levels), 0);
-  for (double r : radii) {
-    auto l = static_cast<std::size_t>(std::max(0.0, std::floor(std::log2(top / r))));
-    if (l > 0 && std::ldexp(r, static_cast<int>(l)) == top) --l;
-    ++members[std::min(l, members.size() - 1)];
-  }
-  for (std::size_t l = 0; l < members.size(); ++l) {
-    const double max_radius = std::ldexp(top, -static_cast<int>(l));
-    const double sparse_cell = members[l] > 0 ? std::cbrt(bed_volume / static_cast<double>(members[l]))
-                                              : std::numeric_limits<double>::infinity();
-    const double min_width = std::max(2.0 * max_radius, sparse_cell);
-    const double nx = cells_along(container.length_x(), min_width), ny = cells_along(container.length_y(), min_width);
-    const double cell_z = std::max(container.length_x() / nx, container.length_y() / ny);
-    cells += nx * ny * std::max(1.0, std::ceil(height / cell_z));
-  }
+  for (const Level& level : plan_levels(container, radii, bed_volume))
+    cells += static_cast<double>(level.nx) * level.ny * std::max(1.0, std::ceil(height / level.cell_z));
   return cells;
 }
 
@@ -90,14 +80,15 @@ void MultilevelGrid::too_many_cells(double cells, std::string_view what) const {
                                cells, what, box_text(container_.bounds), radius_top_, static_cast<double>(kMaxCells)));
 }
 
-std::size_t MultilevelGrid::level_of(double radius) const {
-  if (radius >= radius_top_) return 0;
-  const double ratio = radius_top_ / radius;  // > 1
-  auto l = static_cast<std::size_t>(std::floor(std::log2(ratio)));
+std::size_t MultilevelGrid::level_index(double radius, double top, std::size_t level_count) {
+  if (radius >= top) return 0;
+  auto l = static_cast<std::size_t>(std::floor(std::log2(top / radius)));  // top / radius > 1
   // Exact powers of two belong to the finer-indexed (coarser) level: (top/2^(l+1), top/2^l].
-  if (std::ldexp(radius, static_cast<int>(l)) == radius_top_ && l > 0) --l;
-  return std::min(l, levels_.size() - 1);
+  if (std::ldexp(radius, static_cast<int>(l)) == top && l > 0) --l;
+  return std::min(l, level_count - 1);
 }
+
+std::size_t MultilevelGrid::level_of(double radius) const { return level_index(radius, radius_top_, levels_.size()); }
 
 int MultilevelGrid::column_index(double v, double lo, double width, int n) const {
   double c = std::floor((v - lo) / width);

@@ -25,12 +25,6 @@ Result run(const std::string& args) { return aggpack::testing::run_cli(args); }
 
 class Cli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("aggpack_cli_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
   std::string example(const std::string& name) const { return std::string(AGGPACK_EXAMPLES) + "/" + name; }
   // Writes `text` as <name>.toml, runs it into <name>/ (expecting success) and returns its summary.
   nlohmann::json run_text(const std::string& name, const std::string& text, const std::string& extra = "") const {
@@ -49,7 +43,8 @@ class Cli : public ::testing::Test {
       EXPECT_FALSE(fs::exists(dir_ / "bad"));
     }
   }
-  fs::path dir_;
+  aggpack::testing::ScratchDir scratch_{"aggpack_cli_"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(Cli, RunWritesTheThreeFilesAndTheSummaryKeys) {

@@ -242,13 +242,8 @@ std::string substitute(std::string text, const std::string& dir) {
 
 class Reliability : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("aggpack_reliability_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  aggpack::testing::ScratchDir scratch_{"aggpack_reliability_"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 TEST_F(Reliability, EveryBadInputIsRefusedWithExitTwoAClearMessageAndNothingWritten) {

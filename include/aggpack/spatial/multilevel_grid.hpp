@@ -77,6 +77,12 @@ class MultilevelGrid {
   static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
 
   [[nodiscard]] std::size_t level_of(double radius) const;
+  // The level of a radius among `level_count` levels below the largest radius `top`.
+  [[nodiscard]] static std::size_t level_index(double radius, double top, std::size_t level_count);
+  // The levels and their cells for these radii, nothing allocated: what the constructor
+  // makes and what cells_needed counts.
+  [[nodiscard]] static std::vector<Level> plan_levels(const Container& container, std::span<const double> radii,
+                                                      double bed_volume);
   [[noreturn]] void too_many_cells(double cells, std::string_view what) const;
   [[nodiscard]] int column_index(double v, double lo, double width, int n) const;
   [[nodiscard]] int layer_index(double z, const Level& level) const;
