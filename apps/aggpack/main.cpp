@@ -51,6 +51,16 @@ std::uint64_t seed_argument(const std::string& text) {
   return static_cast<std::uint64_t>(value);
 }
 
+// A wall-clock interval in seconds, >= 0, as the TOML value of output.checkpoint_every.
+std::string seconds_argument(const std::string& text) {
+  double value = -1.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !(value >= 0.0) || !(value <= 1e9))
+    throw aggpack::InputError(
+        fmt::format("--checkpoint-every {}: expected seconds of wall clock from 0 (every safe point) to 1e9", text));
+  return fmt::format("{}", value);  // the shortest text that reads back as the same double
+}
+
 aggpack::Box box_argument(const std::string& text, long double bare_unit) {
   std::vector<double> v;
   std::size_t start = 0;
@@ -150,6 +160,27 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--set", run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
   auto* stop_opt = run_cmd->add_option("--stop-after", stop_after, "Stop after this stage (deposition, dynamics)");
   run_cmd->add_flag("--quiet", run.quiet, "Print nothing on success");
+  // Checkpoints: the CLI's options are overrides of the scenario's output keys, so that the
+  // checkpoint records them with the rest.
+  std::string checkpoint_every;
+  auto* every_opt = run_cmd->add_option("--checkpoint-every", checkpoint_every,
+                                        "Write checkpoint.bin at most every SECONDS of wall clock (0: at every safe "
+                                        "point; overrides output.checkpoint_every, default 60)");
+  bool no_checkpoint = false;
+  run_cmd->add_flag("--no-checkpoint", no_checkpoint, "Write no checkpoint (output.checkpoint = false)")
+      ->excludes(every_opt);
+
+  std::string resume_dir;
+  aggpack::RunOptions resume;
+  std::string resume_every;
+  auto* resume_cmd = app.add_subcommand(
+      "resume", "Continue an interrupted or killed run from the checkpoint in its folder; same results, bit for bit");
+  resume_cmd->add_option("run_dir", resume_dir, "The run's output folder (holding checkpoint.bin)")->required();
+  resume_cmd->add_option("--threads", resume.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
+      ->check(thread_range);
+  auto* resume_every_opt =
+      resume_cmd->add_option("--checkpoint-every", resume_every, "Checkpoint at most every SECONDS from now on");
+  resume_cmd->add_flag("--quiet", resume.quiet, "Print nothing on success");
 
   std::vector<std::string> check_sets;
   auto* check_cmd = app.add_subcommand("check", "Validate a scenario without running it");
@@ -241,6 +272,8 @@ int main(int argc, char** argv) {
       if (*out_opt) run.overrides.output_directory = out_dir;
       if (*seed_opt) run.overrides.seed = seed_argument(seed);
       if (*stop_opt) run.stop_after = stop_after;
+      if (*every_opt) run.overrides.set.push_back("output.checkpoint_every=" + seconds_argument(checkpoint_every));
+      if (no_checkpoint) run.overrides.set.push_back("output.checkpoint=false");
       aggpack::Progress progress = aggpack::Progress::wanted(run.quiet) ? aggpack::Progress(std::cerr)
                                                                        : aggpack::Progress();
       run.progress = &progress;
@@ -249,6 +282,17 @@ int main(int argc, char** argv) {
       std::signal(SIGTERM, request_stop);
       const auto result = aggpack::run_scenario(scenario, run, std::cout);
       if (result.report.interrupted) return 128 + result.report.interrupted->signal_number;  // 130, 143
+    } else if (*resume_cmd) {
+      if (*resume_every_opt)
+        resume.overrides.set.push_back("output.checkpoint_every=" + seconds_argument(resume_every));
+      aggpack::Progress progress = aggpack::Progress::wanted(resume.quiet) ? aggpack::Progress(std::cerr)
+                                                                          : aggpack::Progress();
+      resume.progress = &progress;
+      resume.stop = &g_stop;
+      std::signal(SIGINT, request_stop);
+      std::signal(SIGTERM, request_stop);
+      const auto result = aggpack::resume_run(resume_dir, resume, std::cout);
+      if (result.report.interrupted) return 128 + result.report.interrupted->signal_number;
     } else if (*reproduce_cmd) {
       reproduce.out = reproduce_out;
       reproduce.examples = examples_dir;

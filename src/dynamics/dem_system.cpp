@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 #include <variant>
@@ -15,6 +16,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_batch.hpp"
 #include "aggpack/spatial/multilevel_grid.hpp"
+#include "core/archive.hpp"
 
 namespace aggpack {
 namespace {
@@ -599,6 +601,52 @@ std::size_t DemSystem::memory_bytes() const {
 void DemSystem::finish() {
   if (container_.periodic)
     for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
+}
+
+namespace {
+constexpr std::uint32_t kStateFormat = 1;  // raise when the members below change
+}  // namespace
+
+// The members in one list for saving and restoring. Not saved: the model and the settings
+// (the scenario's), the thread count and the per-thread batches (they do not change results).
+template <class Archive, class System>
+void DemSystem::archive_state(Archive& ar, System& s) {
+  ar(raw_value(s.container_), s.skin_, s.grid_bed_volume_, s.morton_cell_, s.n_, s.listed_count_, s.free_count_);
+  ar(raw(s.grain_), raw(s.user_index_), raw(s.slot_of_), raw(s.frozen_), raw(s.load_), raw(s.listed_position_));
+  ar(raw(s.offset_), raw(s.cross_begin_), raw(s.other_), raw(s.spring_), raw(s.cross_), raw(s.slot_base_),
+     raw(s.reverse_offset_), raw(s.reverse_));
+  ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
+     s.rebuilds_);
+}
+
+std::string DemSystem::save_state() const {
+  std::ostringstream out(std::ios::binary);
+  {
+    cereal::BinaryOutputArchive ar(out);
+    ar(kStateFormat, static_cast<std::uint64_t>(p_.size()));
+    archive_state(ar, *this);
+  }
+  return std::move(out).str();
+}
+
+void DemSystem::restore_state(const std::string& state) {
+  std::istringstream in(state, std::ios::binary);
+  try {
+    cereal::BinaryInputArchive ar(in);
+    std::uint32_t format = 0;
+    std::uint64_t particles = 0;
+    ar(format, particles);
+    if (format != kStateFormat || particles != p_.size())
+      throw InputError(fmt::format("the DEM state is of format {} for {} particles; this system is of format {} "
+                                   "with {}", format, particles, kStateFormat, p_.size()));
+    archive_state(ar, *this);
+  } catch (const cereal::Exception& e) {
+    throw InputError(fmt::format("the DEM state is truncated or damaged ({})", e.what()));
+  }
+  if (grain_.size() != n_ || n_ != p_.size() || offset_.size() != std::size_t{n_} + 1)
+    throw InputError("the DEM state does not fit its particle store");
+  threaded_ = n_ >= kThreadedFrom;
+  batches_.assign(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1, ContactBatch{});
 }
 
 }  // namespace aggpack

@@ -77,7 +77,8 @@ SettleSample sample_system(const DemSystem& system, const ParticleStore& particl
 }
 
 SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
-                    const DensityProbe& density, const SampleSink& on_sample) {
+                    const DensityProbe& density, const SampleSink& on_sample, const SettleSafePoint& safe_point,
+                    const SettleLoop* resume) {
   if (!(criterion.sample_interval > 0.0) || !(criterion.window >= criterion.sample_interval))
     throw InputError(fmt::format("quiet window {} s must be at least the sample interval {} s (> 0)",
                                  criterion.window, criterion.sample_interval));
@@ -87,8 +88,11 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
 
   const std::size_t steps_per_sample =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(criterion.sample_interval / system.time_step())));
-  const double start = system.time();
-  std::deque<SettleSample> window;
+  SettleLoop loop;
+  if (resume) loop = *resume;
+  else loop = {system.time(), system.steps(), {}};
+  const double start = loop.start;
+  std::deque<SettleSample>& window = loop.window;
   const auto take_sample = [&] {
     SettleSample s = sample_system(system, particles, weight, density);
     s.time = system.time() - start;
@@ -108,8 +112,10 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
     return !(hi - lo > criterion.density_tolerance);
   };
 
-  window.push_back(take_sample());
-  const std::size_t start_steps = system.steps();
+  if (!resume) {
+    window.push_back(take_sample());
+    if (safe_point) safe_point(loop);
+  }
   while (true) {
     if (free_particles == 0) {
       result.end = SettleEnd::Quiet;
@@ -127,9 +133,10 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
       result.end = SettleEnd::Quiet;
       break;
     }
+    if (safe_point) safe_point(loop);
   }
   result.simulated_time = system.time() - start;
-  result.steps = system.steps() - start_steps;
+  result.steps = system.steps() - loop.start_steps;
   result.rebuilds = system.rebuilds();
   result.last = window.back();
   return result;

@@ -346,9 +346,11 @@ RunLimits read_limits(const TomlSection& s) {
 }
 
 OutputSettings read_output(const TomlSection& s, const std::filesystem::path& scenario_file) {
-  s.allow_only({"directory", "formats"});
+  s.allow_only({"directory", "formats", "checkpoint", "checkpoint_every"});
   OutputSettings o;
   o.directory = s.string("directory").value_or("out/" + scenario_file.stem().string());
+  o.checkpoint = s.boolean("checkpoint").value_or(o.checkpoint);
+  o.checkpoint_every = s.number("checkpoint_every", {0.0, 1e9, false, false}).value_or(o.checkpoint_every);
   if (const auto formats = s.string_list("formats")) {
     o.csv = o.vtp = false;
     for (const auto& f : *formats) {
@@ -461,9 +463,13 @@ double memory_limit_bytes(const RunLimits& limits) {
   return pages > 0 && page > 0 ? 0.8 * static_cast<double>(pages) * static_cast<double>(page) : 16.0 * (1u << 30);
 }
 
-Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {
+std::string read_scenario_text(const std::filesystem::path& file) {
   // A scenario is a page of TOML: 16 MiB is far beyond any real one.
-  return parse_scenario(read_input_file(file, "the scenario", std::uintmax_t{16} << 20), file, overrides);
+  return read_input_file(file, "the scenario", std::uintmax_t{16} << 20);
+}
+
+Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {
+  return parse_scenario(read_scenario_text(file), file, overrides);
 }
 
 Scenario parse_scenario(std::string_view text, const std::filesystem::path& file, const ScenarioOverrides& overrides) {
@@ -682,7 +688,10 @@ nlohmann::json to_json(const Scenario& sc) {
   nlohmann::json formats = nlohmann::json::array();
   if (sc.output.csv) formats.push_back("csv");
   if (sc.output.vtp) formats.push_back("vtp");
-  j["output"] = {{"directory", sc.output.directory.string()}, {"formats", formats}};
+  j["output"] = {{"directory", sc.output.directory.string()},
+                 {"formats", formats},
+                 {"checkpoint", sc.output.checkpoint},
+                 {"checkpoint_every_s", sc.output.checkpoint_every}};
   return j;
 }
 

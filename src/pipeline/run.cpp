@@ -9,6 +9,7 @@
 #include <fmt/ostream.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
@@ -121,23 +122,57 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   report.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
   if (initial.sizes) report.wall_clock_s["sizes"] = prepared_s;
 
+  std::vector<double> radii;
+  if (initial.sizes)
+    for (const double d : initial.sizes->diameters) radii.push_back(0.5 * d);
+  const std::uint64_t fingerprint = input_fingerprint(report.particles, radii);
+  const Checkpoint* resume = controls.resume_from;
+  if (resume && resume->inputs_fingerprint != fingerprint)
+    throw InputError(fmt::format("{}: the run's starting bed is not the one its checkpoint began from: a particle or "
+                                 "grading file the scenario reads has changed since; run the scenario again",
+                                 sc.file.string()));
+
   if (controls.before_work) controls.before_work();
-  RunContext context{report, progress, controls.threads, controls.stop, {}, 0.0, std::nullopt};
-  if (initial.sizes) {
-    report.sizes = std::move(initial.sizes);
-    for (const double d : report.sizes->diameters) context.radii.push_back(0.5 * d);
+  RunContext context{report, progress, controls.threads, controls.stop, nullptr, nullptr, std::move(radii), 0.0,
+                     std::nullopt};
+  if (initial.sizes) report.sizes = std::move(initial.sizes);
+  std::optional<Checkpointer> checkpointer;
+  if (controls.checkpoints) {
+    Checkpoint header = controls.checkpoints->header;
+    header.inputs_fingerprint = fingerprint;
+    checkpointer.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),
+                         controls.stop, [&] { return encode_run_state(report, context); });
+    context.safe_point = &*checkpointer;
   }
   std::size_t completed = 0;
+  const std::size_t total = protocol.steps.size();
+  if (resume) {
+    if (!resume->run_state.empty()) decode_run_state(resume->run_state, report, context);
+    completed = resume->steps_completed;
+    if (completed > total)
+      throw InputError(fmt::format("{}: the checkpoint has {} steps done of a protocol of {}", sc.file.string(),
+                                   completed, total));
+    if (!resume->step_state.empty()) context.resume_state = &resume->step_state;
+    report.resumed_from = resume->where;
+  } else if (checkpointer) {
+    checkpointer->write(fmt::format("before step 1 of {}", total), nullptr);  // resume can always start here
+  }
   try {
-    for (const Step& step : protocol.steps) {
-      stop_here_if_requested(controls.stop, fmt::format("before step {} of {}", completed + 1, protocol.steps.size()));
-      std::visit([&](const auto& kind) { run_step(kind, context); }, step.kind);
-      ++completed;
+    for (; completed < total; ++completed) {
+      if (checkpointer) checkpointer->set_steps_completed(completed);
+      // A step resumed in progress goes on from its own safe point.
+      if (!context.resume_state)
+        at_safe_point(context.safe_point, controls.stop, fmt::format("before step {} of {}", completed + 1, total),
+                      nullptr);
+      std::visit([&](const auto& kind) { run_step(kind, context); }, protocol.steps[completed].kind);
+      context.resume_state = nullptr;
     }
-    stop_here_if_requested(controls.stop, "before the final analysis");
+    if (checkpointer) checkpointer->set_steps_completed(total);
+    at_safe_point(context.safe_point, controls.stop, "before the final analysis", nullptr);
   } catch (const Interrupted& stop) {
     progress.clear();
-    report.interrupted = Interruption{stop.signal_number(), stop.where(), completed, protocol.steps.size()};
+    report.interrupted = Interruption{stop.signal_number(), stop.where(), completed, total,
+                                      checkpointer ? checkpointer->last_written() : std::nullopt};
     return report;
   }
   report.dynamics_skipped = sc.dynamics && !report.dynamics;
@@ -185,11 +220,14 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   return summary;
 }
 
-RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
-  const auto t_start = Clock::now();
+namespace {
+
+// run_scenario's and resume_run's common part: runs `sc` into its output folder, with
+// checkpoints of `header` there unless the scenario turns them off.
+RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoint* resume, const RunOptions& options,
+                          std::ostream& log, Clock::time_point t_start) {
   Progress silent;
   Progress& progress = options.progress ? *options.progress : silent;
-  const Scenario sc = load_scenario(scenario_file, options.overrides);
   check_output_directory(sc.output.directory, false);
   // The folder is made and probed once the input has passed its checks, before any work, not
   // after hours of it; a run that fails later removes the folder again if it made it empty.
@@ -199,8 +237,10 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
     if (!existed && std::filesystem::is_empty(sc.output.directory, ec) && !ec)
       std::filesystem::remove(sc.output.directory, ec);
   };
-  RunControls controls{options.threads, options.stop_after,
-                       [&] { check_output_directory(sc.output.directory, true); }, options.stop};
+  RunControls controls{options.threads, header.stop_after, [&] { check_output_directory(sc.output.directory, true); },
+                       options.stop, std::nullopt, resume};
+  if (sc.output.checkpoint)
+    controls.checkpoints = RunControls::Checkpoints{sc.output.directory, sc.output.checkpoint_every, std::move(header)};
   RunResult result{sc.output.directory, {}, {}, 0.0};
   try {
     result.report = run(sc, controls, progress);
@@ -211,14 +251,55 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   // Outputs only once everything has been computed: bad input leaves no files behind.
   result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
   result.wall_clock_s = seconds_since(t_start);
-  if (const auto& stop = result.report.interrupted)
+  if (const auto& stop = result.report.interrupted) {
     fmt::print(log, "aggpack: interrupted by signal {} {} ({} of {} steps done); the bed as it stood and summary.json "
                     "(\"interrupted\": true) are in {}\n",
                stop->signal_number, stop->where, stop->steps_completed, stop->steps_total,
                result.output_directory.string());
-  else if (!options.quiet)
-    fmt::print(log, "{}", result.report.console_summary(result.output_directory));
+    if (stop->checkpoint)
+      fmt::print(log, "aggpack: checkpoint taken {}; continue with: aggpack resume {}\n", *stop->checkpoint,
+                 result.output_directory.string());
+    return result;
+  }
+  // A finished run's checkpoint would only mislead a later resume.
+  std::error_code ec;
+  std::filesystem::remove(result.output_directory / kCheckpointFile, ec);
+  if (!options.quiet) fmt::print(log, "{}", result.report.console_summary(result.output_directory));
   return result;
+}
+
+}  // namespace
+
+RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
+  const auto t_start = Clock::now();
+  const std::string text = read_scenario_text(scenario_file);
+  const Scenario sc = parse_scenario(text, scenario_file, options.overrides);
+  Checkpoint header;
+  header.version = kVersion;
+  header.scenario_file = scenario_file.string();
+  header.scenario_text = text;
+  header.overrides = options.overrides;
+  header.stop_after = options.stop_after;
+  return run_into_folder(sc, std::move(header), nullptr, options, log, t_start);
+}
+
+RunResult resume_run(const std::filesystem::path& run_directory, const RunOptions& options, std::ostream& log) {
+  const auto t_start = Clock::now();
+  const Checkpoint checkpoint = read_checkpoint(run_directory);
+  Checkpoint header = checkpoint;
+  header.overrides.output_directory = run_directory;
+  for (const std::string& set : options.overrides.set) {
+    if (!set.starts_with("output.checkpoint"))
+      throw InputError(fmt::format("resume: --set {}: a resumed run keeps its scenario; only output.checkpoint and "
+                                   "output.checkpoint_every may change",
+                                   set));
+    header.overrides.set.push_back(set);
+  }
+  const Scenario sc = parse_scenario(header.scenario_text, header.scenario_file, header.overrides);
+  if (!options.quiet)
+    fmt::print(log, "aggpack: resuming {} from its checkpoint, taken {} ({} steps done)\n", run_directory.string(),
+               checkpoint.where, checkpoint.steps_completed);
+  return run_into_folder(sc, std::move(header), &checkpoint, options, log, t_start);
 }
 
 }  // namespace aggpack

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/version.hpp"
+#include "aggpack/pipeline/checkpoint.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
 
 namespace aggpack {
@@ -153,6 +154,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["input"]["soft_contacts"] = sc.particles.soft_contacts;
   }
   summary["modelling_notes"] = modelling_notes();
+  if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;
   if (interrupted) {
     // No final analysis: the bed in particles.csv is where the run stood when it stopped.
     summary["interrupted"] = true;
@@ -162,6 +164,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
                                {"steps_total", interrupted->steps_total},
                                {"note", "the stages listed are the steps that ended before the stop; particles.csv "
                                         "and timeseries.csv hold the bed and the samples as they stood"}};
+    summary["interruption"]["checkpoint"] =
+        interrupted->checkpoint
+            ? nlohmann::json{{"file", kCheckpointFile},
+                             {"taken", *interrupted->checkpoint},
+                             {"resume", "aggpack resume <this folder>"}}
+            : nlohmann::json(nullptr);
   } else {
     summary.update(to_json(final));
   }

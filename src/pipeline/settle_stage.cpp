@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -14,6 +15,7 @@
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/pipeline/analyze.hpp"
+#include "pipeline/report_archive.hpp"
 
 namespace aggpack {
 
@@ -75,14 +77,10 @@ DensityProbe box_density(const Scenario& sc) {
 // Appends each sample to the series and shows it on the progress line.
 class SampleRecorder {
  public:
-  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress,
-                 const StopRequest* stop)
-      : stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet),
-        stop_(stop) {}
-  // `time` is the series' time of the sample; `phase` names what the DEM is doing. A sample
-  // is a safe point: a requested stop ends the run here.
+  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress)
+      : stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet) {}
+  // `time` is the series' time of the sample; `phase` names what the DEM is doing.
   void operator()(double time, const SettleSample& s, const std::string& phase) {
-    stop_here_if_requested(stop_, fmt::format("while {} at {:.4f} s simulated", phase, s.time));
     series_.samples.push_back({time, layer_, s.density, s.translational_per_particle_mgd,
                                s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                                s.contacts.max_overlap, s.contacts.coordination});
@@ -106,7 +104,72 @@ class SampleRecorder {
   TimeSeries& series_;
   Progress& progress_;
   QuietForecast forecast_;
-  const StopRequest* stop_;
+};
+
+// A step's state at a safe point, for a checkpoint: its kind (checked when it is read back),
+// the DEM's state, its loop's, and the wall clock it has taken so far.
+template <class Loop>
+std::string save_step_state(std::string_view kind, const DemSystem& dem, const Loop& loop, Clock::time_point t0) {
+  std::ostringstream out(std::ios::binary);
+  {
+    cereal::BinaryOutputArchive ar(out);
+    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+    ar(std::string(kind), dem.save_state(), loop, elapsed);
+  }
+  return std::move(out).str();
+}
+// Restores what save_step_state() saved into `dem` and `loop`; returns the start time that
+// makes the step's wall clock count what it took before too.
+template <class Loop>
+Clock::time_point restore_step_state(std::string_view kind, const std::string& state, DemSystem& dem, Loop& loop) {
+  std::istringstream in(state, std::ios::binary);
+  std::string saved_kind, dem_state;
+  double elapsed = 0.0;
+  try {
+    cereal::BinaryInputArchive ar(in);
+    ar(saved_kind);
+    if (saved_kind != kind)
+      throw InputError(fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
+    ar(dem_state, loop, elapsed);
+  } catch (const cereal::Exception& e) {
+    throw InputError(fmt::format("the checkpoint's {} step is truncated or damaged ({})", kind, e.what()));
+  }
+  dem.restore_state(dem_state);
+  return Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(elapsed));
+}
+
+std::string where_simulated(std::string_view phase, double simulated) {
+  return fmt::format("while {} at {:.4f} s simulated", phase, simulated);
+}
+
+// A pour's loop between samples: the batch falling (or, once all are in, the settling).
+struct PourLoop {
+  std::size_t batch = 0;     // the batch in flight
+  double next = 0.0;         // s, when the next batch comes
+  Rng rng{0, 0};
+  PourReport report;
+  double weight = 0.0;
+  bool settling = false;     // all batches in: the bed falls until quiet
+  SettleLoop settle;
+  double poured_at = 0.0;    // s, when the last batch came
+  std::size_t pour_steps = 0;
+  template <class Archive>
+  void serialize(Archive& ar) {
+    ar(batch, next, raw_value(rng), raw_value(report), weight, settling, settle, poured_at, pour_steps);
+  }
+};
+
+// A tapping's loop between samples: in the rest after tap `tap`.
+struct TapLoop {
+  std::size_t tap = 1;
+  double rest_end = 0.0;
+  std::optional<double> quiet_since;
+  SettleSample last;
+  TapReport report;
+  template <class Archive>
+  void serialize(Archive& ar) {
+    ar(tap, rest_end, quiet_since, last, report);
+  }
 };
 
 SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scenario& sc, std::uint32_t layer,
@@ -148,13 +211,20 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
     if (!frozen[i]) r_min = std::min(r_min, particles.radius[i]);
   const DemSetup setup = dem_setup(sc, r_min, controls.threads);
 
-  const auto t0 = Clock::now();
+  auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings, std::move(frozen));
+  std::optional<SettleLoop> resumed;
+  if (controls.resume_state) t0 = restore_step_state("settle", *controls.resume_state, dem, resumed.emplace());
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
-  SampleRecorder recorder(sc, layer, series, progress, controls.stop);
-  const SettleResult result = settle(dem, particles, stage.quiet, box_density(sc), [&](const SettleSample& s) {
-    recorder(time_offset + s.time, s, "settling");
-  });
+  SampleRecorder recorder(sc, layer, series, progress);
+  const SettleResult result = settle(
+      dem, particles, stage.quiet, box_density(sc),
+      [&](const SettleSample& s) { recorder(time_offset + s.time, s, "settling"); },
+      [&](const SettleLoop& loop) {
+        at_safe_point(controls.safe_point, controls.stop, where_simulated("settling", dem.time() - loop.start),
+                      [&] { return save_step_state("settle", dem, loop, t0); });
+      },
+      resumed ? &*resumed : nullptr);
   dem.finish();
   return settling_run(dem, setup, sc, layer, result, result.steps, result.simulated_time, t0, particles);
 }
@@ -170,20 +240,25 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   // The skin is chosen for the smallest sphere still to come, not the smallest in the bed.
   if (!(setup.settings.skin > 0.0)) setup.settings.skin = 0.1 * (2.0 * r_min);
 
-  PourRun out;
-  PourReport& report = out.pour;
-  report.poured = radii.size();
-  report.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
-  report.solid_fraction = pour.solid_fraction;
-  report.velocity = pour.velocity;
-  report.gap = pour.gap.value_or(2.0 * r_max);
-  report.lowest_slab_bottom = std::numeric_limits<double>::infinity();
-
-  const auto t0 = Clock::now();
+  // Resumed, the store holds the batches poured so far: the DEM state is restored over them.
+  auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
+  PourLoop loop;
+  PourReport& report = loop.report;
+  const bool resumed = controls.resume_state != nullptr;
+  if (resumed) {
+    t0 = restore_step_state("pour", *controls.resume_state, dem, loop);
+  } else {
+    loop.rng = pour_stream(sc.seed, part);
+    report.poured = radii.size();
+    report.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
+    report.solid_fraction = pour.solid_fraction;
+    report.velocity = pour.velocity;
+    report.gap = pour.gap.value_or(2.0 * r_max);
+    report.lowest_slab_bottom = std::numeric_limits<double>::infinity();
+  }
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
-  SampleRecorder recorder(sc, part, series, progress, controls.stop);
-  Rng rng = pour_stream(sc.seed, part);
+  SampleRecorder recorder(sc, part, series, progress);
   const double g = norm(setup.settings.gravity);
   const std::size_t steps_per_sample = std::max<std::size_t>(
       1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / setup.settings.time_step)));
@@ -192,58 +267,80 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
     for (std::size_t i = 0; i < particles.size(); ++i) top = std::max(top, particles.position[i].z + particles.radius[i]);
     return top;
   };
-  double weight = 0.0;  // of the particles in the system so far
-  const auto sample = [&] {  // no density: the bed is still being built
-    const SettleSample s = sample_system(dem, particles, weight, nullptr);
-    recorder(time_offset + s.time, s, fmt::format("pouring, {} of {} in", particles.size(), radii.size()));
+  const auto safe_point = [&](const std::string& where) {
+    at_safe_point(controls.safe_point, controls.stop, where, [&] { return save_step_state("pour", dem, loop, t0); });
   };
-  for (std::size_t b = 0; b < report.batches; ++b) {
-    const std::size_t begin = radii.size() * b / report.batches, end = radii.size() * (b + 1) / report.batches;
-    const std::span<const double> batch = radii.subspan(begin, end - begin);
-    double solid = 0.0;
-    for (const double r : batch) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
-    const auto t_insert = Clock::now();
-    const InsertionRegion slab = insertion_region(sc.container, top_of_bed() + report.gap, solid, pour.solid_fraction);
-    std::vector<Vec3> at;
-    try {
-      at = random_gas(sc.container, slab, batch, rng);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
+
+  // A resumed pour continues where its batch was falling, or where the bed was settling.
+  bool batch_in = resumed;
+  if (!loop.settling) {
+    for (; loop.batch < report.batches; ++loop.batch) {
+      if (!batch_in) {
+        const std::size_t b = loop.batch;
+        const std::size_t begin = radii.size() * b / report.batches, end = radii.size() * (b + 1) / report.batches;
+        const std::span<const double> batch = radii.subspan(begin, end - begin);
+        double solid = 0.0;
+        for (const double r : batch) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+        const auto t_insert = Clock::now();
+        const InsertionRegion slab =
+            insertion_region(sc.container, top_of_bed() + report.gap, solid, pour.solid_fraction);
+        std::vector<Vec3> at;
+        try {
+          at = random_gas(sc.container, slab, batch, loop.rng);
+        } catch (const InputError& e) {
+          throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
+        }
+        for (std::size_t k = 0; k < batch.size(); ++k) {
+          particles.add(at[k], batch[k], sc.material.density, part);
+          particles.velocity.back() = {0.0, 0.0, -pour.velocity};
+        }
+        report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
+        report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
+        report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
+        dem.admit_new_particles();
+        loop.weight = weight_energy(dem, particles);
+        if (b + 1 == report.batches) break;
+        // The next batch comes once this one has fallen through its slab's height in free
+        // fall (as LAMMPS's fix pour times its insertions), or at max_time.
+        const double height = slab.top - slab.bottom;
+        const double fall = (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * height) - pour.velocity) / g;
+        loop.next = dem.time() + fall;
+      }
+      batch_in = false;
+      while (dem.time() < std::min(loop.next, stage.quiet.max_time)) {
+        dem.run(steps_per_sample);
+        const SettleSample s = sample_system(dem, particles, loop.weight, nullptr);  // no density: the bed is still being built
+        const std::string phase = fmt::format("pouring, {} of {} in", particles.size(), radii.size());
+        recorder(time_offset + s.time, s, phase);
+        safe_point(where_simulated(phase, s.time));
+      }
     }
-    for (std::size_t k = 0; k < batch.size(); ++k) {
-      particles.add(at[k], batch[k], sc.material.density, part);
-      particles.velocity.back() = {0.0, 0.0, -pour.velocity};
-    }
-    report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
-    report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
-    report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
-    dem.admit_new_particles();
-    weight = weight_energy(dem, particles);
-    if (b + 1 == report.batches) break;
-    // The next batch comes once this one has fallen through its slab's height in free fall
-    // (as LAMMPS's fix pour times its insertions), or at max_time.
-    const double height = slab.top - slab.bottom;
-    const double fall = (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * height) - pour.velocity) / g;
-    const double next = dem.time() + fall;
-    while (dem.time() < std::min(next, stage.quiet.max_time)) {
-      dem.run(steps_per_sample);
-      sample();
-    }
+    loop.poured_at = dem.time();
+    loop.pour_steps = dem.steps();
   }
-  const double poured_at = dem.time();
-  const std::size_t pour_steps = dem.steps();
   QuietCriterion rest = stage.quiet;
-  rest.max_time = std::max(rest.sample_interval, stage.quiet.max_time - poured_at);
-  const SettleResult result = settle(dem, particles, rest, box_density(sc), [&](const SettleSample& s) {
-    SettleSample shifted = s;
-    shifted.time += poured_at;
-    recorder(time_offset + shifted.time, shifted, "settling");
-  });
+  rest.max_time = std::max(rest.sample_interval, stage.quiet.max_time - loop.poured_at);
+  const double poured_at = loop.poured_at;
+  const SettleResult result = settle(
+      dem, particles, rest, box_density(sc),
+      [&](const SettleSample& s) {
+        SettleSample shifted = s;
+        shifted.time += poured_at;
+        recorder(time_offset + shifted.time, shifted, "settling");
+      },
+      [&](const SettleLoop& settling) {
+        loop.settling = true;
+        loop.settle = settling;
+        safe_point(where_simulated("settling", dem.time()));
+      },
+      loop.settling ? &loop.settle : nullptr);
   dem.finish();
   SettleResult whole = result;
   whole.last.time += poured_at;
-  out.settling = settling_run(dem, setup, sc, part, whole, pour_steps + result.steps, poured_at + result.simulated_time,
-                              t0, particles);
+  PourRun out;
+  out.pour = report;
+  out.settling = settling_run(dem, setup, sc, part, whole, loop.pour_steps + result.steps,
+                              poured_at + result.simulated_time, t0, particles);
   return out;
 }
 
@@ -256,50 +353,68 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   const DemSetup setup = dem_setup(sc, r_min, controls.threads);
   const double g = norm(setup.settings.gravity);
   const double omega = 2.0 * std::numbers::pi * tapping.frequency;
-
-  TapReport report;
-  report.taps = tapping.taps;
-  report.intensity = tapping.intensity;
-  report.frequency = tapping.frequency;
-  report.amplitude = tapping.intensity * g / (omega * omega);
-  report.rest_time = tapping.rest_time;
-  report.rest_until_quiet = tapping.rest_until_quiet;
-  report.time_step = setup.settings.time_step;
   const DensityProbe density = box_density(sc);
-  report.density_before = density(particles);
-  report.time_before = time_offset;
 
-  const auto t0 = Clock::now();
+  auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
+  TapLoop loop;
+  TapReport& report = loop.report;
+  const bool resumed = controls.resume_state != nullptr;
+  if (resumed) {
+    t0 = restore_step_state("tap", *controls.resume_state, dem, loop);
+  } else {
+    report.taps = tapping.taps;
+    report.intensity = tapping.intensity;
+    report.frequency = tapping.frequency;
+    report.amplitude = tapping.intensity * g / (omega * omega);
+    report.rest_time = tapping.rest_time;
+    report.rest_until_quiet = tapping.rest_until_quiet;
+    report.time_step = setup.settings.time_step;
+    report.density_before = density(particles);
+    report.time_before = time_offset;
+  }
   progress.start_stage("tapping");
-  SampleRecorder recorder(sc, 0, series, progress, controls.stop);
+  SampleRecorder recorder(sc, 0, series, progress);
   const double weight = weight_energy(dem, particles);
   const double dt = setup.settings.time_step;
   const std::size_t steps_per_sample =
       std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / dt)));
-  const auto sample = [&](const std::string& phase) {  // no density: it is measured once per tap
-    const SettleSample s = sample_system(dem, particles, weight, nullptr);
-    recorder(time_offset + s.time, s, phase);
-    return s;
+  // A sample of the rest (no density: it is measured once per tap), then a safe point.
+  const auto sample = [&](const std::string& phase) {
+    loop.last = sample_system(dem, particles, weight, nullptr);
+    recorder(time_offset + loop.last.time, loop.last, phase);
   };
-  for (std::size_t k = 1; k <= tapping.taps; ++k) {
-    const ContainerMotion tap{dem.time(), report.amplitude, omega, 0.5};
-    dem.set_container_motion(tap);
-    const std::string phase = fmt::format("tap {} of {}", k, tapping.taps);
-    // The tap (to the step after its end, so the container is at rest again), then the rest.
-    dem.run(static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1);
-    const double rest_end = dem.time() + tapping.rest_time;
-    std::optional<double> quiet_since;  // the first sample of the current quiet spell
-    SettleSample last = sample(phase);
-    while (dem.time() < rest_end - 0.5 * dt) {
-      dem.run(std::min(steps_per_sample, static_cast<std::size_t>(std::llround((rest_end - dem.time()) / dt))));
-      last = sample(phase);
-      if (!tapping.rest_until_quiet) continue;
-      if (last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) quiet_since.reset();
-      else if (!quiet_since) quiet_since = last.time;
-      if (quiet_since && last.time - *quiet_since >= stage.quiet.window) break;
+  const auto safe_point = [&](const std::string& phase) {
+    at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time()),
+                  [&] { return save_step_state("tap", dem, loop, t0); });
+  };
+  // A resumed tapping continues in the rest where it stopped.
+  bool in_rest = resumed;
+  for (; loop.tap <= tapping.taps; ++loop.tap) {
+    const std::string phase = fmt::format("tap {} of {}", loop.tap, tapping.taps);
+    if (!in_rest) {
+      const ContainerMotion tap{dem.time(), report.amplitude, omega, 0.5};
+      dem.set_container_motion(tap);
+      // The tap (to the step after its end, so the container is at rest again), then the rest.
+      dem.run(static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1);
+      loop.rest_end = dem.time() + tapping.rest_time;
+      loop.quiet_since.reset();  // the first sample of the current quiet spell
+      sample(phase);
+      safe_point(phase);
     }
-    report.samples.push_back({k, time_offset + dem.time(), density(particles), last.translational_per_particle_mgd});
+    in_rest = false;
+    while (dem.time() < loop.rest_end - 0.5 * dt) {
+      dem.run(std::min(steps_per_sample, static_cast<std::size_t>(std::llround((loop.rest_end - dem.time()) / dt))));
+      sample(phase);
+      if (tapping.rest_until_quiet) {
+        if (loop.last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) loop.quiet_since.reset();
+        else if (!loop.quiet_since) loop.quiet_since = loop.last.time;
+        if (loop.quiet_since && loop.last.time - *loop.quiet_since >= stage.quiet.window) break;
+      }
+      safe_point(phase);
+    }
+    report.samples.push_back(
+        {loop.tap, time_offset + dem.time(), density(particles), loop.last.translational_per_particle_mgd});
   }
   dem.finish();
   report.simulated_time = dem.time();

@@ -76,7 +76,7 @@ void run_step(const PourStep& step, RunContext& ctx) {
   const std::size_t n = ctx.radii.size();
   const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
-  const PourRun run = pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, {ctx.threads, ctx.stop}, r.series,
+  const PourRun run = pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
                                ctx.progress);
   ctx.simulated_time += run.settling.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
@@ -88,9 +88,10 @@ void run_step(const SettleStep& step, RunContext& ctx) {
   if (ctx.deposition_stopped_at && step.layer > *ctx.deposition_stopped_at) return;  // that layer was never deposited
   RunReport& r = ctx.report;
   // The bed as deposited, kept for the report's before/after pictures: when the whole drop
-  // sequence was deposited before the first settling.
-  if (r.deposition && !r.dynamics && r.deposition->requested == ctx.radii.size()) r.deposited = r.particles;
-  const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, {ctx.threads, ctx.stop}, r.series,
+  // sequence was deposited before the first settling (kept already when it is resumed).
+  if (r.deposition && !r.dynamics && !r.deposited && r.deposition->requested == ctx.radii.size())
+    r.deposited = r.particles;
+  const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
                                      ctx.progress);
   ctx.simulated_time += run.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
@@ -99,7 +100,7 @@ void run_step(const SettleStep& step, RunContext& ctx) {
 
 void run_step(const TapStep& /*step*/, RunContext& ctx) {
   RunReport& r = ctx.report;
-  TapReport report = tap_bed(r.scenario, r.particles, ctx.simulated_time, {ctx.threads, ctx.stop}, r.series, ctx.progress);
+  TapReport report = tap_bed(r.scenario, r.particles, ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
   ctx.simulated_time += report.simulated_time;
   r.tappings.push_back(std::move(report));
 }

@@ -1,6 +1,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "aggpack/core/container.hpp"
@@ -93,6 +94,13 @@ class DemSystem {
   // Wraps the store's positions into a periodic container (call before handing it on).
   void finish();
 
+  // Everything that determines the system's future (records, order, lists, contact history,
+  // loads, time, the container's motion), as bytes for a checkpoint; restore_state() on a
+  // system made from the same store, model and settings continues bit for bit as this one
+  // would have (with any thread count). Throws InputError when the bytes do not fit.
+  [[nodiscard]] std::string save_state() const;
+  void restore_state(const std::string& state);
+
  private:
   // What a contact reads of a grain, packed (96 bytes).
   struct Grain {
@@ -133,6 +141,9 @@ class DemSystem {
   bool drift(double slack);
   // Puts the container where its motion has it at time t.
   void place_container(double t);
+  // save_state()'s and restore_state()'s one list of members (System: const or not).
+  template <class Archive, class System>
+  static void archive_state(Archive& ar, System& system);
 
   ParticleStore& p_;
   Container container_;

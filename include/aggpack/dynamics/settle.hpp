@@ -1,5 +1,6 @@
 #pragma once
 #include <array>
+#include <deque>
 #include <cstddef>
 #include <functional>
 #include <optional>
@@ -73,10 +74,24 @@ double weight_energy(const DemSystem& system, const ParticleStore& particles);
 SettleSample sample_system(const DemSystem& system, const ParticleStore& particles, double weight,
                            const DensityProbe& density);
 
+// A settling run's loop between two samples: with the system's state (DemSystem::save_state),
+// all it takes to continue the run.
+struct SettleLoop {
+  double start = 0.0;               // s, the system's time when the run began
+  std::size_t start_steps = 0;      // the system's steps then
+  std::deque<SettleSample> window;  // the samples of the quiet window so far
+};
+// Called after every sample that does not end the run: a safe point, where the caller may
+// save the loop (with the system) for a checkpoint, or stop the run by throwing.
+using SettleSafePoint = std::function<void(const SettleLoop&)>;
+
 // Steps `system` until the criterion is met, sampling every sample_interval (the first
 // sample is at the start). `density` measures the bed (the virtual boxes, in a run);
-// `on_sample` sees every sample, for time series and progress.
+// `on_sample` sees every sample, for time series and progress. With `resume` (a loop saved
+// at a safe point, the system restored to the same moment) the run continues from there, and
+// ends as the uninterrupted run would have, bit for bit.
 SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
-                    const DensityProbe& density, const SampleSink& on_sample);
+                    const DensityProbe& density, const SampleSink& on_sample,
+                    const SettleSafePoint& safe_point = {}, const SettleLoop* resume = nullptr);
 
 }  // namespace aggpack

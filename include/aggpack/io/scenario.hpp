@@ -105,6 +105,10 @@ struct OutputSettings {
   std::filesystem::path directory;
   bool csv = true;
   bool vtp = true;
+  // Checkpoints of a run into `directory` (checkpoint.bin), at most every `checkpoint_every`
+  // seconds of wall clock (0: at every safe point), for `aggpack resume`.
+  bool checkpoint = true;
+  double checkpoint_every = 60.0;
 };
 
 struct Scenario {
@@ -130,6 +134,8 @@ struct ScenarioOverrides {
   std::optional<std::filesystem::path> output_directory;
 };
 
+// A scenario file's text: refused when it is not a regular file, or is over 16 MiB.
+std::string read_scenario_text(const std::filesystem::path& file);
 // Reads and validates a scenario. Throws InputError naming the file, line and key.
 // A file that is not a regular file, or is over 16 MiB, is refused before it is read.
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides = {});

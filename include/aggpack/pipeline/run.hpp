@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "aggpack/core/stop_request.hpp"
+#include "aggpack/pipeline/checkpoint.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/progress.hpp"
 #include "aggpack/pipeline/run_report.hpp"
@@ -24,6 +25,16 @@ struct RunControls {
   // Checked at every safe point: once requested, the run returns what it has done, with
   // RunReport::interrupted set (null: never stops early).
   const StopRequest* stop = nullptr;
+  // Checkpoints into `directory` at safe points (pipeline/checkpoint.hpp), each with `header`
+  // (the scenario as given); none when unset.
+  struct Checkpoints {
+    std::filesystem::path directory;
+    double every_seconds = 60.0;
+    Checkpoint header;
+  };
+  std::optional<Checkpoints> checkpoints;
+  // A checkpoint of this scenario to continue from (aggpack resume); null: start afresh.
+  const Checkpoint* resume_from = nullptr;
 };
 
 // The library's entry point: runs the scenario's protocol and its final analysis. Writes no
@@ -36,7 +47,7 @@ RunReport run(const Scenario& scenario, const RunControls& controls, Progress& p
 nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far);
 
 struct RunOptions {
-  ScenarioOverrides overrides;
+  ScenarioOverrides overrides;  // output.checkpoint and output.checkpoint_every among them
   int threads = 0;  // 0: OpenMP's default
   std::optional<std::string> stop_after;
   bool quiet = false;
@@ -54,6 +65,13 @@ struct RunResult {
 // `aggpack run`: loads the scenario, runs it, writes the outputs and prints the result lines
 // to `log` (unless quiet). Nothing is written when the input is bad.
 RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log);
+
+// `aggpack resume`: continues the run whose checkpoint is in `run_directory` (written by
+// run_scenario or an earlier resume) with the scenario, overrides and seed it recorded, into
+// the same folder; the outputs are those the run would have written uninterrupted, bit for
+// bit. `options.overrides` may only change output.checkpoint and output.checkpoint_every;
+// its stop_after is ignored (the checkpoint's holds).
+RunResult resume_run(const std::filesystem::path& run_directory, const RunOptions& options, std::ostream& log);
 
 // Validates a scenario (and the particle file it names) without running or writing.
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides);

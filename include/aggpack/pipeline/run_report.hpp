@@ -28,6 +28,7 @@ struct Interruption {
   std::string where;                 // "while settling at 0.1230 s simulated", ...
   std::size_t steps_completed = 0;   // of the protocol's steps, in order
   std::size_t steps_total = 0;
+  std::optional<std::string> checkpoint;  // where the last checkpoint was taken; none written
 };
 
 // Everything a run produced, as values: what the steps reported, the final analysis, the
@@ -51,6 +52,7 @@ struct RunReport {
   TimeSeries series;                              // the settling runs' samples
   std::map<std::string, double> wall_clock_s;     // input, sizes, deposition, dynamics, analysis...
   std::optional<Interruption> interrupted;        // set when a signal stopped the run: no final analysis
+  std::optional<std::string> resumed_from;        // the checkpoint's safe point, when resumed
 
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;

@@ -1,5 +1,4 @@
 #pragma once
-#include "aggpack/core/stop_request.hpp"
 #include <cstdint>
 #include <span>
 #include <string>
@@ -8,6 +7,7 @@
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/progress.hpp"
+#include "aggpack/pipeline/safe_point.hpp"
 #include "aggpack/pipeline/reports.hpp"
 
 namespace aggpack {
@@ -29,10 +29,13 @@ struct TimeSeries {
 };
 
 // What a DEM step takes beyond the scenario: OpenMP threads (0: OpenMP's default; the results
-// do not depend on them) and the stop request checked at every sample (null: none).
+// do not depend on them); the stop request and the safe point, both met after every sample
+// (null: none); and the step's state from a checkpoint, to continue from (null: start afresh).
 struct StageControls {
   int threads = 0;
   const StopRequest* stop = nullptr;
+  SafePoint* safe_point = nullptr;
+  const std::string* resume_state = nullptr;
 };
 
 // Settles the bed with the scenario's [dynamics] and [material] (particles whose layer is

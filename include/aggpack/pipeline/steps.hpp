@@ -15,9 +15,13 @@ struct RunContext {
   Progress& progress;
   int threads = 0;                              // OpenMP threads of the DEM; 0: OpenMP's default
   const StopRequest* stop = nullptr;            // checked at every safe point; null: never
+  SafePoint* safe_point = nullptr;              // the run's checkpointer; null: none
+  const std::string* resume_state = nullptr;    // the step in progress at a checkpoint, to continue
   std::vector<double> radii;                    // the drop sequence, m
   double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
   std::optional<std::uint32_t> deposition_stopped_at;  // the layer whose deposition ended early
+
+  [[nodiscard]] StageControls stage_controls() const { return {threads, stop, safe_point, resume_state}; }
 };
 
 // One adapter per step kind, with one signature; each is the only code that knows its kind.

@@ -1,0 +1,78 @@
+#pragma once
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "aggpack/core/stop_request.hpp"
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/pipeline/safe_point.hpp"
+
+namespace aggpack {
+
+struct RunReport;
+struct RunContext;
+struct ParticleStore;
+
+// checkpoint.bin in a run's folder: the run's state at a safe point, for `aggpack resume`.
+inline constexpr const char* kCheckpointFile = "checkpoint.bin";
+
+// What a checkpoint holds. The scenario's text and the command line's overrides make the
+// same scenario again; the rest is the run's state at the safe point named by `where`.
+struct Checkpoint {
+  std::string version;          // aggpack's, of the run that wrote it (resume refuses another)
+  std::string scenario_file;    // as the run was given it: it anchors the scenario's relative paths
+  std::string scenario_text;
+  ScenarioOverrides overrides;
+  std::optional<std::string> stop_after;
+  std::uint64_t inputs_fingerprint = 0;  // of the bed the run started from (input_fingerprint)
+  std::string where;                     // "before step 2 of 3", "while settling at 0.1230 s simulated"
+  std::uint64_t steps_completed = 0;     // protocol steps done before the safe point
+  std::string run_state;                 // their reports and beds (empty before the first step)
+  std::string step_state;                // the step in progress (empty between steps)
+};
+
+std::string encode_checkpoint(const Checkpoint& checkpoint);
+// Throws InputError naming `file` when the bytes are not a checkpoint of this version.
+Checkpoint decode_checkpoint(const std::string& bytes, const std::filesystem::path& file);
+// The checkpoint in a run's folder; InputError when there is none or it cannot be read.
+Checkpoint read_checkpoint(const std::filesystem::path& run_directory);
+
+// The steps' reports and beds, and the state passed from step to step.
+std::string encode_run_state(const RunReport& report, const RunContext& context);
+void decode_run_state(const std::string& state, RunReport& report, RunContext& context);
+
+// A hash of the bed and the drop sequence a run starts from: a resumed run must start from
+// the same (its particle or grading files unchanged).
+std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vector<double>& radii);
+
+// Writes a run's checkpoints: at a safe point once `every_seconds` of wall clock have passed
+// since the last one (0: at every safe point), and at the safe point where a stop was
+// requested, before the run stops there. Each is written atomically over the last.
+class Checkpointer final : public SafePoint {
+ public:
+  using SaveRun = std::function<std::string()>;  // encode_run_state of the run now
+  Checkpointer(std::filesystem::path directory, double every_seconds, Checkpoint header, const StopRequest* stop,
+               SaveRun save_run);
+  // The protocol's position: `completed` steps done (the current one is next, or in progress).
+  void set_steps_completed(std::uint64_t completed) { header_.steps_completed = completed; }
+  void reached(const std::string& where, const std::function<std::string()>& save_step) override;
+  // Writes one now (the start of a run: resume then always has a checkpoint to start from).
+  void write(const std::string& where, const std::function<std::string()>& save_step);
+  // Where the last checkpoint was taken; none when none has been written.
+  [[nodiscard]] const std::optional<std::string>& last_written() const { return last_where_; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  std::filesystem::path directory_;
+  double every_seconds_;
+  Checkpoint header_;
+  const StopRequest* stop_;
+  SaveRun save_run_;
+  Clock::time_point last_write_;
+  std::optional<std::string> last_where_;
+};
+
+}  // namespace aggpack
