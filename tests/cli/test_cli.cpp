@@ -122,7 +122,7 @@ TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
 TEST_F(Cli, AnUnknownSubcommandIsNamedWithTheList) {
   const Result r = run("bogus");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_NE(r.output.find("unknown subcommand 'bogus'; the subcommands are: run, check, analyze, grading, "
+  EXPECT_NE(r.output.find("unknown subcommand 'bogus'; the subcommands are: run, resume, check, analyze, grading, "
                           "reproduce, sweep"),
             std::string::npos)
       << r.output;

@@ -6,8 +6,11 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "aggpack/core/error.hpp"
 #include "aggpack/core/rng.hpp"
 #include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/dynamics/settle.hpp"
@@ -493,6 +496,102 @@ TEST(DemSystem, SameBytesForOneAndTwoThreads) {
   double moved = 0.0;
   for (std::size_t i = 0; i < count; ++i) moved = std::max(moved, norm(one.position[i] - deposited.position[i]));
   EXPECT_GT(moved, 1e-6);
+}
+
+// A checkpoint's DEM state: a system restored from it (into a fresh system made from the
+// store as it stood, with another thread count) goes on bit for bit as the original would
+// have, through neighbour-list rebuilds, a moving container and the contact history; and
+// settle() resumed from a saved loop ends as the whole run does.
+TEST(DemSystem, ARestoredStateContinuesBitForBit) {
+  const Container box = Container::square(0.12, 1.0, false);
+  Rng sizes(9, 1);
+  std::vector<double> radii(3000);
+  for (double& r : radii) r = sizes.uniform(0.002, 0.003);
+  ParticleStore deposited;
+  DropAndRoll deposition(deposited, box, radii, DepositionSettings{}, Rng(9, 2));
+  deposition.deposit(radii, kDensity);
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  settings.skin = 5e-5;  // rebuilt during the run
+  const ContactModel model = make_contact_model(material(0.5, 0.3));
+  const ContainerMotion tap{0.001, 2e-4, 2.0 * std::numbers::pi * 30.0, 0.5};
+
+  ParticleStore whole = deposited;
+  settings.threads = 1;
+  DemSystem uninterrupted(whole, box, model, settings);
+  uninterrupted.set_container_motion(tap);
+  uninterrupted.run(400);
+
+  ParticleStore first_half = deposited;
+  DemSystem interrupted(first_half, box, model, settings);
+  interrupted.set_container_motion(tap);
+  interrupted.run(200);
+  const std::string state = interrupted.save_state();
+  ParticleStore resumed_store = first_half;  // as a checkpoint holds it
+  settings.threads = 2;
+  DemSystem resumed(resumed_store, box, model, settings);
+  resumed.restore_state(state);
+  EXPECT_EQ(resumed.steps(), 200u);
+  EXPECT_EQ(resumed.time(), interrupted.time());
+  resumed.run(200);
+  EXPECT_GE(resumed.rebuilds(), 2u);
+  EXPECT_EQ(0, std::memcmp(whole.position.data(), resumed_store.position.data(), whole.size() * sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(whole.velocity.data(), resumed_store.velocity.data(), whole.size() * sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(whole.angular_velocity.data(), resumed_store.angular_velocity.data(),
+                           whole.size() * sizeof(Vec3)));
+  for (std::size_t i = 0; i < whole.size(); i += 97) EXPECT_EQ(uninterrupted.force(i), resumed.force(i)) << i;
+  EXPECT_EQ(uninterrupted.container_offset(), resumed.container_offset());
+
+  // Bytes that do not fit: another store, a truncated state.
+  ParticleStore other = deposited;
+  other.add({0.06, 0.06, 0.9}, 0.002, kDensity);
+  DemSystem wrong(other, box, model, settings);
+  EXPECT_THROW(wrong.restore_state(state), InputError);
+  EXPECT_THROW(resumed.restore_state(state.substr(0, state.size() / 2)), InputError);
+
+  // settle(): stopped at its 5th safe point, resumed from the loop saved there.
+  QuietCriterion quiet;
+  quiet.max_time = 0.02;
+  quiet.sample_interval = 1e-3;
+  quiet.window = 5e-3;
+  ParticleStore settled_whole = deposited;
+  settings.threads = 1;
+  DemSystem a(settled_whole, box, model, settings);
+  std::vector<double> energies_whole;
+  const SettleResult all = settle(a, settled_whole, quiet, nullptr, [&](const SettleSample& s) {
+    energies_whole.push_back(s.kinetic_energy.total());
+  });
+  ParticleStore settled_part = deposited;
+  DemSystem b(settled_part, box, model, settings);
+  std::vector<double> energies_resumed;
+  std::optional<SettleLoop> saved;
+  std::string saved_state;
+  struct Stop {};
+  int safe_points = 0;
+  try {
+    settle(b, settled_part, quiet, nullptr,
+           [&](const SettleSample& s) { energies_resumed.push_back(s.kinetic_energy.total()); },
+           [&](const SettleLoop& loop) {
+             if (++safe_points < 5) return;
+             saved = loop;
+             saved_state = b.save_state();
+             throw Stop{};
+           });
+  } catch (const Stop&) {
+  }
+  ASSERT_TRUE(saved);
+  ParticleStore settled_resumed = settled_part;
+  DemSystem c(settled_resumed, box, model, settings);
+  c.restore_state(saved_state);
+  const SettleResult rest = settle(c, settled_resumed, quiet, nullptr, [&](const SettleSample& s) {
+    energies_resumed.push_back(s.kinetic_energy.total());
+  }, {}, &*saved);
+  EXPECT_EQ(rest.end, all.end);
+  EXPECT_EQ(rest.steps, all.steps);
+  EXPECT_EQ(rest.simulated_time, all.simulated_time);
+  EXPECT_EQ(energies_resumed, energies_whole);
+  EXPECT_EQ(0, std::memcmp(settled_whole.position.data(), settled_resumed.position.data(),
+                           settled_whole.size() * sizeof(Vec3)));
 }
 
 // The progress line's time left for a settling run: an energy decaying as E0 (t / t0)^-a

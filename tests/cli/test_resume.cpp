@@ -1,0 +1,265 @@
+// Checkpoints and resume, as a user meets them: a run killed (SIGKILL) or stopped (SIGINT) at
+// several points of its protocol, then `aggpack resume`, ends with every output file the same
+// bytes as an uninterrupted run's (with another thread count), and summary.json the same but
+// for the machine's figures (wall clock, speed, memory) and the note that it was resumed.
+// Resume refuses, with exit code 2 and a message naming the folder, what it cannot continue.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using aggpack::testing::run_cli;
+using aggpack::testing::slurp;
+
+// Poured in three batches, settled, then tapped three times: every resumable loop (a batch
+// falling, the bed settling, a tap's rest), 1100 spheres (the DEM's threaded loops), ~4 s.
+constexpr const char* kPourAndTap =
+    "seed = 4\n[container]\nside = 0.1\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 1100\n"
+    "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
+    "[analysis]\nbox_sides = [0.02]\n[pour]\nbatches = 3\n"
+    "[tapping]\ntaps = 3\nintensity = 3\nrest_time = 0.05\nrest_until_quiet = true\n";
+// Deposited and settled in three layers, the lower ones frozen, ~1.5 s.
+constexpr const char* kLayered =
+    "seed = 3\n[container]\nside = 0.08\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 1500\n"
+    "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\nmax_time = 0.1\n"
+    "layers = 3\n[analysis]\nbox_sides = [0.04]\n";
+
+// summary.json's values by key path, without what measures the machine or the run's history.
+void flatten(const nlohmann::json& v, const std::string& path, std::map<std::string, nlohmann::json>& out) {
+  for (const char* machine : {"wall_clock_s", "particle_steps_per_second", "particles_per_second", "threads",
+                              "memory_bytes_per_particle", "resumed_from_checkpoint", "scenario.output."})
+    if (path.find(machine) != std::string::npos) return;
+  if (v.is_object()) {
+    for (const auto& [k, x] : v.items()) flatten(x, path.empty() ? k : path + "." + k, out);
+  } else if (v.is_array()) {
+    for (std::size_t i = 0; i < v.size(); ++i) flatten(v[i], path + "[" + std::to_string(i) + "]", out);
+  } else {
+    out[path] = v;
+  }
+}
+std::map<std::string, nlohmann::json> summary_values(const fs::path& dir) {
+  std::map<std::string, nlohmann::json> values;
+  flatten(nlohmann::json::parse(std::ifstream(dir / "summary.json")), "", values);
+  return values;
+}
+
+class Resume : public ::testing::Test {
+ protected:
+  aggpack::testing::ScratchDir scratch_{"aggpack_resume_test_"};
+  const fs::path& dir_ = scratch_.path();
+
+  fs::path write_scenario(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / (name + ".toml");
+    std::ofstream(path) << text;
+    return path;
+  }
+
+  // Starts `aggpack run`, checkpointing at every safe point, and sends `signal_number` once
+  // the checkpoint in `out` was taken at a safe point whose description contains `when`.
+  // Returns the exit code (or minus the signal), or nullopt when the run ended first.
+  static std::optional<int> run_and_signal_when(const fs::path& scenario, const fs::path& out, const std::string& when,
+                                                int signal_number) {
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      ::freopen("/dev/null", "w", stdout);
+      ::freopen("/dev/null", "w", stderr);
+      ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--threads", "1", "--checkpoint-every",
+              "0", "--out", out.c_str(), static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    int status = 0;
+    for (int k = 0; k < 12000; ++k) {  // at most two minutes
+      if (::waitpid(pid, &status, WNOHANG) == pid) return std::nullopt;
+      // The safe point's description is stored as plain text in checkpoint.bin.
+      if (slurp(out / "checkpoint.bin").find(when) != std::string::npos) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ::kill(pid, signal_number);
+    ::waitpid(pid, &status, 0);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  }
+
+  // Every file of `reference` is in `resumed` with the same bytes (summary.json: the same
+  // values but for the machine's), and the finished run left no checkpoint behind.
+  static void expect_same_run(const fs::path& reference, const fs::path& resumed) {
+    std::size_t files = 0;
+    for (const auto& entry : fs::directory_iterator(reference)) {
+      const std::string name = entry.path().filename().string();
+      ++files;
+      if (name == "summary.json") continue;
+      EXPECT_TRUE(slurp(entry.path()) == slurp(resumed / name)) << name << " differs";
+    }
+    EXPECT_GE(files, 4u);
+    const auto expected = summary_values(reference), got = summary_values(resumed);
+    for (const auto& [key, value] : expected) EXPECT_EQ(got.count(key) ? got.at(key) : nullptr, value) << key;
+    EXPECT_EQ(got.size(), expected.size());
+    EXPECT_FALSE(fs::exists(resumed / "checkpoint.bin"));
+    for (const auto& entry : fs::directory_iterator(resumed))
+      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+  }
+};
+
+TEST_F(Resume, ARunKilledInAnyLoopOfItsProtocolResumesToTheSameBytes) {
+  const fs::path scenario = write_scenario("pour_tap", kPourAndTap);
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  ASSERT_FALSE(fs::exists(reference / "checkpoint.bin"));
+  for (const std::string when : {"while pouring, 733 of 1100", "while settling", "while tap 2 of 3"}) {
+    SCOPED_TRACE("killed " + when);
+    const fs::path out = dir_ / ("killed_" + std::to_string(when.size()));
+    ASSERT_EQ(run_and_signal_when(scenario, out, when, SIGKILL), -SIGKILL) << "the run ended before " << when;
+    EXPECT_FALSE(fs::exists(out / "summary.json"));
+    const auto resumed = run_cli("resume " + out.string() + " --threads 2");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+    EXPECT_NE(resumed.output.find("resuming " + out.string() + " from its checkpoint, taken " + when),
+              std::string::npos)
+        << resumed.output;
+    expect_same_run(reference, out);
+    const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+    EXPECT_NE(summary.at("resumed_from_checkpoint").get<std::string>().find(when), std::string::npos);
+  }
+}
+
+// Killed in a later layer (the layers below frozen), resumed, killed again, resumed again.
+TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
+  const fs::path scenario = write_scenario("layered", kLayered);
+  const fs::path reference = dir_ / "reference";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --threads 2 --no-checkpoint --out " + reference.string())
+                .exit_code,
+            0);
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "before step 4 of 6", SIGKILL), -SIGKILL);
+  // The resumed run is killed in its turn, in the last layer's settling.
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::freopen("/dev/null", "w", stdout);
+    ::execl(AGGPACK_EXE, AGGPACK_EXE, "resume", out.c_str(), "--quiet", "--threads", "1", "--checkpoint-every", "0",
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  int status = 0;
+  for (int k = 0; k < 12000 && slurp(out / "checkpoint.bin").find("before step 6 of 6") == std::string::npos; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ::kill(pid, SIGKILL);
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the resumed run ended before it was killed";
+  const auto resumed = run_cli("resume " + out.string() + " --quiet --threads 1");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expect_same_run(reference, out);
+}
+
+// SIGINT: the run writes a checkpoint at the safe point where it stops, says so in the
+// interrupted summary and on the terminal, and resumes from there.
+TEST_F(Resume, SigintWritesACheckpointThatTheSummaryNamesAndResumeContinues) {
+  const fs::path scenario = write_scenario("layered", kLayered);
+  const fs::path reference = dir_ / "reference";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --no-checkpoint --out " + reference.string()).exit_code, 0);
+  const fs::path out = dir_ / "stopped";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "settling at 0.05", SIGINT), 130);
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_TRUE(summary.at("interrupted").get<bool>());
+  const auto& checkpoint = summary.at("interruption").at("checkpoint");
+  EXPECT_EQ(checkpoint.at("file"), "checkpoint.bin");
+  // The checkpoint is the stop's own safe point.
+  EXPECT_EQ(checkpoint.at("taken"), summary.at("interruption").at("stopped"));
+  EXPECT_NE(checkpoint.at("resume").get<std::string>().find("aggpack resume"), std::string::npos);
+  const auto resumed = run_cli("resume " + out.string() + " --quiet");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expect_same_run(reference, out);
+}
+
+TEST_F(Resume, WithCheckpointsOffAnInterruptedSummarySaysThereIsNone) {
+  const fs::path scenario = write_scenario("long", std::string(kLayered) + "[output]\ncheckpoint = false\n");
+  const fs::path out = dir_ / "stopped";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::freopen("/dev/null", "w", stdout);
+    ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--out", out.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  for (int k = 0; k < 6000 && !fs::exists(out); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_EQ(WEXITSTATUS(status), 143);
+  EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_TRUE(summary.at("interruption").at("checkpoint").is_null());
+  EXPECT_EQ(summary.at("scenario").at("output").at("checkpoint"), false);
+  const auto r = run_cli("resume " + out.string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("no checkpoint.bin here"), std::string::npos) << r.output;
+}
+
+// What resume cannot continue: exit 2, the folder or file named, what is wrong, nothing changed.
+TEST_F(Resume, RefusesWhatItCannotContinue) {
+  const fs::path scenario = write_scenario("layered", kLayered);
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "before step 2 of 6", SIGKILL), -SIGKILL);
+  const std::string checkpoint = slurp(out / "checkpoint.bin");
+  const auto refused = [&](const std::string& args, const std::vector<std::string>& words) {
+    SCOPED_TRACE("aggpack " + args);
+    const auto r = run_cli(args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    for (const std::string& word : words) EXPECT_NE(r.output.find(word), std::string::npos) << word << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out / "summary.json"));
+  };
+  refused("resume " + (dir_ / "nowhere").string(), {"nowhere", "no such directory"});
+  refused("resume " + dir_.string(), {dir_.string(), "no checkpoint.bin here"});
+  refused("resume " + out.string() + " --set seed=5", {"seed=5"});
+  refused("resume " + out.string() + " --threads 1000", {"--threads"});
+  refused("resume " + out.string() + " --checkpoint-every -1", {"--checkpoint-every -1", "seconds"});
+  const auto with_checkpoint = [&](const std::string& bytes, const std::vector<std::string>& words) {
+    std::ofstream(out / "checkpoint.bin", std::ios::binary) << bytes;
+    refused("resume " + out.string(), words);
+  };
+  with_checkpoint(checkpoint.substr(0, checkpoint.size() / 2), {"checkpoint.bin", "truncated or damaged"});
+  with_checkpoint("a text file, not a checkpoint\n", {"checkpoint.bin", "not an aggpack checkpoint"});
+  // Written by another version of aggpack (its version string patched in place).
+  std::string version = run_cli("--version").output;
+  version.erase(version.find_last_not_of(" \n") + 1);
+  std::string other = checkpoint;
+  const auto at = other.find(version);
+  ASSERT_NE(at, std::string::npos);
+  other.replace(at, version.size(), std::string(version.size(), '9'));
+  with_checkpoint(other, {"checkpoint.bin", "written by aggpack " + std::string(version.size(), '9'), "run the scenario again"});
+  // The grading or particle file changed since the checkpoint: the bed would not be the same.
+  // (200 spheres on a loose lattice, falling: far from quiet when killed.)
+  const auto write_bed = [&](double last_z) {
+    std::ofstream bed(dir_ / "bed.csv");
+    bed << "x,y,z,r\n";
+    for (int k = 0; k < 200; ++k)
+      bed << 0.012 + 0.014 * (k % 5) << "," << 0.012 + 0.014 * (k / 5 % 5) << ","
+          << (k == 199 ? last_z : 0.006 + 0.014 * (k / 25)) << ",0.005\n";
+  };
+  write_bed(0.2);
+  const fs::path from_file = write_scenario(
+      "from_file", "[container]\nside = 0.08\nheight = 0.3\n[particles]\nfrom = \"bed.csv\"\n[material]\n"
+                   "youngs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 100\n"
+                   "quiet_kinetic_fraction = 1e-30\n[analysis]\nbox_sides = [0.01]\n");
+  const fs::path settled = dir_ / "settled";
+  ASSERT_EQ(run_and_signal_when(from_file, settled, "while settling", SIGKILL), -SIGKILL);
+  write_bed(0.21);
+  const auto r = run_cli("resume " + settled.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("a particle or grading file the scenario reads has changed"), std::string::npos) << r.output;
+}
+
+}  // namespace
