@@ -131,20 +131,27 @@ Checkpointer::Checkpointer(std::filesystem::path directory, double every_seconds
 
 void Checkpointer::reached(const std::string& where, const std::function<std::string()>& save_step) {
   const bool stopping = stop_ && stop_->requested();
-  if (stopping || std::chrono::duration<double>(Clock::now() - last_write_).count() >= every_seconds_)
-    write(where, save_step);
+  const bool due = std::chrono::duration<double>(Clock::now() - last_write_).count() >= every_seconds_;
+  if (!error_ && (stopping || due)) write(where, save_step);
   stop_here_if_requested(stop_, where);
 }
 
 void Checkpointer::write(const std::string& where, const std::function<std::string()>& save_step) {
+  const auto t0 = Clock::now();
   Checkpoint c = header_;
   c.where = where;
   c.step_state = save_step ? save_step() : std::string();
   // Before any step has changed the bed, resume starts the run afresh: nothing to save.
   if (c.steps_completed > 0 || !c.step_state.empty()) c.run_state = save_run_();
-  write_file_atomically(directory_ / kCheckpointFile, encode_checkpoint(c));
+  try {
+    write_file_atomically(directory_ / kCheckpointFile, encode_checkpoint(c));
+    last_where_ = where;
+  } catch (const std::exception& e) {
+    error_ = fmt::format("writing {} {} failed ({}); no further checkpoints were written",
+                         (directory_ / kCheckpointFile).string(), where, e.what());
+  }
   last_write_ = Clock::now();
-  last_where_ = where;
+  seconds_spent_ += std::chrono::duration<double>(last_write_ - t0).count();
 }
 
 }  // namespace aggpack

@@ -173,8 +173,12 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
     progress.clear();
     report.interrupted = Interruption{stop.signal_number(), stop.where(), completed, total,
                                       checkpointer ? checkpointer->last_written() : std::nullopt};
-    return report;
   }
+  if (checkpointer) {
+    report.wall_clock_s["checkpoints"] += checkpointer->seconds_spent();
+    report.checkpoint_error = checkpointer->error();
+  }
+  if (report.interrupted) return report;
   report.dynamics_skipped = sc.dynamics && !report.dynamics;
 
   t0 = Clock::now();
@@ -261,6 +265,8 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
                  result.output_directory.string());
     return result;
   }
+  if (result.report.checkpoint_error && !options.quiet)
+    fmt::print(log, "aggpack: warning: {}\n", *result.report.checkpoint_error);
   // A finished run's checkpoint would only mislead a later resume.
   std::error_code ec;
   std::filesystem::remove(result.output_directory / kCheckpointFile, ec);

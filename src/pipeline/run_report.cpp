@@ -155,6 +155,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   }
   summary["modelling_notes"] = modelling_notes();
   if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;
+  if (checkpoint_error) summary["checkpoint_error"] = *checkpoint_error;
   if (interrupted) {
     // No final analysis: the bed in particles.csv is where the run stood when it stopped.
     summary["interrupted"] = true;

@@ -312,6 +312,9 @@ TEST_F(Reliability, SigintAndSigtermStopAtASafePointWithAnInterruptedSummary) {
     EXPECT_EQ(summary.at("seed").get<int>(), 1);
     EXPECT_TRUE(summary.contains("aggpack_version"));
     EXPECT_TRUE(fs::exists(out / "particles.csv"));
+    // The stop's own checkpoint, for aggpack resume (tests/cli/test_resume.cpp resumes one).
+    EXPECT_TRUE(fs::exists(out / "checkpoint.bin"));
+    EXPECT_EQ(summary.at("interruption").at("checkpoint").at("taken"), summary.at("interruption").at("stopped"));
     for (const auto& entry : fs::directory_iterator(out))
       EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
   }

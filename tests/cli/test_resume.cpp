@@ -207,6 +207,20 @@ TEST_F(Resume, WithCheckpointsOffAnInterruptedSummarySaysThereIsNone) {
   EXPECT_NE(r.output.find("no checkpoint.bin here"), std::string::npos) << r.output;
 }
 
+// A checkpoint that cannot be written (here its name is taken by a folder; a full disk alike)
+// does not stop the run: it finishes, and its summary says why checkpoints stopped.
+TEST_F(Resume, ACheckpointThatCannotBeWrittenDoesNotStopTheRun) {
+  const fs::path scenario = write_scenario("layered", kLayered);
+  const fs::path out = dir_ / "out";
+  fs::create_directories(out / "checkpoint.bin" / "taken");
+  const auto r = run_cli("run " + scenario.string() + " --checkpoint-every 0 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: writing " + (out / "checkpoint.bin").string()), std::string::npos) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_NE(summary.at("checkpoint_error").get<std::string>().find("no further checkpoints"), std::string::npos);
+  EXPECT_TRUE(summary.at("wall_clock_s").contains("checkpoints"));
+}
+
 // What resume cannot continue: exit 2, the folder or file named, what is wrong, nothing changed.
 TEST_F(Resume, RefusesWhatItCannotContinue) {
   const fs::path scenario = write_scenario("layered", kLayered);

@@ -50,7 +50,8 @@ std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vecto
 
 // Writes a run's checkpoints: at a safe point once `every_seconds` of wall clock have passed
 // since the last one (0: at every safe point), and at the safe point where a stop was
-// requested, before the run stops there. Each is written atomically over the last.
+// requested, before the run stops there. Each is written atomically over the last. A write
+// that fails (a full disk) does not stop the run: checkpoints end there, and error() says why.
 class Checkpointer final : public SafePoint {
  public:
   using SaveRun = std::function<std::string()>;  // encode_run_state of the run now
@@ -63,6 +64,8 @@ class Checkpointer final : public SafePoint {
   void write(const std::string& where, const std::function<std::string()>& save_step);
   // Where the last checkpoint was taken; none when none has been written.
   [[nodiscard]] const std::optional<std::string>& last_written() const { return last_where_; }
+  [[nodiscard]] double seconds_spent() const { return seconds_spent_; }  // writing them
+  [[nodiscard]] const std::optional<std::string>& error() const { return error_; }
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -73,6 +76,8 @@ class Checkpointer final : public SafePoint {
   SaveRun save_run_;
   Clock::time_point last_write_;
   std::optional<std::string> last_where_;
+  double seconds_spent_ = 0.0;
+  std::optional<std::string> error_;
 };
 
 }  // namespace aggpack

@@ -53,6 +53,7 @@ struct RunReport {
   std::map<std::string, double> wall_clock_s;     // input, sizes, deposition, dynamics, analysis...
   std::optional<Interruption> interrupted;        // set when a signal stopped the run: no final analysis
   std::optional<std::string> resumed_from;        // the checkpoint's safe point, when resumed
+  std::optional<std::string> checkpoint_error;    // why checkpoints stopped, when a write failed
 
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;
