@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 #include <stdexcept>
 #include <utility>
 #include <variant>
@@ -619,18 +618,13 @@ void DemSystem::archive_state(Archive& ar, System& s) {
      s.rebuilds_);
 }
 
-std::string DemSystem::save_state() const {
-  std::ostringstream out(std::ios::binary);
-  {
-    cereal::BinaryOutputArchive ar(out);
-    ar(kStateFormat, static_cast<std::uint64_t>(p_.size()));
-    archive_state(ar, *this);
-  }
-  return std::move(out).str();
+void DemSystem::save_state(std::ostream& out) const {
+  cereal::BinaryOutputArchive ar(out);
+  ar(kStateFormat, static_cast<std::uint64_t>(p_.size()));
+  archive_state(ar, *this);
 }
 
-void DemSystem::restore_state(const std::string& state) {
-  std::istringstream in(state, std::ios::binary);
+void DemSystem::restore_state(std::istream& in) {
   try {
     cereal::BinaryInputArchive ar(in);
     std::uint32_t format = 0;

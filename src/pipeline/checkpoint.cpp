@@ -26,11 +26,25 @@ void archive_overrides(Archive& ar, ScenarioOverrides& o) {
   if (directory) o.output_directory = *directory;
 }
 
+// The header's fields; the run and step states follow, each as a string (its length, then its bytes).
 template <class Archive>
-void archive_checkpoint(Archive& ar, Checkpoint& c) {
+void archive_header(Archive& ar, Checkpoint& c) {
   ar(c.version, c.scenario_file, c.scenario_text);
   archive_overrides(ar, c.overrides);
-  ar(c.stop_after, c.inputs_fingerprint, c.where, c.steps_completed, c.run_state, c.step_state);
+  ar(c.stop_after, c.inputs_fingerprint, c.where, c.steps_completed);
+}
+
+// What `write` writes, in the layout of a cereal string: its length (patched in once written), its bytes.
+void write_as_string(std::ostream& out, const StateWriter& write) {
+  const std::streampos at = out.tellp();
+  std::uint64_t length = 0;
+  out.write(reinterpret_cast<const char*>(&length), sizeof length);
+  if (write) write(out);
+  const std::streampos end = out.tellp();
+  length = static_cast<std::uint64_t>(end - at) - sizeof length;
+  out.seekp(at);
+  out.write(reinterpret_cast<const char*>(&length), sizeof length);
+  out.seekp(end);
 }
 
 // The run's state from step to step (the scenario and the drop sequence are made again).
@@ -41,14 +55,15 @@ void archive_run_state(Archive& ar, RunReport& r, RunContext& c) {
 }
 }  // namespace
 
-std::string encode_checkpoint(const Checkpoint& checkpoint) {
-  std::ostringstream out(std::ios::binary);
+void encode_checkpoint(std::ostream& out, const Checkpoint& header, const StateWriter& run_state,
+                       const StateWriter& step_state) {
   {
-    cereal::BinaryOutputArchive ar(out);
+    cereal::BinaryOutputArchive ar(out);  // writes through to `out` at once: no buffer to flush
     ar(std::string(kMagic), kFormat);
-    archive_checkpoint(ar, const_cast<Checkpoint&>(checkpoint));
+    archive_header(ar, const_cast<Checkpoint&>(header));
   }
-  return std::move(out).str();
+  write_as_string(out, run_state);
+  write_as_string(out, step_state);
 }
 
 Checkpoint decode_checkpoint(const std::string& bytes, const std::filesystem::path& file) {
@@ -65,7 +80,8 @@ Checkpoint decode_checkpoint(const std::string& bytes, const std::filesystem::pa
     if (format != kFormat)
       throw InputError(fmt::format("{}: a checkpoint of format {}; this aggpack ({}) reads format {}", file.string(),
                                    format, kVersion, kFormat));
-    archive_checkpoint(ar, c);
+    archive_header(ar, c);
+    ar(c.run_state, c.step_state);
   } catch (const cereal::Exception& e) {
     throw InputError(fmt::format("{}: the checkpoint is truncated or damaged ({})", file.string(), e.what()));
   } catch (const std::bad_alloc&) {
@@ -93,13 +109,9 @@ Checkpoint read_checkpoint(const std::filesystem::path& run_directory) {
   return decode_checkpoint(read_input_file(file, "the checkpoint", std::uintmax_t{64} << 30), file);
 }
 
-std::string encode_run_state(const RunReport& report, const RunContext& context) {
-  std::ostringstream out(std::ios::binary);
-  {
-    cereal::BinaryOutputArchive ar(out);
-    archive_run_state(ar, const_cast<RunReport&>(report), const_cast<RunContext&>(context));
-  }
-  return std::move(out).str();
+void encode_run_state(std::ostream& out, const RunReport& report, const RunContext& context) {
+  cereal::BinaryOutputArchive ar(out);
+  archive_run_state(ar, const_cast<RunReport&>(report), const_cast<RunContext&>(context));
 }
 
 void decode_run_state(const std::string& state, RunReport& report, RunContext& context) {
@@ -129,22 +141,22 @@ Checkpointer::Checkpointer(std::filesystem::path directory, double every_seconds
     : directory_(std::move(directory)), every_seconds_(every_seconds), header_(std::move(header)), stop_(stop),
       save_run_(std::move(save_run)), last_write_(Clock::now()) {}
 
-void Checkpointer::reached(const std::string& where, const std::function<std::string()>& save_step) {
+void Checkpointer::reached(const std::string& where, const StateWriter& save_step) {
   const bool stopping = stop_ && stop_->requested();
   const bool due = std::chrono::duration<double>(Clock::now() - last_write_).count() >= every_seconds_;
   if (!error_ && (stopping || due)) write(where, save_step);
   stop_here_if_requested(stop_, where);
 }
 
-void Checkpointer::write(const std::string& where, const std::function<std::string()>& save_step) {
+void Checkpointer::write(const std::string& where, const StateWriter& save_step) {
   const auto t0 = Clock::now();
-  Checkpoint c = header_;
-  c.where = where;
-  c.step_state = save_step ? save_step() : std::string();
-  // Before any step has changed the bed, resume starts the run afresh: nothing to save.
-  if (c.steps_completed > 0 || !c.step_state.empty()) c.run_state = save_run_();
+  header_.where = where;
+  // Before any step has changed the bed, resume starts the run afresh: no run state to save.
+  const bool started = header_.steps_completed > 0 || save_step;
   try {
-    write_file_atomically(directory_ / kCheckpointFile, encode_checkpoint(c));
+    write_file_atomically(directory_ / kCheckpointFile, [&](std::ostream& out) {
+      encode_checkpoint(out, header_, started ? save_run_ : nullptr, save_step);
+    });
     last_where_ = where;
   } catch (const std::exception& e) {
     error_ = fmt::format("writing {} {} failed ({}); no further checkpoints were written",

@@ -141,7 +141,7 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
     Checkpoint header = controls.checkpoints->header;
     header.inputs_fingerprint = fingerprint;
     checkpointer.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),
-                         controls.stop, [&] { return encode_run_state(report, context); });
+                         controls.stop, [&](std::ostream& out) { encode_run_state(out, report, context); });
     context.safe_point = &*checkpointer;
   }
   std::size_t completed = 0;

@@ -109,32 +109,32 @@ class SampleRecorder {
 // A step's state at a safe point, for a checkpoint: its kind (checked when it is read back),
 // the DEM's state, its loop's, and the wall clock it has taken so far.
 template <class Loop>
-std::string save_step_state(std::string_view kind, const DemSystem& dem, const Loop& loop, Clock::time_point t0) {
-  std::ostringstream out(std::ios::binary);
+void save_step_state(std::ostream& out, std::string_view kind, const DemSystem& dem, const Loop& loop,
+                     Clock::time_point t0) {
   {
     cereal::BinaryOutputArchive ar(out);
     const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-    ar(std::string(kind), dem.save_state(), loop, elapsed);
+    ar(std::string(kind), loop, elapsed);
   }
-  return std::move(out).str();
+  dem.save_state(out);
 }
 // Restores what save_step_state() saved into `dem` and `loop`; returns the start time that
 // makes the step's wall clock count what it took before too.
 template <class Loop>
 Clock::time_point restore_step_state(std::string_view kind, const std::string& state, DemSystem& dem, Loop& loop) {
   std::istringstream in(state, std::ios::binary);
-  std::string saved_kind, dem_state;
+  std::string saved_kind;
   double elapsed = 0.0;
   try {
     cereal::BinaryInputArchive ar(in);
     ar(saved_kind);
     if (saved_kind != kind)
       throw InputError(fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
-    ar(dem_state, loop, elapsed);
+    ar(loop, elapsed);
   } catch (const cereal::Exception& e) {
     throw InputError(fmt::format("the checkpoint's {} step is truncated or damaged ({})", kind, e.what()));
   }
-  dem.restore_state(dem_state);
+  dem.restore_state(in);
   return Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(elapsed));
 }
 
@@ -222,7 +222,7 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
       [&](const SettleSample& s) { recorder(time_offset + s.time, s, "settling"); },
       [&](const SettleLoop& loop) {
         at_safe_point(controls.safe_point, controls.stop, where_simulated("settling", dem.time() - loop.start),
-                      [&] { return save_step_state("settle", dem, loop, t0); });
+                      [&](std::ostream& out) { save_step_state(out, "settle", dem, loop, t0); });
       },
       resumed ? &*resumed : nullptr);
   dem.finish();
@@ -268,7 +268,7 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
     return top;
   };
   const auto safe_point = [&](const std::string& where) {
-    at_safe_point(controls.safe_point, controls.stop, where, [&] { return save_step_state("pour", dem, loop, t0); });
+    at_safe_point(controls.safe_point, controls.stop, where, [&](std::ostream& out) { save_step_state(out, "pour", dem, loop, t0); });
   };
 
   // A resumed pour continues where its batch was falling, or where the bed was settling.
@@ -386,7 +386,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   };
   const auto safe_point = [&](const std::string& phase) {
     at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time()),
-                  [&] { return save_step_state("tap", dem, loop, t0); });
+                  [&](std::ostream& out) { save_step_state(out, "tap", dem, loop, t0); });
   };
   // A resumed tapping continues in the rest where it stopped.
   bool in_rest = resumed;

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <numbers>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -502,6 +503,16 @@ TEST(DemSystem, SameBytesForOneAndTwoThreads) {
 // store as it stood, with another thread count) goes on bit for bit as the original would
 // have, through neighbour-list rebuilds, a moving container and the contact history; and
 // settle() resumed from a saved loop ends as the whole run does.
+std::string saved_state_of(const DemSystem& dem) {
+  std::ostringstream out(std::ios::binary);
+  dem.save_state(out);
+  return std::move(out).str();
+}
+void restore(DemSystem& dem, const std::string& state) {
+  std::istringstream in(state, std::ios::binary);
+  dem.restore_state(in);
+}
+
 TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   const Container box = Container::square(0.12, 1.0, false);
   Rng sizes(9, 1);
@@ -526,11 +537,11 @@ TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   DemSystem interrupted(first_half, box, model, settings);
   interrupted.set_container_motion(tap);
   interrupted.run(200);
-  const std::string state = interrupted.save_state();
+  const std::string state = saved_state_of(interrupted);
   ParticleStore resumed_store = first_half;  // as a checkpoint holds it
   settings.threads = 2;
   DemSystem resumed(resumed_store, box, model, settings);
-  resumed.restore_state(state);
+  restore(resumed, state);
   EXPECT_EQ(resumed.steps(), 200u);
   EXPECT_EQ(resumed.time(), interrupted.time());
   resumed.run(200);
@@ -546,8 +557,8 @@ TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   ParticleStore other = deposited;
   other.add({0.06, 0.06, 0.9}, 0.002, kDensity);
   DemSystem wrong(other, box, model, settings);
-  EXPECT_THROW(wrong.restore_state(state), InputError);
-  EXPECT_THROW(resumed.restore_state(state.substr(0, state.size() / 2)), InputError);
+  EXPECT_THROW(restore(wrong, state), InputError);
+  EXPECT_THROW(restore(resumed, state.substr(0, state.size() / 2)), InputError);
 
   // settle(): stopped at its 5th safe point, resumed from the loop saved there.
   QuietCriterion quiet;
@@ -574,7 +585,7 @@ TEST(DemSystem, ARestoredStateContinuesBitForBit) {
            [&](const SettleLoop& loop) {
              if (++safe_points < 5) return;
              saved = loop;
-             saved_state = b.save_state();
+             saved_state = saved_state_of(b);
              throw Stop{};
            });
   } catch (const Stop&) {
@@ -582,7 +593,7 @@ TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   ASSERT_TRUE(saved);
   ParticleStore settled_resumed = settled_part;
   DemSystem c(settled_resumed, box, model, settings);
-  c.restore_state(saved_state);
+  restore(c, saved_state);
   const SettleResult rest = settle(c, settled_resumed, quiet, nullptr, [&](const SettleSample& s) {
     energies_resumed.push_back(s.kinetic_energy.total());
   }, {}, &*saved);

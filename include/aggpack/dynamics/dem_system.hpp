@@ -1,7 +1,8 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
-#include <string>
+#include <istream>
+#include <ostream>
 #include <vector>
 
 #include "aggpack/core/container.hpp"
@@ -98,8 +99,8 @@ class DemSystem {
   // loads, time, the container's motion), as bytes for a checkpoint; restore_state() on a
   // system made from the same store, model and settings continues bit for bit as this one
   // would have (with any thread count). Throws InputError when the bytes do not fit.
-  [[nodiscard]] std::string save_state() const;
-  void restore_state(const std::string& state);
+  void save_state(std::ostream& out) const;
+  void restore_state(std::istream& in);
 
  private:
   // What a contact reads of a grain, packed (96 bytes).

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <ostream>
 #include <optional>
 #include <string>
 
@@ -30,18 +31,22 @@ struct Checkpoint {
   std::uint64_t inputs_fingerprint = 0;  // of the bed the run started from (input_fingerprint)
   std::string where;                     // "before step 2 of 3", "while settling at 0.1230 s simulated"
   std::uint64_t steps_completed = 0;     // protocol steps done before the safe point
-  std::string run_state;                 // their reports and beds (empty before the first step)
+  // As read back (writing streams them into the file instead, encode_checkpoint):
+  std::string run_state;                 // the steps' reports and beds (empty before the first step)
   std::string step_state;                // the step in progress (empty between steps)
 };
 
-std::string encode_checkpoint(const Checkpoint& checkpoint);
+// `header` (its run_state and step_state left aside) with the states the two writers write
+// (null: empty), straight into `out`.
+void encode_checkpoint(std::ostream& out, const Checkpoint& header, const StateWriter& run_state,
+                       const StateWriter& step_state);
 // Throws InputError naming `file` when the bytes are not a checkpoint of this version.
 Checkpoint decode_checkpoint(const std::string& bytes, const std::filesystem::path& file);
 // The checkpoint in a run's folder; InputError when there is none or it cannot be read.
 Checkpoint read_checkpoint(const std::filesystem::path& run_directory);
 
 // The steps' reports and beds, and the state passed from step to step.
-std::string encode_run_state(const RunReport& report, const RunContext& context);
+void encode_run_state(std::ostream& out, const RunReport& report, const RunContext& context);
 void decode_run_state(const std::string& state, RunReport& report, RunContext& context);
 
 // A hash of the bed and the drop sequence a run starts from: a resumed run must start from
@@ -54,14 +59,14 @@ std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vecto
 // that fails (a full disk) does not stop the run: checkpoints end there, and error() says why.
 class Checkpointer final : public SafePoint {
  public:
-  using SaveRun = std::function<std::string()>;  // encode_run_state of the run now
+  using SaveRun = StateWriter;  // encode_run_state of the run now
   Checkpointer(std::filesystem::path directory, double every_seconds, Checkpoint header, const StopRequest* stop,
                SaveRun save_run);
   // The protocol's position: `completed` steps done (the current one is next, or in progress).
   void set_steps_completed(std::uint64_t completed) { header_.steps_completed = completed; }
-  void reached(const std::string& where, const std::function<std::string()>& save_step) override;
+  void reached(const std::string& where, const StateWriter& save_step) override;
   // Writes one now (the start of a run: resume then always has a checkpoint to start from).
-  void write(const std::string& where, const std::function<std::string()>& save_step);
+  void write(const std::string& where, const StateWriter& save_step);
   // Where the last checkpoint was taken; none when none has been written.
   [[nodiscard]] const std::optional<std::string>& last_written() const { return last_where_; }
   [[nodiscard]] double seconds_spent() const { return seconds_spent_; }  // writing them
