@@ -29,7 +29,7 @@ void archive_overrides(Archive& ar, ScenarioOverrides& o) {
 // The header's fields; the run and step states follow, each as a string (its length, then its bytes).
 template <class Archive>
 void archive_header(Archive& ar, Checkpoint& c) {
-  ar(c.version, c.scenario_file, c.scenario_text);
+  ar(c.version, c.scenario_file, c.working_directory, c.scenario_text);
   archive_overrides(ar, c.overrides);
   ar(c.stop_after, c.inputs_fingerprint, c.where, c.steps_completed);
 }
@@ -107,6 +107,13 @@ Checkpoint read_checkpoint(const std::filesystem::path& run_directory) {
         "(output.checkpoint = false, --no-checkpoint), or this is not a run's folder",
         run_directory.string(), kCheckpointFile));
   return decode_checkpoint(read_input_file(file, "the checkpoint", std::uintmax_t{64} << 30), file);
+}
+
+std::filesystem::path resumed_scenario_path(const Checkpoint& checkpoint) {
+  const std::filesystem::path given = checkpoint.scenario_file;
+  std::error_code ec;
+  if (given.is_absolute() || std::filesystem::current_path(ec) == checkpoint.working_directory) return given;
+  return std::filesystem::path(checkpoint.working_directory) / given;
 }
 
 void encode_run_state(std::ostream& out, const RunReport& report, const RunContext& context) {

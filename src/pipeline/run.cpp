@@ -283,6 +283,7 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   Checkpoint header;
   header.version = kVersion;
   header.scenario_file = scenario_file.string();
+  header.working_directory = std::filesystem::current_path().string();
   header.scenario_text = text;
   header.overrides = options.overrides;
   header.stop_after = options.stop_after;
@@ -301,7 +302,7 @@ RunResult resume_run(const std::filesystem::path& run_directory, const RunOption
                                    set));
     header.overrides.set.push_back(set);
   }
-  const Scenario sc = parse_scenario(header.scenario_text, header.scenario_file, header.overrides);
+  const Scenario sc = parse_scenario(header.scenario_text, resumed_scenario_path(header), header.overrides);
   if (!options.quiet)
     fmt::print(log, "aggpack: resuming {} from its checkpoint, taken {} ({} steps done)\n", run_directory.string(),
                checkpoint.where, checkpoint.steps_completed);

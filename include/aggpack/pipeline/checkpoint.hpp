@@ -25,6 +25,7 @@ inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 struct Checkpoint {
   std::string version;          // aggpack's, of the run that wrote it (resume refuses another)
   std::string scenario_file;    // as the run was given it: it anchors the scenario's relative paths
+  std::string working_directory;  // the run's, absolute: where a relative scenario_file lies
   std::string scenario_text;
   ScenarioOverrides overrides;
   std::optional<std::string> stop_after;
@@ -44,6 +45,9 @@ void encode_checkpoint(std::ostream& out, const Checkpoint& header, const StateW
 Checkpoint decode_checkpoint(const std::string& bytes, const std::filesystem::path& file);
 // The checkpoint in a run's folder; InputError when there is none or it cannot be read.
 Checkpoint read_checkpoint(const std::filesystem::path& run_directory);
+// The scenario file's path for a resumed run: as given when resumed from the same working
+// directory (the summary's paths are then the same), else made absolute against the run's.
+std::filesystem::path resumed_scenario_path(const Checkpoint& checkpoint);
 
 // The steps' reports and beds, and the state passed from step to step.
 void encode_run_state(std::ostream& out, const RunReport& report, const RunContext& context);
