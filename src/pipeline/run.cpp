@@ -9,7 +9,6 @@
 #include <fmt/ostream.h>
 
 #include "aggpack/core/error.hpp"
-#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
@@ -96,6 +95,20 @@ InitialBed initial_bed(const Scenario& sc) {
   return bed;
 }
 
+// Puts a resumed run where its checkpoint was taken: the reports and beds of the steps done
+// (none when it was taken before the first), and the state of the step in progress for that
+// step to take up. Returns the steps done.
+std::size_t restore_checkpoint(const Checkpoint& checkpoint, std::size_t total, RunReport& report,
+                               RunContext& context) {
+  if (checkpoint.steps_completed > total)
+    throw InputError(fmt::format("{}: the checkpoint has {} steps done of a protocol of {}",
+                                 report.scenario.file.string(), checkpoint.steps_completed, total));
+  if (!checkpoint.run_state.empty()) decode_run_state(checkpoint.run_state, report, context);
+  if (!checkpoint.step_state.empty()) context.resume_state = &checkpoint.step_state;
+  report.resumed_from = checkpoint.where;
+  return checkpoint.steps_completed;
+}
+
 }  // namespace
 
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
@@ -146,17 +159,8 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   }
   std::size_t completed = 0;
   const std::size_t total = protocol.steps.size();
-  if (resume) {
-    if (!resume->run_state.empty()) decode_run_state(resume->run_state, report, context);
-    completed = resume->steps_completed;
-    if (completed > total)
-      throw InputError(fmt::format("{}: the checkpoint has {} steps done of a protocol of {}", sc.file.string(),
-                                   completed, total));
-    if (!resume->step_state.empty()) context.resume_state = &resume->step_state;
-    report.resumed_from = resume->where;
-  } else if (checkpointer) {
-    checkpointer->write(fmt::format("before step 1 of {}", total), nullptr);  // resume can always start here
-  }
+  if (resume) completed = restore_checkpoint(*resume, total, report, context);
+  else if (checkpointer) checkpointer->write(fmt::format("before step 1 of {}", total), nullptr);  // resume can always start here
   try {
     for (; completed < total; ++completed) {
       if (checkpointer) checkpointer->set_steps_completed(completed);
