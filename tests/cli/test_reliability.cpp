@@ -231,6 +231,14 @@ std::vector<BadInput> bad_inputs() {
       command("sweep @/s.toml --fa 10:5:1", {"--fa"}),
       command("reproduce --seeds 0", {"--seeds"}),
       command("reproduce --threads 5000", {"--threads"}),
+      command("run @/s.toml --checkpoint-every abc", {"--checkpoint-every abc", "seconds"}),
+      command("run @/s.toml --checkpoint-every -5", {"--checkpoint-every -5", "seconds"}),
+      command("run @/s.toml --checkpoint-every 5 --no-checkpoint", {"--checkpoint-every", "--no-checkpoint"}),
+      command("check @/s.toml --set output.checkpoint_every=-1", {"output.checkpoint_every", "[0, 1e+09]"}),
+      command("check @/s.toml --set output.checkpoint=yes", {"output.checkpoint", "true or false"}),
+      command("resume", {"run_dir"}),
+      command("resume @/s.toml", {"s.toml", "no such directory"}),
+      command("resume @", {"no checkpoint.bin here"}),
   };
 }
 
