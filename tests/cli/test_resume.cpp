@@ -23,13 +23,13 @@ namespace fs = std::filesystem;
 using aggpack::testing::run_cli;
 using aggpack::testing::slurp;
 
-// Poured in three batches, settled, then tapped three times: every resumable loop (a batch
-// falling, the bed settling, a tap's rest), 1100 spheres (the DEM's threaded loops), ~4 s.
+// Poured in two batches, settled, then tapped twice: every resumable loop (a batch falling,
+// the bed settling, a tap's rest), 1100 spheres (the DEM's threaded loops), ~2 s.
 constexpr const char* kPourAndTap =
     "seed = 4\n[container]\nside = 0.1\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 1100\n"
-    "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
-    "[analysis]\nbox_sides = [0.02]\n[pour]\nbatches = 3\n"
-    "[tapping]\ntaps = 3\nintensity = 3\nrest_time = 0.05\nrest_until_quiet = true\n";
+    "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 0.5\n"
+    "[analysis]\nbox_sides = [0.02]\n[pour]\nbatches = 2\n"
+    "[tapping]\ntaps = 2\nintensity = 3\nrest_time = 0.05\nrest_until_quiet = true\n";
 // Deposited and settled in three layers, the lower ones frozen, ~1.5 s.
 constexpr const char* kLayered =
     "seed = 3\n[container]\nside = 0.08\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 1500\n"
@@ -117,7 +117,7 @@ TEST_F(Resume, ARunKilledInAnyLoopOfItsProtocolResumesToTheSameBytes) {
   const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_FALSE(fs::exists(reference / "checkpoint.bin"));
-  for (const std::string when : {"while pouring, 733 of 1100", "while settling", "while tap 2 of 3"}) {
+  for (const std::string when : {"while pouring, 550 of 1100", "while settling", "while tap 2 of 2"}) {
     SCOPED_TRACE("killed " + when);
     const fs::path out = dir_ / ("killed_" + std::to_string(when.size()));
     ASSERT_EQ(run_and_signal_when(scenario, out, when, SIGKILL), -SIGKILL) << "the run ended before " << when;
