@@ -2,7 +2,8 @@
 # Installs the Debian packages aggpack builds with, only those that are missing.
 set -euo pipefail
 packages=(g++ cmake ninja-build pkg-config libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-          libgtest-dev libbenchmark-dev zlib1g-dev libhwy-dev libcereal-dev python3)
+          libgtest-dev libbenchmark-dev zlib1g-dev libhwy-dev libcereal-dev python3
+          lammps openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

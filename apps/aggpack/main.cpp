@@ -17,6 +17,7 @@
 #include "aggpack/pipeline/grading_report.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/reproduce.hpp"
+#include "aggpack/pipeline/lammps_bridge.hpp"
 #include "aggpack/pipeline/run.hpp"
 #include "aggpack/pipeline/sweep.hpp"
 
@@ -86,13 +87,16 @@ struct AnalyzeArguments {
   double overlap_tolerance = aggpack::ParticleSource{}.overlap_tolerance;
   bool soft_contacts = false;
   bool json = false;
+  std::optional<std::int64_t> timestep;  // of a LAMMPS dump; none: the last
 };
 
 int analyze_command(const AnalyzeArguments& a) {
-  const auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json] = a;
+  const auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json, timestep] = a;
   const auto factor = aggpack::metres_per_unit(unit);
   if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", unit));
-  const auto particles = aggpack::read_particle_file(file, static_cast<double>(*factor), 1.0);
+  const aggpack::PackingFile packing =
+      aggpack::read_packing_file(file, static_cast<double>(*factor), 1.0, aggpack::kDefaultMaxInputFileBytes, timestep);
+  const aggpack::ParticleStore& particles = packing.particles;
   const auto container = aggpack::bounding_container(particles);
   const aggpack::RunLimits limits;  // the defaults: analyze has no scenario to raise them
   const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file,
@@ -114,6 +118,7 @@ int analyze_command(const AnalyzeArguments& a) {
     auto j = aggpack::to_json(report);
     j["aggpack_version"] = aggpack::kVersion;
     j["file"] = file;
+    j["format"] = packing.format;
     j["particle_count"] = particles.size();
     if (overlap.depth_over_radius > 1e-6) {
       j["largest_pair_overlap_rel"] = overlap.depth_over_radius;
@@ -125,7 +130,7 @@ int analyze_command(const AnalyzeArguments& a) {
     std::cout << j.dump(2) << "\n";
     return 0;
   }
-  fmt::print("{}: {} particles, d = {:.6g} .. {:.6g} m, free surface at {:.6g} m\n", file, particles.size(),
+  fmt::print("{} ({}): {} particles, d = {:.6g} .. {:.6g} m, free surface at {:.6g} m\n", file, packing.format, particles.size(),
              report.bed.d_min, report.bed.d_max, report.bed.surface);
   for (const auto& b : report.density.boxes)
     fmt::print("  box [{:.6g}, {:.6g}, {:.6g}] .. [{:.6g}, {:.6g}, {:.6g}] m: density {:.6f}\n", b.box.lo.x,
@@ -170,6 +175,28 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--no-checkpoint", no_checkpoint, "Write no checkpoint (output.checkpoint = false)")
       ->excludes(every_opt);
 
+  std::string export_scenario, export_out;
+  std::vector<std::string> export_sets;
+  auto* export_cmd = app.add_subcommand(
+      "export-lammps", "Write the bed before the scenario's first settle step and a LAMMPS deck that settles it");
+  export_cmd->add_option("scenario", export_scenario, "Scenario file (TOML)")->required();
+  export_cmd->add_option("--out", export_out, "Folder for bed.data and settle.in")->required();
+  export_cmd->add_option("--set", export_sets, "Override a scenario key: key.path=value (TOML value)");
+
+  std::string import_file, import_scenario, import_out;
+  std::optional<std::int64_t> import_timestep;
+  aggpack::RunOptions import_options;
+  auto* import_cmd = app.add_subcommand(
+      "import-lammps", "Analyse a LAMMPS dump or data file in a scenario's container: aggpack's usual outputs");
+  import_cmd->add_option("file", import_file, "LAMMPS text dump (ITEM: ...) or data file (atom_style sphere)")
+      ->required();
+  import_cmd->add_option("--scenario", import_scenario, "Scenario giving the container, material and analysis")
+      ->required();
+  auto* import_out_opt = import_cmd->add_option("--out", import_out, "Output directory (overrides output.directory)");
+  import_cmd->add_option("--timestep", import_timestep, "The dump's snapshot to read (default: the last)");
+  import_cmd->add_option("--set", import_options.overrides.set, "Override a scenario key: key.path=value");
+  import_cmd->add_flag("--quiet", import_options.quiet, "Print nothing on success");
+
   std::string resume_dir;
   aggpack::RunOptions resume;
   std::string resume_every;
@@ -188,9 +215,9 @@ int main(int argc, char** argv) {
   check_cmd->add_option("--set", check_sets, "Override a scenario key: key.path=value (TOML value)");
 
   AnalyzeArguments analyze;
-  auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json] = analyze;
+  auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json, timestep] = analyze;
   auto* analyze_cmd = app.add_subcommand("analyze", "Measure density, coordination and profiles of a packing file");
-  analyze_cmd->add_option("file", file, "Packing: CSV with header x,y,z,r (or diameter), or whitespace x y z r")
+  analyze_cmd->add_option("file", file, "Packing: CSV with header x,y,z,r (or diameter), whitespace x y z r, a LAMMPS dump or data file")
       ->required();
   analyze_cmd->add_option("--box", boxes, "Box xmin,ymin,zmin,xmax,ymax,zmax (lengths; bare numbers in --length-unit); repeatable");
   analyze_cmd->add_option("--cube", cubes, "Virtual cube side (bare number in --length-unit), placed as in docs/method.md section 2; repeatable");
@@ -203,6 +230,7 @@ int main(int argc, char** argv) {
   analyze_cmd->add_flag("--soft-contacts", soft_contacts,
                         "The file comes from a soft-contact DEM: accept any overlap short of a centre inside another sphere");
   analyze_cmd->add_flag("--json", json, "Print machine-readable JSON");
+  analyze_cmd->add_option("--timestep", timestep, "A LAMMPS dump's snapshot to read (default: the last)");
 
   aggpack::GradingQuery grading_query;
   std::string grading_unit = "in", d_min_text, d_max_text;
@@ -282,6 +310,13 @@ int main(int argc, char** argv) {
       std::signal(SIGTERM, request_stop);
       const auto result = aggpack::run_scenario(scenario, run, std::cout);
       if (result.report.interrupted) return 128 + result.report.interrupted->signal_number;  // 130, 143
+    } else if (*export_cmd) {
+      aggpack::ScenarioOverrides overrides;
+      overrides.set = export_sets;
+      aggpack::export_lammps(export_scenario, overrides, export_out, std::cout);
+    } else if (*import_cmd) {
+      if (*import_out_opt) import_options.overrides.output_directory = import_out;
+      aggpack::import_lammps(import_file, import_timestep, import_scenario, import_options, std::cout);
     } else if (*resume_cmd) {
       if (*resume_every_opt)
         resume.overrides.set.push_back("output.checkpoint_every=" + seconds_argument(resume_every));

@@ -16,6 +16,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
+#include "aggpack/io/lammps_data.hpp"
 #include "aggpack/spatial/multilevel_grid.hpp"
 
 namespace aggpack {
@@ -88,15 +89,34 @@ std::optional<Columns> columns_from_header(const std::vector<std::string>& names
 }
 }  // namespace
 
+PackingFile read_packing_file(const std::filesystem::path& file, double length_unit, double density,
+                              std::uintmax_t max_bytes, std::optional<std::int64_t> timestep) {
+  return parse_packing_text(read_input_file(file, "the particle file", max_bytes), file.string(), length_unit, density,
+                            timestep);
+}
+
 ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density,
                                  std::uintmax_t max_bytes) {
-  return parse_particle_text(read_input_file(file, "the particle file", max_bytes), file.string(), length_unit,
-                             density);
+  return read_packing_file(file, length_unit, density, max_bytes).particles;
 }
 
 ParticleStore parse_particle_text(std::string_view text, const std::string& name, double length_unit,
                                   double density) {
-  ParticleStore store;
+  return parse_packing_text(text, name, length_unit, density).particles;
+}
+
+PackingFile parse_packing_text(std::string_view text, const std::string& name, double length_unit, double density,
+                               std::optional<std::int64_t> timestep) {
+  if (is_lammps_dump(text)) {
+    LammpsBed bed = parse_lammps_dump(text, name, length_unit, density, timestep);
+    const std::string which = timestep || bed.snapshots == 1 ? "" : fmt::format(" (the last of {})", bed.snapshots);
+    return {std::move(bed.particles), fmt::format("LAMMPS dump, timestep {}{}", *bed.timestep, which)};
+  }
+  if (timestep)
+    throw InputError(fmt::format("{}: a timestep was asked for, but the file is not a LAMMPS dump", name));
+  if (is_lammps_data(text)) return {parse_lammps_data(text, name, length_unit, density).particles, "LAMMPS data file"};
+  PackingFile file;
+  ParticleStore& store = file.particles;
   std::string line;
   std::size_t line_no = 0;
   std::size_t line_start = 0;
@@ -171,7 +191,8 @@ ParticleStore parse_particle_text(std::string_view text, const std::string& name
     store.add({v[0], v[1], v[2]}, r, density);
   }
   if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", name));
-  return store;
+  file.format = csv.value_or(false) ? "CSV" : "whitespace-separated text";
+  return file;
 }
 
 std::string particles_csv(const ParticleStore& particles) {

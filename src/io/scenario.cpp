@@ -174,7 +174,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
                               const Container& container) {
   s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
                 "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance",
-                "overlap_tolerance", "soft_contacts"});
+                "overlap_tolerance", "soft_contacts", "timestep"});
   ParticleSource source;
   const bool graded = s.has("grading") || s.has("coarse") || s.has("fine");
   const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from")) + int(graded);
@@ -200,9 +200,10 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
         s.number("boundary_overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.boundary_overlap_tolerance);
     source.overlap_tolerance = s.number("overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.overlap_tolerance);
     source.soft_contacts = s.boolean("soft_contacts").value_or(false);
+    source.file_timestep = s.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
     return source;
   }
-  for (auto k : {"length_unit", "boundary_overlap_tolerance", "overlap_tolerance", "soft_contacts"})
+  for (auto k : {"length_unit", "boundary_overlap_tolerance", "overlap_tolerance", "soft_contacts", "timestep"})
     if (s.has(k)) s.fail(k, "applies only to particles read with 'from'");
   SizeSpec spec;
   spec.order = s.choice("order", kSizeOrderNames).value_or(SizeOrder::Shuffled);
@@ -595,6 +596,7 @@ nlohmann::json to_json(const Scenario& sc) {
     p["from"] = sc.particles.file->string();
     p["length_unit_m"] = sc.particles.file_length_unit;
     p["boundary_overlap_tolerance"] = sc.particles.boundary_overlap_tolerance;
+    if (sc.particles.file_timestep) p["timestep"] = *sc.particles.file_timestep;
   }
   if (sc.particles.sizes) {
     const SizeSpec& spec = *sc.particles.sizes;

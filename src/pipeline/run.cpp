@@ -63,6 +63,7 @@ struct InitialBed {
   ParticleStore particles;
   double largest_boundary_overlap = 0.0;
   PairOverlap largest_pair_overlap;
+  std::string file_format;  // of a particle file: "CSV", "LAMMPS dump, timestep 1000", ...
   std::optional<GeneratedSizes> sizes;
 };
 InitialBed initial_bed(const Scenario& sc) {
@@ -70,8 +71,10 @@ InitialBed initial_bed(const Scenario& sc) {
   InitialBed bed;
   if (sc.particles.file) {
     const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
-    bed.particles = read_particle_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
-                                       max_bytes);
+    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
+                                         max_bytes, sc.particles.file_timestep);
+    bed.particles = std::move(file.particles);
+    bed.file_format = std::move(file.format);
     if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
       throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
                                    sc.particles.file->string(), bed.particles.size(), sc.limits.max_particles));
@@ -121,7 +124,7 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
 }
 
 RunReport run(const Scenario& sc, const RunControls& controls, Progress& progress) {
-  Protocol protocol = scenario_protocol(sc);
+  Protocol protocol = controls.protocol.value_or(scenario_protocol(sc));
   if (controls.stop_after) protocol = stop_after(protocol, *controls.stop_after, sc);
   check_thread_count(controls.threads);
   RunReport report;
@@ -131,6 +134,7 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   report.particles = std::move(initial.particles);
   report.largest_boundary_overlap = initial.largest_boundary_overlap;
   report.largest_pair_overlap = initial.largest_pair_overlap.depth_over_radius;
+  report.input_format = initial.file_format;
   const double prepared_s = seconds_since(t0);  // reading the file, or drawing the sizes
   report.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
   if (initial.sizes) report.wall_clock_s["sizes"] = prepared_s;
@@ -292,6 +296,12 @@ RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOpti
   header.overrides = options.overrides;
   header.stop_after = options.stop_after;
   return run_into_folder(sc, std::move(header), nullptr, options, log, t_start);
+}
+
+RunResult run_prepared_scenario(Scenario scenario, const RunOptions& options, std::ostream& log) {
+  const auto t_start = Clock::now();
+  scenario.output.checkpoint = false;
+  return run_into_folder(scenario, Checkpoint{}, nullptr, options, log, t_start);
 }
 
 RunResult resume_run(const std::filesystem::path& run_directory, const RunOptions& options, std::ostream& log) {

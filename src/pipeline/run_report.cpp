@@ -26,8 +26,10 @@ std::vector<std::string> RunReport::modelling_notes() const {
   const RunReport& r = *this;
   const Scenario& sc = r.scenario;
   std::vector<std::string> notes;
+  const bool from_lammps = r.input_format.starts_with("LAMMPS");
   if (sc.particles.file)
     notes.push_back("particle positions were read from " + sc.particles.file->string() +
+                    (from_lammps ? " (" + r.input_format + ")" : std::string()) +
                     (r.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
   if (sc.container.periodic) notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
   if (r.deposition) {
@@ -149,6 +151,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["input"] = {{"file", sc.particles.file->string()},
                         {"largest_boundary_overlap_rel", largest_boundary_overlap},
                         {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
+  if (sc.particles.file && input_format.starts_with("LAMMPS")) summary["input"]["format"] = input_format;
   if (sc.particles.file && largest_pair_overlap > 1e-6) {
     summary["input"]["largest_pair_overlap_rel"] = largest_pair_overlap;
     summary["input"]["soft_contacts"] = sc.particles.soft_contacts;

@@ -32,18 +32,6 @@ std::string TimeSeries::csv() const {
 }
 
 
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-// What every DEM run of a scenario shares: the contact model and the settings, with the time
-// step for the smallest sphere (its Rayleigh time kept for the report).
-struct DemSetup {
-  ContactModel model;
-  DemSettings settings;
-  double rayleigh = 0.0;
-};
-
 DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
   const DynamicsStage& stage = *sc.dynamics;
   if (!std::isfinite(r_min))
@@ -60,6 +48,10 @@ DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
   setup.settings.threads = threads;
   return setup;
 }
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
 
 DensityProbe box_density(const Scenario& sc) {
   AnalysisRequest request;

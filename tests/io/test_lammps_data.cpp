@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <sstream>
+#include <vector>
+
+#include "aggpack/core/error.hpp"
 #include <stdexcept>
 
 namespace aggpack {
@@ -46,6 +49,84 @@ TEST(LammpsData, RoundTripsTheBedExactly) {
     EXPECT_EQ(z, bed.position[i].z);
   }
   EXPECT_THROW(lammps_data(bed, container, 2650.0, 0.05), std::invalid_argument);  // below a sphere's top
+}
+
+// What aggpack writes, its reader takes back bit for bit: ids, types and velocities included.
+TEST(LammpsData, TheReaderTakesBackWhatTheWriterWrote) {
+  ParticleStore bed;
+  bed.add({0.1, 1.0 / 3.0, 0.0127}, 0.0127, 2650.0, 0);
+  bed.add({2.0 / 7.0, 0.2, 0.05}, 0.00635, 2650.0, 1);
+  bed.velocity[1] = {0.1, -0.2, 1.0 / 3.0};
+  const Container container{{{0, 0, 0}, {0.3, 0.4, 1.0}}, false};
+  const std::vector<std::uint8_t> frozen{1, 0};
+  const std::string text = lammps_data(bed, container, 2650.0, 0.5, frozen);
+  EXPECT_NE(text.find("2 atom types"), std::string::npos);
+  EXPECT_NE(text.find("\nVelocities\n"), std::string::npos);
+  ASSERT_TRUE(is_lammps_data(text));
+  EXPECT_FALSE(is_lammps_dump(text));
+  const LammpsBed back = parse_lammps_data(text, "bed.data", 1.0, 2650.0);
+  ASSERT_EQ(back.particles.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.particles.position[i], bed.position[i]);
+    EXPECT_EQ(back.particles.radius[i], bed.radius[i]);
+  }
+  EXPECT_EQ(back.box.hi.z, 0.5);
+  EXPECT_FALSE(back.timestep);
+}
+
+// A dump as LAMMPS writes it: several snapshots, columns in any order, rows out of id order.
+constexpr const char* kDump =
+    "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff fm\n0 0.3\n0 0.3\n0 1\n"
+    "ITEM: ATOMS id type x y z radius\n2 1 0.2 0.2 0.9 0.01\n1 1 0.1 0.1 0.8 0.02\n"
+    "ITEM: TIMESTEP\n5000\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff fm\n0 0.3\n0 0.3\n0 0.5\n"
+    "ITEM: ATOMS radius z y x type id vx\n0.01 0.01 0.2 0.2 1 2 0\n0.02 0.02 0.1 0.1 1 1 0\n";
+
+TEST(LammpsDump, ReadsTheLastSnapshotOrTheOneAskedForInIdOrder) {
+  ASSERT_TRUE(is_lammps_dump(kDump));
+  const LammpsBed last = parse_lammps_dump(kDump, "bed.dump", 1.0, 2650.0);
+  EXPECT_EQ(last.timestep, 5000);
+  EXPECT_EQ(last.snapshots, 2u);
+  ASSERT_EQ(last.particles.size(), 2u);
+  EXPECT_EQ(last.particles.position[0], (Vec3{0.1, 0.1, 0.02}));  // id 1 first
+  EXPECT_EQ(last.particles.radius[0], 0.02);
+  EXPECT_EQ(last.particles.position[1], (Vec3{0.2, 0.2, 0.01}));
+  const LammpsBed first = parse_lammps_dump(kDump, "bed.dump", 1000.0, 2650.0, 0);  // in mm: x 1000
+  EXPECT_EQ(first.particles.position[0], (Vec3{100.0, 100.0, 800.0}));
+  EXPECT_EQ(first.particles.radius[1], 10.0);
+  // Scaled positions and diameters.
+  const std::string scaled = "ITEM: TIMESTEP\n7\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp fm\n-1 1\n0 2\n0 4\n"
+                             "ITEM: ATOMS id xs ys zs diameter\n1 0.5 0.25 0.125 0.2\n";
+  const LammpsBed s = parse_lammps_dump(scaled, "s.dump", 1.0, 2650.0);
+  EXPECT_EQ(s.particles.position[0], (Vec3{0.0, 0.5, 0.5}));
+  EXPECT_EQ(s.particles.radius[0], 0.1);
+}
+
+TEST(LammpsDump, RefusesWhatItCannotReadWithTheLineAndWhatIsExpected) {
+  const auto refused = [](const std::string& text, const std::string& words, std::optional<std::int64_t> step = {}) {
+    try {
+      parse_lammps_dump(text, "bed.dump", 1.0, 2650.0, step);
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("bed.dump"), std::string::npos) << e.what();
+    }
+  };
+  const std::string head = "ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS ff ff ff\n0 1\n0 1\n0 1\n";
+  refused(head + "ITEM: ATOMS id type x y z\n1 1 0.5 0.5 0.5\n", "radius or diameter");
+  refused(head + "ITEM: ATOMS id x y z radius\n1 0.5 0.5 0.5\n", "expected 5 fields");
+  refused(head + "ITEM: ATOMS id x y z radius\n1 0.5 0.5 0.5 -1\n", "must be positive");
+  refused(head + "ITEM: ATOMS id x y z radius\n", "ends where atom row 1 of 1");
+  refused(std::string(kDump), "no snapshot of timestep 17", 17);
+  refused("ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n99999999999\n", "cannot fit");
+  refused("ITEM: TIMESTEP\n1\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS xy xz yz ff ff ff\n", "triclinic");
+  refused(head + "ITEM: ATOMS id x y z radius\n1 0.5 0.5 0.5 0.1\n1 0.5 0.5 0.5 0.1\n", "expected \"ITEM: TIMESTEP\"");
+  try {
+    parse_lammps_data("title\n\n1 atoms\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n\nAtoms # atomic\n\n1 1 0.5 0.5 0.5\n",
+                      "bed.data", 1.0, 2650.0);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("atom_style atomic"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 #pragma once
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -18,13 +20,24 @@ namespace aggpack {
 //   line naming the columns as for CSV (e.g. "id type x y z radius") and exactly that many
 //   fields per row. Anything else is refused with the line number: a row of five or six
 //   numbers is never guessed at.
+// - a LAMMPS text dump (the last snapshot, or `timestep`'s) or a LAMMPS data file of
+//   atom_style sphere (io/lammps_data.hpp), told apart by their first lines.
 // Lines starting with '#' and blank lines are skipped. Values are multiplied by
 // `length_unit` (metres per file unit). Throws InputError naming the file and line.
 // Refuses a file that is not a regular file, or is over `max_bytes`, before reading it.
+struct PackingFile {
+  ParticleStore particles;
+  std::string format;  // "CSV", "whitespace-separated text", "LAMMPS dump, timestep 1000 (the last of 3)", ...
+};
+PackingFile read_packing_file(const std::filesystem::path& file, double length_unit, double density,
+                              std::uintmax_t max_bytes = kDefaultMaxInputFileBytes,
+                              std::optional<std::int64_t> timestep = std::nullopt);
 ParticleStore read_particle_file(const std::filesystem::path& file, double length_unit, double density,
                                  std::uintmax_t max_bytes = kDefaultMaxInputFileBytes);
 
 // The same reader on text already in memory; `name` stands for the file in messages.
+PackingFile parse_packing_text(std::string_view text, const std::string& name, double length_unit, double density,
+                               std::optional<std::int64_t> timestep = std::nullopt);
 ParticleStore parse_particle_text(std::string_view text, const std::string& name, double length_unit,
                                   double density);
 

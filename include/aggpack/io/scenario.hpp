@@ -45,6 +45,7 @@ struct ParticleSource {
   std::optional<GradedParticles> graded;   // set when it samples them from gradings
   std::optional<std::filesystem::path> file;  // set when positions are read from a file
   double file_length_unit = 1.0;           // metres per file unit
+  std::optional<std::int64_t> file_timestep;  // a LAMMPS dump's snapshot to read; none: the last
   // Largest overlap of the floor or a wall accepted from a file, as a fraction of the
   // radius: a settled bed's Hertz contacts (1e-4 r at rock stiffness, 1e-2 r at E/100).
   double boundary_overlap_tolerance = 0.02;

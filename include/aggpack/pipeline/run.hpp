@@ -9,6 +9,7 @@
 
 #include "aggpack/core/stop_request.hpp"
 #include "aggpack/pipeline/checkpoint.hpp"
+#include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/progress.hpp"
 #include "aggpack/pipeline/run_report.hpp"
@@ -35,6 +36,9 @@ struct RunControls {
   std::optional<Checkpoints> checkpoints;
   // A checkpoint of this scenario to continue from (aggpack resume); null: start afresh.
   const Checkpoint* resume_from = nullptr;
+  // Steps to run instead of the scenario's protocol (aggpack export-lammps: those before its
+  // first DEM step); none: the scenario's.
+  std::optional<Protocol> protocol;
 };
 
 // The library's entry point: runs the scenario's protocol and its final analysis. Writes no
@@ -65,6 +69,10 @@ struct RunResult {
 // `aggpack run`: loads the scenario, runs it, writes the outputs and prints the result lines
 // to `log` (unless quiet). Nothing is written when the input is bad.
 RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log);
+
+// The same for a scenario made in memory (aggpack import-lammps); it writes no checkpoint (it
+// has no scenario text for resume to make it again from).
+RunResult run_prepared_scenario(Scenario scenario, const RunOptions& options, std::ostream& log);
 
 // `aggpack resume`: continues the run whose checkpoint is in `run_directory` (written by
 // run_scenario or an earlier resume) with the scenario, overrides and seed it recorded, into

@@ -38,6 +38,7 @@ struct RunReport {
   std::optional<GeneratedSizes> sizes;          // when the run generated particles
   double largest_boundary_overlap = 0.0;        // of a particle file's spheres, / r
   double largest_pair_overlap = 0.0;            // of two of a particle file's spheres, / smaller r
+  std::string input_format;                     // of a particle file ("CSV", "LAMMPS dump, timestep 1000", ...)
   std::optional<DepositionReport> deposition;   // all deposit steps added up
   std::vector<PourReport> pours;                // every pour step's insertion (its DEM run is in dynamics)
   std::vector<TapReport> tappings;              // every tap step's compaction curve

@@ -38,6 +38,15 @@ struct StageControls {
   const std::string* resume_state = nullptr;
 };
 
+// What every DEM run of a scenario shares: the contact model and the settings, with the time
+// step for the smallest free sphere of radius r_min (its Rayleigh time kept for the report).
+struct DemSetup {
+  ContactModel model;
+  DemSettings settings;
+  double rayleigh = 0.0;
+};
+DemSetup dem_setup(const Scenario& sc, double r_min, int threads);
+
 // Settles the bed with the scenario's [dynamics] and [material] (particles whose layer is
 // below `layer` are frozen), appending samples from `time_offset` on, with `threads` OpenMP
 // threads (0: OpenMP's default). Returns what the run did (ended_by, steps, time step, ...).

@@ -1,0 +1,151 @@
+#include "aggpack/pipeline/lammps_bridge.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <variant>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/lammps_data.hpp"
+#include "aggpack/pipeline/preflight.hpp"
+#include "aggpack/pipeline/settle_stage.hpp"
+
+namespace aggpack {
+
+LammpsDeck lammps_settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32_t layer) {
+  if (!sc.dynamics) throw InputError(fmt::format("{}: a settle step needs [dynamics]", sc.file.string()));
+  const DynamicsStage& stage = *sc.dynamics;
+  const ContactParameters& material = sc.material.contact;
+  const ContactLawEntry& law = contact_law(material.friction_model);
+  std::vector<std::uint8_t> frozen(bed.size());
+  double r_min = std::numeric_limits<double>::infinity(), weight = 0.0;
+  const double g = norm(stage.dem.gravity);
+  for (std::size_t i = 0; i < bed.size(); ++i) {
+    frozen[i] = bed.layer[i] < layer ? 1 : 0;
+    if (frozen[i]) continue;
+    r_min = std::min(r_min, bed.radius[i]);
+    weight += bed.mass[i] * g * 2.0 * bed.radius[i];
+  }
+  const DemSetup setup = dem_setup(sc, r_min, 1);
+  const double dt = setup.settings.time_step;
+  const double skin = setup.settings.skin > 0.0 ? setup.settings.skin : 0.1 * 2.0 * r_min;  // as DemSystem's default
+  const QuietCriterion& quiet = stage.quiet;
+  const auto steps_per_sample =
+      std::max<long long>(1, std::llround(quiet.sample_interval / dt));
+  // Quiet once the samples below the threshold span the window: window / interval + 1 of them.
+  const auto quiet_samples = static_cast<long long>(std::ceil(quiet.window / quiet.sample_interval * (1.0 - 1e-9))) + 1;
+  const Container& c = sc.container;
+  const bool any_frozen = std::any_of(frozen.begin(), frozen.end(), [](std::uint8_t f) { return f != 0; });
+
+  LammpsDeck out;
+  out.data = lammps_data(bed, c, sc.material.density, c.bounds.hi.z, frozen);
+  fmt::memory_buffer d;
+  auto o = std::back_inserter(d);
+  fmt::format_to(o, "# aggpack {}: the settle step (layer {}) of {}, seed {}, handed to LAMMPS.\n", kVersion, layer + 1,
+                 sc.file.string(), sc.seed);
+  fmt::format_to(o, "# Run it unchanged: lmp -in {0}   or   mpirun -np N lmp -in {0}\n", LammpsDeck::kDeckFile);
+  fmt::format_to(o, "# Then: aggpack import-lammps {} --scenario <the scenario> --out <folder>\n", LammpsDeck::kDumpFile);
+  fmt::format_to(o, "# aggpack's law: {}\n", law.describe(material));
+  fmt::format_to(o, "# Differences of definition: {}\n", law.lammps_differences);
+  fmt::format_to(o,
+                 "# Stopping rule: aggpack's quiet criterion without its density condition (usually met long before\n"
+                 "# the energy one): translational kinetic energy of the moving spheres / sum(m g d) below {:g} at\n"
+                 "# every sample (every {:g} s) over {:g} s, or {:g} s simulated. Samples start after the first\n"
+                 "# interval (aggpack's also at 0 s).\n",
+                 quiet.kinetic_fraction, quiet.sample_interval, quiet.window, quiet.max_time);
+  if (any_frozen) fmt::format_to(o, "# The spheres of the layers below (atom type 2) are held still, as in aggpack.\n");
+  fmt::format_to(o, "units si\natom_style sphere\nboundary {0} {0} fm\nnewton off\ncomm_modify vel yes\nread_data {1}\n",
+                 c.periodic ? "p" : "f", LammpsDeck::kDataFile);
+  fmt::format_to(o, "group mobile type 1\n");
+  fmt::format_to(o, "pair_style granular\npair_coeff * * {}\n", law.lammps_keywords(material, false));
+  const std::string wall = law.lammps_keywords(material, true);
+  if (!c.periodic) {
+    fmt::format_to(o, "fix wall_x mobile wall/gran granular {} xplane {:.17g} {:.17g}\n", wall, c.bounds.lo.x,
+                   c.bounds.hi.x);
+    fmt::format_to(o, "fix wall_y mobile wall/gran granular {} yplane {:.17g} {:.17g}\n", wall, c.bounds.lo.y,
+                   c.bounds.hi.y);
+  }
+  fmt::format_to(o, "fix floor mobile wall/gran granular {} zplane {:.17g} NULL\n", wall, c.bounds.lo.z);
+  fmt::format_to(o, "fix integrate mobile nve/sphere\n");
+  if (g > 0.0)
+    fmt::format_to(o, "fix gravity mobile gravity {:.17g} vector {:.17g} {:.17g} {:.17g}\n", g, stage.dem.gravity.x / g,
+                   stage.dem.gravity.y / g, stage.dem.gravity.z / g);
+  fmt::format_to(o, "neighbor {:.17g} bin\nneigh_modify delay 0 every 1 check yes\ntimestep {:.17g}\n", skin, dt);
+  fmt::format_to(o, "compute translational mobile ke\nvariable energy equal c_translational/{:.17g}\n",
+                 weight > 0.0 ? weight : 1.0);
+  fmt::format_to(o, "variable quiet_samples equal 0\nthermo_style custom step time v_energy\nthermo {}\n",
+                 100 * steps_per_sample);
+  fmt::format_to(o, "label sample\nrun {} post no\n", steps_per_sample);
+  fmt::format_to(o,
+                 "if \"${{energy}} < {:.17g}\" then \"variable quiet_samples equal $(v_quiet_samples+1)\" "
+                 "else \"variable quiet_samples equal 0\"\n",
+                 quiet.kinetic_fraction);
+  fmt::format_to(o, "if \"${{quiet_samples}} >= {}\" then \"jump SELF settled\"\n", quiet_samples);
+  fmt::format_to(o, "if \"$(time) >= {:.17g}\" then \"jump SELF settled\"\n", quiet.max_time * (1.0 - 1e-12));
+  fmt::format_to(o, "jump SELF sample\nlabel settled\n");
+  fmt::format_to(o, "print \"aggpack-settled: time $(time) energy ${{energy}} quiet_samples ${{quiet_samples}}\"\n");
+  fmt::format_to(o, "write_dump all custom {} id type x y z radius vx vy vz modify format float %.17g sort id\n",
+                 LammpsDeck::kDumpFile);
+  out.deck = fmt::to_string(d);
+  return out;
+}
+
+std::string export_lammps(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides,
+                          const std::filesystem::path& out, std::ostream& log) {
+  const Scenario sc = load_scenario(scenario_file, overrides);
+  const Protocol protocol = scenario_protocol(sc);
+  std::size_t k = 0;
+  const auto is_dem = [](const Step& s) {
+    return std::holds_alternative<SettleStep>(s.kind) || std::holds_alternative<PourStep>(s.kind) ||
+           std::holds_alternative<TapStep>(s.kind);
+  };
+  while (k < protocol.steps.size() && !is_dem(protocol.steps[k])) ++k;
+  if (k == protocol.steps.size())
+    throw InputError(fmt::format("{}: the protocol has no DEM step to export ([dynamics] and a settle step)",
+                                 sc.file.string()));
+  const auto* settle = std::get_if<SettleStep>(&protocol.steps[k].kind);
+  if (!settle)
+    throw InputError(fmt::format(
+        "{}: the first DEM step (step {}) is a {} step: export-lammps exports settle steps only (a pour's insertion "
+        "and a tap's moving walls have no LAMMPS deck here yet); settle the bed in aggpack instead",
+        sc.file.string(), k + 1, std::holds_alternative<PourStep>(protocol.steps[k].kind) ? "pour" : "tap"));
+  check_output_directory(out, false);
+  RunControls controls;
+  controls.protocol = Protocol{{protocol.steps.begin(), protocol.steps.begin() + static_cast<std::ptrdiff_t>(k)}};
+  Progress silent;
+  const RunReport report = run(sc, controls, silent);
+  const LammpsDeck deck = lammps_settle_deck(sc, report.particles, settle->layer);
+  check_output_directory(out, true);
+  write_file_atomically(out / LammpsDeck::kDataFile, deck.data);
+  write_file_atomically(out / LammpsDeck::kDeckFile, deck.deck);
+  const std::string step = fmt::format("step {} of {} (settle, layer {})", k + 1, protocol.steps.size(),
+                                       settle->layer + 1);
+  fmt::print(log, "aggpack: exported {} of {}: {} spheres in {}, the deck in {}; run it with: cd {} && lmp -in {}\n",
+             step, sc.file.string(), report.particles.size(), (out / LammpsDeck::kDataFile).string(),
+             (out / LammpsDeck::kDeckFile).string(), out.string(), LammpsDeck::kDeckFile);
+  return step;
+}
+
+RunResult import_lammps(const std::filesystem::path& file, std::optional<std::int64_t> timestep,
+                        const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
+  Scenario sc = load_scenario(scenario_file, options.overrides);
+  // The scenario gives the container, the material and the analysis; the bed is the file's.
+  ParticleSource source;
+  source.file = std::filesystem::absolute(file);
+  source.file_timestep = timestep;
+  sc.particles = source;
+  sc.deposition.reset();
+  sc.pour.reset();
+  sc.dynamics.reset();
+  sc.tapping.reset();
+  sc.protocol.reset();
+  return run_prepared_scenario(std::move(sc), options, log);
+}
+
+}  // namespace aggpack
