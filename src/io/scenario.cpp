@@ -260,8 +260,14 @@ Material read_material(const TomlSection& s) {
 DynamicsStage read_dynamics(const TomlSection& s, Material& material) {
   s.allow_only({"friction_model", "time_step", "time_step_safety", "max_time", "sample_interval", "quiet_window",
                 "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity",
-                "allow_unstable_time_step"});
+                "allow_unstable_time_step", "engine", "lammps_ranks", "lammps_binary"});
   DynamicsStage d;
+  d.engine = s.choice("engine", kDemEngineNames).value_or(d.engine);
+  d.lammps_ranks = static_cast<int>(s.integer("lammps_ranks", 1, 4096).value_or(d.lammps_ranks));
+  d.lammps_binary = s.string("lammps_binary").value_or(d.lammps_binary);
+  if (d.engine != DemEngine::Lammps)
+    for (const char* k : {"lammps_ranks", "lammps_binary"})
+      if (s.has(k)) s.fail(k, "applies only with engine = \"lammps\"");
   std::vector<std::string_view> laws;
   for (const ContactLawEntry& law : contact_laws()) laws.push_back(law.name);
   material.contact.friction_model = s.choice("friction_model", laws).value_or(material.contact.friction_model);
@@ -669,6 +675,11 @@ nlohmann::json to_json(const Scenario& sc) {
                      {"gravity_m_s2", -d.dem.gravity.z}};
     if (d.time_step.fixed) j["dynamics"]["time_step_s"] = *d.time_step.fixed;
     if (d.allow_unstable_time_step) j["dynamics"]["allow_unstable_time_step"] = true;
+    if (d.engine == DemEngine::Lammps) {
+      j["dynamics"]["engine"] = "lammps";
+      j["dynamics"]["lammps_ranks"] = d.lammps_ranks;
+      j["dynamics"]["lammps_binary"] = d.lammps_binary;
+    }
     if (d.dem.skin > 0.0) j["dynamics"]["skin_m"] = d.dem.skin;
   }
   const Material& m = sc.material;

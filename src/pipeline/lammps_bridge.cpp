@@ -4,6 +4,10 @@
 #include <cmath>
 #include <limits>
 #include <variant>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -11,7 +15,9 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/io/atomic_file.hpp"
+#include "aggpack/pipeline/steps.hpp"
 #include "aggpack/io/lammps_data.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/settle_stage.hpp"
@@ -94,6 +100,129 @@ LammpsDeck lammps_settle_deck(const Scenario& sc, const ParticleStore& bed, std:
                  LammpsDeck::kDumpFile);
   out.deck = fmt::to_string(d);
   return out;
+}
+
+namespace {
+// The first executable called `name` on PATH (or `name` itself when it holds a slash).
+std::optional<std::filesystem::path> on_path(const std::string& name) {
+  if (name.find('/') != std::string::npos)
+    return ::access(name.c_str(), X_OK) == 0 ? std::optional<std::filesystem::path>(name) : std::nullopt;
+  const char* path = std::getenv("PATH");
+  std::string_view dirs = path ? path : "/usr/bin:/bin";
+  while (!dirs.empty()) {
+    const std::size_t colon = dirs.find(':');
+    const std::filesystem::path candidate = std::filesystem::path(dirs.substr(0, colon)) / name;
+    if (::access(candidate.c_str(), X_OK) == 0) return candidate;
+    dirs = colon == std::string_view::npos ? std::string_view() : dirs.substr(colon + 1);
+  }
+  return std::nullopt;
+}
+
+std::string shell_quoted(const std::string& s) {
+  std::string q = "'";
+  for (const char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+}  // namespace
+
+void check_lammps_available(const Scenario& sc) {
+  if (!sc.dynamics || sc.dynamics->engine != DemEngine::Lammps) return;
+  if (!on_path(sc.dynamics->lammps_binary))
+    throw InputError(fmt::format("{}: dynamics.engine = \"lammps\": \"{}\" is not on PATH; install LAMMPS (Debian: "
+                                 "apt-get install lammps openmpi-bin) or set dynamics.lammps_binary",
+                                 sc.file.string(), sc.dynamics->lammps_binary));
+  if (sc.dynamics->lammps_ranks > 1 && !on_path("mpirun"))
+    throw InputError(fmt::format("{}: dynamics.lammps_ranks = {} needs mpirun, which is not on PATH (Debian: "
+                                 "apt-get install openmpi-bin)",
+                                 sc.file.string(), sc.dynamics->lammps_ranks));
+}
+
+SettlingRun settle_in_lammps(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
+                             TimeSeries& series, Progress& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const DynamicsStage& stage = *sc.dynamics;
+  const std::filesystem::path dir = sc.output.directory / "lammps" / fmt::format("settle_layer_{}", layer + 1);
+  std::filesystem::create_directories(dir);
+  const LammpsDeck deck = lammps_settle_deck(sc, particles, layer);
+  write_file_atomically(dir / LammpsDeck::kDataFile, deck.data);
+  write_file_atomically(dir / LammpsDeck::kDeckFile, deck.deck);
+  std::filesystem::remove(dir / LammpsDeck::kDumpFile);
+  progress.start_stage(fmt::format("dynamics in LAMMPS, layer {}", layer + 1));
+  progress.update({fmt::format("{} {}", stage.lammps_ranks > 1 ? fmt::format("mpirun -np {}", stage.lammps_ranks) : "",
+                               stage.lammps_binary),
+                   dir.string()},
+                  0.0, Progress::TimeLeft::AtMost);
+  const std::string command = fmt::format(
+      "cd {} && {}{} -in {} -log lammps.log > lammps.out 2>&1", shell_quoted(dir.string()),
+      stage.lammps_ranks > 1 ? fmt::format("mpirun --allow-run-as-root -np {} ", stage.lammps_ranks) : "",
+      shell_quoted(stage.lammps_binary), LammpsDeck::kDeckFile);
+  const int status = std::system(command.c_str());
+  progress.clear();
+  if (status != 0 || !std::filesystem::exists(dir / LammpsDeck::kDumpFile))
+    throw InputError(fmt::format("{}: LAMMPS failed on the settle step of layer {} (exit status {}); its log is {}",
+                                 sc.file.string(), layer + 1, status, (dir / "lammps.log").string()));
+  const std::string dump_name = (dir / LammpsDeck::kDumpFile).string();
+  const LammpsBed bed = parse_lammps_dump(read_input_file(dir / LammpsDeck::kDumpFile, "LAMMPS's dump",
+                                                          kDefaultMaxInputFileBytes),
+                                          dump_name, 1.0, sc.material.density);
+  if (bed.particles.size() != particles.size())
+    throw InputError(fmt::format("{}: LAMMPS's dump holds {} spheres, the bed {}", dump_name, bed.particles.size(),
+                                 particles.size()));
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    particles.position[i] = bed.particles.position[i];
+    particles.velocity[i] = {};
+    particles.angular_velocity[i] = {};
+  }
+  // What the deck printed at its end: the time, the energy and the quiet samples.
+  const std::string log = read_input_file(dir / "lammps.log", "LAMMPS's log", kDefaultMaxInputFileBytes);
+  const std::size_t at = log.rfind("\naggpack-settled: ");
+  double simulated = 0.0, energy = 0.0;
+  long long quiet_samples = 0;
+  if (at == std::string::npos ||
+      std::sscanf(log.c_str() + at, "\naggpack-settled: time %lf energy %lf quiet_samples %lld", &simulated, &energy,
+                  &quiet_samples) != 3)
+    throw InputError(fmt::format("{}: the LAMMPS log has no \"aggpack-settled:\" line", (dir / "lammps.log").string()));
+  const bool quiet = simulated < stage.quiet.max_time * (1.0 - 1e-12);
+
+  // Contacts, energies and the density as aggpack measures them, on the settled positions.
+  std::vector<std::uint8_t> frozen(particles.size());
+  double r_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    frozen[i] = particles.layer[i] < layer ? 1 : 0;
+    if (!frozen[i]) r_min = std::min(r_min, particles.radius[i]);
+  }
+  const DemSetup setup = dem_setup(sc, r_min, 1);
+  DemSystem measure(particles, sc.container, setup.model, setup.settings, frozen);
+  const DensityProbe density = [&](const ParticleStore& store) { return analyse_bed(sc, store).density.mean; };
+  SettleSample last;
+  try {
+    last = sample_system(measure, particles, weight_energy(measure, particles), density);
+  } catch (const InputError&) {
+    last = sample_system(measure, particles, weight_energy(measure, particles), nullptr);
+  }
+  last.time = simulated;
+  last.translational_per_particle_mgd = energy;
+  series.samples.push_back({time_offset + simulated, layer, last.density, energy, last.kinetic_energy.translational,
+                            last.kinetic_energy.rotational, last.contacts.mean_overlap, last.contacts.max_overlap,
+                            last.contacts.coordination});
+  SettlingRun run;
+  run.layer = layer;
+  run.particles_settled = measure.free_count();
+  run.particles_frozen = particles.size() - measure.free_count();
+  run.ended_by = quiet ? SettleEnd::Quiet : SettleEnd::MaxTime;
+  run.simulated_time = simulated;
+  run.time_step = setup.settings.time_step;
+  run.steps = static_cast<std::size_t>(std::llround(simulated / run.time_step));
+  run.rayleigh_time = setup.rayleigh;
+  run.time_step_from_scenario = stage.time_step.fixed.has_value();
+  run.skin = setup.settings.skin > 0.0 ? setup.settings.skin : 0.2 * r_min;
+  run.last = last;
+  run.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.particle_steps_per_second =
+      run.wall_clock_s > 0 ? static_cast<double>(run.particles_settled * run.steps) / run.wall_clock_s : 0.0;
+  run.threads = 1;
+  run.lammps_ranks = stage.lammps_ranks;
+  return run;
 }
 
 std::string export_lammps(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides,

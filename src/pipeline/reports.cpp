@@ -155,6 +155,10 @@ nlohmann::json to_json(const SettlingRun& r) {
   j["particle_steps_per_second"] = r.particle_steps_per_second;
   j["threads"] = r.threads;
   j["memory_bytes_per_particle"] = r.memory_bytes_per_particle;
+  if (r.lammps_ranks > 0) {
+    j["engine"] = "lammps";
+    j["lammps_ranks"] = r.lammps_ranks;
+  }
   return j;
 }
 

@@ -13,6 +13,7 @@
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/vtk.hpp"
+#include "aggpack/pipeline/lammps_bridge.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/steps.hpp"
 
@@ -68,6 +69,7 @@ struct InitialBed {
 };
 InitialBed initial_bed(const Scenario& sc) {
   check_amount(sc);
+  check_lammps_available(sc);
   InitialBed bed;
   if (sc.particles.file) {
     const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));

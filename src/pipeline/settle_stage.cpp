@@ -434,6 +434,13 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport
                               first.time_step,
                               first.time_step_from_scenario ? "scenario" : "time_step_safety x Rayleigh time",
                               first.rayleigh_time));
+  if (stage.engine == DemEngine::Lammps)
+    notes.push_back(fmt::format(
+        "dynamics: the settle steps ran in LAMMPS ({}{}), each from a deck aggpack wrote (<output>/lammps/): the same "
+        "law, time step, skin, walls and gravity; {}; the stopping rule is the quiet criterion's energy condition "
+        "(without its density condition) or max_time; the settled spheres' velocities were set to zero on import",
+        stage.lammps_ranks > 1 ? fmt::format("mpirun -np {} ", stage.lammps_ranks) : "", stage.lammps_binary,
+        contact_law(sc.material.contact.friction_model).lammps_differences));
   if (stage.layers > 1)
     notes.push_back(fmt::format("dynamics: layer by layer ({} layers, equal particle counts in deposition order): "
                                 "each layer is deposited, then settled with the layers below frozen",

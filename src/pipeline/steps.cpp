@@ -8,6 +8,7 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/pipeline/lammps_bridge.hpp"
 
 namespace aggpack {
 
@@ -91,8 +92,11 @@ void run_step(const SettleStep& step, RunContext& ctx) {
   // sequence was deposited before the first settling (kept already when it is resumed).
   if (r.deposition && !r.dynamics && !r.deposited && r.deposition->requested == ctx.radii.size())
     r.deposited = r.particles;
-  const SettlingRun run = settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
-                                     ctx.progress);
+  const SettlingRun run =
+      r.scenario.dynamics->engine == DemEngine::Lammps
+          ? settle_in_lammps(r.scenario, r.particles, step.layer, ctx.simulated_time, r.series, ctx.progress)
+          : settle_bed(r.scenario, r.particles, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
+                       ctx.progress);
   ctx.simulated_time += run.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
   r.dynamics->runs.push_back(run);

@@ -81,6 +81,41 @@ TEST_F(LammpsBridge, LammpsSettlesTheExportedBedToAggpacksDensityOnOneRankAndOnT
   EXPECT_GT(std::abs(aggpack - mean_density(dir_ / "deposited")), 2e-3);
 }
 
+// dynamics.engine = "lammps": aggpack run hands the settle step to LAMMPS (on two ranks here)
+// and goes on with the protocol; the same deck as export-lammps writes, so the same bed.
+TEST_F(LammpsBridge, ARunHandsItsSettleStepToLammpsAndGoesOn) {
+  const auto with_dynamics = [](const std::string& keys) {
+    std::string text = kSmallBed;
+    return text.replace(text.find("max_time = 1.0\n"), 15, "max_time = 1.0\n" + keys);
+  };
+  const std::string handed = with_dynamics("engine = \"lammps\"\nlammps_ranks = 2\n");
+  std::ofstream(dir_ / "handed.toml") << handed;
+  const fs::path out = dir_ / "handed";
+  const auto r = run_cli("run " + (dir_ / "handed.toml").string() + " --quiet --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(summary.at("stages").at("dynamics").at("engine"), "lammps");
+  EXPECT_EQ(summary.at("stages").at("dynamics").at("lammps_ranks"), 2);
+  EXPECT_EQ(summary.at("stages").at("dynamics").at("ended_by"), "quiet");
+  for (const char* f : {"bed.data", "settle.in", "lammps.log", "settled.dump"})
+    EXPECT_TRUE(fs::exists(out / "lammps" / "settle_layer_1" / f)) << f;
+  bool noted = false;
+  for (const auto& n : summary.at("modelling_notes")) noted |= n.get<std::string>().find("ran in LAMMPS") != std::string::npos;
+  EXPECT_TRUE(noted);
+  // The import of LAMMPS's own dump of the same run gives the same density, bit for bit.
+  const auto i = run_cli("import-lammps " + (out / "lammps" / "settle_layer_1" / "settled.dump").string() +
+                         " --scenario " + (dir_ / "handed.toml").string() + " --quiet --out " +
+                         (dir_ / "reimported").string());
+  ASSERT_EQ(i.exit_code, 0) << i.output;
+  EXPECT_EQ(mean_density(out), mean_density(dir_ / "reimported"));
+  // A LAMMPS that is not there is refused before any work, naming the packages.
+  std::ofstream(dir_ / "missing.toml") << with_dynamics("engine = \"lammps\"\nlammps_binary = \"no-such-lmp\"\n");
+  const auto m = run_cli("run " + (dir_ / "missing.toml").string() + " --out " + (dir_ / "missing").string());
+  EXPECT_EQ(m.exit_code, 2) << m.output;
+  EXPECT_NE(m.output.find("apt-get install lammps openmpi-bin"), std::string::npos) << m.output;
+  EXPECT_FALSE(fs::exists(dir_ / "missing"));
+}
+
 TEST_F(LammpsBridge, ExportRefusesWhatItCannotHandOver) {
   const fs::path pour = dir_ / "pour.toml";
   std::ofstream(pour) << "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 30\n"

@@ -71,7 +71,16 @@ struct AnalysisSettings {
 
 // The DEM settling stage ([dynamics]); see docs/method.md section 5. The DEM's, the time
 // step's and the quiet criterion's own settings, and the layers of the default protocol.
+// Which code runs a settle step: aggpack's own DEM, or LAMMPS as a child process (the step
+// exported, run with `lmp`, under `mpirun -np N` for N ranks, and imported back).
+enum class DemEngine { Aggpack, Lammps };
+inline constexpr std::array kDemEngineNames{EnumName<DemEngine>{DemEngine::Aggpack, "aggpack"},
+                                            EnumName<DemEngine>{DemEngine::Lammps, "lammps"}};
+
 struct DynamicsStage {
+  DemEngine engine = DemEngine::Aggpack;
+  int lammps_ranks = 1;               // MPI ranks of LAMMPS (1: no mpirun)
+  std::string lammps_binary = "lmp";  // found on PATH
   DemSettings dem;              // gravity, skin (0: 0.1 d_min); the time step comes from the rule
   TimeStepRule time_step;
   QuietCriterion quiet;

@@ -8,6 +8,7 @@
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/run.hpp"
+#include "aggpack/pipeline/settle_stage.hpp"
 
 namespace aggpack {
 
@@ -25,6 +26,17 @@ struct LammpsDeck {
 // LAMMPS keywords (contact_law_registry), walls or periodic sides, gravity, the same time
 // step and skin, and the quiet criterion's energy condition or max_time as the stopping rule.
 LammpsDeck lammps_settle_deck(const Scenario& scenario, const ParticleStore& bed, std::uint32_t layer);
+
+// dynamics.engine = "lammps": InputError, before any work, when the LAMMPS binary (or mpirun
+// for several ranks) is not on PATH, naming the Debian packages that provide them.
+void check_lammps_available(const Scenario& scenario);
+
+// A settle step run by LAMMPS: the deck and the bed written into
+// <output>/lammps/settle_layer_<k>/, `lmp` (or `mpirun -np N lmp`) run there with its log
+// kept, the settled positions read back into `particles` (velocities set to zero: the bed is
+// quiet), one sample appended to `series`, and the run reported as aggpack's own would be.
+SettlingRun settle_in_lammps(const Scenario& scenario, ParticleStore& particles, std::uint32_t layer,
+                             double time_offset, TimeSeries& series, Progress& progress);
 
 // `aggpack export-lammps SCENARIO --out DIR`: runs the scenario's steps before its first DEM
 // step (which must be a settle step) and writes bed.data and settle.in into DIR. Returns the

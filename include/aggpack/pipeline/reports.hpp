@@ -75,6 +75,7 @@ struct SettlingRun {
   double particle_steps_per_second = 0.0;
   int threads = 1;
   double memory_bytes_per_particle = 0.0;
+  int lammps_ranks = 0;  // 0: aggpack's DEM ran it; else LAMMPS on that many ranks
 };
 
 // Every settling run of a dynamics stage, in order.
