@@ -175,28 +175,6 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--no-checkpoint", no_checkpoint, "Write no checkpoint (output.checkpoint = false)")
       ->excludes(every_opt);
 
-  std::string export_scenario, export_out;
-  std::vector<std::string> export_sets;
-  auto* export_cmd = app.add_subcommand(
-      "export-lammps", "Write the bed before the scenario's first settle step and a LAMMPS deck that settles it");
-  export_cmd->add_option("scenario", export_scenario, "Scenario file (TOML)")->required();
-  export_cmd->add_option("--out", export_out, "Folder for bed.data and settle.in")->required();
-  export_cmd->add_option("--set", export_sets, "Override a scenario key: key.path=value (TOML value)");
-
-  std::string import_file, import_scenario, import_out;
-  std::optional<std::int64_t> import_timestep;
-  aggpack::RunOptions import_options;
-  auto* import_cmd = app.add_subcommand(
-      "import-lammps", "Analyse a LAMMPS dump or data file in a scenario's container: aggpack's usual outputs");
-  import_cmd->add_option("file", import_file, "LAMMPS text dump (ITEM: ...) or data file (atom_style sphere)")
-      ->required();
-  import_cmd->add_option("--scenario", import_scenario, "Scenario giving the container, material and analysis")
-      ->required();
-  auto* import_out_opt = import_cmd->add_option("--out", import_out, "Output directory (overrides output.directory)");
-  import_cmd->add_option("--timestep", import_timestep, "The dump's snapshot to read (default: the last)");
-  import_cmd->add_option("--set", import_options.overrides.set, "Override a scenario key: key.path=value");
-  import_cmd->add_flag("--quiet", import_options.quiet, "Print nothing on success");
-
   std::string resume_dir;
   aggpack::RunOptions resume;
   std::string resume_every;
@@ -275,6 +253,28 @@ int main(int argc, char** argv) {
       sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
   sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
   sweep_cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
+
+  std::string export_scenario, export_out;
+  std::vector<std::string> export_sets;
+  auto* export_cmd = app.add_subcommand(
+      "export-lammps", "Write the bed before the scenario's first settle step and a LAMMPS deck that settles it");
+  export_cmd->add_option("scenario", export_scenario, "Scenario file (TOML)")->required();
+  export_cmd->add_option("--out", export_out, "Folder for bed.data and settle.in")->required();
+  export_cmd->add_option("--set", export_sets, "Override a scenario key: key.path=value (TOML value)");
+
+  std::string import_file, import_scenario, import_out;
+  std::optional<std::int64_t> import_timestep;
+  aggpack::RunOptions import_options;
+  auto* import_cmd = app.add_subcommand(
+      "import-lammps", "Analyse a LAMMPS dump or data file in a scenario's container: aggpack's usual outputs");
+  import_cmd->add_option("file", import_file, "LAMMPS text dump (ITEM: ...) or data file (atom_style sphere)")
+      ->required();
+  import_cmd->add_option("--scenario", import_scenario, "Scenario giving the container, material and analysis")
+      ->required();
+  auto* import_out_opt = import_cmd->add_option("--out", import_out, "Output directory (overrides output.directory)");
+  import_cmd->add_option("--timestep", import_timestep, "The dump's snapshot to read (default: the last)");
+  import_cmd->add_option("--set", import_options.overrides.set, "Override a scenario key: key.path=value");
+  import_cmd->add_flag("--quiet", import_options.quiet, "Print nothing on success");
 
   // CLI11 would say "A subcommand is required" for a misspelt one: name it, with the list.
   if (argc > 1 && argv[1][0] != '-') {
