@@ -87,7 +87,8 @@ LammpsDeck lammps_settle_deck(const Scenario& sc, const ParticleStore& bed, std:
                  weight > 0.0 ? weight : 1.0);
   fmt::format_to(o, "variable quiet_samples equal 0\nthermo_style custom step time v_energy\nthermo {}\n",
                  100 * steps_per_sample);
-  fmt::format_to(o, "label sample\nrun {} post no\n", steps_per_sample);
+  // One setup, then the samples without LAMMPS's per-run setup (nothing changes between them).
+  fmt::format_to(o, "run 0 post no\nlabel sample\nrun {} pre no post no\n", steps_per_sample);
   fmt::format_to(o,
                  "if \"${{energy}} < {:.17g}\" then \"variable quiet_samples equal $(v_quiet_samples+1)\" "
                  "else \"variable quiet_samples equal 0\"\n",
