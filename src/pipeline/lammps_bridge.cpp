@@ -24,6 +24,13 @@
 
 namespace aggpack {
 
+namespace {
+// The Verlet skin: the scenario's, else DemSystem's default, 0.1 of the smallest diameter.
+double lammps_skin(const DemSetup& setup, double r_min) {
+  return setup.settings.skin > 0.0 ? setup.settings.skin : 0.1 * 2.0 * r_min;
+}
+}  // namespace
+
 LammpsDeck lammps_settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32_t layer) {
   if (!sc.dynamics) throw InputError(fmt::format("{}: a settle step needs [dynamics]", sc.file.string()));
   const DynamicsStage& stage = *sc.dynamics;
@@ -40,7 +47,7 @@ LammpsDeck lammps_settle_deck(const Scenario& sc, const ParticleStore& bed, std:
   }
   const DemSetup setup = dem_setup(sc, r_min, 1);
   const double dt = setup.settings.time_step;
-  const double skin = setup.settings.skin > 0.0 ? setup.settings.skin : 0.1 * 2.0 * r_min;  // as DemSystem's default
+  const double skin = lammps_skin(setup, r_min);
   const QuietCriterion& quiet = stage.quiet;
   const auto steps_per_sample =
       std::max<long long>(1, std::llround(quiet.sample_interval / dt));
@@ -163,8 +170,8 @@ SettlingRun settle_in_lammps(const Scenario& sc, ParticleStore& particles, std::
     throw InputError(fmt::format("{}: LAMMPS failed on the settle step of layer {} (exit status {}); its log is {}",
                                  sc.file.string(), layer + 1, status, (dir / "lammps.log").string()));
   const std::string dump_name = (dir / LammpsDeck::kDumpFile).string();
-  const LammpsBed bed = parse_lammps_dump(read_input_file(dir / LammpsDeck::kDumpFile, "LAMMPS's dump",
-                                                          kDefaultMaxInputFileBytes),
+  const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
+  const LammpsBed bed = parse_lammps_dump(read_input_file(dir / LammpsDeck::kDumpFile, "LAMMPS's dump", max_bytes),
                                           dump_name, 1.0, sc.material.density);
   if (bed.particles.size() != particles.size())
     throw InputError(fmt::format("{}: LAMMPS's dump holds {} spheres, the bed {}", dump_name, bed.particles.size(),
@@ -216,7 +223,7 @@ SettlingRun settle_in_lammps(const Scenario& sc, ParticleStore& particles, std::
   run.steps = static_cast<std::size_t>(std::llround(simulated / run.time_step));
   run.rayleigh_time = setup.rayleigh;
   run.time_step_from_scenario = stage.time_step.fixed.has_value();
-  run.skin = setup.settings.skin > 0.0 ? setup.settings.skin : 0.2 * r_min;
+  run.skin = lammps_skin(setup, r_min);
   run.last = last;
   run.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   run.particle_steps_per_second =

@@ -251,8 +251,12 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
     if (!existed && std::filesystem::is_empty(sc.output.directory, ec) && !ec)
       std::filesystem::remove(sc.output.directory, ec);
   };
-  RunControls controls{options.threads, header.stop_after, [&] { check_output_directory(sc.output.directory, true); },
-                       options.stop, std::nullopt, resume};
+  RunControls controls;
+  controls.threads = options.threads;
+  controls.stop_after = header.stop_after;
+  controls.before_work = [&] { check_output_directory(sc.output.directory, true); };
+  controls.stop = options.stop;
+  controls.resume_from = resume;
   if (sc.output.checkpoint)
     controls.checkpoints = RunControls::Checkpoints{sc.output.directory, sc.output.checkpoint_every, std::move(header)};
   RunResult result{sc.output.directory, {}, {}, 0.0};
