@@ -153,7 +153,6 @@ TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
   int status = 0;
   for (int k = 0; k < 12000 && slurp(out / "checkpoint.bin").find("before step 6 of 6") == std::string::npos; ++k)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ::kill(pid, SIGKILL);
   ::waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFSIGNALED(status)) << "the resumed run ended before it was killed";
