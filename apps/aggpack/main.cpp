@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <charconv>
 #include <csignal>
+#include <functional>
 #include <iostream>
 #include <limits>
 
@@ -32,6 +33,20 @@ extern "C" void request_stop(int signal_number) {
     std::raise(signal_number);
   }
   g_stop.request(signal_number);
+}
+
+// `aggpack run` and `aggpack resume`: a progress line unless quiet, SIGINT and SIGTERM
+// stopping the run at its next safe point; exit 0, or 128 + the signal (130, 143).
+int run_until_done_or_stopped(aggpack::RunOptions& options, const std::function<aggpack::RunResult()>& go) {
+  aggpack::Progress progress =
+      aggpack::Progress::wanted(options.quiet) ? aggpack::Progress(std::cerr) : aggpack::Progress();
+  options.progress = &progress;
+  options.stop = &g_stop;
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  const aggpack::RunResult result = go();
+  options.progress = nullptr;
+  return result.report.interrupted ? 128 + result.report.interrupted->signal_number : 0;
 }
 
 // A length given on the command line; a bare number is in `bare_unit` (metres per unit).
@@ -302,14 +317,7 @@ int main(int argc, char** argv) {
       if (*stop_opt) run.stop_after = stop_after;
       if (*every_opt) run.overrides.set.push_back("output.checkpoint_every=" + seconds_argument(checkpoint_every));
       if (no_checkpoint) run.overrides.set.push_back("output.checkpoint=false");
-      aggpack::Progress progress = aggpack::Progress::wanted(run.quiet) ? aggpack::Progress(std::cerr)
-                                                                       : aggpack::Progress();
-      run.progress = &progress;
-      run.stop = &g_stop;
-      std::signal(SIGINT, request_stop);
-      std::signal(SIGTERM, request_stop);
-      const auto result = aggpack::run_scenario(scenario, run, std::cout);
-      if (result.report.interrupted) return 128 + result.report.interrupted->signal_number;  // 130, 143
+      return run_until_done_or_stopped(run, [&] { return aggpack::run_scenario(scenario, run, std::cout); });
     } else if (*export_cmd) {
       aggpack::ScenarioOverrides overrides;
       overrides.set = export_sets;
@@ -320,14 +328,7 @@ int main(int argc, char** argv) {
     } else if (*resume_cmd) {
       if (*resume_every_opt)
         resume.overrides.set.push_back("output.checkpoint_every=" + seconds_argument(resume_every));
-      aggpack::Progress progress = aggpack::Progress::wanted(resume.quiet) ? aggpack::Progress(std::cerr)
-                                                                          : aggpack::Progress();
-      resume.progress = &progress;
-      resume.stop = &g_stop;
-      std::signal(SIGINT, request_stop);
-      std::signal(SIGTERM, request_stop);
-      const auto result = aggpack::resume_run(resume_dir, resume, std::cout);
-      if (result.report.interrupted) return 128 + result.report.interrupted->signal_number;
+      return run_until_done_or_stopped(resume, [&] { return aggpack::resume_run(resume_dir, resume, std::cout); });
     } else if (*reproduce_cmd) {
       reproduce.out = reproduce_out;
       reproduce.examples = examples_dir;

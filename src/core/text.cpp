@@ -1,6 +1,10 @@
 #include "aggpack/core/text.hpp"
 
 #include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <string>
 
 namespace aggpack {
 
@@ -35,6 +39,26 @@ std::vector<std::string> split_words(std::string_view line) {
     if (i > start) words.emplace_back(line.substr(start, i - start));
   }
   return words;
+}
+
+std::optional<double> parse_finite_number(std::string_view text) {
+  const std::string t(text);
+  if (t.empty()) return std::nullopt;
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
+  return v;
+}
+
+std::optional<std::int64_t> parse_integer(std::string_view text) {
+  const std::string t(text);
+  if (t.empty()) return std::nullopt;
+  errno = 0;
+  char* end = nullptr;
+  const long long v = std::strtoll(t.c_str(), &end, 10);
+  if (end != t.c_str() + t.size() || errno == ERANGE) return std::nullopt;
+  return v;
 }
 
 }  // namespace aggpack

@@ -86,8 +86,7 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
   const double weight = weight_energy(system, particles);
   const std::size_t free_particles = system.free_count();
 
-  const std::size_t steps_per_sample =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(criterion.sample_interval / system.time_step())));
+  const std::size_t steps_per_sample = criterion.steps_per_sample(system.time_step());
   SettleLoop loop;
   if (resume) loop = *resume;
   else loop = {system.time(), system.steps(), {}};

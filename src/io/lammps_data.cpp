@@ -85,27 +85,8 @@ class Lines {
   std::size_t at_ = 0, number_ = 0;
 };
 
-std::optional<double> number_of(std::string_view word) {
-  const std::string t(word);
-  if (t.empty()) return std::nullopt;
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-std::optional<std::int64_t> integer_of(std::string_view word) {
-  const std::string t(word);
-  if (t.empty()) return std::nullopt;
-  errno = 0;
-  char* end = nullptr;
-  const long long v = std::strtoll(t.c_str(), &end, 10);
-  if (end != t.c_str() + t.size() || errno == ERANGE) return std::nullopt;
-  return v;
-}
-
 double number_field(const Lines& lines, const std::vector<std::string>& fields, std::size_t k, std::string_view what) {
-  const auto v = number_of(fields[k]);
+  const auto v = parse_finite_number(fields[k]);
   if (!v) lines.fail(fmt::format("field {} ({}, \"{}\") is not a number", k + 1, what, fields[k]));
   return *v;
 }
@@ -142,7 +123,7 @@ bool is_lammps_data(std::string_view text) {
     const std::size_t end = std::min(text.find('\n', at + 1), text.size());
     const std::vector<std::string> words = split_words(text.substr(at + 1, end - at - 1));
     at = end;
-    if (words.size() == 2 && words[1] == "atoms" && integer_of(words[0])) counted = true;
+    if (words.size() == 2 && words[1] == "atoms" && parse_integer(words[0])) counted = true;
     if (!words.empty() && words[0] == "Atoms") return counted;
   }
   return false;
@@ -158,13 +139,13 @@ LammpsBed parse_lammps_dump(std::string_view text, const std::string& name, doub
   while (lines.next(line)) {
     if (trim(line).empty()) continue;
     if (trim(line) != "ITEM: TIMESTEP") lines.fail(fmt::format("expected \"ITEM: TIMESTEP\", got \"{}\"", line));
-    const auto step = integer_of(trim(lines.require("the timestep")));
+    const auto step = parse_integer(trim(lines.require("the timestep")));
     if (!step) lines.fail("expected the timestep, an integer");
     timesteps.push_back(*step);
     ++snapshots;
     if (trim(lines.require("ITEM: NUMBER OF ATOMS")) != "ITEM: NUMBER OF ATOMS")
       lines.fail("expected \"ITEM: NUMBER OF ATOMS\"");
-    const auto count = integer_of(trim(lines.require("the number of atoms")));
+    const auto count = parse_integer(trim(lines.require("the number of atoms")));
     if (!count || *count < 0) lines.fail("expected the number of atoms, an integer >= 0");
     // Each row is at least 8 bytes: a count the text cannot hold is refused before memory.
     if (static_cast<std::uint64_t>(*count) > text.size() / 8 + 1)
@@ -232,7 +213,7 @@ LammpsBed parse_lammps_dump(std::string_view text, const std::string& name, doub
       if (!(r > 0.0)) lines.fail(fmt::format("the {} must be positive", radius ? "radius" : "diameter"));
       std::int64_t atom_id = k + 1;
       if (id) {
-        const auto v = integer_of(f[*id]);
+        const auto v = parse_integer(f[*id]);
         if (!v) lines.fail(fmt::format("the id \"{}\" is not an integer", f[*id]));
         atom_id = *v;
       }
@@ -272,7 +253,7 @@ LammpsBed parse_lammps_data(std::string_view text, const std::string& name, doub
     const std::vector<std::string> words = split_words(t);
     if (std::isalpha(static_cast<unsigned char>(t.front()))) break;
     if (words.size() == 2 && words[1] == "atoms") {
-      count = integer_of(words[0]);
+      count = parse_integer(words[0]);
       if (!count || *count < 0) lines.fail("expected the number of atoms, an integer >= 0");
       if (static_cast<std::uint64_t>(*count) > text.size() / 8 + 1)
         lines.fail(fmt::format("{} atoms cannot fit in a file of {} bytes", *count, text.size()));
@@ -315,14 +296,14 @@ LammpsBed parse_lammps_data(std::string_view text, const std::string& name, doub
     if (f.size() != 7 && f.size() != 10)
       lines.fail(fmt::format("expected 7 fields (id type diameter density x y z) or 10 (and the image flags), got {}",
                              f.size()));
-    const auto atom_id = integer_of(f[0]);
+    const auto atom_id = parse_integer(f[0]);
     if (!atom_id) lines.fail(fmt::format("the id \"{}\" is not an integer", f[0]));
     const double d = number_field(lines, f, 2, "diameter") * length_unit;
     if (!(d > 0.0)) lines.fail("the diameter must be positive");
     Vec3 p{number_field(lines, f, 4, "x") * length_unit, number_field(lines, f, 5, "y") * length_unit,
            number_field(lines, f, 6, "z") * length_unit};
     if (f.size() == 10) {
-      const auto ix = integer_of(f[7]), iy = integer_of(f[8]), iz = integer_of(f[9]);
+      const auto ix = parse_integer(f[7]), iy = parse_integer(f[8]), iz = parse_integer(f[9]);
       if (!ix || !iy || !iz) lines.fail("the image flags must be integers");
       p += Vec3{static_cast<double>(*ix) * period.x, static_cast<double>(*iy) * period.y,
                 static_cast<double>(*iz) * period.z};

@@ -35,15 +35,7 @@ std::vector<std::string> split(const std::string& line, bool csv) {
   return csv ? split_csv_fields(line) : split_words(line);
 }
 
-std::optional<double> to_number(const std::string& text) {
-  const std::string t = lower_trimmed(text);
-  if (t.empty()) return std::nullopt;
-  errno = 0;
-  char* end = nullptr;
-  const double v = std::strtod(t.c_str(), &end);
-  if (end != t.c_str() + t.size() || errno == ERANGE || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
+std::optional<double> to_number(const std::string& text) { return parse_finite_number(lower_trimmed(text)); }
 
 bool is_blank_or_comment(const std::string& line) {
   const std::string_view t = trim(line);

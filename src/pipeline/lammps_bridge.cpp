@@ -49,8 +49,7 @@ LammpsDeck lammps_settle_deck(const Scenario& sc, const ParticleStore& bed, std:
   const double dt = setup.settings.time_step;
   const double skin = lammps_skin(setup, r_min);
   const QuietCriterion& quiet = stage.quiet;
-  const auto steps_per_sample =
-      std::max<long long>(1, std::llround(quiet.sample_interval / dt));
+  const std::size_t steps_per_sample = quiet.steps_per_sample(dt);
   // Quiet once the samples below the threshold span the window: window / interval + 1 of them.
   const auto quiet_samples = static_cast<long long>(std::ceil(quiet.window / quiet.sample_interval * (1.0 - 1e-9))) + 1;
   const Container& c = sc.container;

@@ -252,8 +252,7 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
   SampleRecorder recorder(sc, part, series, progress);
   const double g = norm(setup.settings.gravity);
-  const std::size_t steps_per_sample = std::max<std::size_t>(
-      1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / setup.settings.time_step)));
+  const std::size_t steps_per_sample = stage.quiet.steps_per_sample(setup.settings.time_step);
   const auto top_of_bed = [&] {
     double top = sc.container.bounds.lo.z;
     for (std::size_t i = 0; i < particles.size(); ++i) top = std::max(top, particles.position[i].z + particles.radius[i]);
@@ -369,8 +368,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   SampleRecorder recorder(sc, 0, series, progress);
   const double weight = weight_energy(dem, particles);
   const double dt = setup.settings.time_step;
-  const std::size_t steps_per_sample =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(stage.quiet.sample_interval / dt)));
+  const std::size_t steps_per_sample = stage.quiet.steps_per_sample(dt);
   // A sample of the rest (no density: it is measured once per tap), then a safe point.
   const auto sample = [&](const std::string& phase) {
     loop.last = sample_system(dem, particles, weight, nullptr);

@@ -1,4 +1,6 @@
 #pragma once
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,5 +18,10 @@ namespace aggpack {
 
 // The whitespace-separated words of a line; runs of blanks count as one separator.
 [[nodiscard]] std::vector<std::string> split_words(std::string_view line);
+
+// The whole of `text` as a finite number (strtod's syntax), or as an integer; nullopt for
+// anything else (empty, trailing characters, out of range, inf or nan).
+[[nodiscard]] std::optional<double> parse_finite_number(std::string_view text);
+[[nodiscard]] std::optional<std::int64_t> parse_integer(std::string_view text);
 
 }  // namespace aggpack

@@ -1,5 +1,7 @@
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <deque>
 #include <cstddef>
 #include <functional>
@@ -21,6 +23,10 @@ struct QuietCriterion {
   // without twisting resistance a sphere may keep spinning about a contact normal forever.
   double kinetic_fraction = 1e-5;
   double density_tolerance = 5e-4;  // change of the virtual-box density over the window
+  // DEM steps of `time_step` between two samples (at least one).
+  [[nodiscard]] std::size_t steps_per_sample(double time_step) const {
+    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(sample_interval / time_step)));
+  }
 };
 
 enum class SettleEnd { Quiet, MaxTime };
