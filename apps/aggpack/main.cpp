@@ -271,11 +271,15 @@ int main(int argc, char** argv) {
 
   std::string export_scenario, export_out;
   std::vector<std::string> export_sets;
+  bool export_tap = false;
   auto* export_cmd = app.add_subcommand(
-      "export-lammps", "Write the bed before the scenario's first settle step and a LAMMPS deck that settles it");
-  export_cmd->add_option("scenario", export_scenario, "Scenario file (TOML)")->required();
-  export_cmd->add_option("--out", export_out, "Folder for bed.data and settle.in")->required();
+      "export-lammps",
+      "Write a bed and a LAMMPS deck: a scenario's first DEM step (settle, pour or tap), or a run's final bed to settle");
+  export_cmd->add_option("scenario_or_run", export_scenario, "Scenario file (TOML), or the folder of a finished run")
+      ->required();
+  export_cmd->add_option("--out", export_out, "Folder for bed.data and the deck")->required();
   export_cmd->add_option("--set", export_sets, "Override a scenario key: key.path=value (TOML value)");
+  export_cmd->add_flag("--tap", export_tap, "With a run's folder: a deck that taps the bed ([tapping]) instead");
 
   std::string import_file, import_scenario, import_out;
   std::optional<std::int64_t> import_timestep;
@@ -321,7 +325,7 @@ int main(int argc, char** argv) {
     } else if (*export_cmd) {
       aggpack::ScenarioOverrides overrides;
       overrides.set = export_sets;
-      aggpack::export_lammps(export_scenario, overrides, export_out, std::cout);
+      aggpack::export_lammps(export_scenario, overrides, export_out, export_tap, std::cout);
     } else if (*import_cmd) {
       if (*import_out_opt) import_options.overrides.output_directory = import_out;
       aggpack::import_lammps(import_file, import_timestep, import_scenario, import_options, std::cout);

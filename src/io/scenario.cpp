@@ -380,11 +380,16 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
   std::optional<std::uint32_t> layers;        // every deposit step's `layers`
   std::vector<std::size_t> deposited_by;      // the entry that deposits each part (+1; 0: none yet)
   std::size_t settles = 0, deposits = 0, pours = 0, taps = 0;
+  std::vector<std::pair<std::string, std::size_t>> exports;  // export_lammps steps: name, index in p.steps
+  std::vector<std::size_t> export_entries;                   // and their entries
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const TomlSection& e = entries[i];
     const std::string kind =
-        e.required(e.choice("step", {"deposit", "pour", "settle", "tap", "analyse", "snapshot"}), "step",
-                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"tap\", \"analyse\" or \"snapshot\"");
+        e.required(e.choice("step", {"deposit", "pour", "settle", "tap", "analyse", "snapshot", "export_lammps",
+                                     "import_lammps"}),
+                   "step",
+                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"tap\", \"analyse\", \"snapshot\", "
+                   "\"export_lammps\" or \"import_lammps\"");
     if (kind == "deposit" || kind == "pour") {
       e.allow_only({"step", "layer", "layers"});
       if (kind == "deposit" && !sc.deposition)
@@ -428,6 +433,32 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
       if (!sc.dynamics) e.fail("step", "a tap step moves the bed through the DEM of a [dynamics] table; add one");
       ++taps;
       p.steps.push_back({"tapping", TapStep{}});
+    } else if (kind == "export_lammps") {
+      e.allow_only({"step", "name"});
+      if (!sc.dynamics)
+        e.fail("step", "an export_lammps step writes a deck of the DEM step after it, with the [dynamics] settings; "
+                       "add a [dynamics] table");
+      const std::string name = e.required(e.string("name"), "name", "the name of its folder, <output>/lammps/<name>");
+      if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") !=
+                              std::string::npos)
+        e.fail("name", "expected letters, digits, '_' or '-' (it names a folder)");
+      for (const auto& [other, at] : exports)
+        if (other == name) e.fail("name", fmt::format("another export_lammps step is already named \"{}\"", name));
+      exports.emplace_back(name, p.steps.size());
+      // Its deck is of the next DEM step, filled in below; it belongs to the stage before it.
+      p.steps.push_back({p.steps.empty() ? std::string("input") : p.steps.back().stage, ExportLammpsStep{name, {}}});
+      export_entries.push_back(i);
+    } else if (kind == "import_lammps") {
+      e.allow_only({"step", "file", "timestep"});
+      const std::string file =
+          e.required(e.string("file"), "file", "the LAMMPS dump or data file to take the positions from");
+      std::filesystem::path path = file;
+      if (path.is_relative()) path = sc.file.parent_path() / path;
+      if (!std::filesystem::is_regular_file(path))
+        e.fail("file", fmt::format("{} is not a file (relative paths are from the scenario's folder)", path.string()));
+      ImportLammpsStep import{path, std::nullopt};
+      if (e.has("timestep")) import.timestep = e.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
+      p.steps.push_back({"import_lammps", import});
     } else if (kind == "snapshot") {
       e.allow_only({"step", "name"});
       const std::string name = e.required(e.string("name"), "name", "the name of its file, particles_<name>.csv");
@@ -450,6 +481,19 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
           e.fail("name", fmt::format("another analyse step is already named \"{}\"", name));
       p.steps.push_back({name, AnalyseStep{name}});
     }
+  }
+  // Each export_lammps step's deck is of the first DEM step after it.
+  for (std::size_t k = 0; k < exports.size(); ++k) {
+    auto& step = std::get<ExportLammpsStep>(p.steps[exports[k].second].kind);
+    bool found = false;
+    for (std::size_t j = exports[k].second + 1; j < p.steps.size() && !found; ++j)
+      std::visit(Overloaded{[&](const SettleStep& s) { step.next = s, found = true; },
+                            [&](const PourStep& s) { step.next = s, found = true; },
+                            [&](const TapStep& s) { step.next = s, found = true; }, [](const auto&) {}},
+                 p.steps[j].kind);
+    if (!found)
+      entries[export_entries[k]].fail("step", "an export_lammps step writes a deck of the DEM step after it "
+                                              "(settle, pour or tap), and none follows");
   }
   if (sc.deposition && deposits == 0)
     root.fail("protocol", "[deposition] is given but no deposit step places the particles");
@@ -497,6 +541,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
 
   Scenario sc;
   sc.file = file;
+  sc.overrides = overrides.set;
   sc.title = s.string("title").value_or(file.stem().string());
   sc.seed = static_cast<std::uint64_t>(s.integer("seed", 0, std::numeric_limits<std::int64_t>::max()).value_or(1));
   if (overrides.seed) sc.seed = *overrides.seed;
@@ -583,7 +628,13 @@ nlohmann::json to_json(const Protocol& protocol) {
                           [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
                           [&](const TapStep&) { steps.push_back({{"step", "tap"}}); },
                           [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); },
-                          [&](const SnapshotStep& snap) { steps.push_back({{"step", "snapshot"}, {"name", snap.name}}); }},
+                          [&](const SnapshotStep& snap) { steps.push_back({{"step", "snapshot"}, {"name", snap.name}}); },
+                          [&](const ExportLammpsStep& x) { steps.push_back({{"step", "export_lammps"}, {"name", x.name}}); },
+                          [&](const ImportLammpsStep& x) {
+                            nlohmann::json j{{"step", "import_lammps"}, {"file", x.file.string()}};
+                            if (x.timestep) j["timestep"] = *x.timestep;
+                            steps.push_back(std::move(j));
+                          }},
                step.kind);
   return steps;
 }

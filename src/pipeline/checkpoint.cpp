@@ -50,7 +50,7 @@ void write_as_string(std::ostream& out, const StateWriter& write) {
 // The run's state from step to step (the scenario and the drop sequence are made again).
 template <class Archive>
 void archive_run_state(Archive& ar, RunReport& r, RunContext& c) {
-  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, raw(r.supports),
+  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, r.lammps_exchanges, raw(r.supports),
      r.series, r.wall_clock_s, c.simulated_time, c.deposition_stopped_at);
 }
 }  // namespace

@@ -11,7 +11,11 @@ namespace aggpack {
 template <class Archive>
 void serialize(Archive& ar, TapReport& t) {
   ar(t.taps, t.intensity, t.frequency, t.amplitude, t.rest_time, t.rest_until_quiet, t.density_before, t.time_before,
-     raw(t.samples), t.simulated_time, t.steps, t.time_step, t.wall_clock_s);
+     raw(t.samples), t.simulated_time, t.steps, t.time_step, t.wall_clock_s, t.lammps_ranks);
+}
+template <class Archive>
+void serialize(Archive& ar, LammpsExchange& x) {
+  ar(x.direction, x.path, x.what, x.spheres);
 }
 template <class Archive>
 void serialize(Archive& ar, SettlingReport& r) {

@@ -112,7 +112,7 @@ nlohmann::json to_json(const TapReport& r) {
   const auto or_null = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
   nlohmann::json densities = nlohmann::json::array();
   for (const TapSample& s : r.samples) densities.push_back(or_null(s.density));
-  return {{"taps", r.taps},
+  nlohmann::json j = {{"taps", r.taps},
           {"intensity", r.intensity},
           {"frequency_hz", r.frequency},
           {"amplitude_m", r.amplitude},
@@ -124,6 +124,11 @@ nlohmann::json to_json(const TapReport& r) {
           {"steps", r.steps},
           {"time_step_s", r.time_step},
           {"wall_clock_s", r.wall_clock_s}};
+  if (r.lammps_ranks > 0) {
+    j["engine"] = "lammps";
+    j["lammps_ranks"] = r.lammps_ranks;
+  }
+  return j;
 }
 
 namespace {

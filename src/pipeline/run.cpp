@@ -188,7 +188,7 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
     report.wall_clock_s["checkpoints"] += checkpointer->seconds_spent();
     report.checkpoint_error = checkpointer->error();
   }
-  if (report.interrupted) return report;
+  if (report.interrupted || !controls.final_analysis) return report;
   report.dynamics_skipped = sc.dynamics && !report.dynamics;
 
   t0 = Clock::now();

@@ -31,6 +31,14 @@ std::vector<std::string> RunReport::modelling_notes() const {
     notes.push_back("particle positions were read from " + sc.particles.file->string() +
                     (from_lammps ? " (" + r.input_format + ")" : std::string()) +
                     (r.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
+  for (const LammpsExchange& x : r.lammps_exchanges)
+    notes.push_back(x.direction == "import"
+                        ? fmt::format("import_lammps: the positions of the bed's {} spheres were read from {} ({}), "
+                                      "their velocities set to zero; the steps after it start from there",
+                                      x.spheres, x.path, x.what)
+                        : fmt::format("export_lammps: the bed of {} spheres and a LAMMPS deck of the next DEM step ({}) "
+                                      "were written into {}; aggpack's own results below do not depend on it",
+                                      x.spheres, x.what, x.path));
   if (sc.container.periodic) notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
   if (r.deposition) {
     notes.push_back(fmt::format(
@@ -111,6 +119,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   summary["aggpack_version"] = kVersion;
   summary["seed"] = sc.seed;
   summary["scenario_file"] = sc.file.string();
+  // What the file alone does not say (export-lammps RUN_DIR reads the scenario again with them);
+  // output.* assignments choose files and checkpoints, not results, and are left out.
+  std::vector<std::string> overrides;
+  for (const std::string& set : sc.overrides)
+    if (!set.starts_with("output.")) overrides.push_back(set);
+  if (!overrides.empty()) summary["scenario_overrides"] = overrides;
   summary["scenario"] = to_json(sc);
   summary["particle_count"] = particles.size();
   const Box& b = sc.container.bounds;
@@ -155,6 +169,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   if (sc.particles.file && largest_pair_overlap > 1e-6) {
     summary["input"]["largest_pair_overlap_rel"] = largest_pair_overlap;
     summary["input"]["soft_contacts"] = sc.particles.soft_contacts;
+  }
+  if (!lammps_exchanges.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const LammpsExchange& x : lammps_exchanges)
+      all.push_back({{"direction", x.direction}, {"path", x.path}, {"what", x.what}, {"spheres", x.spheres}});
+    summary["lammps_exchanges"] = all;
   }
   summary["modelling_notes"] = modelling_notes();
   if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;
@@ -246,6 +266,13 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
                        ? std::string("-")
                        : fmt::format("{:.4f}", t.samples.back().density),
                    t.simulated_time, t.wall_clock_s);
+  for (const LammpsExchange& x : lammps_exchanges) {
+    if (x.direction == "import")
+      fmt::format_to(o, "  import_lammps: {} spheres' positions from {} ({})\n", x.spheres, x.path, x.what);
+    else
+      fmt::format_to(o, "  export_lammps: {} spheres and a deck ({}) in {}; run it there with lmp\n", x.spheres, x.what,
+                     x.path);
+  }
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}), mean coordination {:.3f} over {} spheres\n", final.density.mean,

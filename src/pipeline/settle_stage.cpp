@@ -434,9 +434,10 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport
                               first.rayleigh_time));
   if (stage.engine == DemEngine::Lammps)
     notes.push_back(fmt::format(
-        "dynamics: the settle steps ran in LAMMPS ({}{}), each from a deck aggpack wrote (<output>/lammps/): the same "
-        "law, time step, skin, walls and gravity; {}; the stopping rule is the quiet criterion's energy condition "
-        "(without its density condition) or max_time; the settled spheres' velocities were set to zero on import",
+        "dynamics: the settle, pour and tap steps ran in LAMMPS ({}{}), each from a deck aggpack wrote "
+        "(<output>/lammps/): the same law, time step, skin, walls and gravity, a pour's batches of aggpack's own "
+        "random gas, a tap's container moved as aggpack's; {}; the stopping rule is the quiet criterion's energy "
+        "condition (without its density condition) or max_time; the spheres' velocities were set to zero on import",
         stage.lammps_ranks > 1 ? fmt::format("mpirun -np {} ", stage.lammps_ranks) : "", stage.lammps_binary,
         contact_law(sc.material.contact.friction_model).lammps_differences));
   if (stage.layers > 1)

@@ -77,8 +77,11 @@ void run_step(const PourStep& step, RunContext& ctx) {
   const std::size_t n = ctx.radii.size();
   const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
-  const PourRun run = pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
-                               ctx.progress);
+  const PourRun run =
+      r.scenario.dynamics->engine == DemEngine::Lammps
+          ? pour_in_lammps(r.scenario, r.particles, radii, step, ctx.simulated_time, r.series, ctx.progress)
+          : pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
+                     ctx.progress);
   ctx.simulated_time += run.settling.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
   r.dynamics->runs.push_back(run.settling);
@@ -104,7 +107,10 @@ void run_step(const SettleStep& step, RunContext& ctx) {
 
 void run_step(const TapStep& /*step*/, RunContext& ctx) {
   RunReport& r = ctx.report;
-  TapReport report = tap_bed(r.scenario, r.particles, ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
+  TapReport report =
+      r.scenario.dynamics->engine == DemEngine::Lammps
+          ? tap_in_lammps(r.scenario, r.particles, r.tappings.size(), ctx.simulated_time, r.series, ctx.progress)
+          : tap_bed(r.scenario, r.particles, ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
   ctx.simulated_time += report.simulated_time;
   r.tappings.push_back(std::move(report));
 }
@@ -117,5 +123,25 @@ void run_step(const AnalyseStep& step, RunContext& ctx) {
 }
 
 void run_step(const SnapshotStep& step, RunContext& ctx) { ctx.report.snapshots[step.name] = ctx.report.particles; }
+
+void run_step(const ExportLammpsStep& step, RunContext& ctx) {
+  const Scenario& sc = ctx.report.scenario;
+  std::span<const double> pour_radii;
+  if (const auto* pour = std::get_if<PourStep>(&step.next)) {
+    const std::size_t n = ctx.radii.size();
+    const std::size_t begin = n * pour->layer / pour->layers, end = n * (pour->layer + 1) / pour->layers;
+    pour_radii = std::span<const double>(ctx.radii.data() + begin, end - begin);
+  }
+  const LammpsDeck deck = lammps_deck(sc, ctx.report.particles, step.next, pour_radii);
+  const std::filesystem::path folder = sc.output.directory / "lammps" / step.name;
+  write_lammps_deck(folder, deck);
+  ctx.report.lammps_exchanges.push_back({"export", folder.string(), deck.step, ctx.report.particles.size()});
+}
+
+void run_step(const ImportLammpsStep& step, RunContext& ctx) {
+  ParticleStore& bed = ctx.report.particles;
+  const std::string format = take_positions_from_lammps(bed, step.file, step.timestep, ctx.report.scenario);
+  ctx.report.lammps_exchanges.push_back({"import", step.file.string(), format, bed.size()});
+}
 
 }  // namespace aggpack

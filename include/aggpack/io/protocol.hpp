@@ -1,6 +1,8 @@
 #pragma once
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <variant>
 #include <vector>
@@ -38,7 +40,22 @@ struct AnalyseStep {
 struct SnapshotStep {
   std::string name;
 };
-using StepKind = std::variant<DepositStep, PourStep, SettleStep, TapStep, AnalyseStep, SnapshotStep>;
+// The DEM steps: what a LAMMPS deck can run (pipeline/lammps_bridge.hpp).
+using DemStep = std::variant<SettleStep, PourStep, TapStep>;
+// The bed as it is now and a LAMMPS deck of the protocol's next DEM step, written into
+// <output>/lammps/<name>/; the run then goes on with that step itself.
+struct ExportLammpsStep {
+  std::string name;
+  DemStep next;
+};
+// The bed's positions replaced by those of a LAMMPS dump (its last snapshot, or `timestep`'s)
+// or data file, matched by id: the file must hold the same spheres (count and radii).
+struct ImportLammpsStep {
+  std::filesystem::path file;
+  std::optional<std::int64_t> timestep;
+};
+using StepKind = std::variant<DepositStep, PourStep, SettleStep, TapStep, AnalyseStep, SnapshotStep, ExportLammpsStep,
+                              ImportLammpsStep>;
 
 struct Step {
   std::string stage;  // the stage it belongs to: what --stop-after names

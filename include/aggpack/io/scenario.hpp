@@ -123,6 +123,7 @@ struct OutputSettings {
 
 struct Scenario {
   std::filesystem::path file;
+  std::vector<std::string> overrides;  // the --set key=value assignments it was read with, in order
   std::string title;
   std::uint64_t seed = 1;
   Container container;

@@ -55,6 +55,7 @@ struct TapReport {
   std::size_t steps = 0;
   double time_step = 0.0;
   double wall_clock_s = 0.0;
+  int lammps_ranks = 0;  // 0: aggpack's DEM ran it; else LAMMPS on that many ranks
   [[nodiscard]] std::string csv() const;  // taps.csv
 };
 nlohmann::json to_json(const TapReport& report);

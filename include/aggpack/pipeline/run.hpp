@@ -39,6 +39,8 @@ struct RunControls {
   // Steps to run instead of the scenario's protocol (aggpack export-lammps: those before its
   // first DEM step); none: the scenario's.
   std::optional<Protocol> protocol;
+  // The analysis of the bed at the end (aggpack export-lammps: none, the bed is only a start).
+  bool final_analysis = true;
 };
 
 // The library's entry point: runs the scenario's protocol and its final analysis. Writes no

@@ -31,6 +31,14 @@ struct Interruption {
   std::optional<std::string> checkpoint;  // where the last checkpoint was taken; none written
 };
 
+// A bed handed to LAMMPS by an export_lammps step, or taken from it by an import_lammps step.
+struct LammpsExchange {
+  std::string direction;  // "export" or "import"
+  std::string path;       // the folder written, or the file read
+  std::string what;       // the deck's step ("settle, layer 1"), or the file's format
+  std::size_t spheres = 0;
+};
+
 // Everything a run produced, as values: what the steps reported, the final analysis, the
 // beds. summary_json() writes summary.json from it; nothing reads it back from JSON.
 struct RunReport {
@@ -49,6 +57,7 @@ struct RunReport {
   ParticleStore particles;                        // the final bed
   std::optional<ParticleStore> deposited;         // the bed after a single deposition, when DEM then moved it
   std::map<std::string, ParticleStore> snapshots;  // beds copied by snapshot steps, by name
+  std::vector<LammpsExchange> lammps_exchanges;   // export_lammps and import_lammps steps, in order
   std::vector<Supports> supports;                 // what each sphere rested on after deposition
   TimeSeries series;                              // the settling runs' samples
   std::map<std::string, double> wall_clock_s;     // input, sizes, deposition, dynamics, analysis...

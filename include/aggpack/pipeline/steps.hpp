@@ -31,6 +31,8 @@ void run_step(const SettleStep& step, RunContext& context);
 void run_step(const TapStep& step, RunContext& context);
 void run_step(const AnalyseStep& step, RunContext& context);
 void run_step(const SnapshotStep& step, RunContext& context);
+void run_step(const ExportLammpsStep& step, RunContext& context);
+void run_step(const ImportLammpsStep& step, RunContext& context);
 
 // The analysis of a scenario's bed, naming the scenario key when a box does not fit.
 PackingReport analyse_bed(const Scenario& scenario, const ParticleStore& particles);
