@@ -27,6 +27,16 @@ double mean_density(const fs::path& dir) {
   return nlohmann::json::parse(std::ifstream(dir / "summary.json")).at("density").at("mean").get<double>();
 }
 
+// A box from `lo` to `hi` (m) as analyze's --box takes it, every digit kept, a hair wider.
+std::string fmt_box(const double lo[3], const double hi[3]) {
+  std::ostringstream s;
+  s.precision(17);
+  s << lo[0] - 1e-12 << ',' << lo[1] - 1e-12 << ',' << lo[2] - 1e-12 << ',' << hi[0] + 1e-12 << ',' << hi[1] + 1e-12
+    << ',' << hi[2] + 1e-12;
+  return s.str();
+}
+fs::path copy_of(const fs::path& dir, const std::string& ranks) { return dir / ("lammps_" + ranks); }
+
 class LammpsBridge : public ::testing::Test {
  protected:
   aggpack::testing::ScratchDir scratch_{"aggpack_lammps_test_"};
@@ -81,6 +91,45 @@ TEST_F(LammpsBridge, LammpsSettlesTheExportedBedToAggpacksDensityOnOneRankAndOnT
   // Both engines moved the bed (0.5934 deposited): the agreement is not of two unmoved copies.
   EXPECT_GT(std::abs(one - mean_density(dir_ / "deposited")), 2e-3);
   EXPECT_GT(std::abs(aggpack - mean_density(dir_ / "deposited")), 2e-3);
+
+  // LAMMPS's `compute contact/atom` counts the settled bed's contacts as aggpack's analysis
+  // does (docs/validation.md: the same count sphere by sphere on Example 2): the sum over every
+  // sphere, in a box around all the centres.
+  const fs::path counted = dir_ / "counted";
+  ASSERT_EQ(run_cli("export-lammps " + (dir_ / "imported_1").string() + " --out " + counted.string()).exit_code, 0);
+  std::ifstream settle(counted / "settle.in");
+  std::string deck, line;
+  while (std::getline(settle, line) && line.rfind("fix ", 0) != 0)
+    if (line[0] != '#') deck += line + "\n";
+  deck += "neighbor 0.001 bin\ncompute contacts all contact/atom\ncompute total all reduce sum c_contacts\n"
+          "thermo_style custom step c_total\nrun 0\nprint \"contacts: $(c_total)\"\n";
+  std::ofstream(counted / "contacts.in") << deck;
+  const auto c = run_command("cd " + counted.string() + " && lmp -in contacts.in -log none");
+  ASSERT_EQ(c.exit_code, 0) << c.output;
+  const std::size_t at = c.output.find("\ncontacts: ");
+  ASSERT_NE(at, std::string::npos) << c.output;
+  const double lammps_contacts = std::stod(c.output.substr(at + 11));
+  std::ifstream csv(dir_ / "imported_1" / "particles.csv");
+  std::getline(csv, line);  // id,x,y,z,r
+  double lo[3] = {1e9, 1e9, 1e9}, hi[3] = {-1e9, -1e9, -1e9};
+  while (std::getline(csv, line)) {
+    std::stringstream fields(line);
+    std::string field;
+    std::getline(fields, field, ',');
+    for (int a = 0; a < 3; ++a) {
+      std::getline(fields, field, ',');
+      lo[a] = std::min(lo[a], std::stod(field));
+      hi[a] = std::max(hi[a], std::stod(field));
+    }
+  }
+  const std::string box = fmt_box(lo, hi);
+  const auto a = run_cli("analyze " + (copy_of(dir_, "1") / "settled.dump").string() + " --box " + box +
+                         " --tolerance 1e-12 --json");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const auto analysed = nlohmann::json::parse(a.output.substr(a.output.find('{')));
+  EXPECT_EQ(analysed.at("coordination").at("particles_counted"), 300);
+  EXPECT_GT(lammps_contacts, 3.0 * 300);  // a settled bed: more than three contacts a sphere
+  EXPECT_DOUBLE_EQ(analysed.at("coordination").at("mean").get<double>() * 300.0, lammps_contacts);
 }
 
 // dynamics.engine = "lammps": aggpack run hands the settle step to LAMMPS (on two ranks here)
