@@ -67,9 +67,14 @@ std::vector<std::string> RunReport::modelling_notes() const {
         "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
         "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
         "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
-        "protocol (intensity, frequency, rest) as a lab's tapped density does",
+        "protocol (intensity, frequency, rest) as a lab's tapped density does{}",
         t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
-        t.rest_until_quiet ? " at most (less once the bed was quiet)" : ""));
+        t.rest_until_quiet ? " at most (less once the bed was quiet)" : "",
+        t.lammps_ranks > 0 ? fmt::format("; run by LAMMPS ({} rank{}), the container a moving region of fix "
+                                         "wall/gran/region whose velocity LAMMPS takes from the change of position "
+                                         "over a step (aggpack: the exact derivative)",
+                                         t.lammps_ranks, t.lammps_ranks == 1 ? "" : "s")
+                           : std::string()));
   if (r.sizes)
     for (const std::string& note : r.sizes->notes) notes.push_back(note);
   if (sc.particles.file && r.largest_boundary_overlap > 0.0)
