@@ -16,6 +16,7 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
+#include "aggpack/pipeline/predictions.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/reproduce.hpp"
 #include "aggpack/pipeline/lammps_bridge.hpp"
@@ -239,6 +240,20 @@ int main(int argc, char** argv) {
   grading_cmd->add_flag("--json", grading_json, "Print machine-readable JSON");
   grading_cmd->add_flag("--list", grading_list, "List the shipped gradings and bands");
 
+  aggpack::PredictRequest predict;
+  bool predict_json = false;
+  auto* predict_cmd = app.add_subcommand(
+      "predict", "Analytic packing densities (CPM, Furnas, Desmond-Weeks) of a scenario's or a grading's sizes");
+  predict_cmd->add_option("input", predict.input, "Scenario (.toml), a shipped grading's name or a CSV sieve analysis")
+      ->required();
+  predict_cmd->add_option("--mix", predict.fine, "A fine grading (name or file) to blend with the grading");
+  predict_cmd->add_option("--ca-fa", predict.ca_fa, "Coarse/fine volume ratio of the blend")->check(CLI::PositiveNumber);
+  predict_cmd->add_option("--k", predict.compaction_index, "CPM compaction index K (4.1 poured ... 9 vibrated and compressed)");
+  predict_cmd->add_option("--process", predict.process, "K of a lab process: poured, rodded, vibrated, vibrated_compressed");
+  predict_cmd->add_option("--beta", predict.beta, "CPM residual packing density of every class (default 0.72, spheres)");
+  predict_cmd->add_option("--set", predict.overrides.set, "Override a scenario key: key.path=value");
+  predict_cmd->add_flag("--json", predict_json, "Print machine-readable JSON");
+
   aggpack::ReproduceOptions reproduce;
   reproduce.examples = AGGPACK_EXAMPLES_DIR;
   std::string reproduce_out = reproduce.out.string(), examples_dir = reproduce.examples.string();
@@ -350,6 +365,13 @@ int main(int argc, char** argv) {
       fmt::print("{}: ok ({})\n", scenario, sc.title);
     } else if (*analyze_cmd) {
       return analyze_command(analyze);
+    } else if (*predict_cmd) {
+      const aggpack::Predictions p = aggpack::predict(predict);
+      if (predict_json) fmt::print("{}\n", aggpack::to_json(p).dump(1));
+      else
+        fmt::print("aggpack {}: analytic predictions for {}, no simulation\n  K = {:g}: {}\n  beta = {:g}: {}\n{}",
+                   aggpack::kVersion, predict.input, p.parameters.compaction_index, p.parameters.compaction_source,
+                   p.parameters.beta, p.parameters.beta_source, aggpack::describe(p));
     } else if (*grading_cmd) {
       if (grading_list) {
         for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);

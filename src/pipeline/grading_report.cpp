@@ -28,13 +28,14 @@ std::string snapped_sieves_text(const std::vector<SnappedSieve>& snapped) {
                      100 * kSieveSnapTolerance, fmt::join(moves, ", "));
 }
 
-namespace {
-Grading load(const std::string& name_or_file, double unit) {
+Grading load_grading(const std::string& name_or_file, double unit) {
   if (auto g = named_grading(name_or_file)) return *g;
   if (std::filesystem::exists(name_or_file)) return read_grading_csv(name_or_file, unit);
   throw InputError(fmt::format("{}: neither a shipped grading ({}) nor a file", name_or_file,
                                fmt::join(named_grading_names(), ", ")));
 }
+
+namespace {
 
 nlohmann::json curve_json(const Grading& g) {
   nlohmann::json j;
@@ -65,10 +66,10 @@ nlohmann::json band_check_json(const Band& band, const BandCheck& check) {
 
 GradingDescription describe_grading(const GradingQuery& q) {
   GradingDescription d;
-  d.grading = load(q.grading, q.length_unit);
+  d.grading = load_grading(q.grading, q.length_unit);
   const Grading& main = d.grading;
   if (q.fine) {
-    d.fine = load(*q.fine, q.length_unit);
+    d.fine = load_grading(*q.fine, q.length_unit);
     if (!(q.ca_fa > 0.0)) throw InputError("--ca-fa: the coarse/fine volume ratio must be positive");
     // The blend by volume at the union of both sets of sieves (both on the standard series
     // already, so a nominal sieve appears once).

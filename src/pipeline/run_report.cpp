@@ -109,6 +109,14 @@ std::vector<std::string> RunReport::modelling_notes() const {
   return notes;
 }
 
+Predictions RunReport::predictions() const {
+  // A particle file's spheres are the distribution; generated ones, the scenario's target.
+  std::vector<double> diameters;
+  if (scenario.particles.file)
+    for (const double r : particles.radius) diameters.push_back(2.0 * r);
+  return predict_scenario(scenario, default_model_parameters(!tappings.empty()), diameters);
+}
+
 double RunReport::density_after_deposition() const {
   const auto a = analyses.find("deposition");
   return a != analyses.end() ? a->second.report.density.mean : std::numeric_limits<double>::quiet_NaN();
@@ -181,6 +189,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
       all.push_back({{"direction", x.direction}, {"path", x.path}, {"what", x.what}, {"spheres", x.spheres}});
     summary["lammps_exchanges"] = all;
   }
+  summary["predictions"] = to_json(predictions());
   summary["modelling_notes"] = modelling_notes();
   if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;
   if (checkpoint_error) summary["checkpoint_error"] = *checkpoint_error;
@@ -282,6 +291,7 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
     fmt::format_to(o, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}), mean coordination {:.3f} over {} spheres\n", final.density.mean,
                  final.density.sd, final.coordination.mean, final.coordination.particles_counted);
+  fmt::format_to(o, "{}", describe(predictions()));
   fmt::format_to(o, "  wrote {}\n", written_to.string());
   return out;
 }

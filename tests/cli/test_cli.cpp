@@ -123,7 +123,7 @@ TEST_F(Cli, AnUnknownSubcommandIsNamedWithTheList) {
   const Result r = run("bogus");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("unknown subcommand 'bogus'; the subcommands are: run, resume, check, analyze, grading, "
-                          "reproduce, sweep, export-lammps, import-lammps"),
+                          "predict, reproduce, sweep, export-lammps, import-lammps"),
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("A subcommand is required"), std::string::npos) << r.output;
@@ -412,6 +412,54 @@ TEST_F(Cli, AnExplicitProtocolRunsItsSteps) {
 
 // A step kind added after the loop (the proof that a new kind leaves the loop alone): a
 // snapshot writes the bed at its point as particles_<name>.csv.
+// aggpack predict: the models without a simulation; the same block in every summary.json.
+TEST_F(Cli, PredictGivesTheModelsOfAScenarioOrAGrading) {
+  const auto json = [](const Result& r) { return nlohmann::json::parse(r.output.substr(r.output.find('{'))); };
+  // One size: CPM's monosized density beta / (1 + 1/K), for the defaults and for given values.
+  Result r = run("predict " + example("example1.toml") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NEAR(json(r).at("simulated").at("cpm").at("density").get<double>(), 0.72 / (1.0 + 1.0 / 4.1), 1e-12);
+  r = run("predict " + example("example1.toml") + " --json --k 9 --beta 0.64");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto given = json(r);
+  EXPECT_NEAR(given.at("simulated").at("cpm").at("density").get<double>(), 0.64 / (1.0 + 1.0 / 9.0), 1e-12);
+  EXPECT_EQ(given.at("parameters").at("cpm_compaction_index_source"), "--k");
+  EXPECT_EQ(json(run("predict " + example("example1.toml") + " --json --process vibrated_compressed"))
+                .at("parameters")
+                .at("cpm_compaction_index"),
+            9.0);
+  // A tapped protocol takes vibration's K until calibrated.
+  EXPECT_EQ(json(run("predict " + example("example2_tapped.toml") + " --json")).at("parameters").at("cpm_compaction_index"),
+            4.75);
+  // A binary mix has Furnas's limit; a cut grading has its whole grading too, denser with its fines.
+  const auto binary = json(run("predict " + example("example2.toml") + " --json")).at("simulated");
+  EXPECT_GT(binary.at("furnas").at("densest").get<double>(), binary.at("cpm").at("density").get<double>());
+  const auto mix = json(run("predict " + example("table2_mix3.toml") + " --json"));
+  EXPECT_GT(mix.at("whole_grading").at("cpm").at("density").get<double>(),
+            mix.at("simulated").at("cpm").at("density").get<double>());
+  EXPECT_TRUE(mix.at("whole_grading").at("desmond_weeks").at("random_close_packing").is_null());  // beyond its fit
+  // Gradings by name, alone or blended.
+  r = run("predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 1.5");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("CPM (K 4.1, beta 0.72): density 0."), std::string::npos) << r.output;
+  // Refused, exit 2, saying why.
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"predict fu2003_table1_coarse --mix astm_c33_fine_mid", "--mix and --ca-fa go together"},
+           {"predict " + example("example1.toml") + " --k 5 --process poured", "give one"},
+           {"predict " + example("example1.toml") + " --beta 1.5", "between 0 and 1"},
+           {"predict " + example("example1.toml") + " --process shaken", "expected poured, rodded"},
+           {"predict no_such_grading", "neither a shipped grading"}}) {
+    const Result bad = run(args);
+    EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;
+  }
+  // Every run's summary holds the same block as predict prints for its scenario.
+  const auto summary = run_text("predicted", "[container]\nside = 0.06\nheight = 0.2\n[particles]\ndiameter = 0.01\n"
+                                             "count = 300\n[deposition]\n[analysis]\nbox_sides = [0.03]\n");
+  EXPECT_NEAR(summary.at("predictions").at("simulated").at("cpm").at("density").get<double>(), 0.72 / (1.0 + 1.0 / 4.1),
+              1e-12);
+}
+
 TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
   std::ofstream(dir_ / "snap.toml")
       << "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 200\n"

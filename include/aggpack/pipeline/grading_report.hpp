@@ -21,6 +21,10 @@ struct GradingQuery {
   double length_unit = 0.0254;          // metres per unit of an `opening` column in files
 };
 
+// A shipped grading by name, or a CSV sieve analysis (`length_unit` metres per unit of an
+// `opening` column). InputError naming both when it is neither.
+Grading load_grading(const std::string& name_or_file, double length_unit = 0.0254);
+
 // The band check as JSON: { name, all_inside, sieves[] { sieve, opening_m, min_percent,
 // max_percent, percent, inside } } (summary.json and `aggpack grading --json`).
 nlohmann::json band_check_json(const Band& band, const BandCheck& check);

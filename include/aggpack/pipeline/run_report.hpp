@@ -11,6 +11,7 @@
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
+#include "aggpack/pipeline/predictions.hpp"
 #include "aggpack/pipeline/reports.hpp"
 #include "aggpack/pipeline/settle_stage.hpp"
 
@@ -68,6 +69,8 @@ struct RunReport {
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;
   [[nodiscard]] double density_after_dynamics() const;
+  // The analytic models on the run's size distribution (summary.json's predictions).
+  [[nodiscard]] Predictions predictions() const;
   // Every modelling choice the results depend on, in words (summary.json's modelling_notes).
   [[nodiscard]] std::vector<std::string> modelling_notes() const;
   // summary.json (README, "Output files"), `output_seconds` and `total_seconds` included.

@@ -1,0 +1,71 @@
+#pragma once
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/models/packing_models.hpp"
+
+namespace aggpack {
+
+// The analytic models' parameters, each with where it came from.
+struct ModelParameters {
+  double compaction_index = 4.1;  // CPM's K
+  std::string compaction_source;
+  double beta = 0.72;             // CPM's residual packing density of every class (spheres)
+  std::string beta_source;
+};
+
+// The parameters for a protocol until they are calibrated: K is de Larrard's value for the
+// lab process nearest the protocol (poured, 4.1, for a deposition, a pour or a settling;
+// vibrated, 4.75, once it taps), beta the value quoted for spheres, 0.72.
+ModelParameters default_model_parameters(bool tapped);
+
+// What the models say of one size distribution.
+struct DistributionPrediction {
+  std::string name;         // "simulated" or "whole_grading"
+  std::string description;  // what the distribution is
+  ModelDistribution classes;
+  CpmResult cpm;
+  RadiusMoments moments;
+  double random_close_packing = 0.0;  // Desmond and Weeks
+  // Furnas's limit for two classes: each size alone at CPM's monosized density.
+  std::optional<double> furnas_at_mix, furnas_densest, furnas_densest_fine_fraction;
+};
+
+struct Predictions {
+  ModelParameters parameters;
+  std::vector<DistributionPrediction> distributions;
+};
+
+// The models on a scenario's size distribution: the one it simulates (after its cut-offs; for a
+// particle file the file's spheres, `file_diameters`) and, when a grading is cut, the whole
+// grading. No simulation.
+Predictions predict_scenario(const Scenario& scenario, const ModelParameters& parameters,
+                             std::span<const double> file_diameters = {});
+// The models on one distribution.
+DistributionPrediction predict_distribution(std::string name, std::string description, ModelDistribution classes,
+                                            const ModelParameters& parameters);
+
+// `aggpack predict`: a scenario (its protocol chooses K), or a grading (a CSV file or a shipped
+// grading's name) alone or blended with a fine one at a coarse/fine volume ratio (K for
+// pouring); K, the process or beta given override those.
+struct PredictRequest {
+  std::string input;
+  std::optional<std::string> fine;
+  std::optional<double> ca_fa;
+  std::optional<double> compaction_index;
+  std::optional<std::string> process;
+  std::optional<double> beta;
+  ScenarioOverrides overrides;
+};
+Predictions predict(const PredictRequest& request);
+
+nlohmann::json to_json(const Predictions& predictions);
+// The terminal's lines: one per distribution and model.
+std::string describe(const Predictions& predictions);
+
+}  // namespace aggpack
