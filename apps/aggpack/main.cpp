@@ -16,7 +16,9 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
+#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/pipeline/predictions.hpp"
+#include "aggpack/io/atomic_file.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/reproduce.hpp"
 #include "aggpack/pipeline/lammps_bridge.hpp"
@@ -251,7 +253,20 @@ int main(int argc, char** argv) {
   predict_cmd->add_option("--k", predict.compaction_index, "CPM compaction index K (4.1 poured ... 9 vibrated and compressed)");
   predict_cmd->add_option("--process", predict.process, "K of a lab process: poured, rodded, vibrated, vibrated_compressed");
   predict_cmd->add_option("--beta", predict.beta, "CPM residual packing density of every class (default 0.72, spheres)");
+  predict_cmd->add_option("--calibration", predict.calibration, "K and beta from a file aggpack calibrate wrote");
   predict_cmd->add_option("--set", predict.overrides.set, "Override a scenario key: key.path=value");
+
+  aggpack::CalibrationOptions calibration;
+  std::string calibration_out;
+  auto* calibrate_cmd = app.add_subcommand(
+      "calibrate", "CPM's K and beta from simulations of a scenario's protocol: a monosized bed and the scenario's mix");
+  calibrate_cmd->add_option("scenario", calibration.scenario, "Scenario of two sizes or more (TOML)")->required();
+  calibrate_cmd->add_option("--out", calibration_out, "The calibration file to write (JSON)")->required();
+  calibrate_cmd->add_option("--seeds", calibration.seeds, "Seeds per packing (default 3)")->check(CLI::Range(1, 100));
+  calibrate_cmd->add_option("--threads", calibration.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
+      ->check(thread_range);
+  calibrate_cmd->add_option("--set", calibration.overrides.set, "Override a scenario key: key.path=value");
+  calibrate_cmd->add_flag("--quiet", calibration.quiet, "Print nothing on success");
   predict_cmd->add_flag("--json", predict_json, "Print machine-readable JSON");
 
   aggpack::ReproduceOptions reproduce;
@@ -365,6 +380,20 @@ int main(int argc, char** argv) {
       fmt::print("{}: ok ({})\n", scenario, sc.title);
     } else if (*analyze_cmd) {
       return analyze_command(analyze);
+    } else if (*calibrate_cmd) {
+      // The file's folder is checked (and made) before the simulations, not after them.
+      const std::filesystem::path out = calibration_out;
+      if (std::filesystem::is_directory(out))
+        throw aggpack::InputError(fmt::format("--out {}: a folder; expected the calibration file's name", calibration_out));
+      aggpack::check_output_directory(out.has_parent_path() ? out.parent_path() : ".", true);
+      const aggpack::Calibration c = aggpack::calibrate(calibration, std::cout);
+      aggpack::write_file_atomically(calibration_out, aggpack::to_json(c).dump(1) + "\n");
+      if (!calibration.quiet)
+        fmt::print("aggpack: calibrated CPM from {} ({}; {} seeds): K = {:.3g} ({:.3g} to {:.3g}), beta = {:.4f} ({:.4f} "
+                   "to {:.4f}); monosized {:.4f} +- {:.4f}, mix {:.4f} +- {:.4f}; wrote {}\n",
+                   c.scenario, c.protocol, c.seeds, c.compaction_index, c.compaction_low, c.compaction_high, c.beta,
+                   c.beta_low, c.beta_high, c.monosized.mean, c.monosized.standard_error, c.mix.mean,
+                   c.mix.standard_error, calibration_out);
     } else if (*predict_cmd) {
       const aggpack::Predictions p = aggpack::predict(predict);
       if (predict_json) fmt::print("{}\n", aggpack::to_json(p).dump(1));

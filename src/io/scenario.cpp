@@ -537,7 +537,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",
-                "tapping", "dynamics", "protocol", "limits"});
+                "tapping", "dynamics", "protocol", "limits", "models"});
 
   Scenario sc;
   sc.file = file;
@@ -568,6 +568,18 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   }
   if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
   if (const auto l = s.table("limits")) sc.limits = read_limits(*l);
+  if (const auto m = s.table("models")) {
+    m->allow_only({"calibration"});
+    if (const auto f = m->string("calibration")) {
+      std::filesystem::path path = *f;
+      if (path.is_relative()) path = file.parent_path() / path;
+      if (!std::filesystem::is_regular_file(path))
+        m->fail("calibration", fmt::format("{} is not a file (a calibration written by aggpack calibrate; relative "
+                                           "paths are from the scenario's folder)",
+                                           path.string()));
+      sc.models_calibration = path;
+    }
+  }
   if (const auto o = s.table("output")) sc.output = read_output(*o, file);
   else sc.output.directory = "out/" + file.stem().string();
   if (overrides.output_directory) sc.output.directory = *overrides.output_directory;

@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
 #include "aggpack/pipeline/protocol.hpp"
 
@@ -88,6 +89,8 @@ Predictions predict(const PredictRequest& r) {
     throw InputError("--mix and --ca-fa go together: the fine grading and the coarse/fine volume ratio of the blend");
   if (r.compaction_index && r.process)
     throw InputError("--k and --process both give the compaction index; give one");
+  if (r.calibration && (r.compaction_index || r.process || r.beta))
+    throw InputError("--calibration gives K and beta; give it alone, or --k (or --process) and --beta");
   if (r.compaction_index && !(*r.compaction_index > 0.0))
     throw InputError(fmt::format("--k {}: expected a positive compaction index (4.1 poured ... 9 vibrated and "
                                  "compressed)",
@@ -112,6 +115,8 @@ Predictions predict(const PredictRequest& r) {
                          [](const Step& s) { return std::holds_alternative<TapStep>(s.kind); });
   }
   ModelParameters parameters = default_model_parameters(tapped);
+  if (sc && sc->models_calibration) parameters = read_calibration(*sc->models_calibration);
+  if (r.calibration) parameters = read_calibration(*r.calibration);
   if (r.compaction_index) parameters.compaction_index = *r.compaction_index, parameters.compaction_source = "--k";
   if (process_k)
     parameters.compaction_index = *process_k,

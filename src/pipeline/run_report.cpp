@@ -1,3 +1,4 @@
+#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/pipeline/run_report.hpp"
 
 #include <cmath>
@@ -114,7 +115,9 @@ Predictions RunReport::predictions() const {
   std::vector<double> diameters;
   if (scenario.particles.file)
     for (const double r : particles.radius) diameters.push_back(2.0 * r);
-  return predict_scenario(scenario, default_model_parameters(!tappings.empty()), diameters);
+  const ModelParameters parameters = scenario.models_calibration ? read_calibration(*scenario.models_calibration)
+                                                                 : default_model_parameters(!tappings.empty());
+  return predict_scenario(scenario, parameters, diameters);
 }
 
 double RunReport::density_after_deposition() const {

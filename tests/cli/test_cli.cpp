@@ -460,6 +460,54 @@ TEST_F(Cli, PredictGivesTheModelsOfAScenarioOrAGrading) {
               1e-12);
 }
 
+// aggpack calibrate: K and beta from a monosized bed and the mix of the same protocol; the
+// calibrated model then gives back both simulated densities, by construction.
+TEST_F(Cli, CalibrateFitsTheModelToTheProtocolsOwnBeds) {
+  const fs::path scenario = dir_ / "binary.toml";
+  std::ofstream(scenario) << "seed = 1\n[container]\nside = 0.1\nheight = 0.3\n[particles]\norder = \"shuffled\"\n"
+                             "classes = [{ diameter = 0.01, count = 600 }, { diameter = 0.005, count = 1200 }]\n"
+                             "[deposition]\n[analysis]\nbox_sides = [0.05]\n";
+  const fs::path file = dir_ / "calibration.json";
+  Result r = run("calibrate " + scenario.string() + " --seeds 2 --out " + file.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("calibrated CPM from"), std::string::npos) << r.output;
+  const auto c = nlohmann::json::parse(std::ifstream(file));
+  EXPECT_EQ(c.at("kind"), "aggpack CPM calibration");
+  EXPECT_EQ(c.at("monosized").at("density_per_seed").size(), 2u);
+  const double mono = c.at("monosized").at("mean").get<double>(), mix = c.at("mix").at("mean").get<double>();
+  EXPECT_GT(mix, mono);  // two sizes pack denser than one
+  const double k = c.at("cpm").at("compaction_index").get<double>(), beta = c.at("cpm").at("residual_packing_density").get<double>();
+  EXPECT_NEAR(beta / (1.0 + 1.0 / k), mono, 1e-9);
+  r = run("predict " + scenario.string() + " --calibration " + file.string() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto p = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_NEAR(p.at("simulated").at("cpm").at("density").get<double>(), mix, 1e-9);
+  EXPECT_NE(p.at("parameters").at("cpm_compaction_index_source").get<std::string>().find("calibrated by aggpack calibrate"),
+            std::string::npos);
+  // A scenario can name the file ([models] calibration): its runs' predictions use it.
+  std::ofstream(dir_ / "uses.toml") << "seed = 1\n[container]\nside = 0.1\nheight = 0.3\n[particles]\n"
+                                       "order = \"shuffled\"\nclasses = [{ diameter = 0.01, count = 600 }, "
+                                       "{ diameter = 0.005, count = 1200 }]\n[deposition]\n[analysis]\n"
+                                       "box_sides = [0.05]\n[models]\ncalibration = \"calibration.json\"\n";
+  r = run("run " + (dir_ / "uses.toml").string() + " --quiet --out " + (dir_ / "uses").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "uses" / "summary.json"));
+  EXPECT_NEAR(summary.at("predictions").at("parameters").at("cpm_compaction_index").get<double>(), k, 1e-12);
+  // Refused before any simulation, exit 2.
+  std::ofstream(dir_ / "mono.toml") << "[container]\nside = 0.1\nheight = 0.3\n[particles]\ndiameter = 0.01\n"
+                                       "count = 600\n[deposition]\n[analysis]\nbox_sides = [0.05]\n";
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"calibrate " + (dir_ / "mono.toml").string() + " --out " + (dir_ / "x.json").string(), "one size class"},
+           {"calibrate " + scenario.string() + " --out " + dir_.string(), "a folder; expected the calibration file"},
+           {"predict " + scenario.string() + " --calibration " + scenario.string(), "not JSON"},
+           {"predict " + scenario.string() + " --calibration " + file.string() + " --k 4", "give it alone"}}) {
+    const Result bad = run(args);
+    EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "x.json"));
+}
+
 TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
   std::ofstream(dir_ / "snap.toml")
       << "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 200\n"

@@ -124,6 +124,7 @@ struct OutputSettings {
 struct Scenario {
   std::filesystem::path file;
   std::vector<std::string> overrides;  // the --set key=value assignments it was read with, in order
+  std::optional<std::filesystem::path> models_calibration;  // [models] calibration: K and beta for the predictions
   std::string title;
   std::uint64_t seed = 1;
   Container container;

@@ -50,7 +50,8 @@ Predictions predict_scenario(const Scenario& scenario, const ModelParameters& pa
 DistributionPrediction predict_distribution(std::string name, std::string description, ModelDistribution classes,
                                             const ModelParameters& parameters);
 
-// `aggpack predict`: a scenario (its protocol chooses K), or a grading (a CSV file or a shipped
+// `aggpack predict`: a scenario (its protocol chooses K, or its models.calibration gives K and
+// beta), or a grading (a CSV file or a shipped
 // grading's name) alone or blended with a fine one at a coarse/fine volume ratio (K for
 // pouring); K, the process or beta given override those.
 struct PredictRequest {
@@ -60,6 +61,7 @@ struct PredictRequest {
   std::optional<double> compaction_index;
   std::optional<std::string> process;
   std::optional<double> beta;
+  std::optional<std::filesystem::path> calibration;  // an aggpack calibrate file: K and beta
   ScenarioOverrides overrides;
 };
 Predictions predict(const PredictRequest& request);
