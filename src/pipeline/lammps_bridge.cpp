@@ -680,8 +680,11 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
                                    summary_file.string(), scenario_file));
     ScenarioOverrides recorded = overrides;
     if (!recorded.seed && summary.contains("seed")) recorded.seed = summary.at("seed").get<std::uint64_t>();
-    if (summary.contains("scenario_overrides"))
-      for (const auto& s : summary.at("scenario_overrides")) recorded.set.insert(recorded.set.begin(), s.get<std::string>());
+    // The run's own overrides first, in their order; the command's --set after them win.
+    if (summary.contains("scenario_overrides")) {
+      const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
+      recorded.set.insert(recorded.set.begin(), run_sets.begin(), run_sets.end());
+    }
     const Scenario sc = load_scenario(scenario_file, recorded);
     if (!sc.dynamics)
       throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "

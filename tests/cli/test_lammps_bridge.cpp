@@ -214,11 +214,12 @@ TEST_F(LammpsBridge, APourAndATappingRunInLammpsAsInAggpack) {
   ASSERT_FALSE(still.is_null());
   EXPECT_NEAR(still.at("stages").at("tapping").at("density_after_each_tap")[2].get<double>(),
               still.at("stages").at("tapping").at("density_before").get<double>(), 1e-4);
-  // The pour under mpirun -np 2: the same bed as on one rank, within 0.003.
-  const auto two = run_summary(scenario, dir_ / "two",
-                               "--set dynamics.engine='\"lammps\"' --set dynamics.lammps_ranks=2 --stop-after pour");
+  // Both decks under mpirun -np 2: the same poured bed as on one rank within 0.003, and taps.
+  const auto two = run_summary(scenario, dir_ / "two", "--set dynamics.engine='\"lammps\"' --set dynamics.lammps_ranks=2");
   ASSERT_FALSE(two.is_null());
-  EXPECT_NEAR(two.at("density").at("mean").get<double>(), lmp_poured, 0.003);
+  EXPECT_EQ(two.at("stages").at("tapping").at("lammps_ranks"), 2);
+  EXPECT_NEAR(two.at("stages").at("tapping").at("density_before").get<double>(), lmp_poured, 0.003);
+  EXPECT_EQ(two.at("stages").at("tapping").at("density_after_each_tap").size(), 3u);
 }
 
 // export_lammps and import_lammps as protocol steps: a run exports its deposited bed for a
