@@ -667,24 +667,25 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
         throw InputError(fmt::format("{}: a run's folder holds {}; this one has none (is it the output folder of a "
                                      "finished aggpack run?)",
                                      scenario_or_run.string(), f.filename().string()));
-    nlohmann::json summary;
+    std::string scenario_file;
+    ScenarioOverrides recorded = overrides;
     try {
-      summary = nlohmann::json::parse(read_input_file(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
+      const auto summary =
+          nlohmann::json::parse(read_input_file(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
+      scenario_file = summary.value("scenario_file", std::string());
+      if (!recorded.seed && summary.contains("seed")) recorded.seed = summary.at("seed").get<std::uint64_t>();
+      // The run's own overrides first, in their order; the command's --set after them win.
+      if (summary.contains("scenario_overrides")) {
+        const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
+        recorded.set.insert(recorded.set.begin(), run_sets.begin(), run_sets.end());
+      }
     } catch (const nlohmann::json::exception& e) {
       throw InputError(fmt::format("{}: not a summary.json aggpack wrote: {}", summary_file.string(), e.what()));
     }
-    const auto scenario_file = summary.value("scenario_file", std::string());
     if (scenario_file.empty() || !std::filesystem::exists(scenario_file))
       throw InputError(fmt::format("{}: its scenario_file \"{}\" is gone; export the bed with "
                                    "export-lammps SCENARIO, or run the scenario again",
                                    summary_file.string(), scenario_file));
-    ScenarioOverrides recorded = overrides;
-    if (!recorded.seed && summary.contains("seed")) recorded.seed = summary.at("seed").get<std::uint64_t>();
-    // The run's own overrides first, in their order; the command's --set after them win.
-    if (summary.contains("scenario_overrides")) {
-      const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
-      recorded.set.insert(recorded.set.begin(), run_sets.begin(), run_sets.end());
-    }
     const Scenario sc = load_scenario(scenario_file, recorded);
     if (!sc.dynamics)
       throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "
