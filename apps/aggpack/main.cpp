@@ -24,6 +24,7 @@
 #include "aggpack/pipeline/lammps_bridge.hpp"
 #include "aggpack/pipeline/run.hpp"
 #include "aggpack/pipeline/sweep.hpp"
+#include "aggpack/pipeline/whole_grading.hpp"
 
 namespace {
 
@@ -80,7 +81,8 @@ std::string seconds_argument(const std::string& text) {
   return fmt::format("{}", value);  // the shortest text that reads back as the same double
 }
 
-aggpack::Box box_argument(const std::string& text, long double bare_unit) {
+// "a,b,c" as lengths (bare numbers in `bare_unit` metres), naming `option` in errors.
+std::vector<double> lengths_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
   std::vector<double> v;
   std::size_t start = 0;
   while (true) {
@@ -88,11 +90,16 @@ aggpack::Box box_argument(const std::string& text, long double bare_unit) {
     std::string why;
     const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto value = aggpack::parse_length(part, &why, bare_unit);
-    if (!value) throw aggpack::InputError(fmt::format("--box {}: \"{}\": {}", text, part, why));
+    if (!value) throw aggpack::InputError(fmt::format("{} {}: \"{}\": {}", option, text, part, why));
     v.push_back(*value);
     if (comma == std::string::npos) break;
     start = comma + 1;
   }
+  return v;
+}
+
+aggpack::Box box_argument(const std::string& text, long double bare_unit) {
+  const std::vector<double> v = lengths_argument(text, "--box", bare_unit);
   if (v.size() != 6 || !(v[3] > v[0] && v[4] > v[1] && v[5] > v[2]))
     throw aggpack::InputError(fmt::format("--box {}: expected xmin,ymin,zmin,xmax,ymax,zmax with max > min", text));
   return {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
@@ -269,6 +276,20 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_flag("--quiet", calibration.quiet, "Print nothing on success");
   predict_cmd->add_flag("--json", predict_json, "Print machine-readable JSON");
 
+  aggpack::WholeGradingOptions whole;
+  std::string whole_cuts, whole_out;
+  auto* whole_cmd = app.add_subcommand(
+      "whole-grading", "The whole grading's density: a series of cut-offs simulated, CPM carrying it below them");
+  whole_cmd->add_option("scenario", whole.scenario, "Scenario sampling a grading or a coarse/fine mix (TOML)")->required();
+  whole_cmd->add_option("--cut-offs", whole_cuts, "Three or more d_min of the finest grading, e.g. \"0.1in,0.07in,0.04in\"")
+      ->required();
+  whole_cmd->add_option("--seeds", whole.seeds, "Seeds per cut-off (default 3)")->check(CLI::Range(1, 100));
+  whole_cmd->add_option("--calibration", whole.calibration, "CPM's K and beta from a file aggpack calibrate wrote");
+  whole_cmd->add_option("--out", whole_out, "Also write the estimate as JSON to this file");
+  whole_cmd->add_option("--threads", whole.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
+  whole_cmd->add_option("--set", whole.overrides.set, "Override a scenario key: key.path=value");
+  whole_cmd->add_flag("--quiet", whole.quiet, "Print only the estimate");
+
   aggpack::ReproduceOptions reproduce;
   reproduce.examples = AGGPACK_EXAMPLES_DIR;
   std::string reproduce_out = reproduce.out.string(), examples_dir = reproduce.examples.string();
@@ -380,6 +401,17 @@ int main(int argc, char** argv) {
       fmt::print("{}: ok ({})\n", scenario, sc.title);
     } else if (*analyze_cmd) {
       return analyze_command(analyze);
+    } else if (*whole_cmd) {
+      whole.cut_offs = lengths_argument(whole_cuts, "--cut-offs");
+      if (!whole_out.empty()) {
+        const std::filesystem::path out = whole_out;
+        if (std::filesystem::is_directory(out))
+          throw aggpack::InputError(fmt::format("--out {}: a folder; expected the estimate file's name", whole_out));
+        aggpack::check_output_directory(out.has_parent_path() ? out.parent_path() : ".", true);
+      }
+      const aggpack::WholeGradingEstimate e = aggpack::estimate_whole_grading(whole, std::cout);
+      if (!whole_out.empty()) aggpack::write_file_atomically(whole_out, aggpack::to_json(e).dump(1) + "\n");
+      fmt::print("{}", aggpack::describe(e));
     } else if (*calibrate_cmd) {
       // The file's folder is checked (and made) before the simulations, not after them.
       const std::filesystem::path out = calibration_out;

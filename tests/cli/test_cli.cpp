@@ -508,6 +508,45 @@ TEST_F(Cli, CalibrateFitsTheModelToTheProtocolsOwnBeds) {
   EXPECT_FALSE(fs::exists(dir_ / "x.json"));
 }
 
+// aggpack whole-grading: a series of cut-offs simulated, CPM carrying the residual below them.
+TEST_F(Cli, WholeGradingCarriesACutOffSeriesToTheWholeGrading) {
+  const fs::path scenario = dir_ / "blend.toml";
+  std::ofstream(scenario) << "seed = 1\n[container]\nside = \"2 in\"\nheight = \"4 in\"\n[particles]\nca_fa = 1.5\n"
+                             "fill_height = \"2.5 in\"\n[particles.coarse]\nname = \"fu2003_table1_coarse\"\n"
+                             "d_min = \"0.25 in\"\nd_max = \"0.5 in\"\n[particles.fine]\nname = \"astm_c33_fine_mid\"\n"
+                             "d_min = \"0.12 in\"\n[deposition]\n[analysis]\nbox_sides = [\"0.8 in\"]\n";
+  const fs::path file = dir_ / "estimate.json";
+  Result r = run("whole-grading " + scenario.string() + " --cut-offs 0.12in,0.2in,0.16in --seeds 2 --out " +
+                 file.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto e = nlohmann::json::parse(std::ifstream(file));
+  ASSERT_EQ(e.at("cut_offs").size(), 3u);
+  EXPECT_EQ(e.at("cut_off_key"), "particles.fine.d_min");
+  // Coarsest first; a finer cut leaves less out and places more spheres.
+  for (std::size_t k = 1; k < 3; ++k) {
+    EXPECT_LT(e.at("cut_offs")[k].at("cut_off_m").get<double>(), e.at("cut_offs")[k - 1].at("cut_off_m").get<double>());
+    EXPECT_LT(e.at("cut_offs")[k].at("left_out_volume_fraction").get<double>(),
+              e.at("cut_offs")[k - 1].at("left_out_volume_fraction").get<double>());
+    EXPECT_GT(e.at("cut_offs")[k].at("spheres").get<int>(), e.at("cut_offs")[k - 1].at("spheres").get<int>());
+  }
+  const auto& w = e.at("whole_grading");
+  EXPECT_DOUBLE_EQ(w.at("density").get<double>(),
+                   w.at("cpm").get<double>() + e.at("residual_fit").at("at_nothing_left_out").get<double>());
+  // This toy blend leaves four fifths of its grading out: the band says the estimate is none.
+  EXPECT_FALSE(w.at("trustworthy").get<bool>());
+  EXPECT_NE(r.output.find("warning: the band is"), std::string::npos) << r.output;
+  // Refused before any simulation, exit 2.
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"whole-grading " + scenario.string() + " --cut-offs 0.2in,0.16in", "expected three or more"},
+           {"whole-grading " + scenario.string() + " --cut-offs 0.2in,0.2in,0.16in", "given twice"},
+           {"whole-grading " + scenario.string() + " --cut-offs 0.2in,x,0.16in", "--cut-offs"},
+           {"whole-grading " + example("example2.toml") + " --cut-offs 0.2in,0.16in,0.1in", "not sampled from a grading"}}) {
+    const Result bad = run(args);
+    EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;
+  }
+}
+
 TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
   std::ofstream(dir_ / "snap.toml")
       << "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 200\n"

@@ -1,0 +1,70 @@
+#pragma once
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/pipeline/predictions.hpp"
+
+namespace aggpack {
+
+// `aggpack whole-grading SCENARIO --cut-offs L1,L2,L3`: the density of the whole grading of a
+// scenario that simulates its grading above a cut-off (README, "Analytic packing models").
+// The scenario is simulated at each cut-off of its finest grading (seeds 1..N); at each, CPM
+// (calibrated, or with the defaults) is evaluated on the same simulated distribution, and the
+// residual r = simulated - CPM is fitted by least squares as r = r0 + s f, f the volume
+// fraction of the whole grading the cut leaves out. The whole grading's density is CPM's on the
+// whole grading plus r0 (the residual extrapolated to nothing left out), with a band of two
+// standard errors of r0: the scatter about the line and each point's own standard error over
+// seeds, carried through the fit. The simulated part is the volume above the finest cut; the
+// rest is modelled.
+struct WholeGradingOptions {
+  std::filesystem::path scenario;
+  ScenarioOverrides overrides;
+  std::vector<double> cut_offs;  // m, of the finest grading's d_min
+  int seeds = 3;
+  std::optional<std::filesystem::path> calibration;  // CPM's K and beta; none: the scenario's or the defaults
+  int threads = 0;
+  bool quiet = false;
+};
+
+struct CutOffPoint {
+  double cut_off = 0.0;          // m
+  double left_out = 0.0;         // volume fraction of the whole grading below the cuts
+  std::size_t spheres = 0;       // of the first seed's bed
+  std::vector<double> density;   // per seed
+  double mean = 0.0, standard_error = 0.0;
+  double cpm = 0.0;              // on the same distribution
+  [[nodiscard]] double residual() const { return mean - cpm; }
+};
+
+struct WholeGradingEstimate {
+  std::string scenario, key;      // the scenario file, the cut-off's key (particles.fine.d_min, ...)
+  ModelParameters parameters;
+  std::vector<CutOffPoint> points;  // coarsest cut first
+  double residual_at_zero = 0.0, residual_standard_error = 0.0, residual_slope = 0.0;
+  double cpm_whole = 0.0;           // CPM on the whole grading
+  double density = 0.0, low = 0.0, high = 0.0;  // the whole grading's estimate and band
+  double simulated_fraction = 0.0;  // of the whole grading's volume, at the finest cut
+  // A band wider than 0.04 (as wide as the differences between blends) is no estimate.
+  [[nodiscard]] bool trustworthy() const { return high - low <= 0.04; }
+};
+
+// The least-squares line through (x_k, y_k): intercept, slope and the intercept's standard
+// error, from the scatter about the line (none for two points) and from the points' own
+// standard errors `y_error` (the intercept is a linear combination of the y_k; empty: none),
+// added in quadrature. InputError for fewer than two points or equal x.
+struct LineFit {
+  double intercept = 0.0, slope = 0.0, intercept_standard_error = 0.0;
+};
+LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& y_error = {});
+
+WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, std::ostream& log);
+nlohmann::json to_json(const WholeGradingEstimate& estimate);
+std::string describe(const WholeGradingEstimate& estimate);
+
+}  // namespace aggpack

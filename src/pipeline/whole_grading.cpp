@@ -1,0 +1,190 @@
+#include "aggpack/pipeline/whole_grading.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/pipeline/calibration.hpp"
+#include "aggpack/pipeline/protocol.hpp"
+#include "aggpack/pipeline/run.hpp"
+
+namespace aggpack {
+
+LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& y_error) {
+  const std::size_t n = x.size();
+  if (n < 2 || y.size() != n || (!y_error.empty() && y_error.size() != n))
+    throw InputError("a line needs two points or more");
+  double mx = 0.0, my = 0.0;
+  for (std::size_t k = 0; k < n; ++k) mx += x[k] / static_cast<double>(n), my += y[k] / static_cast<double>(n);
+  double sxx = 0.0, sxy = 0.0;
+  for (std::size_t k = 0; k < n; ++k) sxx += (x[k] - mx) * (x[k] - mx), sxy += (x[k] - mx) * (y[k] - my);
+  if (!(sxx > 0.0)) throw InputError("a line through points of one abscissa is not defined");
+  LineFit f;
+  f.slope = sxy / sxx;
+  f.intercept = my - f.slope * mx;
+  double variance = 0.0;
+  if (n > 2) {
+    double ss = 0.0;
+    for (std::size_t k = 0; k < n; ++k) {
+      const double e = y[k] - (f.intercept + f.slope * x[k]);
+      ss += e * e;
+    }
+    variance += ss / static_cast<double>(n - 2) * (1.0 / static_cast<double>(n) + mx * mx / sxx);
+  }
+  // intercept = sum_k c_k y_k with c_k = 1/n - mx (x_k - mx) / sxx.
+  for (std::size_t k = 0; k < y_error.size(); ++k) {
+    const double c = 1.0 / static_cast<double>(n) - mx * (x[k] - mx) / sxx;
+    variance += c * c * y_error[k] * y_error[k];
+  }
+  f.intercept_standard_error = std::sqrt(variance);
+  return f;
+}
+
+namespace {
+// The volume fraction of the whole grading (or blend) that the scenario's cut-offs leave out.
+double left_out(const GradedParticles& g) {
+  const auto removed = [](const GradingSource& s) {
+    const GradingCut c = cut_grading(s.grading, s.d_min, s.d_max, s.key);
+    return c.cut_below + c.cut_above;
+  };
+  if (!g.fine) return removed(g.main);
+  const double coarse = g.ca_fa / (1.0 + g.ca_fa);
+  return coarse * removed(g.main) + (1.0 - coarse) * removed(*g.fine);
+}
+}  // namespace
+
+WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, std::ostream& log) {
+  if (options.cut_offs.size() < 3)
+    throw InputError(fmt::format("--cut-offs: {} given; expected three or more (the line through the residuals needs a "
+                                 "scatter to say how far it can be trusted)",
+                                 options.cut_offs.size()));
+  if (options.seeds < 1 || options.seeds > 100)
+    throw InputError(fmt::format("--seeds {}: expected 1 to 100", options.seeds));
+  const Scenario whole = load_scenario(options.scenario, options.overrides);
+  if (!whole.particles.graded)
+    throw InputError(fmt::format("{}: its particles are not sampled from a grading: there is no cut-off to carry to "
+                                 "the whole grading",
+                                 whole.file.string()));
+  const GradingSource& finest = whole.particles.graded->fine ? *whole.particles.graded->fine : whole.particles.graded->main;
+  WholeGradingEstimate e;
+  e.scenario = whole.file.string();
+  e.key = finest.key + ".d_min";
+  const Protocol protocol = scenario_protocol(whole);
+  const bool tapped = std::any_of(protocol.steps.begin(), protocol.steps.end(),
+                                  [](const Step& s) { return std::holds_alternative<TapStep>(s.kind); });
+  e.parameters = options.calibration          ? read_calibration(*options.calibration)
+                 : whole.models_calibration ? read_calibration(*whole.models_calibration)
+                                            : default_model_parameters(tapped);
+
+  // Every cut-off's scenario is read (and so checked) before any simulation.
+  std::vector<double> cuts = options.cut_offs;
+  std::sort(cuts.begin(), cuts.end(), std::greater<>());
+  if (std::adjacent_find(cuts.begin(), cuts.end()) != cuts.end())
+    throw InputError("--cut-offs: a cut-off is given twice");
+  std::vector<Scenario> scenarios;
+  for (const double cut : cuts) {
+    ScenarioOverrides o = options.overrides;
+    o.set.push_back(fmt::format("{}={:.17g}", e.key, cut));
+    scenarios.push_back(load_scenario(options.scenario, o));
+  }
+  Progress progress;
+  for (std::size_t k = 0; k < cuts.size(); ++k) {
+    CutOffPoint p;
+    p.cut_off = cuts[k];
+    p.left_out = left_out(*scenarios[k].particles.graded);
+    p.cpm = predict_scenario(scenarios[k], e.parameters).distributions.front().cpm.density;
+    for (int seed = 1; seed <= options.seeds; ++seed) {
+      Scenario sc = scenarios[k];
+      sc.seed = static_cast<std::uint64_t>(seed);
+      RunControls controls;
+      controls.threads = options.threads;
+      const RunReport report = run(sc, controls, progress);
+      if (seed == 1) p.spheres = report.particles.size();
+      p.density.push_back(report.final.density.mean);
+      if (!options.quiet)
+        fmt::print(log, "  whole-grading: {} = {:.4g} m, seed {}: {} spheres, density {:.4f}\n", e.key, p.cut_off, seed,
+                   report.particles.size(), p.density.back());
+    }
+    const auto n = static_cast<double>(p.density.size());
+    for (const double d : p.density) p.mean += d / n;
+    double ss = 0.0;
+    for (const double d : p.density) ss += (d - p.mean) * (d - p.mean);
+    p.standard_error = p.density.size() > 1 ? std::sqrt(ss / (n - 1.0) / n) : 0.0;
+    e.points.push_back(p);
+  }
+  std::vector<double> x, y, y_error;
+  for (const CutOffPoint& p : e.points)
+    x.push_back(p.left_out), y.push_back(p.residual()), y_error.push_back(p.standard_error);
+  const LineFit fit = fit_line(x, y, y_error);
+  e.residual_at_zero = fit.intercept;
+  e.residual_slope = fit.slope;
+  e.residual_standard_error = fit.intercept_standard_error;
+  e.cpm_whole = predict_scenario(whole, e.parameters).distributions.back().cpm.density;
+  e.density = e.cpm_whole + e.residual_at_zero;
+  e.low = e.density - 2.0 * e.residual_standard_error;
+  e.high = e.density + 2.0 * e.residual_standard_error;
+  e.simulated_fraction = 1.0 - e.points.back().left_out;
+  return e;
+}
+
+nlohmann::json to_json(const WholeGradingEstimate& e) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const CutOffPoint& p : e.points)
+    points.push_back({{"cut_off_m", p.cut_off},
+                      {"left_out_volume_fraction", p.left_out},
+                      {"spheres", p.spheres},
+                      {"density_per_seed", p.density},
+                      {"mean", p.mean},
+                      {"standard_error", p.standard_error},
+                      {"cpm", p.cpm},
+                      {"residual", p.residual()}});
+  return {{"aggpack_version", kVersion},
+          {"scenario_file", e.scenario},
+          {"cut_off_key", e.key},
+          {"parameters",
+           {{"cpm_compaction_index", e.parameters.compaction_index},
+            {"cpm_compaction_index_source", e.parameters.compaction_source},
+            {"cpm_residual_packing_density", e.parameters.beta},
+            {"cpm_residual_packing_density_source", e.parameters.beta_source}}},
+          {"cut_offs", points},
+          {"residual_fit", {{"at_nothing_left_out", e.residual_at_zero},
+                            {"slope", e.residual_slope},
+                            {"standard_error", e.residual_standard_error}}},
+          {"whole_grading",
+           {{"cpm", e.cpm_whole},
+            {"density", e.density},
+            {"band", {e.low, e.high}},
+            {"simulated_volume_fraction", e.simulated_fraction},
+            {"modelled_volume_fraction", 1.0 - e.simulated_fraction},
+            {"trustworthy", e.trustworthy()}}}};
+}
+
+std::string describe(const WholeGradingEstimate& e) {
+  fmt::memory_buffer out;
+  auto o = std::back_inserter(out);
+  fmt::format_to(o, "aggpack {}: the whole grading of {} from cut-offs of {} (CPM K {:g}, beta {:g})\n", kVersion,
+                 e.scenario, e.key, e.parameters.compaction_index, e.parameters.beta);
+  for (const CutOffPoint& p : e.points)
+    fmt::format_to(o, "  cut-off {:.4g} mm ({:.1f} % of the grading left out, {} spheres): simulated {:.4f} +- {:.4f}, "
+                      "CPM {:.4f}, residual {:+.4f}\n",
+                   1e3 * p.cut_off, 100.0 * p.left_out, p.spheres, p.mean, p.standard_error, p.cpm, p.residual());
+  fmt::format_to(o, "  residual at nothing left out {:+.4f} +- {:.4f} (a line in the fraction left out)\n",
+                 e.residual_at_zero, e.residual_standard_error);
+  fmt::format_to(o,
+                 "  whole grading: {:.4f} (band {:.4f} to {:.4f}) = CPM {:.4f} {:+.4f}; simulated: the {:.1f} % of the "
+                 "volume above the finest cut, modelled: the {:.1f} % below it\n",
+                 e.density, e.low, e.high, e.cpm_whole, e.residual_at_zero, 100.0 * e.simulated_fraction,
+                 100.0 * (1.0 - e.simulated_fraction));
+  if (!e.trustworthy())
+    fmt::format_to(o, "  warning: the band is {:.3f} wide: the cut-offs leave too much of the grading out (or their "
+                      "densities scatter too much) to carry the simulation to the whole grading; simulate finer "
+                      "cut-offs, or more seeds\n",
+                   e.high - e.low);
+  return fmt::to_string(out);
+}
+
+}  // namespace aggpack
