@@ -20,8 +20,8 @@ import sys
 s = open("examples/example2.toml").read()
 open(sys.argv[1], "w").write(s[:s.index("[dynamics]")] + s[s.index("[analysis]"):])
 PY
-one() {  # name scenario core
-  taskset -c "$3" "$exe" calibrate "$2" --threads 1 --quiet --out "$out/$1.json"
+one() {  # name scenario core; a calibration already in OUT_DIR is kept (delete OUT_DIR to redo it)
+  [ -f "$out/$1.json" ] || taskset -c "$3" "$exe" calibrate "$2" --threads 1 --quiet --out "$out/$1.json"
 }
 one deposited "$out/example2_deposited.toml" 0 & one settled examples/example2.toml 1 & wait
 one poured examples/example2_pour.toml 0 & one tapped examples/example2_tapped.toml 1 & wait
