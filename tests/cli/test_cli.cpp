@@ -123,7 +123,8 @@ TEST_F(Cli, AnUnknownSubcommandIsNamedWithTheList) {
   const Result r = run("bogus");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("unknown subcommand 'bogus'; the subcommands are: run, resume, check, analyze, grading, "
-                          "predict, reproduce, sweep, export-lammps, import-lammps"),
+                          "predict, calibrate, whole-grading, reproduce, sweep, export-lammps, "
+                          "import-lammps"),
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("A subcommand is required"), std::string::npos) << r.output;
