@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
@@ -151,6 +152,8 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
                                  "grading file the scenario reads has changed since; run the scenario again",
                                  sc.file.string()));
 
+  // The calibration the predictions will read at the end, read now: a bad file fails before the work.
+  if (sc.models_calibration) (void)read_calibration(*sc.models_calibration);
   if (controls.before_work) controls.before_work();
   RunContext context{report, progress, controls.threads, controls.stop, nullptr, nullptr, std::move(radii), 0.0,
                      std::nullopt};

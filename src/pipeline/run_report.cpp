@@ -1,4 +1,3 @@
-#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/pipeline/run_report.hpp"
 
 #include <cmath>
@@ -6,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/pipeline/checkpoint.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
