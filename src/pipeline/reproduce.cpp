@@ -967,13 +967,26 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
   // Table 2.
   b.emplace_back(Heading{2, "Table 2: eight concrete aggregate blends"});
   Table t2;
-  t2.header = {"mix", "state", "Ca/Fa", "Fa %", "ours after deposition", "ours after DEM", "paper (computed)",
-               "experiment", "ours - paper", "ours - experiment"};
+  t2.header = {"mix", "state", "Ca/Fa", "Fa %", "ours after deposition", "ours after DEM", "CPM as simulated",
+               "CPM whole grading", "paper (computed)", "experiment", "ours - paper", "ours - experiment"};
   nlohmann::json t2_json = nlohmann::json::array();
+  std::string cpm_parameters;
   for (const Table2Outcome& m : mixes) {
     const double ours = m.final_stats().mean;
+    // The analytic model beside the simulation: the first seed's predictions (the same for every seed).
+    const nlohmann::json predictions =
+        m.runs.empty() ? nlohmann::json() : m.runs.front().result.summary.value("predictions", nlohmann::json());
+    const auto cpm = [&](const char* which) {
+      return predictions.contains(which) ? predictions[which]["cpm"]["density"].get<double>() : kNaN;
+    };
+    if (predictions.contains("parameters"))
+      cpm_parameters = fmt::format("K = {:g} ({}), beta = {:g} ({})", predictions["parameters"]["cpm_compaction_index"].get<double>(),
+                                   predictions["parameters"]["cpm_compaction_index_source"].get<std::string>(),
+                                   predictions["parameters"]["cpm_residual_packing_density"].get<double>(),
+                                   predictions["parameters"]["cpm_residual_packing_density_source"].get<std::string>());
     t2.rows.push_back({fmt::format("{}", m.row.mix), m.row.state, fmt::format("{:.2f}", m.row.ca_fa),
                        fmt::format("{:.0f}", m.row.fa_percent), stat_text(m.deposition), stat_text(m.dynamics),
+                       value_text(cpm("simulated")), value_text(cpm("whole_grading")),
                        fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd), value_text(m.row.experiment, 3),
                        difference_text(ours, m.row.paper_mean), difference_text(ours, m.row.experiment)});
     t2_json.push_back({{"mix", m.row.mix}, {"state", m.row.state}, {"ca_fa", m.row.ca_fa}, {"fa_percent", m.row.fa_percent},
@@ -982,10 +995,15 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                        {"paper", {{"mean", m.row.paper_mean}, {"sd", m.row.paper_sd}}},
                        {"experiment", m.row.experiment},
                        {"particles", m.runs.empty() ? 0 : particle_count(m.runs.front())},
+                       {"cpm", {{"simulated", cpm("simulated")}, {"whole_grading", cpm("whole_grading")}}},
                        {"dem", dem_json(m)}});
   }
   t2.caption = "Ours: mean ± sd over seeds (after DEM: over the settled seeds, see below); the differences use ours "
-               "after DEM (after deposition when DEM was not run).";
+               "after DEM (after deposition when DEM was not run). CPM: de Larrard's Compressible Packing Model on the "
+               "simulated distribution (above the cut-offs) and on the whole grading, " +
+               (cpm_parameters.empty() ? std::string("not computed") : cpm_parameters) +
+               " (README, \"Analytic packing models\"; aggpack whole-grading carries the simulation to the whole "
+               "grading).";
   b.emplace_back(t2);
   result["table2"] = t2_json;
   compose_fig9(doc, figures, rep);
