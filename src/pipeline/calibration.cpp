@@ -12,6 +12,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/version.hpp"
+#include "aggpack/pipeline/campaign.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
 #include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/pipeline/run.hpp"
@@ -57,12 +58,10 @@ namespace {
 SimulatedDensities statistics(std::string what, std::vector<double> densities) {
   SimulatedDensities s;
   s.what = std::move(what);
+  const SeedStatistics stats = seed_statistics(densities);
   s.density = std::move(densities);
-  const auto n = static_cast<double>(s.density.size());
-  for (const double d : s.density) s.mean += d / n;
-  double ss = 0.0;
-  for (const double d : s.density) ss += (d - s.mean) * (d - s.mean);
-  s.standard_error = s.density.size() > 1 ? std::sqrt(ss / (n - 1.0) / n) : 0.0;
+  s.mean = stats.mean;
+  s.standard_error = stats.count > 1 ? stats.sd / std::sqrt(static_cast<double>(stats.count)) : 0.0;
   return s;
 }
 }  // namespace

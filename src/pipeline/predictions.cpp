@@ -26,6 +26,11 @@ ModelParameters default_model_parameters(bool taps) {
   return p;
 }
 
+bool protocol_taps(const Protocol& protocol) {
+  return std::any_of(protocol.steps.begin(), protocol.steps.end(),
+                     [](const Step& s) { return std::holds_alternative<TapStep>(s.kind); });
+}
+
 DistributionPrediction predict_distribution(std::string name, std::string description, ModelDistribution classes,
                                             const ModelParameters& parameters) {
   DistributionPrediction d;
@@ -110,9 +115,7 @@ Predictions predict(const PredictRequest& r) {
   if (scenario) {
     if (r.fine) throw InputError("--mix applies to a grading; a scenario gives its own blend");
     sc = load_scenario(r.input, r.overrides);
-    const Protocol protocol = scenario_protocol(*sc);
-    tapped = std::any_of(protocol.steps.begin(), protocol.steps.end(),
-                         [](const Step& s) { return std::holds_alternative<TapStep>(s.kind); });
+    tapped = protocol_taps(scenario_protocol(*sc));
   }
   ModelParameters parameters = default_model_parameters(tapped);
   if (sc && sc->models_calibration) parameters = read_calibration(*sc->models_calibration);

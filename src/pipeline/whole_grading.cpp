@@ -9,6 +9,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/pipeline/calibration.hpp"
+#include "aggpack/pipeline/campaign.hpp"
 #include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/pipeline/run.hpp"
 
@@ -73,9 +74,7 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
   WholeGradingEstimate e;
   e.scenario = whole.file.string();
   e.key = finest.key + ".d_min";
-  const Protocol protocol = scenario_protocol(whole);
-  const bool tapped = std::any_of(protocol.steps.begin(), protocol.steps.end(),
-                                  [](const Step& s) { return std::holds_alternative<TapStep>(s.kind); });
+  const bool tapped = protocol_taps(scenario_protocol(whole));
   e.parameters = options.calibration          ? read_calibration(*options.calibration)
                  : whole.models_calibration ? read_calibration(*whole.models_calibration)
                                             : default_model_parameters(tapped);
@@ -109,11 +108,9 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
         fmt::print(log, "  whole-grading: {} = {:.4g} m, seed {}: {} spheres, density {:.4f}\n", e.key, p.cut_off, seed,
                    report.particles.size(), p.density.back());
     }
-    const auto n = static_cast<double>(p.density.size());
-    for (const double d : p.density) p.mean += d / n;
-    double ss = 0.0;
-    for (const double d : p.density) ss += (d - p.mean) * (d - p.mean);
-    p.standard_error = p.density.size() > 1 ? std::sqrt(ss / (n - 1.0) / n) : 0.0;
+    const SeedStatistics stats = seed_statistics(p.density);
+    p.mean = stats.mean;
+    p.standard_error = stats.count > 1 ? stats.sd / std::sqrt(static_cast<double>(stats.count)) : 0.0;
     e.points.push_back(p);
   }
   std::vector<double> x, y, y_error;

@@ -23,6 +23,8 @@ struct ModelParameters {
 // lab process nearest the protocol (poured, 4.1, for a deposition, a pour or a settling;
 // vibrated, 4.75, once it taps), beta the value quoted for spheres, 0.72.
 ModelParameters default_model_parameters(bool tapped);
+// Whether a protocol has a tap step (what chooses the default K).
+[[nodiscard]] bool protocol_taps(const Protocol& protocol);
 
 // What the models say of one size distribution.
 struct DistributionPrediction {
