@@ -277,7 +277,7 @@ int main(int argc, char** argv) {
   predict_cmd->add_flag("--json", predict_json, "Print machine-readable JSON");
 
   aggpack::WholeGradingOptions whole;
-  std::string whole_cuts, whole_out;
+  std::string whole_cuts, whole_out, whole_plot;
   auto* whole_cmd = app.add_subcommand(
       "whole-grading", "The whole grading's density: a series of cut-offs simulated, CPM carrying it below them");
   whole_cmd->add_option("scenario", whole.scenario, "Scenario sampling a grading or a coarse/fine mix (TOML)")->required();
@@ -286,6 +286,7 @@ int main(int argc, char** argv) {
   whole_cmd->add_option("--seeds", whole.seeds, "Seeds per cut-off (default 3)")->check(CLI::Range(1, 100));
   whole_cmd->add_option("--calibration", whole.calibration, "CPM's K and beta from a file aggpack calibrate wrote");
   whole_cmd->add_option("--out", whole_out, "Also write the estimate as JSON to this file");
+  whole_cmd->add_option("--plot", whole_plot, "Also draw the density against the volume left out to this SVG file");
   whole_cmd->add_option("--threads", whole.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
   whole_cmd->add_option("--set", whole.overrides.set, "Override a scenario key: key.path=value");
   whole_cmd->add_flag("--quiet", whole.quiet, "Print only the estimate");
@@ -315,6 +316,10 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--seeds", sweep.seeds, "Seeds per point (default 3)")->check(CLI::PositiveNumber);
   sweep_cmd->add_option("--out", sweep_out, "Output directory (default out/sweep)");
   sweep_cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
+  std::string sweep_cuts;
+  sweep_cmd->add_option("--cut-offs", sweep_cuts,
+                        "Three or more d_min of the fine grading: each blend's whole grading estimated from them");
+  sweep_cmd->add_option("--calibration", sweep.calibration, "CPM's K and beta (with --cut-offs) from aggpack calibrate");
   auto* sweep_stop_opt =
       sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
   sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
@@ -392,6 +397,7 @@ int main(int argc, char** argv) {
     } else if (*sweep_cmd) {
       sweep.out = sweep_out;
       sweep.fa_percent = aggpack::parse_fa_points(fa_text);
+      if (!sweep_cuts.empty()) sweep.cut_offs = lengths_argument(sweep_cuts, "--cut-offs");
       if (*sweep_stop_opt) sweep.stop_after = sweep_stop;
       aggpack::sweep(sweep, std::cout);
     } else if (*check_cmd) {
@@ -403,14 +409,17 @@ int main(int argc, char** argv) {
       return analyze_command(analyze);
     } else if (*whole_cmd) {
       whole.cut_offs = lengths_argument(whole_cuts, "--cut-offs");
-      if (!whole_out.empty()) {
-        const std::filesystem::path out = whole_out;
+      // The files' folders are checked (and made) before the simulations, not after them.
+      for (const auto& [option, target] : {std::pair{"--out", whole_out}, std::pair{"--plot", whole_plot}}) {
+        if (target.empty()) continue;
+        const std::filesystem::path out = target;
         if (std::filesystem::is_directory(out))
-          throw aggpack::InputError(fmt::format("--out {}: a folder; expected the estimate file's name", whole_out));
+          throw aggpack::InputError(fmt::format("{} {}: a folder; expected a file's name", option, target));
         aggpack::check_output_directory(out.has_parent_path() ? out.parent_path() : ".", true);
       }
       const aggpack::WholeGradingEstimate e = aggpack::estimate_whole_grading(whole, std::cout);
       if (!whole_out.empty()) aggpack::write_file_atomically(whole_out, aggpack::to_json(e).dump(1) + "\n");
+      if (!whole_plot.empty()) aggpack::write_file_atomically(whole_plot, aggpack::whole_grading_svg(e));
       fmt::print("{}", aggpack::describe(e));
     } else if (*calibrate_cmd) {
       // The file's folder is checked (and made) before the simulations, not after them.

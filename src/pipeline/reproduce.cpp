@@ -21,6 +21,8 @@
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/pipeline/campaign.hpp"
+#include "aggpack/pipeline/predictions.hpp"
+#include "aggpack/pipeline/whole_grading.hpp"
 #include "aggpack/report/document.hpp"
 #include "aggpack/report/render.hpp"
 #include "aggpack/report/svg_plot.hpp"
@@ -465,7 +467,7 @@ Plan make_plan(const ReproduceOptions& o) {
   }
   if (o.quick) {
     p.example_sets = {"dynamics.max_time=0.25"};
-    p.sensitivity = {shipped, cut(0.06)};
+    p.sensitivity = {shipped, cut(0.1), cut(0.06)};
     return p;
   }
   p.sensitivity = {shipped,
@@ -873,6 +875,43 @@ void compose_protocols(Document& doc, FigureSet& figures, nlohmann::json& result
   }
 }
 
+// The scenario Table 2's mixes were run from (mix 3's, which they share but for Ca/Fa), if any ran.
+const Scenario* table2_scenario(const Reproduction& rep) {
+  if (rep.mixes.empty() || rep.sensitivity_mix().runs.empty()) return nullptr;
+  const Scenario& sc = rep.sensitivity_mix().runs.front().result.report.scenario;
+  return sc.particles.graded && sc.particles.graded->fine ? &sc : nullptr;
+}
+
+// CPM's parameters for Table 2, as the runs' predictions take them.
+ModelParameters table2_parameters(const Reproduction& rep) {
+  const Scenario* sc = table2_scenario(rep);
+  return sc ? whole_grading_parameters(*sc, std::nullopt) : default_model_parameters(false);
+}
+
+std::string cpm_parameters_text(const Reproduction& rep) {
+  const ModelParameters p = table2_parameters(rep);
+  return fmt::format("K = {:g}, beta = {:g}", p.compaction_index, p.beta);
+}
+
+// CPM against Fa %, on the blend as simulated (the runs' cut-offs) and on the whole grading.
+std::vector<PlotSeries> cpm_curves(const Reproduction& rep) {
+  const Scenario* base = table2_scenario(rep);
+  if (!base) return {};
+  const ModelParameters parameters = table2_parameters(rep);
+  PlotSeries simulated{"CPM, the blend as simulated", {}, {}, {}, Mark::Line, true, "#9467bd"};
+  PlotSeries whole{"CPM, the whole grading", {}, {}, {}, Mark::Line, true, "#ff7f0e"};
+  double lo = 100.0, hi = 0.0;
+  for (const Table2Outcome& m : rep.mixes) lo = std::min(lo, m.row.fa_percent), hi = std::max(hi, m.row.fa_percent);
+  for (double fa = std::floor(lo) - 2.0; fa <= std::ceil(hi) + 2.0 + 1e-9; fa += 0.5) {
+    Scenario sc = *base;
+    sc.particles.graded->ca_fa = (100.0 - fa) / fa;
+    const Predictions p = predict_scenario(sc, parameters);
+    simulated.x.push_back(fa), simulated.y.push_back(p.distributions.front().cpm.density);
+    whole.x.push_back(fa), whole.y.push_back(p.distributions.back().cpm.density);
+  }
+  return {simulated, whole};
+}
+
 // Table 2: the mixes, Fig. 9, a paragraph, each mix's grading and one bed.
 // The paper's Fig. 9 redrawn: density against Fa %, ours, the paper's and the experiments'.
 void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
@@ -900,11 +939,17 @@ void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
   }
   plot.series = {dep, paper, exp};
   if (!dyn.x.empty()) plot.series.insert(plot.series.begin() + 1, dyn);
+  // CPM's curves: the mixes share their gradings and differ in Ca/Fa only.
+  const std::vector<PlotSeries> model = cpm_curves(rep);
+  plot.series.insert(plot.series.end(), model.begin(), model.end());
   const std::string fig = figures.add("table2_density_vs_fa.svg", svg_plot(plot));
   b.emplace_back(Figure{fig, fmt::format("Computed and measured density against Fa % (the paper's Fig. 9); error "
-                                         "bars: {}sd over the four virtual boxes (paper).",
+                                         "bars: {}sd over the four virtual boxes (paper). Dashed: CPM (de Larrard's "
+                                         "Compressible Packing Model, {}) on the blend between the runs' cut-offs "
+                                         "and on the whole grading.",
                                          plan.seeds > 1 ? "sd over seeds (ours) and "
-                                                        : "ours has one seed per mix, so no bar; ")});
+                                                        : "ours has one seed per mix, so no bar; ",
+                                         cpm_parameters_text(rep))});
 }
 
 // Each mix's generated grading against its target, and one bed cut open.
@@ -957,6 +1002,55 @@ nlohmann::json dem_json(const Table2Outcome& m) {
                     {"max_overlap_rel", d.runs.back().last.contacts.max_overlap}});
   }
   return runs;
+}
+
+// The sensitivity mix's cut-off series carried to its whole grading by CPM (aggpack
+// whole-grading's fit on the runs already made), with its plot.
+void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
+  const Scenario* base = table2_scenario(rep);
+  if (!base) return;
+  const ModelParameters parameters = table2_parameters(rep);
+  std::vector<CutOffPoint> points;
+  for (const Variant& v : rep.variants) {
+    if (std::isnan(v.spec.sand_cut_in) || v.runs.empty()) continue;
+    const Scenario& at_cut = v.runs.front().result.report.scenario;
+    points.push_back(cut_off_point(at_cut, parameters, *at_cut.particles.graded->fine->d_min,
+                                   v.values(&CaseRun::after_deposition), v.runs.front().particle_count));
+  }
+  if (points.size() < 3) return;
+  const Table2Row& row = rep.sensitivity_mix().row;
+  WholeGradingEstimate e = fit_whole_grading(*base, parameters, points);
+  nlohmann::json j = to_json(e);
+  j["mix"] = row.mix;
+  j["experiment"] = row.experiment;
+  result["table2_whole_grading"] = j;
+  auto& b = doc.blocks;
+  std::string series;
+  for (const CutOffPoint& p : e.points)
+    series += fmt::format("{}{:g} in: {:.3f}", series.empty() ? "" : ", ", p.cut_off / 0.0254, p.mean);
+  b.emplace_back(Paragraph{fmt::format(
+      "The whole grading of mix {}. Its cut-off series after deposition ({}) is carried below the finest cut by "
+      "CPM ({}): the residual simulated − CPM, a line in the volume left out, is extrapolated to nothing left out "
+      "(aggpack whole-grading's fit, on these runs). The whole grading then packs at {:.3f} (band {:.3f} to "
+      "{:.3f}{}), against {:.3f} measured: {:+.3f}. The simulation covers {:.1f} % of the blend's volume, the "
+      "model the {:.1f} % below the finest cut. {}",
+      row.mix, series, cpm_parameters_text(rep), e.density, e.low, e.high,
+      e.trustworthy() ? "" : ", wider than 0.04: no estimate", row.experiment, e.density - row.experiment,
+      100.0 * e.simulated_fraction, 100.0 * (1.0 - e.simulated_fraction),
+      !e.trustworthy() ? "The band is too wide to conclude anything; more seeds and finer cut-offs narrow it."
+      : e.low > row.experiment
+          ? "Frictionless spheres laid by drop-and-roll pack denser than the measured aggregate once the whole sand "
+            "is kept, so the remaining difference is the particles and the filling, not the cut-off "
+            "(docs/validation.md has all eight mixes)."
+          : "The experiment lies within the band or above it.")});
+  const std::string fig = figures.add(
+      fmt::format("table2_mix{}_whole_grading.svg", row.mix),
+      whole_grading_svg(e, row.experiment, fmt::format("Table 2 mix {}: density against the sand cut-off", row.mix)));
+  b.emplace_back(Figure{fig, fmt::format("Mix {}: the density after deposition against the volume of the blend the "
+                                         "cut-offs leave out (each point a sand cut-off, mean ± se over seeds), CPM on "
+                                         "each simulated distribution, and the model fitted to them carried to the "
+                                         "whole grading (left edge, with its band); black: the experiment.",
+                                         row.mix)});
 }
 
 void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
@@ -1020,6 +1114,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
         errors.mixes ? errors.ours : kNaN, errors.mixes ? errors.paper : kNaN, errors.paper, cutoff_text(variants),
         trend_text(mixes), table2_dem_text(mixes, rep.examples))});
   }
+  compose_whole_grading(doc, figures, result, rep);
   compose_table2_figures(doc, figures, rep);
 }
 

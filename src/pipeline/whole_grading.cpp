@@ -12,6 +12,7 @@
 #include "aggpack/pipeline/campaign.hpp"
 #include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/pipeline/run.hpp"
+#include "aggpack/report/svg_plot.hpp"
 
 namespace aggpack {
 
@@ -45,9 +46,7 @@ LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y, con
   return f;
 }
 
-namespace {
-// The volume fraction of the whole grading (or blend) that the scenario's cut-offs leave out.
-double left_out(const GradedParticles& g) {
+double left_out_fraction(const GradedParticles& g) {
   const auto removed = [](const GradingSource& s) {
     const GradingCut c = cut_grading(s.grading, s.d_min, s.d_max, s.key);
     return c.cut_below + c.cut_above;
@@ -56,7 +55,53 @@ double left_out(const GradedParticles& g) {
   const double coarse = g.ca_fa / (1.0 + g.ca_fa);
   return coarse * removed(g.main) + (1.0 - coarse) * removed(*g.fine);
 }
-}  // namespace
+
+std::string cut_off_key(const GradedParticles& g) { return (g.fine ? g.fine->key : g.main.key) + ".d_min"; }
+
+ModelParameters whole_grading_parameters(const Scenario& whole, const std::optional<std::filesystem::path>& calibration) {
+  if (calibration) return read_calibration(*calibration);
+  if (whole.models_calibration) return read_calibration(*whole.models_calibration);
+  return default_model_parameters(protocol_taps(scenario_protocol(whole)));
+}
+
+CutOffPoint cut_off_point(const Scenario& at_cut, const ModelParameters& parameters, double cut_off,
+                          std::vector<double> density, std::size_t spheres) {
+  CutOffPoint p;
+  p.cut_off = cut_off;
+  p.left_out = left_out_fraction(*at_cut.particles.graded);
+  p.cpm = predict_scenario(at_cut, parameters).distributions.front().cpm.density;
+  p.spheres = spheres;
+  p.density = std::move(density);
+  const SeedStatistics stats = seed_statistics(p.density);
+  p.mean = stats.mean;
+  p.standard_error = stats.count > 1 ? stats.sd / std::sqrt(static_cast<double>(stats.count)) : 0.0;
+  return p;
+}
+
+WholeGradingEstimate fit_whole_grading(const Scenario& whole, const ModelParameters& parameters,
+                                       std::vector<CutOffPoint> points) {
+  if (points.size() < 3)
+    throw InputError(fmt::format("a whole-grading fit needs three cut-offs or more; {} given", points.size()));
+  std::sort(points.begin(), points.end(), [](const CutOffPoint& a, const CutOffPoint& b) { return a.cut_off > b.cut_off; });
+  WholeGradingEstimate e;
+  e.scenario = whole.file.string();
+  e.key = cut_off_key(*whole.particles.graded);
+  e.parameters = parameters;
+  e.points = std::move(points);
+  std::vector<double> x, y, y_error;
+  for (const CutOffPoint& p : e.points)
+    x.push_back(p.left_out), y.push_back(p.residual()), y_error.push_back(p.standard_error);
+  const LineFit fit = fit_line(x, y, y_error);
+  e.residual_at_zero = fit.intercept;
+  e.residual_slope = fit.slope;
+  e.residual_standard_error = fit.intercept_standard_error;
+  e.cpm_whole = predict_scenario(whole, parameters).distributions.back().cpm.density;
+  e.density = e.cpm_whole + e.residual_at_zero;
+  e.low = e.density - 2.0 * e.residual_standard_error;
+  e.high = e.density + 2.0 * e.residual_standard_error;
+  e.simulated_fraction = 1.0 - e.points.back().left_out;
+  return e;
+}
 
 WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, std::ostream& log) {
   if (options.cut_offs.size() < 3)
@@ -70,14 +115,8 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
     throw InputError(fmt::format("{}: its particles are not sampled from a grading: there is no cut-off to carry to "
                                  "the whole grading",
                                  whole.file.string()));
-  const GradingSource& finest = whole.particles.graded->fine ? *whole.particles.graded->fine : whole.particles.graded->main;
-  WholeGradingEstimate e;
-  e.scenario = whole.file.string();
-  e.key = finest.key + ".d_min";
-  const bool tapped = protocol_taps(scenario_protocol(whole));
-  e.parameters = options.calibration          ? read_calibration(*options.calibration)
-                 : whole.models_calibration ? read_calibration(*whole.models_calibration)
-                                            : default_model_parameters(tapped);
+  const std::string key = cut_off_key(*whole.particles.graded);
+  const ModelParameters parameters = whole_grading_parameters(whole, options.calibration);
 
   // Every cut-off's scenario is read (and so checked) before any simulation.
   std::vector<double> cuts = options.cut_offs;
@@ -87,45 +126,29 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
   std::vector<Scenario> scenarios;
   for (const double cut : cuts) {
     ScenarioOverrides o = options.overrides;
-    o.set.push_back(fmt::format("{}={:.17g}", e.key, cut));
+    o.set.push_back(fmt::format("{}={:.17g}", key, cut));
     scenarios.push_back(load_scenario(options.scenario, o));
   }
   Progress progress;
+  std::vector<CutOffPoint> points;
   for (std::size_t k = 0; k < cuts.size(); ++k) {
-    CutOffPoint p;
-    p.cut_off = cuts[k];
-    p.left_out = left_out(*scenarios[k].particles.graded);
-    p.cpm = predict_scenario(scenarios[k], e.parameters).distributions.front().cpm.density;
+    std::vector<double> density;
+    std::size_t spheres = 0;
     for (int seed = 1; seed <= options.seeds; ++seed) {
       Scenario sc = scenarios[k];
       sc.seed = static_cast<std::uint64_t>(seed);
       RunControls controls;
       controls.threads = options.threads;
       const RunReport report = run(sc, controls, progress);
-      if (seed == 1) p.spheres = report.particles.size();
-      p.density.push_back(report.final.density.mean);
+      if (seed == 1) spheres = report.particles.size();
+      density.push_back(report.final.density.mean);
       if (!options.quiet)
-        fmt::print(log, "  whole-grading: {} = {:.4g} m, seed {}: {} spheres, density {:.4f}\n", e.key, p.cut_off, seed,
-                   report.particles.size(), p.density.back());
+        fmt::print(log, "  whole-grading: {} = {:.4g} m, seed {}: {} spheres, density {:.4f}\n", key, cuts[k], seed,
+                   report.particles.size(), density.back());
     }
-    const SeedStatistics stats = seed_statistics(p.density);
-    p.mean = stats.mean;
-    p.standard_error = stats.count > 1 ? stats.sd / std::sqrt(static_cast<double>(stats.count)) : 0.0;
-    e.points.push_back(p);
+    points.push_back(cut_off_point(scenarios[k], parameters, cuts[k], std::move(density), spheres));
   }
-  std::vector<double> x, y, y_error;
-  for (const CutOffPoint& p : e.points)
-    x.push_back(p.left_out), y.push_back(p.residual()), y_error.push_back(p.standard_error);
-  const LineFit fit = fit_line(x, y, y_error);
-  e.residual_at_zero = fit.intercept;
-  e.residual_slope = fit.slope;
-  e.residual_standard_error = fit.intercept_standard_error;
-  e.cpm_whole = predict_scenario(whole, e.parameters).distributions.back().cpm.density;
-  e.density = e.cpm_whole + e.residual_at_zero;
-  e.low = e.density - 2.0 * e.residual_standard_error;
-  e.high = e.density + 2.0 * e.residual_standard_error;
-  e.simulated_fraction = 1.0 - e.points.back().left_out;
-  return e;
+  return fit_whole_grading(whole, parameters, std::move(points));
 }
 
 nlohmann::json to_json(const WholeGradingEstimate& e) {
@@ -182,6 +205,38 @@ std::string describe(const WholeGradingEstimate& e) {
                       "cut-offs, or more seeds\n",
                    e.high - e.low);
   return fmt::to_string(out);
+}
+
+std::string whole_grading_svg(const WholeGradingEstimate& e, std::optional<double> measured, const std::string& title) {
+  PlotSeries simulated{"simulated (mean ± se over seeds)", {}, {}, {}, Mark::Points, false, "#1f77b4"};
+  PlotSeries cpm{"CPM on the simulated distribution", {}, {}, {}, Mark::LineAndPoints, true, "#7f7f7f"};
+  PlotSeries fitted{"CPM + the fitted residual line, to the whole grading", {}, {}, {}, Mark::Line, false, "#ff7f0e"};
+  // Finest cut first, so that the lines run left to right from the whole grading.
+  for (auto it = e.points.rbegin(); it != e.points.rend(); ++it) {
+    const CutOffPoint& p = *it;
+    const double x = 100.0 * p.left_out;
+    simulated.x.push_back(x), simulated.y.push_back(p.mean), simulated.y_error.push_back(p.standard_error);
+    cpm.x.push_back(x), cpm.y.push_back(p.cpm);
+    fitted.x.push_back(x), fitted.y.push_back(p.cpm + e.residual_at_zero + e.residual_slope * p.left_out);
+  }
+  // Nothing left out: the model's whole grading and the estimate, the end of the fitted line.
+  cpm.x.insert(cpm.x.begin(), 0.0), cpm.y.insert(cpm.y.begin(), e.cpm_whole);
+  fitted.x.insert(fitted.x.begin(), 0.0), fitted.y.insert(fitted.y.begin(), e.density);
+  Plot plot;
+  plot.title = title.empty() ? fmt::format("The whole grading from cut-offs of {}", e.key) : title;
+  plot.x_label = "volume of the grading left out by the cut-offs (%)";
+  plot.y_label = "packing density";
+  plot.legend_at_bottom = true;
+  plot.series = {cpm, fitted, simulated,
+                 {fmt::format("whole grading: {:.3f} (band {:.3f} to {:.3f})", e.density, e.low, e.high),
+                  {0.0},
+                  {e.density},
+                  {0.5 * (e.high - e.low)},
+                  Mark::Points,
+                  false,
+                  "#d62728"}};
+  if (measured) plot.series.push_back({fmt::format("measured: {:.3f}", *measured), {0.0}, {*measured}, {}, Mark::Points, false, "#000000"});
+  return svg_plot(plot);
 }
 
 }  // namespace aggpack

@@ -518,8 +518,11 @@ TEST_F(Cli, WholeGradingCarriesACutOffSeriesToTheWholeGrading) {
                              "d_min = \"0.12 in\"\n[deposition]\n[analysis]\nbox_sides = [\"0.8 in\"]\n";
   const fs::path file = dir_ / "estimate.json";
   Result r = run("whole-grading " + scenario.string() + " --cut-offs 0.12in,0.2in,0.16in --seeds 2 --out " +
-                 file.string());
+                 file.string() + " --plot " + (dir_ / "plots" / "cut_offs.svg").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string plot = slurp(dir_ / "plots" / "cut_offs.svg");
+  EXPECT_EQ(plot.rfind("<svg", 0), 0u);
+  EXPECT_NE(plot.find("whole grading: "), std::string::npos);
   const auto e = nlohmann::json::parse(std::ifstream(file));
   ASSERT_EQ(e.at("cut_offs").size(), 3u);
   EXPECT_EQ(e.at("cut_off_key"), "particles.fine.d_min");
@@ -541,7 +544,9 @@ TEST_F(Cli, WholeGradingCarriesACutOffSeriesToTheWholeGrading) {
            {"whole-grading " + scenario.string() + " --cut-offs 0.2in,0.16in", "expected three or more"},
            {"whole-grading " + scenario.string() + " --cut-offs 0.2in,0.2in,0.16in", "given twice"},
            {"whole-grading " + scenario.string() + " --cut-offs 0.2in,x,0.16in", "--cut-offs"},
-           {"whole-grading " + example("example2.toml") + " --cut-offs 0.2in,0.16in,0.1in", "not sampled from a grading"}}) {
+           {"whole-grading " + example("example2.toml") + " --cut-offs 0.2in,0.16in,0.1in", "not sampled from a grading"},
+           {"whole-grading " + scenario.string() + " --cut-offs 0.2in,0.16in,0.1in --plot " + dir_.string(),
+            "a folder; expected a file's name"}}) {
     const Result bad = run(args);
     EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
     EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;

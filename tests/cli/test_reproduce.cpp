@@ -1,5 +1,6 @@
 // `aggpack reproduce --quick` and `aggpack sweep` run as a user would: the report's tables,
 // figures and numbers are checked, not just that the files exist.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "run_cli.hpp"
@@ -109,7 +110,7 @@ TEST_F(Reproduce, TextMatchesWhatWasRun) {
   const std::string md = slurp(out_ / "report.md");
   EXPECT_EQ(md.find("sd up to"), std::string::npos);
   EXPECT_EQ(md.find("(s)"), std::string::npos);
-  EXPECT_NE(md.find("1 seed per case, 13 runs in"), std::string::npos);
+  EXPECT_NE(md.find("1 seed per case, 14 runs in"), std::string::npos);
   EXPECT_NE(md.find("on 1 thread. Command:"), std::string::npos);
   EXPECT_NE(md.find("ours has one seed per mix, so no bar; sd over the four virtual boxes (paper)"), std::string::npos);
   EXPECT_EQ(md.find("sd over seeds (ours)"), std::string::npos);
@@ -183,7 +184,16 @@ TEST_F(Reproduce, NumbersAgreeWithTheRunsTheyCameFrom) {
     EXPECT_LT(m["after_deposition"]["mean"].get<double>(), 0.8) << m["mix"];
     EXPECT_GT(m["particles"].get<std::size_t>(), 100000u);
   }
-  EXPECT_EQ(j["sensitivity"].size(), 2u);
+  EXPECT_EQ(j["sensitivity"].size(), 3u);
+  // Mix 3's cut-off series (0.1, 0.06, 0.04 in) carried to the whole grading by CPM: the
+  // estimate is CPM's whole grading plus the fitted residual, and lies above every simulated cut.
+  const auto& whole = j["table2_whole_grading"];
+  ASSERT_EQ(whole["cut_offs"].size(), 3u);
+  EXPECT_EQ(whole["mix"], 3);
+  const double estimate = whole["whole_grading"]["density"].get<double>();
+  EXPECT_DOUBLE_EQ(estimate, whole["whole_grading"]["cpm"].get<double>() +
+                                 whole["residual_fit"]["at_nothing_left_out"].get<double>());
+  for (const auto& point : whole["cut_offs"]) EXPECT_GT(estimate, point["mean"].get<double>());
 }
 
 TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
@@ -202,7 +212,7 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
       EXPECT_EQ(content.substr(1, 3), "PNG") << p;
     }
   }
-  EXPECT_EQ(svgs, 2u + 2u + 1u + 8u);  // Figs. 4 and 7, two compaction curves, Fig. 9, eight gradings
+  EXPECT_EQ(svgs, 2u + 2u + 1u + 1u + 8u);  // Figs. 4 and 7, two compaction curves, Fig. 9, mix 3's cut-offs, eight gradings
   EXPECT_EQ(pngs, 3u);            // Fig. 6 a and b, one Table 2 bed
 
   // Fig. 4: time from 0 to the end of the (quick) settling run; densities from the paper's
@@ -224,7 +234,14 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
   const auto [d0, d1] = svg_range(fig9, "y");
   EXPECT_LE(d0, 0.620 - 0.007);
   EXPECT_GE(d1, 0.741);
-  EXPECT_EQ(count_of(fig9, "<g class=\"series\""), 3u);  // ours, paper, experiment
+  EXPECT_EQ(count_of(fig9, "<g class=\"series\""), 5u);  // ours, paper, experiment, CPM as simulated and whole
+  // Mix 3's density against the volume left out: from the whole grading (0) to past the 0.1 in cut's.
+  const std::string cut_offs = slurp(out_ / "figures/table2_mix3_whole_grading.svg");
+  const auto j2 = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  const auto [f0, f1] = svg_range(cut_offs, "x");
+  EXPECT_LE(f0, 0.0);
+  EXPECT_GE(f1, 100.0 * j2["table2_whole_grading"]["cut_offs"][0]["left_out_volume_fraction"].get<double>());
+  EXPECT_NE(cut_offs.find("measured: 0.703"), std::string::npos);
   // A grading: percent passing 0-100 on a log axis of sieve openings in mm.
   const std::string grading = slurp(out_ / "figures/table2_mix3_grading.svg");
   EXPECT_EQ(svg_range(grading, "y"), std::make_pair(0.0, 100.0));
@@ -235,7 +252,7 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
 
 TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   const std::string html = slurp(out_ / "report.html");
-  EXPECT_EQ(count_of(html, "<svg"), 13u);
+  EXPECT_EQ(count_of(html, "<svg"), 14u);
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
   EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
   // The same tables as report.md (one header rule "| --- |" each): summary, Table 2 errors,
@@ -345,6 +362,54 @@ TEST_F(Sweep, FindsTheDensestOfThePointsItRan) {
   const auto [x0, x1] = svg_range(svg, "x");
   EXPECT_LE(x0, 20.0);
   EXPECT_GE(x1, 50.0);
+}
+
+// With --cut-offs each blend is run at each cut-off and carried to its whole grading; the best
+// blend is the one of the densest whole grading.
+TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
+  const std::string scenario = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
+  const Result r = run("sweep " + scenario + " --fa 30,45 --seeds 2 --cut-offs 0.2in,0.16in,0.12in --out " +
+                       dir_.string() + " --set 'container.side=\"2.5 in\"' --set 'particles.coarse.d_max=\"0.5 in\"' --set "
+                       "'analysis.box_sides=[\"1 in\"]'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(slurp(dir_ / "sweep.json"));
+  ASSERT_EQ(j["points"].size(), 2u);
+  EXPECT_EQ(j["cut_offs"]["key"], "particles.fine.d_min");
+  EXPECT_EQ(j["best"]["chosen_by"], "whole_grading");
+  double best = -1.0, best_fa = 0.0;
+  for (const auto& p : j["points"]) {
+    const auto& w = p["whole_grading"];
+    ASSERT_EQ(w["cut_offs"].size(), 3u);
+    // The point's own density is its finest cut-off's.
+    EXPECT_DOUBLE_EQ(p["density"]["mean"].get<double>(), w["cut_offs"][2]["mean"].get<double>());
+    EXPECT_DOUBLE_EQ(w["whole_grading"]["density"].get<double>(),
+                     w["whole_grading"]["cpm"].get<double>() + w["residual_fit"]["at_nothing_left_out"].get<double>());
+    if (w["whole_grading"]["density"].get<double>() > best) best = w["whole_grading"]["density"], best_fa = p["fa_percent"];
+    const fs::path blend = dir_ / fmt::format("fa_{:g}", p["fa_percent"].get<double>());
+    EXPECT_TRUE(fs::exists(blend / "whole_grading.svg"));
+    EXPECT_TRUE(fs::exists(blend / "cut_3.048mm" / "seed_2" / "summary.json"));
+  }
+  EXPECT_EQ(j["best"]["fa_percent"].get<double>(), best_fa);
+  EXPECT_DOUBLE_EQ(j["best"]["whole_grading"]["density"].get<double>(), best);
+  EXPECT_EQ(slurp(dir_ / "sweep.csv").rfind("fa_percent,ca_fa,seeds,density_mean,density_sd,density_after_deposition_"
+                                            "mean,density_after_deposition_sd,whole_grading,whole_grading_low,"
+                                            "whole_grading_high\n",
+                                            0),
+            0u);
+  // Coarse cut-offs of a small box: the bands are wide, and the run says the ranking is no answer.
+  EXPECT_FALSE(j["best"]["whole_grading"]["trustworthy"].get<bool>());
+  EXPECT_NE(r.output.find("warning: the densest blend's whole-grading band"), std::string::npos) << r.output;
+  // Refused before any run.
+  for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
+           {"--cut-offs 0.2in,0.12in", "expected three or more"},
+           {"--cut-offs 0.2in,0.2in,0.12in", "given twice"},
+           {"--calibration x.json", "with --cut-offs only"}}) {
+    fs::remove_all(dir_);
+    const Result bad = run("sweep " + scenario + " --fa 30,45 --out " + dir_.string() + " " + args);
+    EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
+    EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;
+    EXPECT_FALSE(fs::exists(dir_ / "sweep.json"));
+  }
 }
 
 TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {

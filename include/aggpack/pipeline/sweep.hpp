@@ -15,6 +15,10 @@ struct SweepOptions {
   int seeds = 3;
   std::filesystem::path out = "out/sweep";
   std::vector<std::string> sets;       // --set overrides applied to every run
+  // Three or more d_min of the fine grading: each blend is simulated at each, and CPM carries the
+  // series to the blend's whole grading (whole_grading.hpp); none: the scenario's own cut-off.
+  std::vector<double> cut_offs;
+  std::optional<std::filesystem::path> calibration;  // CPM's K and beta for that; none: the scenario's or the defaults
   std::optional<std::string> stop_after;
   int threads = 0;
   bool quiet = false;
@@ -22,7 +26,9 @@ struct SweepOptions {
 
 // The densest blend: runs the scenario at each fine fraction (Ca/Fa = (100 - Fa) / Fa) with
 // seeds 1..N and writes sweep.csv, sweep.svg (density against Fa % with sd error bars) and
-// sweep.json (every point and the best blend). Returns sweep.json's content.
+// sweep.json (every point and the best blend). With cut-offs, each blend is run at each cut-off
+// and its whole grading estimated; the best blend is then the one of the densest whole grading.
+// Returns sweep.json's content.
 nlohmann::json sweep(const SweepOptions& options, std::ostream& log);
 
 // Parses "25:45:5" (from:to:step, inclusive) or "28,32,36" into fine-fraction percentages.

@@ -63,8 +63,31 @@ struct LineFit {
 };
 LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& y_error = {});
 
+// The volume fraction of a graded scenario's whole grading (of its blend, for a coarse/fine mix)
+// that its cut-offs leave out.
+double left_out_fraction(const GradedParticles& graded);
+// The key of the cut-off a whole-grading series varies: the finest grading's d_min.
+std::string cut_off_key(const GradedParticles& graded);
+// CPM's parameters for a whole-grading estimate of `whole`: a calibration file given, else the
+// scenario's models.calibration, else the defaults for its protocol.
+ModelParameters whole_grading_parameters(const Scenario& whole, const std::optional<std::filesystem::path>& calibration);
+// A cut-off point from its scenario (left out, CPM) and its densities over seeds.
+CutOffPoint cut_off_point(const Scenario& at_cut, const ModelParameters& parameters, double cut_off,
+                          std::vector<double> density, std::size_t spheres);
+
+// The fit: the residuals of `points` (any order) as a line in the volume left out, carried to
+// nothing left out and added to CPM on the whole grading. InputError for fewer than three points.
+WholeGradingEstimate fit_whole_grading(const Scenario& whole, const ModelParameters& parameters,
+                                       std::vector<CutOffPoint> points);
+
+// Simulates the series and fits it.
 WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, std::ostream& log);
 nlohmann::json to_json(const WholeGradingEstimate& estimate);
 std::string describe(const WholeGradingEstimate& estimate);
+// The density against the volume left out: the simulated points (mean +- se over seeds), CPM on
+// each simulated distribution, the fitted model (CPM + the residual line) and its value for the
+// whole grading with the band, and a measured density at the whole grading when given.
+std::string whole_grading_svg(const WholeGradingEstimate& estimate, std::optional<double> measured = std::nullopt,
+                              const std::string& title = {});
 
 }  // namespace aggpack
