@@ -116,27 +116,43 @@ std::string sweep_svg(const std::vector<SweepPoint>& points, std::size_t best, b
 
 }  // namespace
 
-nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
+namespace {
+
+// What a sweep runs, read and checked before any run: each blend's scenario and, with cut-offs,
+// its scenario at each cut-off.
+struct SweepPlan {
+  std::vector<double> cuts;  // m, coarsest first; empty: the scenario's own cut-off
+  std::string key;           // the cut-off's key
+  ModelParameters parameters;
+  std::vector<Scenario> blends;
+  std::vector<std::vector<Scenario>> at_cuts;  // [blend][cut]
+  [[nodiscard]] bool whole() const { return !cuts.empty(); }
+};
+
+std::vector<std::string> blend_sets(const SweepOptions& options, double fa) {
+  std::vector<std::string> sets = options.sets;
+  sets.push_back(fmt::format("particles.ca_fa={:.17g}", (100.0 - fa) / fa));
+  sets.push_back("output.formats=[]");
+  return sets;
+}
+
+std::vector<std::string> cut_sets(const SweepOptions& options, double fa, const std::string& key, double cut) {
+  std::vector<std::string> sets = blend_sets(options, fa);
+  sets.push_back(fmt::format("{}={:.17g}", key, cut));
+  return sets;
+}
+
+SweepPlan plan_sweep(const SweepOptions& options) {
   if (options.fa_percent.empty()) throw InputError("sweep: give the fine fractions with --fa (e.g. 25:45:5)");
   if (options.seeds < 1) throw InputError("sweep: --seeds must be at least 1");
-  std::vector<double> cuts = options.cut_offs;
-  std::sort(cuts.begin(), cuts.end(), std::greater<>());
-  if (!cuts.empty() && cuts.size() < 3)
-    throw InputError(fmt::format("--cut-offs: {} given; expected three or more (or none)", cuts.size()));
-  if (std::adjacent_find(cuts.begin(), cuts.end()) != cuts.end()) throw InputError("--cut-offs: a cut-off is given twice");
-  const bool whole = !cuts.empty();
-  if (options.calibration && !whole) throw InputError("--calibration: it is used with --cut-offs only");
-  const auto blend_sets = [&](double fa) {
-    std::vector<std::string> sets = options.sets;
-    sets.push_back(fmt::format("particles.ca_fa={:.17g}", (100.0 - fa) / fa));
-    sets.push_back("output.formats=[]");
-    return sets;
-  };
-  const auto cut_sets = [&](double fa, const std::string& key, double cut) {
-    std::vector<std::string> sets = blend_sets(fa);
-    if (!key.empty()) sets.push_back(fmt::format("{}={:.17g}", key, cut));
-    return sets;
-  };
+  SweepPlan plan;
+  plan.cuts = options.cut_offs;
+  std::sort(plan.cuts.begin(), plan.cuts.end(), std::greater<>());
+  if (!plan.cuts.empty() && plan.cuts.size() < 3)
+    throw InputError(fmt::format("--cut-offs: {} given; expected three or more (or none)", plan.cuts.size()));
+  if (std::adjacent_find(plan.cuts.begin(), plan.cuts.end()) != plan.cuts.end())
+    throw InputError("--cut-offs: a cut-off is given twice");
+  if (options.calibration && !plan.whole()) throw InputError("--calibration: it is used with --cut-offs only");
   {
     ScenarioOverrides check;
     check.set = options.sets;
@@ -145,74 +161,65 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
       throw InputError(fmt::format("{}: [particles]: a sweep needs a coarse/fine mix (particles.coarse, "
                                    "particles.fine and particles.ca_fa)",
                                    options.scenario.string()));
+    if (plan.whole())
+      plan.key = cut_off_key(*sc.particles.graded), plan.parameters = whole_grading_parameters(sc, options.calibration);
   }
-  // Every blend's scenario (at every cut-off) is read, and so checked, before any run.
-  std::string key;
-  ModelParameters parameters;
-  std::vector<Scenario> blends;
-  std::vector<std::vector<Scenario>> at_cuts;
   for (const double fa : options.fa_percent) {
     ScenarioOverrides o;
-    o.set = blend_sets(fa);
-    blends.push_back(load_scenario(options.scenario, o));
-    const Scenario& sc = blends.back();
-    if (!whole) continue;
-    if (key.empty()) key = cut_off_key(*sc.particles.graded), parameters = whole_grading_parameters(sc, options.calibration);
-    at_cuts.emplace_back();
-    for (const double cut : cuts) {
-      o.set = cut_sets(fa, key, cut);
-      at_cuts.back().push_back(load_scenario(options.scenario, o));
+    o.set = blend_sets(options, fa);
+    plan.blends.push_back(load_scenario(options.scenario, o));
+    if (!plan.whole()) continue;
+    plan.at_cuts.emplace_back();
+    for (const double cut : plan.cuts) {
+      o.set = cut_sets(options, fa, plan.key, cut);
+      plan.at_cuts.back().push_back(load_scenario(options.scenario, o));
     }
   }
-  const std::vector<double> own_cut{kNaN};  // no cut-off series: the scenario's own
-  const std::vector<double>& series = whole ? cuts : own_cut;
-  Campaign campaign(options.threads, options.quiet, log,
-                    options.fa_percent.size() * series.size() * static_cast<std::size_t>(options.seeds));
-  std::vector<SweepPoint> points;
-  bool has_dynamics = false;
-  for (std::size_t b = 0; b < options.fa_percent.size(); ++b) {
-    const double fa = options.fa_percent[b];
-    SweepPoint point{fa, (100.0 - fa) / fa, {}, {}, {}, std::nullopt};
-    std::vector<CutOffPoint> cut_points;
-    std::vector<double> deposited;
-    for (std::size_t c = 0; c < series.size(); ++c) {
-      const fs::path blend_dir = options.out / fmt::format("fa_{:g}", fa);
-      const fs::path dir = whole ? blend_dir / fmt::format("cut_{:g}mm", 1e3 * series[c]) : blend_dir;
-      std::vector<double> final_density;
-      std::size_t spheres = 0;
-      deposited.clear();
-      for (int s = 1; s <= options.seeds; ++s) {
-        const std::string label = whole ? fmt::format("Fa {:g} %, cut {:.3g} mm", fa, 1e3 * series[c]) : fmt::format("Fa {:g} %", fa);
-        const CaseRun r = campaign.run(label, options.scenario, whole ? cut_sets(fa, key, series[c]) : blend_sets(fa),
-                                       static_cast<std::uint64_t>(s), dir / fmt::format("seed_{}", s), options.stop_after);
-        final_density.push_back(r.final_density());
-        deposited.push_back(r.after_deposition);
-        if (s == 1) spheres = r.particle_count;
-        has_dynamics = has_dynamics || !std::isnan(r.after_dynamics);
-      }
-      // The point's own densities are the finest cut-off's (the last), or the scenario's.
-      point.final_density = final_density;
-      if (whole) cut_points.push_back(cut_off_point(at_cuts[b][c], parameters, series[c], final_density, spheres));
-    }
-    point.density = seed_statistics(point.final_density);
-    point.after_deposition = seed_statistics(deposited);
-    if (whole) {
-      point.whole = fit_whole_grading(blends[b], parameters, std::move(cut_points));
-      point.whole->scenario = options.scenario.string();
-    }
-    points.push_back(std::move(point));
-  }
-  campaign.clear_progress();
-  const auto best_it = std::max_element(points.begin(), points.end(),
-                                        [](const SweepPoint& a, const SweepPoint& b) { return a.judged() < b.judged(); });
-  const std::size_t best = static_cast<std::size_t>(best_it - points.begin());
-  const SweepPoint& top = points[best];
-  // Points within one sd over seeds (with cut-offs: half a band) of the best, by either's
-  // uncertainty, are not told apart by these runs.
-  std::vector<double> indistinguishable;
-  for (const SweepPoint& p : points)
-    if (top.judged() - p.judged() <= std::max(p.uncertainty(), top.uncertainty())) indistinguishable.push_back(p.fa_percent);
+  return plan;
+}
 
+// One blend's runs: at each cut-off (or once, at the scenario's own) over seeds 1..N.
+SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::size_t blend, Campaign& campaign,
+                     bool& has_dynamics) {
+  const double fa = options.fa_percent[blend];
+  SweepPoint point{fa, (100.0 - fa) / fa, {}, {}, {}, std::nullopt};
+  const fs::path blend_dir = options.out / fmt::format("fa_{:g}", fa);
+  std::vector<CutOffPoint> cut_points;
+  std::vector<double> deposited;
+  const std::size_t cuts = plan.whole() ? plan.cuts.size() : 1;
+  for (std::size_t c = 0; c < cuts; ++c) {
+    const double cut = plan.whole() ? plan.cuts[c] : kNaN;
+    const fs::path dir = plan.whole() ? blend_dir / fmt::format("cut_{:g}mm", 1e3 * cut) : blend_dir;
+    std::vector<double> final_density;
+    std::size_t spheres = 0;
+    deposited.clear();
+    for (int s = 1; s <= options.seeds; ++s) {
+      const std::string label = plan.whole() ? fmt::format("Fa {:g} %, cut {:.3g} mm", fa, 1e3 * cut) : fmt::format("Fa {:g} %", fa);
+      const CaseRun r = campaign.run(label, options.scenario,
+                                     plan.whole() ? cut_sets(options, fa, plan.key, cut) : blend_sets(options, fa),
+                                     static_cast<std::uint64_t>(s), dir / fmt::format("seed_{}", s), options.stop_after);
+      final_density.push_back(r.final_density());
+      deposited.push_back(r.after_deposition);
+      if (s == 1) spheres = r.particle_count;
+      has_dynamics = has_dynamics || !std::isnan(r.after_dynamics);
+    }
+    // The point's own densities are the finest cut-off's (the last), or the scenario's.
+    point.final_density = final_density;
+    if (plan.whole()) cut_points.push_back(cut_off_point(plan.at_cuts[blend][c], plan.parameters, cut, final_density, spheres));
+  }
+  point.density = seed_statistics(point.final_density);
+  point.after_deposition = seed_statistics(deposited);
+  if (plan.whole()) {
+    point.whole = fit_whole_grading(plan.blends[blend], plan.parameters, std::move(cut_points));
+    point.whole->scenario = options.scenario.string();
+  }
+  return point;
+}
+
+nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, const std::vector<SweepPoint>& points,
+                          std::size_t best, const std::vector<double>& indistinguishable, bool has_dynamics,
+                          double seconds) {
+  const SweepPoint& top = points[best];
   nlohmann::json result;
   result["aggpack_version"] = kVersion;
   result["scenario_file"] = options.scenario.string();
@@ -236,22 +243,73 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   }
   result["best"] = {{"fa_percent", top.fa_percent}, {"ca_fa", top.ca_fa}, {"density_mean", top.density.mean},
                     {"density_sd", or_null(top.density.sd)}, {"within_one_sd_fa_percent", indistinguishable},
-                    {"chosen_by", whole ? "whole_grading" : "density"}};
-  if (whole) {
+                    {"chosen_by", plan.whole() ? "whole_grading" : "density"}};
+  if (plan.whole()) {
     result["best"]["whole_grading"] = {{"density", top.whole->density},
                                        {"band", {top.whole->low, top.whole->high}},
                                        {"trustworthy", top.whole->trustworthy()}};
-    result["cut_offs"] = {{"key", key}, {"values_m", cuts}};
-    result["models"] = {{"cpm_compaction_index", parameters.compaction_index},
-                        {"cpm_compaction_index_source", parameters.compaction_source},
-                        {"cpm_residual_packing_density", parameters.beta},
-                        {"cpm_residual_packing_density_source", parameters.beta_source}};
+    result["cut_offs"] = {{"key", plan.key}, {"values_m", plan.cuts}};
+    const ModelParameters& m = plan.parameters;
+    result["models"] = {{"cpm_compaction_index", m.compaction_index},
+                        {"cpm_compaction_index_source", m.compaction_source},
+                        {"cpm_residual_packing_density", m.beta},
+                        {"cpm_residual_packing_density_source", m.beta_source}};
     result["notes"] = {fmt::format(
         "each blend simulated at the cut-offs {} of {}; its whole grading is modelled below them by CPM (K {:g}, "
         "beta {:g}); density_mean is at the finest cut-off; the best blend is the one of the densest whole grading",
-        nlohmann::json(cuts).dump(), key, parameters.compaction_index, parameters.beta)};
+        nlohmann::json(plan.cuts).dump(), plan.key, m.compaction_index, m.beta)};
   }
-  result["wall_clock_s"] = campaign.seconds();
+  result["wall_clock_s"] = seconds;
+  return result;
+}
+
+void print_sweep(std::ostream& log, const SweepOptions& options, const std::vector<SweepPoint>& points,
+                 std::size_t best, const std::vector<double>& indistinguishable) {
+  const SweepPoint& top = points[best];
+  const bool whole = top.whole.has_value();
+  fmt::print(log, "{:>6} {:>7} {:>16}{}\n", "Fa %", "Ca/Fa", whole ? "finest cut-off" : "density",
+             whole ? fmt::format(" {:>28}", "whole grading (band)") : "");
+  for (const SweepPoint& p : points)
+    fmt::print(log, "{:>6g} {:>7.3f} {:>16}{}\n", p.fa_percent, p.ca_fa,
+               std::isnan(p.density.sd) ? fmt::format("{:.4f}", p.density.mean)
+                                        : fmt::format("{:.4f} ± {:.4f}", p.density.mean, p.density.sd),
+               p.whole ? fmt::format(" {:>9.4f} ({:.4f} to {:.4f}){}", p.whole->density, p.whole->low, p.whole->high,
+                                     p.whole->trustworthy() ? "" : " wide")
+                       : "");
+  fmt::print(log, "densest blend{}: Fa = {:g} % (Ca/Fa = {:.3f}), density {:.4f}; within {} of it: Fa = {} %\n",
+             whole ? " (whole grading)" : "", top.fa_percent, top.ca_fa, top.judged(), whole ? "half a band" : "one sd",
+             nlohmann::json(indistinguishable).dump());
+  if (whole && !top.whole->trustworthy())
+    fmt::print(log, "warning: the densest blend's whole-grading band is {:.3f} wide (more than 0.04): the cut-offs "
+                    "leave too much out, or their densities scatter too much, to rank the blends; simulate finer "
+                    "cut-offs, or more seeds\n",
+               top.whole->high - top.whole->low);
+  fmt::print(log, "wrote {}\n", options.out.string());
+}
+
+}  // namespace
+
+nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
+  const SweepPlan plan = plan_sweep(options);
+  Campaign campaign(options.threads, options.quiet, log,
+                    options.fa_percent.size() * std::max<std::size_t>(plan.cuts.size(), 1) *
+                        static_cast<std::size_t>(options.seeds));
+  std::vector<SweepPoint> points;
+  bool has_dynamics = false;
+  for (std::size_t b = 0; b < options.fa_percent.size(); ++b)
+    points.push_back(run_blend(options, plan, b, campaign, has_dynamics));
+  campaign.clear_progress();
+  const auto best_it = std::max_element(points.begin(), points.end(),
+                                        [](const SweepPoint& a, const SweepPoint& b) { return a.judged() < b.judged(); });
+  const std::size_t best = static_cast<std::size_t>(best_it - points.begin());
+  const SweepPoint& top = points[best];
+  // Points within one sd over seeds (with cut-offs: half a band) of the best, by either's
+  // uncertainty, are not told apart by these runs.
+  std::vector<double> indistinguishable;
+  for (const SweepPoint& p : points)
+    if (top.judged() - p.judged() <= std::max(p.uncertainty(), top.uncertainty())) indistinguishable.push_back(p.fa_percent);
+  const nlohmann::json result =
+      sweep_json(options, plan, points, best, indistinguishable, has_dynamics, campaign.seconds());
 
   std::filesystem::create_directories(options.out);
   for (const SweepPoint& p : points)
@@ -259,29 +317,10 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
       write_file_atomically(options.out / fmt::format("fa_{:g}", p.fa_percent) / "whole_grading.svg",
                             whole_grading_svg(*p.whole, std::nullopt,
                                               fmt::format("Fa = {:g} %: the whole grading from its cut-offs", p.fa_percent)));
-  write_file_atomically(options.out / "sweep.csv", sweep_csv(points, options.seeds, whole));
+  write_file_atomically(options.out / "sweep.csv", sweep_csv(points, options.seeds, plan.whole()));
   write_file_atomically(options.out / "sweep.svg", sweep_svg(points, best, has_dynamics, options.scenario));
   write_file_atomically(options.out / "sweep.json", result.dump(2) + "\n");
-  if (!options.quiet) {
-    fmt::print(log, "{:>6} {:>7} {:>16}{}\n", "Fa %", "Ca/Fa", whole ? "finest cut-off" : "density",
-               whole ? fmt::format(" {:>28}", "whole grading (band)") : "");
-    for (const SweepPoint& p : points)
-      fmt::print(log, "{:>6g} {:>7.3f} {:>16}{}\n", p.fa_percent, p.ca_fa,
-                 std::isnan(p.density.sd) ? fmt::format("{:.4f}", p.density.mean)
-                                          : fmt::format("{:.4f} ± {:.4f}", p.density.mean, p.density.sd),
-                 p.whole ? fmt::format(" {:>9.4f} ({:.4f} to {:.4f}){}", p.whole->density, p.whole->low, p.whole->high,
-                                       p.whole->trustworthy() ? "" : " wide")
-                         : "");
-    fmt::print(log, "densest blend{}: Fa = {:g} % (Ca/Fa = {:.3f}), density {:.4f}; within {} of it: Fa = {} %\n",
-               whole ? " (whole grading)" : "", top.fa_percent, top.ca_fa, top.judged(),
-               whole ? "half a band" : "one sd", nlohmann::json(indistinguishable).dump());
-    if (whole && !top.whole->trustworthy())
-      fmt::print(log, "warning: the densest blend's whole-grading band is {:.3f} wide (more than 0.04): the cut-offs "
-                      "leave too much out, or their densities scatter too much, to rank the blends; simulate finer "
-                      "cut-offs, or more seeds\n",
-                 top.whole->high - top.whole->low);
-    fmt::print(log, "wrote {}\n", options.out.string());
-  }
+  if (!options.quiet) print_sweep(log, options, points, best, indistinguishable);
   return result;
 }
 
