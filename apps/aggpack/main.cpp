@@ -260,6 +260,8 @@ int main(int argc, char** argv) {
   predict_cmd->add_option("--k", predict.compaction_index, "CPM compaction index K (4.1 poured ... 9 vibrated and compressed)");
   predict_cmd->add_option("--process", predict.process, "K of a lab process: poured, rodded, vibrated, vibrated_compressed");
   predict_cmd->add_option("--beta", predict.beta, "CPM residual packing density of every class (default 0.72, spheres)");
+  predict_cmd->add_option("--beta-fine", predict.beta_fine,
+                          "CPM residual packing density of a blend's fine aggregate (default: --beta)");
   predict_cmd->add_option("--calibration", predict.calibration, "K and beta from a file aggpack calibrate wrote");
   predict_cmd->add_option("--set", predict.overrides.set, "Override a scenario key: key.path=value");
 
@@ -439,9 +441,13 @@ int main(int argc, char** argv) {
       const aggpack::Predictions p = aggpack::predict(predict);
       if (predict_json) fmt::print("{}\n", aggpack::to_json(p).dump(1));
       else
-        fmt::print("aggpack {}: analytic predictions for {}, no simulation\n  K = {:g}: {}\n  beta = {:g}: {}\n{}",
+        fmt::print("aggpack {}: analytic predictions for {}, no simulation\n  K = {:g}: {}\n  beta = {:g}: {}\n{}{}",
                    aggpack::kVersion, predict.input, p.parameters.compaction_index, p.parameters.compaction_source,
-                   p.parameters.beta, p.parameters.beta_source, aggpack::describe(p));
+                   p.parameters.beta, p.parameters.beta_source,
+                   p.parameters.beta_fine ? fmt::format("  beta of the fine aggregate = {:g}: {}\n", *p.parameters.beta_fine,
+                                                        p.parameters.beta_fine_source)
+                                          : "",
+                   aggpack::describe(p));
     } else if (*grading_cmd) {
       if (grading_list) {
         for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);

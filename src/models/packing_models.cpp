@@ -65,6 +65,7 @@ ModelDistribution blend(const ModelDistribution& coarse, const ModelDistribution
   }
   for (ModelClass c : fine.classes) {
     c.volume_fraction *= 1.0 - share;
+    c.fine = true;
     out.classes.push_back(c);
   }
   sort_coarse_first(out.classes);

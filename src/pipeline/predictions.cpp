@@ -37,15 +37,18 @@ DistributionPrediction predict_distribution(std::string name, std::string descri
   d.name = std::move(name);
   d.description = std::move(description);
   d.classes = std::move(classes);
-  const std::vector<double> beta{parameters.beta};
+  std::vector<double> beta;
+  for (const ModelClass& c : d.classes.classes)
+    beta.push_back(c.fine && parameters.beta_fine ? *parameters.beta_fine : parameters.beta);
   d.cpm = cpm(d.classes, beta, parameters.compaction_index);
   d.moments = radius_moments(d.classes);
   d.random_close_packing = desmond_weeks_rcp(d.moments);
   if (d.classes.classes.size() == 2) {
-    const double alone = parameters.beta / (1.0 + 1.0 / parameters.compaction_index);
-    d.furnas_at_mix = furnas_binary(alone, alone, d.classes.classes[1].volume_fraction);
-    d.furnas_densest = furnas_densest(alone, alone);
-    d.furnas_densest_fine_fraction = furnas_densest_fine_fraction(alone, alone);
+    const double coarse = beta[0] / (1.0 + 1.0 / parameters.compaction_index);
+    const double fine = beta[1] / (1.0 + 1.0 / parameters.compaction_index);
+    d.furnas_at_mix = furnas_binary(coarse, fine, d.classes.classes[1].volume_fraction);
+    d.furnas_densest = furnas_densest(coarse, fine);
+    d.furnas_densest_fine_fraction = furnas_densest_fine_fraction(coarse, fine);
   }
   return d;
 }
@@ -94,14 +97,16 @@ Predictions predict(const PredictRequest& r) {
     throw InputError("--mix and --ca-fa go together: the fine grading and the coarse/fine volume ratio of the blend");
   if (r.compaction_index && r.process)
     throw InputError("--k and --process both give the compaction index; give one");
-  if (r.calibration && (r.compaction_index || r.process || r.beta))
-    throw InputError("--calibration gives K and beta; give it alone, or --k (or --process) and --beta");
+  if (r.calibration && (r.compaction_index || r.process || r.beta || r.beta_fine))
+    throw InputError("--calibration gives K and beta; give it alone, or --k (or --process) and --beta (and --beta-fine)");
   if (r.compaction_index && !(*r.compaction_index > 0.0))
     throw InputError(fmt::format("--k {}: expected a positive compaction index (4.1 poured ... 9 vibrated and "
                                  "compressed)",
                                  *r.compaction_index));
   if (r.beta && !(*r.beta > 0.0 && *r.beta < 1.0))
     throw InputError(fmt::format("--beta {}: expected a residual packing density between 0 and 1", *r.beta));
+  if (r.beta_fine && !(*r.beta_fine > 0.0 && *r.beta_fine < 1.0))
+    throw InputError(fmt::format("--beta-fine {}: expected a residual packing density between 0 and 1", *r.beta_fine));
   std::optional<double> process_k;
   if (r.process) {
     process_k = compaction_index_of(*r.process);
@@ -125,6 +130,11 @@ Predictions predict(const PredictRequest& r) {
     parameters.compaction_index = *process_k,
     parameters.compaction_source = fmt::format("de Larrard's K for the process \"{}\" (--process)", *r.process);
   if (r.beta) parameters.beta = *r.beta, parameters.beta_source = "--beta";
+  if (r.beta_fine) parameters.beta_fine = *r.beta_fine, parameters.beta_fine_source = "--beta-fine";
+  const bool blended = r.fine || (sc && sc->particles.graded && sc->particles.graded->fine);
+  if (r.beta_fine && !blended)
+    throw InputError("--beta-fine applies to a blend's fine aggregate: give --mix and --ca-fa, or a scenario with a "
+                     "coarse/fine mix");
   if (sc) {
     if (sc->particles.file)
       throw InputError(fmt::format("{}: its particles come from a file; predict them with aggpack analyze's packing, "
@@ -153,6 +163,10 @@ nlohmann::json to_json(const Predictions& p) {
                      {"cpm_compaction_index_source", p.parameters.compaction_source},
                      {"cpm_residual_packing_density", p.parameters.beta},
                      {"cpm_residual_packing_density_source", p.parameters.beta_source}};
+  if (p.parameters.beta_fine) {
+    j["parameters"]["cpm_residual_packing_density_fine"] = *p.parameters.beta_fine;
+    j["parameters"]["cpm_residual_packing_density_fine_source"] = p.parameters.beta_fine_source;
+  }
   for (const DistributionPrediction& d : p.distributions) {
     nlohmann::json e;
     e["description"] = d.description;
@@ -183,8 +197,10 @@ std::string describe(const Predictions& p) {
     const std::size_t n = d.classes.classes.size();
     fmt::format_to(o, "  models, {} ({}, {} class{}):\n", d.name == "simulated" ? "as simulated" : "whole grading",
                    d.description, n, n == 1 ? "" : "es");
-    fmt::format_to(o, "    CPM (K {:g}, beta {:g}): density {:.4f}, virtual {:.4f}\n", p.parameters.compaction_index,
-                   p.parameters.beta, d.cpm.density, d.cpm.virtual_density);
+    fmt::format_to(o, "    CPM (K {:g}, beta {:g}{}): density {:.4f}, virtual {:.4f}\n", p.parameters.compaction_index,
+                   p.parameters.beta,
+                   p.parameters.beta_fine ? fmt::format(", the fine aggregate's {:g}", *p.parameters.beta_fine) : "",
+                   d.cpm.density, d.cpm.virtual_density);
     if (d.moments.polydispersity <= kDesmondWeeksValidPolydispersity)
       fmt::format_to(o, "    Desmond-Weeks random close packing: {:.4f} (polydispersity {:.3f}, skewness {:.3f})\n",
                      d.random_close_packing, d.moments.polydispersity, d.moments.skewness);

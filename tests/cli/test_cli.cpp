@@ -443,13 +443,27 @@ TEST_F(Cli, PredictGivesTheModelsOfAScenarioOrAGrading) {
   r = run("predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 1.5");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("CPM (K 4.1, beta 0.72): density 0."), std::string::npos) << r.output;
+  // The sand's own beta: equal to the coarse one changes nothing; a looser sand packs the blend looser.
+  const std::string blend = "predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 1.5 --json";
+  const auto density = [](const nlohmann::json& j) { return j.at("whole_grading").at("cpm").at("density").get<double>(); };
+  const auto spheres = json(run(blend)), same = json(run(blend + " --beta-fine 0.72")),
+             sand = json(run(blend + " --beta-fine 0.6"));
+  EXPECT_EQ(density(same), density(spheres));
+  EXPECT_LT(density(sand), density(spheres) - 0.02);
+  EXPECT_EQ(sand.at("parameters").at("cpm_residual_packing_density_fine"), 0.6);
+  EXPECT_EQ(sand.at("parameters").at("cpm_residual_packing_density_fine_source"), "--beta-fine");
+  EXPECT_FALSE(spheres.at("parameters").contains("cpm_residual_packing_density_fine"));
+  EXPECT_LT(density(json(run("predict " + example("table2_mix3.toml") + " --json --beta-fine 0.6"))),
+            density(mix));
   // Refused, exit 2, saying why.
   for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
            {"predict fu2003_table1_coarse --mix astm_c33_fine_mid", "--mix and --ca-fa go together"},
            {"predict " + example("example1.toml") + " --k 5 --process poured", "give one"},
            {"predict " + example("example1.toml") + " --beta 1.5", "between 0 and 1"},
            {"predict " + example("example1.toml") + " --process shaken", "expected poured, rodded"},
-           {"predict no_such_grading", "neither a shipped grading"}}) {
+           {"predict no_such_grading", "neither a shipped grading"},
+           {"predict " + example("example2.toml") + " --beta-fine 0.6", "applies to a blend's fine aggregate"},
+           {"predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 1.5 --beta-fine 0", "between 0 and 1"}}) {
     const Result bad = run(args);
     EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
     EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;

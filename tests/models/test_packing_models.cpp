@@ -154,6 +154,9 @@ TEST(GradingClasses, SieveFractionsAtTheGeometricMeanOfTheirSieves) {
   const auto mix = aggpack::blend(cut, aggpack::grading_classes(g, 0.001, 0.002), 3.0);
   ASSERT_EQ(mix.classes.size(), 2u);
   EXPECT_NEAR(mix.classes[0].volume_fraction, 0.75, 1e-14);
+  // Each class knows its aggregate, for a fine aggregate's own beta.
+  EXPECT_FALSE(mix.classes[0].fine);
+  EXPECT_TRUE(mix.classes[1].fine);
 }
 
 TEST(DiameterClasses, EqualSizesAreOneClassAndManySizesAreBinned) {

@@ -16,6 +16,7 @@ struct ModelClass {
   double diameter = 0.0;          // m: the equivalent diameter
   double d_lo = 0.0, d_hi = 0.0;  // m
   double volume_fraction = 0.0;   // of the solids; the classes of a distribution sum to 1
+  bool fine = false;              // from the fine aggregate of a blend
 };
 
 // A size distribution as the models see it: classes from the coarsest to the finest.

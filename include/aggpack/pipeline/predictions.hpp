@@ -17,6 +17,9 @@ struct ModelParameters {
   std::string compaction_source;
   double beta = 0.72;             // CPM's residual packing density of every class (spheres)
   std::string beta_source;
+  // The fine aggregate's classes of a blend, when they pack otherwise (a natural sand); none: beta.
+  std::optional<double> beta_fine;
+  std::string beta_fine_source;
 };
 
 // The parameters for a protocol until they are calibrated: K is de Larrard's value for the
@@ -63,6 +66,7 @@ struct PredictRequest {
   std::optional<double> compaction_index;
   std::optional<std::string> process;
   std::optional<double> beta;
+  std::optional<double> beta_fine;
   std::optional<std::filesystem::path> calibration;  // an aggpack calibrate file: K and beta
   ScenarioOverrides overrides;
 };
