@@ -8,6 +8,7 @@
 #include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
 #include "aggpack/pipeline/protocol.hpp"
@@ -136,11 +137,14 @@ Predictions predict(const PredictRequest& r) {
     throw InputError("--beta-fine applies to a blend's fine aggregate: give --mix and --ca-fa, or a scenario with a "
                      "coarse/fine mix");
   if (sc) {
-    if (sc->particles.file)
-      throw InputError(fmt::format("{}: its particles come from a file; predict them with aggpack analyze's packing, "
-                                   "or run the scenario (its summary.json has the predictions)",
-                                   r.input));
-    return predict_scenario(*sc, parameters);
+    if (!sc->particles.file) return predict_scenario(*sc, parameters);
+    // The file's spheres are the distribution, as in the run's summary.
+    const auto max_bytes = static_cast<std::uintmax_t>(sc->limits.max_input_file_gib * double(1u << 30));
+    const PackingFile file = read_packing_file(*sc->particles.file, sc->particles.file_length_unit,
+                                               sc->material.density, max_bytes, sc->particles.file_timestep);
+    std::vector<double> diameters;
+    for (const double radius : file.particles.radius) diameters.push_back(2.0 * radius);
+    return predict_scenario(*sc, parameters, diameters);
   }
   const Grading coarse = load_grading(r.input);
   Predictions out;

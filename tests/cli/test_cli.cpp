@@ -455,6 +455,28 @@ TEST_F(Cli, PredictGivesTheModelsOfAScenarioOrAGrading) {
   EXPECT_FALSE(spheres.at("parameters").contains("cpm_residual_packing_density_fine"));
   EXPECT_LT(density(json(run("predict " + example("table2_mix3.toml") + " --json --beta-fine 0.6"))),
             density(mix));
+  // Every shipped scenario (a particle file's included) and every shipped grading has a CPM density.
+  for (const auto& entry : fs::directory_iterator(AGGPACK_EXAMPLES)) {
+    if (entry.path().extension() != ".toml") continue;
+    const Result p = run("predict " + entry.path().string() + " --json");
+    ASSERT_EQ(p.exit_code, 0) << entry.path() << "\n" << p.output;
+    const auto j = json(p);
+    const double d = j.at("simulated").at("cpm").at("density").get<double>();
+    EXPECT_GT(d, 0.5) << entry.path();
+    EXPECT_LT(d, 0.8) << entry.path();
+  }
+  std::istringstream listed(run("grading --list").output);
+  std::vector<std::string> gradings;
+  for (std::string kind, name; listed >> kind >> name;)
+    if (kind == "grading") gradings.push_back(name);  // not the bands: a band is two curves
+  ASSERT_GE(gradings.size(), 10u);
+  for (const std::string& grading : gradings) {
+    const Result p = run("predict " + grading + " --json");
+    ASSERT_EQ(p.exit_code, 0) << grading << "\n" << p.output;
+    const double d = json(p).at("whole_grading").at("cpm").at("density").get<double>();
+    EXPECT_GT(d, 0.55) << grading;
+    EXPECT_LT(d, 0.85) << grading;
+  }
   // Refused, exit 2, saying why.
   for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
            {"predict fu2003_table1_coarse --mix astm_c33_fine_mid", "--mix and --ca-fa go together"},
