@@ -268,6 +268,13 @@ std::string grading_plot(const Table2Row& row, const SizesReport& sizes) {
 
 struct Table2Outcome : SeedRuns {
   Table2Row row;
+  std::vector<std::pair<double, SeedRuns>> cut_series;  // sand cut-off (in), deposited runs at it
+  // The runs at a sand cut-off of the series, if it has it.
+  [[nodiscard]] const SeedRuns* at_cut(double cut_in) const {
+    for (const auto& [cut, series_runs] : cut_series)
+      if (std::abs(cut - cut_in) < 1e-12) return &series_runs;
+    return nullptr;
+  }
 };
 
 // Least-squares slope of y against x, per 10 points of x (two points or more, of distinct x).
@@ -428,6 +435,7 @@ struct Plan {
   std::vector<std::string> example_sets;  // applied to Examples 1 and 2
   std::vector<std::string> table2_dem;    // applied to seed 1 of each Table 2 mix; none: deposition only
   std::vector<std::string> poured_sets;   // the examples' pour-then-tap runs (exampleN_pour.toml)
+  std::vector<double> table2_cuts_in;     // more sand cut-offs for every mix, for its whole grading (in)
   std::string tapping_label;              // that protocol in words
   std::vector<SensitivityCase> sensitivity;
 };
@@ -459,6 +467,9 @@ Plan make_plan(const ReproduceOptions& o) {
                      "dynamics.max_time=0.6", "output.formats=[]"};
     p.tapping_label = "2 taps of 2 g at 30 Hz, 0.15 s apart (QUICK: the pour cut at 0.6 s)";
   }
+  // Every mix at the sand cut-offs of docs/validation.md's whole-grading table (the 0.02 in cut
+  // is what narrows the band, and costs some 30 s a run).
+  if (o.whole_grading) p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
   if (o.quick) {
     p.example_sets = {"dynamics.max_time=0.25"};
     p.sensitivity = {shipped, cut(0.1), cut(0.06)};
@@ -531,15 +542,22 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
 
   const std::size_t seeds = static_cast<std::size_t>(plan.seeds);
   // The shipped variant of the sensitivity study is Table 2's own mix 3: not run twice.
-  const std::size_t new_variants = static_cast<std::size_t>(std::count_if(
-      plan.sensitivity.begin(), plan.sensitivity.end(), [](const SensitivityCase& c) { return !c.sets.empty(); }));
+  // So is a sand cut-off that every mix's series already ran.
+  const auto in_series = [&](const SensitivityCase& c) {
+    return std::any_of(plan.table2_cuts_in.begin(), plan.table2_cuts_in.end(),
+                       [&](double cut) { return std::abs(cut - c.sand_cut_in) < 1e-12; });
+  };
+  const std::size_t new_variants = static_cast<std::size_t>(
+      std::count_if(plan.sensitivity.begin(), plan.sensitivity.end(),
+                    [&](const SensitivityCase& c) { return !c.sets.empty() && !in_series(c); }));
   const auto pour_scenario = [&](const PaperExample& ex) {
     return examples / (fs::path(ex.scenario).stem().string() + "_pour.toml");
   };
   const std::size_t poured_examples = static_cast<std::size_t>(
       std::count_if(paper.begin(), paper.end(), [&](const PaperExample& ex) { return fs::exists(pour_scenario(ex)); }));
   Campaign campaign(options.threads, options.quiet, log,
-                    seeds * (paper.size() + poured_examples + table2.size() + new_variants));
+                    seeds * (paper.size() + poured_examples + table2.size() * (1 + plan.table2_cuts_in.size()) +
+                             new_variants));
   const fs::path runs_dir = options.out / "runs";
   const std::vector<std::string> no_particle_files = {"output.formats=[]"};
 
@@ -587,6 +605,17 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
                        examples / fmt::format("table2_mix{}.toml", row.mix), settle ? table2_dem_sets : no_particle_files,
                        s, runs_dir / fmt::format("table2_mix{}", row.mix) / fmt::format("seed_{}", s))));
     }
+    for (const double cut : plan.table2_cuts_in) {
+      std::vector<std::string> sets = no_particle_files;
+      sets.push_back(fmt::format("particles.fine.d_min=\"{:g} in\"", cut));
+      SeedRuns runs;
+      for (std::size_t s = 1; s <= seeds; ++s)
+        runs.add(keep_bed_if(false, campaign.run(fmt::format("Table 2 mix {}, sand cut at {:g} in", row.mix, cut),
+                                                 examples / fmt::format("table2_mix{}.toml", row.mix), sets, s,
+                                                 runs_dir / fmt::format("table2_mix{}_cut_{:g}in", row.mix, cut) /
+                                                     fmt::format("seed_{}", s))));
+      m.cut_series.emplace_back(cut, std::move(runs));
+    }
     mixes.push_back(std::move(m));
   }
 
@@ -605,6 +634,8 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
         if (!plan.table2_dem.empty()) r.after_dynamics = kNaN;
         variant.add(keep_bed_if(false, std::move(r)));
       }
+    } else if (const SeedRuns* done = sensitivity_mix.at_cut(spec.sand_cut_in)) {
+      for (const CaseRun& r : done->runs) variant.add(r);
     } else {
       std::vector<std::string> sets = no_particle_files;
       sets.insert(sets.end(), spec.sets.begin(), spec.sets.end());
@@ -998,22 +1029,39 @@ nlohmann::json dem_json(const Table2Outcome& m) {
   return runs;
 }
 
-// The sensitivity mix's cut-off series carried to its whole grading by CPM (aggpack
-// whole-grading's fit on the runs already made), with its plot.
-void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
-  const Scenario* base = table2_scenario(rep);
-  if (!base) return;
+// A mix's deposited runs at every sand cut-off it was run at (its own, its --whole-grading
+// series and, for the sensitivity mix, the cut-off variants), carried to the whole grading by
+// CPM with aggpack whole-grading's fit; none below three cut-offs.
+std::optional<WholeGradingEstimate> table2_whole_grading(const Reproduction& rep, const Table2Outcome& m) {
+  if (m.runs.empty()) return std::nullopt;
   const ModelParameters parameters = table2_parameters(rep);
   std::vector<CutOffPoint> points;
-  for (const Variant& v : rep.variants) {
-    if (std::isnan(v.spec.sand_cut_in) || v.runs.empty()) continue;
-    const Scenario& at_cut = v.runs.front().result.report.scenario;
-    points.push_back(cut_off_point(at_cut, parameters, *at_cut.particles.graded->fine->d_min,
-                                   v.values(&CaseRun::after_deposition), v.runs.front().particle_count));
-  }
-  if (points.size() < 3) return;
+  const auto add = [&](const SeedRuns& runs) {
+    if (runs.runs.empty()) return;
+    const Scenario& at_cut = runs.runs.front().result.report.scenario;
+    const std::optional<double> cut = at_cut.particles.graded->fine->d_min;
+    if (!cut) return;
+    for (const CutOffPoint& p : points)
+      if (std::abs(p.cut_off - *cut) < 1e-12) return;  // one point per cut-off
+    points.push_back(cut_off_point(at_cut, parameters, *cut, runs.values(&CaseRun::after_deposition),
+                                   runs.runs.front().particle_count));
+  };
+  add(m);
+  for (const auto& cut_runs : m.cut_series) add(cut_runs.second);
+  if (&m == &rep.sensitivity_mix())
+    for (const Variant& v : rep.variants)
+      if (!std::isnan(v.spec.sand_cut_in)) add(v);
+  if (points.size() < 3) return std::nullopt;
+  return fit_whole_grading(m.runs.front().result.report.scenario, parameters, std::move(points));
+}
+
+// The sensitivity mix's cut-off series carried to its whole grading, with its plot.
+void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
+  if (!table2_scenario(rep)) return;
+  const std::optional<WholeGradingEstimate> estimate = table2_whole_grading(rep, rep.sensitivity_mix());
+  if (!estimate) return;
   const Table2Row& row = rep.sensitivity_mix().row;
-  WholeGradingEstimate e = fit_whole_grading(*base, parameters, points);
+  const WholeGradingEstimate& e = *estimate;
   nlohmann::json j = to_json(e);
   j["mix"] = row.mix;
   j["experiment"] = row.experiment;
@@ -1047,6 +1095,12 @@ void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& re
                                          row.mix)});
 }
 
+// A whole-grading estimate for a table cell: "0.782 (0.771–0.793)", "wide" past 0.04, or none.
+std::string whole_grading_text(const std::optional<WholeGradingEstimate>& e) {
+  if (!e) return "—";
+  return fmt::format("{:.3f} ({:.3f}–{:.3f}){}", e->density, e->low, e->high, e->trustworthy() ? "" : ", wide");
+}
+
 void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
   const std::vector<Table2Outcome>& mixes = rep.mixes;
   const std::vector<Variant>& variants = rep.variants;
@@ -1056,11 +1110,13 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
   b.emplace_back(Heading{2, "Table 2: eight concrete aggregate blends"});
   Table t2;
   t2.header = {"mix", "state", "Ca/Fa", "Fa %", "ours after deposition", "ours after DEM", "CPM as simulated",
-               "CPM whole grading", "paper (computed)", "experiment", "ours - paper", "ours - experiment"};
+               "CPM whole grading", "whole grading (band)", "paper (computed)", "experiment", "ours - paper",
+               "ours - experiment"};
   nlohmann::json t2_json = nlohmann::json::array();
   std::string cpm_parameters;
   for (const Table2Outcome& m : mixes) {
     const double ours = m.final_stats().mean;
+    const std::optional<WholeGradingEstimate> whole = table2_whole_grading(rep, m);
     // The analytic model beside the simulation: the first seed's predictions (the same for every seed).
     const nlohmann::json predictions =
         m.runs.empty() ? nlohmann::json() : m.runs.front().result.summary.value("predictions", nlohmann::json());
@@ -1074,7 +1130,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                                    predictions["parameters"]["cpm_residual_packing_density_source"].get<std::string>());
     t2.rows.push_back({fmt::format("{}", m.row.mix), m.row.state, fmt::format("{:.2f}", m.row.ca_fa),
                        fmt::format("{:.0f}", m.row.fa_percent), stat_text(m.deposition), stat_text(m.dynamics),
-                       value_text(cpm("simulated")), value_text(cpm("whole_grading")),
+                       value_text(cpm("simulated")), value_text(cpm("whole_grading")), whole_grading_text(whole),
                        fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd), value_text(m.row.experiment, 3),
                        difference_text(ours, m.row.paper_mean), difference_text(ours, m.row.experiment)});
     t2_json.push_back({{"mix", m.row.mix}, {"state", m.row.state}, {"ca_fa", m.row.ca_fa}, {"fa_percent", m.row.fa_percent},
@@ -1084,14 +1140,25 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                        {"experiment", m.row.experiment},
                        {"particles", m.runs.empty() ? 0 : particle_count(m.runs.front())},
                        {"cpm", {{"simulated", cpm("simulated")}, {"whole_grading", cpm("whole_grading")}}},
+                       {"whole_grading", whole ? nlohmann::json{{"density", whole->density},
+                                                                {"band", {whole->low, whole->high}},
+                                                                {"trustworthy", whole->trustworthy()},
+                                                                {"cut_offs", whole->points.size()}}
+                                               : nlohmann::json()},
                        {"dem", dem_json(m)}});
   }
   t2.caption = "Ours: mean ± sd over seeds (after DEM: over the settled seeds, see below); the differences use ours "
                "after DEM (after deposition when DEM was not run). CPM: de Larrard's Compressible Packing Model on the "
                "simulated distribution (above the cut-offs) and on the whole grading, " +
                (cpm_parameters.empty() ? std::string("not computed") : cpm_parameters) +
-               " (README, \"Analytic packing models\"; aggpack whole-grading carries the simulation to the whole "
-               "grading).";
+               " (README, \"Analytic packing models\"). Whole grading: the mix's deposited densities at its sand "
+               "cut-offs (three or more) carried below the finest by CPM, as aggpack whole-grading does, with a band of "
+               "two standard errors, \"wide\" beyond 0.04; " +
+               (rep.plan.table2_cuts_in.empty()
+                    ? std::string("only mix 3's sensitivity runs have a series; reproduce --whole-grading runs every "
+                                  "mix at more cut-offs")
+                    : fmt::format("every mix also ran at {} in", nlohmann::json(rep.plan.table2_cuts_in).dump())) +
+               ".";
   b.emplace_back(t2);
   result["table2"] = t2_json;
   compose_fig9(doc, figures, rep);

@@ -194,6 +194,16 @@ TEST_F(Reproduce, NumbersAgreeWithTheRunsTheyCameFrom) {
   EXPECT_DOUBLE_EQ(estimate, whole["whole_grading"]["cpm"].get<double>() +
                                  whole["residual_fit"]["at_nothing_left_out"].get<double>());
   for (const auto& point : whole["cut_offs"]) EXPECT_GT(estimate, point["mean"].get<double>());
+  // Table 2's whole-grading column: mix 3 from the same series; the others ran at one cut-off
+  // only (without --whole-grading), so they have none.
+  for (const auto& m : j["table2"]) {
+    if (m["mix"] == 3) {
+      EXPECT_DOUBLE_EQ(m["whole_grading"]["density"].get<double>(), estimate);
+      EXPECT_EQ(m["whole_grading"]["cut_offs"], 3);
+    } else {
+      EXPECT_TRUE(m["whole_grading"].is_null()) << m["mix"];
+    }
+  }
 }
 
 TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
@@ -263,17 +273,13 @@ TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   EXPECT_NE(html.find("</html>"), std::string::npos);
 }
 
-// `--settle-table2` settles seed 1 of each Table 2 mix by DEM. On a copy of the shipped
-// scenarios with two of the mixes, shrunk to beds the CI can settle (sand cut at 0.1 in, a 4 in
-// container filled to 4 in, about 1.2e4 spheres), in the quick mode (DEM cut at 0.05 s).
-TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivityStudyDeposited) {
-  const fs::path dir = fs::temp_directory_path() / ("aggpack_settle_table2_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+// A copy of the shipped scenarios with mixes 3 (the sensitivity study's) and 4 only, shrunk to
+// beds the CI can run (the sand cut at `sand_cut`, a 4 in container filled to 4 in, one box).
+fs::path shrunk_examples(const fs::path& dir, const std::string& sand_cut) {
   const fs::path examples = dir / "examples";
   fs::create_directories(dir);
   fs::copy(AGGPACK_EXAMPLES, examples, fs::copy_options::recursive);
   {
-    // Mixes 3 (the sensitivity study's) and 4 only.
     std::istringstream rows(slurp(examples / "fu2003_table2.csv"));
     std::ofstream kept(examples / "fu2003_table2.csv");
     for (std::string line; std::getline(rows, line);)
@@ -285,17 +291,28 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
     for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{
              {"side = \"5 in\"", "side = \"4 in\""},
              {"fill_height = \"6 in\"", "fill_height = \"4 in\""},
-             {"d_min = \"0.04 in\"", "d_min = \"0.1 in\""},
+             {"d_min = \"0.04 in\"", "d_min = \"" + sand_cut + "\""},
              {"box_sides = [\"1.6 in\", \"1.8 in\", \"2 in\", \"2.2 in\"]", "box_sides = [\"1.6 in\"]"}}) {
       const auto at = toml.find(from);
-      ASSERT_NE(at, std::string::npos) << mix << ": " << from;
-      toml.replace(at, from.size(), to);
+      EXPECT_NE(at, std::string::npos) << mix << ": " << from;
+      if (at != std::string::npos) toml.replace(at, from.size(), to);
     }
     std::ofstream(examples / mix) << toml;
   }
+  return examples;
+}
+
+// `--settle-table2` settles seed 1 of each Table 2 mix by DEM; `--whole-grading` runs every mix
+// at more sand cut-offs (0.1 and 0.06 in with --quick, deposited) and carries each mix's series
+// to its whole grading. On the shrunk copy (sand cut at 0.14 in, so that each mix has three
+// cut-offs), in the quick mode (DEM cut at 0.05 s).
+TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivityStudyDeposited) {
+  const fs::path dir = fs::temp_directory_path() / ("aggpack_settle_table2_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path examples = shrunk_examples(dir, "0.14 in");
   const fs::path out = dir / "out";
-  const Result r = run("reproduce --quick --settle-table2 --threads 2 --examples " + examples.string() + " --out " +
-                       out.string());
+  const Result r = run("reproduce --quick --settle-table2 --whole-grading --threads 2 --examples " + examples.string() +
+                       " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("Table 2 mix 3 (with DEM)"), std::string::npos) << r.output;
   const auto j = nlohmann::json::parse(slurp(out / "reproduce.json"));
@@ -317,6 +334,20 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
   }
   // The sensitivity study stays a comparison of deposited beds.
   for (const auto& variant : j["sensitivity"]) EXPECT_TRUE(variant["after_dynamics"].is_null()) << variant["variant"];
+  // Every mix's whole grading, from its three cut-offs (deposited densities, seed 1 too).
+  for (const auto& mix : j["table2"]) {
+    ASSERT_FALSE(mix["whole_grading"].is_null()) << mix["mix"];
+    EXPECT_EQ(mix["whole_grading"]["cut_offs"], 3) << mix["mix"];
+    EXPECT_GT(mix["whole_grading"]["density"].get<double>(), mix["after_deposition"]["mean"].get<double>());
+    const auto series = nlohmann::json::parse(
+        slurp(out / "runs" / (fmt_mix_dir(mix["mix"].get<int>()) + "_cut_0.06in") / "seed_1" / "summary.json"));
+    EXPECT_NEAR(series["sizes"]["components"][1]["d_lo_m"].get<double>(), 0.06 * 0.0254, 1e-12);
+  }
+  // Mix 3's sensitivity rows at 0.1 and 0.06 in are the series' runs, not run again.
+  EXPECT_EQ(j["sensitivity"].size(), 3u);
+  EXPECT_FALSE(fs::exists(out / "runs" / "sensitivity_1"));
+  EXPECT_FALSE(fs::exists(out / "runs" / "sensitivity_2"));
+  EXPECT_EQ(j["runs"], 2 + 2 + 2 * 3);  // the examples, poured, two mixes at three cut-offs; one seed
   const std::string md = slurp(out / "report.md");
   EXPECT_NE(md.find("The DEM column: 2 beds settled after deposition (seed 1 of each mix)"), std::string::npos);
   EXPECT_NE(md.find("Young's modulus of 0.05 GPa"), std::string::npos);
