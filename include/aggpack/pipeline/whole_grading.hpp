@@ -76,7 +76,8 @@ CutOffPoint cut_off_point(const Scenario& at_cut, const ModelParameters& paramet
                           std::vector<double> density, std::size_t spheres);
 
 // The fit: the residuals of `points` (any order) as a line in the volume left out, carried to
-// nothing left out and added to CPM on the whole grading. InputError for fewer than three points.
+// nothing left out and added to CPM on the whole grading of `whole` (a scenario that samples a
+// grading, as every point's does). InputError for fewer than three points.
 WholeGradingEstimate fit_whole_grading(const Scenario& whole, const ModelParameters& parameters,
                                        std::vector<CutOffPoint> points);
 
