@@ -305,7 +305,7 @@ int main(int argc, char** argv) {
                           "Also settle seed 1 of every Table 2 mix by DEM at E/1000 (hours: see BENCHMARKS.md)");
   reproduce_cmd->add_flag("--whole-grading", reproduce.whole_grading,
                           "Also run every Table 2 mix with the sand cut at 0.1, 0.07 and 0.02 in, for its whole grading "
-                          "(about 15 more minutes)");
+                          "(minutes more: BENCHMARKS.md)");
   reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
   reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
   reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
