@@ -298,7 +298,7 @@ int main(int argc, char** argv) {
   std::string reproduce_out = reproduce.out.string(), examples_dir = reproduce.examples.string();
   auto* reproduce_cmd = app.add_subcommand(
       "reproduce", "Run the paper's Examples 1, 2 and Table 2 over seeds and write report.html and report.md");
-  reproduce_cmd->add_flag("--quick", reproduce.quick, "One seed, DEM cut at 0.25 s, short pours, two sensitivity rows (about two minutes)");
+  reproduce_cmd->add_flag("--quick", reproduce.quick, "One seed, DEM cut at 0.25 s, short pours, three sensitivity rows (about two minutes)");
   reproduce_cmd->add_option("--seeds", reproduce.seeds, "Seeds per case (default 3; 1 with --quick)")
       ->check(CLI::PositiveNumber);
   reproduce_cmd->add_flag("--settle-table2", reproduce.settle_table2,

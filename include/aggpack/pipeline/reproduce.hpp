@@ -8,7 +8,7 @@
 namespace aggpack {
 
 struct ReproduceOptions {
-  bool quick = false;                      // one seed, short DEM and pours, two sensitivity rows: minutes
+  bool quick = false;                      // one seed, short DEM and pours, three sensitivity rows: minutes
   int seeds = 0;                           // seeds per case; 0: 3 (1 with quick)
   bool settle_table2 = false;              // also settle seed 1 of every Table 2 mix by DEM (hours)
   bool whole_grading = false;              // also run every Table 2 mix at more sand cut-offs, for its whole grading
