@@ -70,15 +70,20 @@ void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
     const V cap = friction * fn;
     const V ft2 = fx * fx + fy * fy + fz * fz;
     const auto sliding = hn::Gt(ft2, cap * cap);
-    const V shrink = cap / hn::Sqrt(ft2);
-    const V slid_x = fx * shrink, slid_y = fy * shrink, slid_z = fz * shrink;
-    const V inverse = minus_one / kt;
-    ux = hn::IfThenElse(sliding, (slid_x + tx * eta_t) * inverse, ux);
-    uy = hn::IfThenElse(sliding, (slid_y + ty * eta_t) * inverse, uy);
-    uz = hn::IfThenElse(sliding, (slid_z + tz * eta_t) * inverse, uz);
-    fx = hn::IfThenElse(sliding, slid_x, fx);
-    fy = hn::IfThenElse(sliding, slid_y, fy);
-    fz = hn::IfThenElse(sliding, slid_z, fz);
+    // Sliding is rare in a bed at rest: its square root and two divisions (the costliest
+    // operations here) are taken only when a lane slides. The lanes that do not slide keep
+    // their values either way, so the bits do not depend on it.
+    if (!hn::AllFalse(d, sliding)) {
+      const V shrink = cap / hn::Sqrt(ft2);
+      const V slid_x = fx * shrink, slid_y = fy * shrink, slid_z = fz * shrink;
+      const V inverse = minus_one / kt;
+      ux = hn::IfThenElse(sliding, (slid_x + tx * eta_t) * inverse, ux);
+      uy = hn::IfThenElse(sliding, (slid_y + ty * eta_t) * inverse, uy);
+      uz = hn::IfThenElse(sliding, (slid_z + tz * eta_t) * inverse, uz);
+      fx = hn::IfThenElse(sliding, slid_x, fx);
+      fy = hn::IfThenElse(sliding, slid_y, fy);
+      fz = hn::IfThenElse(sliding, slid_z, fz);
+    }
     // Rolling resistance (contact_detail::rolling_torque), zero when the law has none.
     V rx = zero, ry = zero, rz = zero;
     if (rolling) {

@@ -310,9 +310,10 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
       put(static_cast<C::Column>(c + 1), value.y);
       put(static_cast<C::Column>(c + 2), value.z);
     };
-    for (std::uint32_t e = offset[i]; e < offset[i + 1] && other[e] < n; ++e) {
-      // The neighbours' records are where the time goes (cache misses): ask for the ones a
-      // few entries ahead now, and for their force slots, which the scatter adds to.
+    std::uint32_t e = offset[i];
+    for (; e < offset[i + 1] && other[e] < n; ++e) {
+      // The neighbours' records: ask for the ones a few entries ahead now, and for their
+      // force slots, which the scatter adds to.
       if (e + kPrefetchAhead < entries) {
         const std::uint32_t ahead = other[e + kPrefetchAhead];
         if (ahead < n) {
@@ -322,15 +323,14 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
           if (ahead < block_end) __builtin_prefetch(&load[ahead], 1);
         }
       }
+      // Every entry is written at slot k and kept only when the grains touch: whether they
+      // do is close to a coin toss in a bed, and a branch on it mispredicts a third of the
+      // time. A spring left out is reset here; the scatter writes back the kept ones.
       const Grain& gj = grain[other[e]];
       const Vec3 d = separation(xi, gj.position);
       const double rj = gj.radius;
       const double reach = ri + rj;
       const double d2 = norm2(d);
-      if (d2 >= reach * reach) {
-        spring[e] = {};
-        continue;
-      }
       entry[k] = e;
       put3(C::kDx, d);
       put(C::kDistance2, d2);
@@ -342,9 +342,11 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
       put3(C::kSx, spin_i + rj * gj.angular_velocity);
       if (spin_needed) put3(C::kWx, wi - gj.angular_velocity);
       put3(C::kUx, spring[e]);
-      ++k;
+      spring[e] = {};
+      k += d2 < reach * reach ? 1 : 0;
     }
     batch.size = k;
+    batch.rows.push_back({static_cast<std::uint32_t>(k), e});
   }
   return i;
 }
@@ -367,33 +369,31 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
     return Vec3{column[c * stride + k], column[(c + 1) * stride + k], column[(c + 2) * stride + k]};
   };
   for (std::uint32_t i = first_row; i < last_row; ++i) {
+    const ContactBatch::Row& row = batch.rows[i - first_row];
     Vec3 f{}, t{};
-    const std::uint32_t cross_begin = cross_begin_[i], row_end = offset[i + 1];
-    std::uint32_t e = offset[i];
-    for (; e < row_end && other[e] < n; ++e) {
-      const bool crosses = e >= cross_begin;
-      if (k == batch.size || entry[k] != e) {  // not touching
-        if (crosses) cross_[slot_base_[i] + (e - cross_begin)] = {};
-        continue;
-      }
+    // The row's cross-block slots: zero unless a contact fills them below.
+    const std::uint32_t cross_begin = cross_begin_[i];
+    ForceTorque* const row_cross = cross_.data() + slot_base_[i];
+    std::fill(row_cross, row_cross + (row.walls_begin - cross_begin), ForceTorque{});
+    for (; k < row.contacts_end; ++k) {
+      const std::uint32_t e = entry[k];
       const Vec3 pair_force = get3(C::kFx), torque_j = get3(C::kTjx);
       spring[e] = get3(C::kUx);
       f += pair_force;
       t += get3(C::kTix);
-      if (crosses) {
-        cross_[slot_base_[i] + (e - cross_begin)] = {-pair_force, torque_j};
+      if (e >= cross_begin) {
+        row_cross[e - cross_begin] = {-pair_force, torque_j};
       } else {
         const std::uint32_t j = other[e];
         load[j].force += -pair_force;
         load[j].torque += torque_j;
       }
-      ++k;
     }
     // The walls, one at a time (few, and each with the wall law's coefficients).
     const Grain& gi = grain_[i];
     const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
     const double ri = gi.radius, mi = gi.mass;
-    for (; e < row_end; ++e) {
+    for (std::uint32_t e = row.walls_begin; e < offset[i + 1]; ++e) {
       const std::uint32_t wall = other[e] - n;
       ContactKinematics kin;
       const double distance = container_.plane_distance(wall, xi, kin.normal);

@@ -33,15 +33,26 @@ struct alignas(64) ContactBatch {
 
   std::size_t size = 0;
   std::vector<std::uint32_t> entry;  // the neighbour-list entry of each contact
+  // Per gathered row, in order: the end of its contacts in the batch and the row's first
+  // wall entry of the neighbour list (the DEM's bookkeeping for the scatter).
+  struct Row {
+    std::uint32_t contacts_end = 0;
+    std::uint32_t walls_begin = 0;
+  };
+  std::vector<Row> rows;
 
   // Column c holds contacts [0, size) at column(c)[k]; columns lie `stride()` apart.
   double* column(Column c) { return values_.data() + c * stride_; }
   [[nodiscard]] const double* column(Column c) const { return values_.data() + c * stride_; }
   [[nodiscard]] std::size_t stride() const { return stride_; }
   [[nodiscard]] std::size_t memory_bytes() const {
-    return values_.capacity() * sizeof(double) + entry.capacity() * sizeof(std::uint32_t);
+    return values_.capacity() * sizeof(double) + entry.capacity() * sizeof(std::uint32_t) +
+           rows.capacity() * sizeof(Row);
   }
-  void clear() { size = 0; }
+  void clear() {
+    size = 0;
+    rows.clear();
+  }
   // Makes room for `more` contacts beyond size (and the vector kernels' padding); the
   // columns may move.
   void reserve_more(std::size_t more);
