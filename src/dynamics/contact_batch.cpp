@@ -12,6 +12,7 @@
 HWY_BEFORE_NAMESPACE();
 namespace aggpack::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
+static_assert(HWY_MAX_BYTES / sizeof(double) <= ContactBatch::kGroup, "a vector must fit in a group of contacts");
 
 void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
   using C = ContactBatch;
@@ -26,8 +27,8 @@ void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
   const V minus_rolling = hn::Set(d, -c.rolling), regularisation = hn::Set(d, kFrictionRegularisation);
   const bool rolling = c.rolling != 0.0;
   const auto max_of = [&](V a, V b2) { return hn::IfThenElse(hn::Lt(a, b2), b2, a); };  // std::max(a, b)
-  const auto load = [&](C::Column col, std::size_t k) { return hn::LoadU(d, b.column(col) + k); };
-  const auto store = [&](V v, C::Column col, std::size_t k) { hn::StoreU(v, d, b.column(col) + k); };
+  const auto load = [&](C::Column col, std::size_t k) { return hn::LoadU(d, b.contact(k) + col * C::kGroup); };
+  const auto store = [&](V v, C::Column col, std::size_t k) { hn::StoreU(v, d, b.contact(k) + col * C::kGroup); };
   const std::size_t lanes = hn::Lanes(d);
   for (std::size_t k = 0; k < b.size; k += lanes) {
     const V dx = load(C::kDx, k), dy = load(C::kDy, k), dz = load(C::kDz, k);
@@ -122,25 +123,20 @@ namespace aggpack {
 
 HWY_EXPORT(EvaluateHertzMindlin);
 
-void ContactBatch::reserve_more(std::size_t more) {
-  const std::size_t needed = size + more + kPadding;
-  if (stride_ >= needed) return;
-  const std::size_t grown = std::max(needed, 2 * stride_);
-  std::vector<double> values(kColumns * grown);
-  for (std::size_t c = 0; c < kColumns; ++c)
-    std::copy_n(values_.begin() + static_cast<std::ptrdiff_t>(c * stride_), size,
-                values.begin() + static_cast<std::ptrdiff_t>(c * grown));
-  values_.swap(values);
-  stride_ = grown;
-  entry.resize(grown);
+void ContactBatch::grow(std::size_t contacts) {
+  const std::size_t groups = (std::max(contacts, 2 * entry.size()) + kGroup - 1) / kGroup;
+  values_.resize(groups * kGroupValues);  // whole groups: the contacts keep their places
+  entry.resize(groups * kGroup);
 }
 
 void ContactBatch::pad() {
   // Unit contacts: 1 m apart, radii 1 m, masses 1 kg, at rest. They overlap, so every
   // square root and division of the kernels stays finite.
+  const std::size_t rest = (kGroup - size % kGroup) % kGroup;
+  reserve_more(rest);
   for (std::size_t c = 0; c < kColumns; ++c) {
     const bool unit = c == kDx || c == kDistance2 || (c >= kRadiusI && c <= kMassJ);
-    std::fill_n(column(static_cast<Column>(c)) + size, kPadding, unit ? 1.0 : 0.0);
+    std::fill_n(contact(size) + c * kGroup, rest, unit ? 1.0 : 0.0);  // within one group
   }
 }
 

@@ -300,11 +300,10 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
     const double ri = gi.radius, mi = gi.mass;
     const Vec3 spin_i = ri * wi;
     batch.reserve_more(offset[i + 1] - offset[i]);
-    double* const column = batch.column(C::kDx);  // column c at column + c * stride
-    const std::size_t stride = batch.stride();
     std::uint32_t* const entry = batch.entry.data();
     std::size_t k = batch.size;
-    const auto put = [&](C::Column c, double value) { column[c * stride + k] = value; };
+    double* slot = batch.contact(k);
+    const auto put = [&](C::Column c, double value) { slot[c * C::kGroup] = value; };
     const auto put3 = [&](C::Column c, const Vec3& value) {
       put(c, value.x);
       put(static_cast<C::Column>(c + 1), value.y);
@@ -344,6 +343,7 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
       put3(C::kUx, spring[e]);
       spring[e] = {};
       k += d2 < reach * reach ? 1 : 0;
+      slot = batch.contact(k);
     }
     batch.size = k;
     batch.rows.push_back({static_cast<std::uint32_t>(k), e});
@@ -361,12 +361,11 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
   Vec3* spring = spring_.data();
   const std::uint32_t* offset = offset_.data();
   const std::uint32_t* other = other_.data();
-  const double* const column = batch.column(C::kDx);
-  const std::size_t stride = batch.stride();
   const std::uint32_t* const entry = batch.entry.data();
   std::size_t k = 0;
   const auto get3 = [&](C::Column c) {
-    return Vec3{column[c * stride + k], column[(c + 1) * stride + k], column[(c + 2) * stride + k]};
+    const double* const slot = batch.contact(k) + c * C::kGroup;
+    return Vec3{slot[0], slot[C::kGroup], slot[2 * C::kGroup]};
   };
   for (std::uint32_t i = first_row; i < last_row; ++i) {
     const ContactBatch::Row& row = batch.rows[i - first_row];

@@ -24,7 +24,7 @@ ContactBatch random_contacts(std::size_t count, std::uint64_t seed) {
     Vec3 direction{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
     direction = direction * (1.0 / norm(direction));
     const Vec3 d = direction * ((ri + rj) * (1.0 - rng.uniform(1e-6, 1e-2)));
-    const auto put = [&](C::Column c, double v) { b.column(c)[k] = v; };
+    const auto put = [&](C::Column c, double v) { b.at(c, k) = v; };
     const auto put3 = [&](C::Column c, const Vec3& v) {
       put(c, v.x);
       put(static_cast<C::Column>(c + 1), v.y);
@@ -59,7 +59,7 @@ std::vector<double> results(const ContactBatch& b) {
   std::vector<double> out;
   for (const C::Column c : {C::kUx, C::kUy, C::kUz, C::kFx, C::kFy, C::kFz, C::kTix, C::kTiy, C::kTiz, C::kTjx,
                             C::kTjy, C::kTjz})
-    out.insert(out.end(), b.column(c), b.column(c) + b.size);
+    for (std::size_t k = 0; k < b.size; ++k) out.push_back(b.at(c, k));
   return out;
 }
 
@@ -80,7 +80,7 @@ TEST(ContactBatch, VectorKernelGivesTheScalarLawsBitsOnEveryTarget) {
       // Some contacts slide (the tangential force is at the Coulomb limit mu F_n), some stick.
       std::size_t sliding = 0;
       for (std::size_t k = 0; k < count; ++k) {
-        const auto at = [&](C::Column c) { return reference.column(c)[k]; };
+        const auto at = [&](C::Column c) { return reference.at(c, k); };
         const Vec3 d{at(C::kDx), at(C::kDy), at(C::kDz)}, f{at(C::kFx), at(C::kFy), at(C::kFz)};
         const Vec3 n = d * (1.0 / norm(d));
         const double fn = -dot(f, n);

@@ -29,7 +29,12 @@ struct alignas(64) ContactBatch {
     kTjx, kTjy, kTjz,        // torque on j
     kColumns
   };
-  static constexpr std::size_t kPadding = 8;  // lanes of the widest vector kernel
+  // Contacts are stored in groups of kGroup, column by column within a group (contact k's
+  // column c at group k / kGroup, offset c * kGroup + k % kGroup): a vector of up to kGroup
+  // lanes loads a column of consecutive contacts in one go, and the DEM writes a contact's
+  // columns at fixed distances from one address.
+  static constexpr std::size_t kGroup = 8;  // lanes of the widest vector kernel (AVX-512)
+  static constexpr std::size_t kGroupValues = kColumns * kGroup;
 
   std::size_t size = 0;
   std::vector<std::uint32_t> entry;  // the neighbour-list entry of each contact
@@ -41,10 +46,14 @@ struct alignas(64) ContactBatch {
   };
   std::vector<Row> rows;
 
-  // Column c holds contacts [0, size) at column(c)[k]; columns lie `stride()` apart.
-  double* column(Column c) { return values_.data() + c * stride_; }
-  [[nodiscard]] const double* column(Column c) const { return values_.data() + c * stride_; }
-  [[nodiscard]] std::size_t stride() const { return stride_; }
+  // Contact k's column c is contact(k)[c * kGroup]; a vector kernel of L lanes (L divides
+  // kGroup, k a multiple of L) loads column c of contacts k .. k + L - 1 from there.
+  double* contact(std::size_t k) { return values_.data() + k / kGroup * kGroupValues + k % kGroup; }
+  [[nodiscard]] const double* contact(std::size_t k) const {
+    return values_.data() + k / kGroup * kGroupValues + k % kGroup;
+  }
+  double& at(Column c, std::size_t k) { return contact(k)[c * kGroup]; }
+  [[nodiscard]] double at(Column c, std::size_t k) const { return contact(k)[c * kGroup]; }
   [[nodiscard]] std::size_t memory_bytes() const {
     return values_.capacity() * sizeof(double) + entry.capacity() * sizeof(std::uint32_t) +
            rows.capacity() * sizeof(Row);
@@ -53,16 +62,17 @@ struct alignas(64) ContactBatch {
     size = 0;
     rows.clear();
   }
-  // Makes room for `more` contacts beyond size (and the vector kernels' padding); the
-  // columns may move.
-  void reserve_more(std::size_t more);
-  // Fills the padding after the last contact with a harmless contact (vector kernels read
-  // whole vectors; the padding's results are ignored).
+  // Makes room for `more` contacts beyond size, in whole groups; the values may move.
+  void reserve_more(std::size_t more) {
+    if (size + more > entry.size()) grow(size + more);
+  }
+  // Fills the rest of the last group with a harmless contact (vector kernels read whole
+  // vectors; the padding's results are ignored).
   void pad();
 
  private:
-  std::vector<double> values_;  // kColumns columns of stride_ values
-  std::size_t stride_ = 0;
+  void grow(std::size_t contacts);
+  std::vector<double> values_;  // groups of kGroupValues values
 };
 
 // Evaluates every contact of the batch with the law: the reference, one contact at a time
@@ -90,7 +100,7 @@ template <class Law>
 void evaluate_each(const Law& law, ContactBatch& b, double dt) {
   using C = ContactBatch;
   for (std::size_t k = 0; k < b.size; ++k) {
-    const auto in = [&](C::Column c) { return b.column(c)[k]; };
+    const auto in = [&](C::Column c) { return b.at(c, k); };
     const Vec3 d{in(C::kDx), in(C::kDy), in(C::kDz)};
     const double ri = in(C::kRadiusI), rj = in(C::kRadiusJ), mi = in(C::kMassI), mj = in(C::kMassJ);
     // One division for 1/distance, R* and m*: q = 1 / (distance (r_i + r_j) (m_i + m_j)).
@@ -112,9 +122,9 @@ void evaluate_each(const Law& law, ContactBatch& b, double dt) {
     const Vec3 arm = cross(kin.normal, c.tangential);
     const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
     const auto out = [&](C::Column c0, const Vec3& v) {
-      b.column(c0)[k] = v.x;
-      b.column(static_cast<C::Column>(c0 + 1))[k] = v.y;
-      b.column(static_cast<C::Column>(c0 + 2))[k] = v.z;
+      b.at(c0, k) = v.x;
+      b.at(static_cast<C::Column>(c0 + 1), k) = v.y;
+      b.at(static_cast<C::Column>(c0 + 2), k) = v.z;
     };
     out(C::kUx, spring);
     out(C::kFx, c.force);
