@@ -296,57 +296,70 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
   std::uint32_t i = first_row;
   for (; i < block_end && batch.size < kBatchContacts; ++i) {
     const Grain& gi = grain[i];
-    const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
-    const double ri = gi.radius, mi = gi.mass;
-    const Vec3 spin_i = ri * wi;
     batch.reserve_more(offset[i + 1] - offset[i]);
     std::uint32_t* const entry = batch.entry.data();
-    std::size_t k = batch.size;
-    double* slot = batch.contact(k);
-    const auto put = [&](C::Column c, double value) { slot[c * C::kGroup] = value; };
-    const auto put3 = [&](C::Column c, const Vec3& value) {
-      put(c, value.x);
-      put(static_cast<C::Column>(c + 1), value.y);
-      put(static_cast<C::Column>(c + 2), value.z);
-    };
-    std::uint32_t e = offset[i];
-    for (; e < offset[i + 1] && other[e] < n; ++e) {
-      // The neighbours' records: ask for the ones a few entries ahead now, and for their
-      // force slots, which the scatter adds to.
-      if (e + kPrefetchAhead < entries) {
-        const std::uint32_t ahead = other[e + kPrefetchAhead];
-        if (ahead < n) {
-          __builtin_prefetch(&grain[ahead]);
-          __builtin_prefetch(reinterpret_cast<const char*>(&grain[ahead]) + 64);
-          // Only this block's force slots: another block's may be in another core's cache.
-          if (ahead < block_end) __builtin_prefetch(&load[ahead], 1);
+    const std::size_t row_begin = batch.size;
+    std::size_t k = row_begin;
+    // Pass 1, every particle entry: the separation, kept when the grains touch. Every entry
+    // is written at slot k and k moves on only for a contact: whether two grains touch is
+    // close to a coin toss in a bed, and a branch on it mispredicts a third of the time.
+    // A spring left out is reset here; the scatter writes back the kept ones.
+    {
+      const Vec3 xi = gi.position;
+      const double ri = gi.radius;
+      std::uint32_t e = offset[i];
+      for (; e < offset[i + 1] && other[e] < n; ++e) {
+        // The neighbours' records: ask for the ones a few entries ahead now, and for their
+        // force slots, which the scatter adds to.
+        if (e + kPrefetchAhead < entries) {
+          const std::uint32_t ahead = other[e + kPrefetchAhead];
+          if (ahead < n) {
+            __builtin_prefetch(&grain[ahead]);
+            __builtin_prefetch(reinterpret_cast<const char*>(&grain[ahead]) + 64);
+            // Only this block's force slots: another block's may be in another core's cache.
+            if (ahead < block_end) __builtin_prefetch(&load[ahead], 1);
+          }
         }
+        const Grain& gj = grain[other[e]];
+        const Vec3 d = separation(xi, gj.position);
+        const double reach = ri + gj.radius;
+        const double d2 = norm2(d);
+        double* const slot = batch.contact(k);
+        const auto put = [&](C::Column c, double value) { slot[c * C::kGroup] = value; };
+        entry[k] = e;
+        put(C::kDx, d.x);
+        put(C::kDy, d.y);
+        put(C::kDz, d.z);
+        put(C::kDistance2, d2);
+        put(C::kUx, spring[e].x);
+        put(C::kUy, spring[e].y);
+        put(C::kUz, spring[e].z);
+        spring[e] = {};
+        k += d2 < reach * reach ? 1 : 0;
       }
-      // Every entry is written at slot k and kept only when the grains touch: whether they
-      // do is close to a coin toss in a bed, and a branch on it mispredicts a third of the
-      // time. A spring left out is reset here; the scatter writes back the kept ones.
-      const Grain& gj = grain[other[e]];
-      const Vec3 d = separation(xi, gj.position);
-      const double rj = gj.radius;
-      const double reach = ri + rj;
-      const double d2 = norm2(d);
-      entry[k] = e;
-      put3(C::kDx, d);
-      put(C::kDistance2, d2);
-      put(C::kRadiusI, ri);
-      put(C::kRadiusJ, rj);
-      put(C::kMassI, mi);
-      put(C::kMassJ, gj.mass);
+      batch.rows.push_back({static_cast<std::uint32_t>(k), e});
+    }
+    // Pass 2, the contacts kept: their grains' sizes, masses and motion.
+    const Vec3 vi = gi.velocity, wi = gi.angular_velocity;
+    const double ri = gi.radius, mi = gi.mass;
+    const Vec3 spin_i = ri * wi;
+    for (std::size_t c = row_begin; c < k; ++c) {
+      const Grain& gj = grain[other[entry[c]]];
+      double* const slot = batch.contact(c);
+      const auto put3 = [&](C::Column column, const Vec3& value) {
+        slot[column * C::kGroup] = value.x;
+        slot[(column + 1) * C::kGroup] = value.y;
+        slot[(column + 2) * C::kGroup] = value.z;
+      };
+      slot[C::kRadiusI * C::kGroup] = ri;
+      slot[C::kRadiusJ * C::kGroup] = gj.radius;
+      slot[C::kMassI * C::kGroup] = mi;
+      slot[C::kMassJ * C::kGroup] = gj.mass;
       put3(C::kVx, vi - gj.velocity);
-      put3(C::kSx, spin_i + rj * gj.angular_velocity);
+      put3(C::kSx, spin_i + gj.radius * gj.angular_velocity);
       if (spin_needed) put3(C::kWx, wi - gj.angular_velocity);
-      put3(C::kUx, spring[e]);
-      spring[e] = {};
-      k += d2 < reach * reach ? 1 : 0;
-      slot = batch.contact(k);
     }
     batch.size = k;
-    batch.rows.push_back({static_cast<std::uint32_t>(k), e});
   }
   return i;
 }
