@@ -325,15 +325,10 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
         const double reach = ri + gj.radius;
         const double d2 = norm2(d);
         double* const slot = batch.contact(k);
-        const auto put = [&](C::Column c, double value) { slot[c * C::kGroup] = value; };
         entry[k] = e;
-        put(C::kDx, d.x);
-        put(C::kDy, d.y);
-        put(C::kDz, d.z);
-        put(C::kDistance2, d2);
-        put(C::kUx, spring[e].x);
-        put(C::kUy, spring[e].y);
-        put(C::kUz, spring[e].z);
+        C::put3(slot, C::kDx, d);
+        slot[C::kDistance2 * C::kGroup] = d2;
+        C::put3(slot, C::kUx, spring[e]);
         spring[e] = {};
         k += d2 < reach * reach ? 1 : 0;
       }
@@ -346,18 +341,13 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
     for (std::size_t c = row_begin; c < k; ++c) {
       const Grain& gj = grain[other[entry[c]]];
       double* const slot = batch.contact(c);
-      const auto put3 = [&](C::Column column, const Vec3& value) {
-        slot[column * C::kGroup] = value.x;
-        slot[(column + 1) * C::kGroup] = value.y;
-        slot[(column + 2) * C::kGroup] = value.z;
-      };
       slot[C::kRadiusI * C::kGroup] = ri;
       slot[C::kRadiusJ * C::kGroup] = gj.radius;
       slot[C::kMassI * C::kGroup] = mi;
       slot[C::kMassJ * C::kGroup] = gj.mass;
-      put3(C::kVx, vi - gj.velocity);
-      put3(C::kSx, spin_i + gj.radius * gj.angular_velocity);
-      if (spin_needed) put3(C::kWx, wi - gj.angular_velocity);
+      C::put3(slot, C::kVx, vi - gj.velocity);
+      C::put3(slot, C::kSx, spin_i + gj.radius * gj.angular_velocity);
+      if (spin_needed) C::put3(slot, C::kWx, wi - gj.angular_velocity);
     }
     batch.size = k;
   }
@@ -376,10 +366,6 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
   const std::uint32_t* other = other_.data();
   const std::uint32_t* const entry = batch.entry.data();
   std::size_t k = 0;
-  const auto get3 = [&](C::Column c) {
-    const double* const slot = batch.contact(k) + c * C::kGroup;
-    return Vec3{slot[0], slot[C::kGroup], slot[2 * C::kGroup]};
-  };
   for (std::uint32_t i = first_row; i < last_row; ++i) {
     const ContactBatch::Row& row = batch.rows[i - first_row];
     Vec3 f{}, t{};
@@ -389,10 +375,11 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
     std::fill(row_cross, row_cross + (row.walls_begin - cross_begin), ForceTorque{});
     for (; k < row.contacts_end; ++k) {
       const std::uint32_t e = entry[k];
-      const Vec3 pair_force = get3(C::kFx), torque_j = get3(C::kTjx);
-      spring[e] = get3(C::kUx);
+      const double* const slot = batch.contact(k);
+      const Vec3 pair_force = C::get3(slot, C::kFx), torque_j = C::get3(slot, C::kTjx);
+      spring[e] = C::get3(slot, C::kUx);
       f += pair_force;
-      t += get3(C::kTix);
+      t += C::get3(slot, C::kTix);
       if (e >= cross_begin) {
         row_cross[e - cross_begin] = {-pair_force, torque_j};
       } else {

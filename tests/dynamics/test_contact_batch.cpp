@@ -25,11 +25,7 @@ ContactBatch random_contacts(std::size_t count, std::uint64_t seed) {
     direction = direction * (1.0 / norm(direction));
     const Vec3 d = direction * ((ri + rj) * (1.0 - rng.uniform(1e-6, 1e-2)));
     const auto put = [&](C::Column c, double v) { b.at(c, k) = v; };
-    const auto put3 = [&](C::Column c, const Vec3& v) {
-      put(c, v.x);
-      put(static_cast<C::Column>(c + 1), v.y);
-      put(static_cast<C::Column>(c + 2), v.z);
-    };
+    const auto put3 = [&](C::Column c, const Vec3& v) { C::put3(b.contact(k), c, v); };
     const auto random3 = [&](double scale) {
       return Vec3{rng.uniform(-scale, scale), rng.uniform(-scale, scale), rng.uniform(-scale, scale)};
     };

@@ -8,7 +8,7 @@
 
 namespace aggpack {
 
-// A block of particle-particle contacts in structure-of-arrays form: the DEM gathers the
+// A block of particle-particle contacts in groups of structure-of-arrays (see kGroup): the DEM gathers the
 // kinematics of the contacts of a few rows of its neighbour list, a law evaluates them all
 // at once (with SIMD where it has a vector kernel), and the DEM scatters the results in a
 // fixed order. Contact k is between grains i (the row's) and j; `d` = x_j - x_i. Each thread
@@ -54,6 +54,15 @@ struct alignas(64) ContactBatch {
   }
   double& at(Column c, std::size_t k) { return contact(k)[c * kGroup]; }
   [[nodiscard]] double at(Column c, std::size_t k) const { return contact(k)[c * kGroup]; }
+  // The three columns from c on of the contact at `contact` (as contact(k) gives it).
+  static void put3(double* contact, Column c, const Vec3& v) {
+    contact[c * kGroup] = v.x;
+    contact[(c + 1) * kGroup] = v.y;
+    contact[(c + 2) * kGroup] = v.z;
+  }
+  static Vec3 get3(const double* contact, Column c) {
+    return {contact[c * kGroup], contact[(c + 1) * kGroup], contact[(c + 2) * kGroup]};
+  }
   [[nodiscard]] std::size_t memory_bytes() const {
     return values_.capacity() * sizeof(double) + entry.capacity() * sizeof(std::uint32_t) +
            rows.capacity() * sizeof(Row);
@@ -121,15 +130,11 @@ void evaluate_each(const Law& law, ContactBatch& b, double dt) {
     // opposite rolling torque.
     const Vec3 arm = cross(kin.normal, c.tangential);
     const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
-    const auto out = [&](C::Column c0, const Vec3& v) {
-      b.at(c0, k) = v.x;
-      b.at(static_cast<C::Column>(c0 + 1), k) = v.y;
-      b.at(static_cast<C::Column>(c0 + 2), k) = v.z;
-    };
-    out(C::kUx, spring);
-    out(C::kFx, c.force);
-    out(C::kTix, ti);
-    out(C::kTjx, tj);
+    double* const slot = b.contact(k);
+    C::put3(slot, C::kUx, spring);
+    C::put3(slot, C::kFx, c.force);
+    C::put3(slot, C::kTix, ti);
+    C::put3(slot, C::kTjx, tj);
   }
 }
 
