@@ -351,6 +351,16 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
   const std::string md = slurp(out / "report.md");
   EXPECT_NE(md.find("The DEM column: 2 beds settled after deposition (seed 1 of each mix)"), std::string::npos);
   EXPECT_NE(md.find("Young's modulus of 0.05 GPa"), std::string::npos);
+  // One row per settled bed, with its cost: the mix, seed 1, its particle count and its wall time.
+  EXPECT_NE(md.find("| mix | seed | particles | after deposition | after DEM | steps |"), std::string::npos) << md;
+  for (const auto& mix : j["table2"]) {
+    EXPECT_GT(mix["dem"][0]["particle_steps_per_second"].get<double>(), 0.0);
+    EXPECT_NE(md.find(fmt::format("| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(),
+                                  mix["particles"].get<std::size_t>(), mix["after_deposition"]["values"][0].get<double>(),
+                                  mix["after_dynamics"]["values"][0].get<double>(), mix["dem"][0]["steps"].get<std::size_t>())),
+              std::string::npos)
+        << md;
+  }
   fs::remove_all(dir);
 }
 
