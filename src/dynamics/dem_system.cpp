@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -200,37 +201,46 @@ void DemSystem::build_neighbour_list() {
   for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, grain_[i].position, grain_[i].radius);
   const std::uint32_t wall_count = container_.plane_count();
 
-  // Calls add(entry) for every neighbour j > i within the skin of slot i (unless both are
-  // frozen), then for every wall within the skin of a free slot i.
-  const auto for_each_entry = [&](std::uint32_t i, auto&& add) {
+  // Calls add(owner, entry) for every pair found from slot i: a neighbour within the skin,
+  // unless both are frozen, in the row of the lower slot (its owner); then every wall within
+  // the skin of a free slot i. The grid visits a pair of grains of two sizes once, from the
+  // smaller (see for_each_near_larger), and a pair of one size from both: the higher slot
+  // skips it. The exact test is symmetric in i and j (the reach's sum commutes, the minimum
+  // image of -d is -d's), so the pairs are those of a search from every owner.
+  const auto for_each_pair = [&](std::uint32_t i, auto&& add) {
     const Vec3& xi = grain_[i].position;
     const double ri = grain_[i].radius;
-    grid.for_each_near(xi, ri + skin_, [&](std::uint32_t j) {
-      if (j <= i || (frozen_[i] && frozen_[j])) return;
+    grid.for_each_near_larger(xi, ri, ri + skin_, [&](std::uint32_t j, bool same_level) {
+      if (j == i || (same_level && j < i) || (frozen_[i] && frozen_[j])) return;
       const double reach = ri + grain_[j].radius + skin_;
-      if (norm2(separation(xi, grain_[j].position)) < reach * reach) add(j);
+      if (norm2(separation(xi, grain_[j].position)) < reach * reach) add(std::min(i, j), std::max(i, j));
     });
     if (frozen_[i]) return;
     for (std::uint32_t w = 0; w < wall_count; ++w) {
       Vec3 towards;
-      if (container_.plane_distance(w, xi, towards) < ri + skin_) add(n + w);
+      if (container_.plane_distance(w, xi, towards) < ri + skin_) add(i, n + w);
     }
+  };
+  // A pair found from i may belong to another thread's row: counts and places are claimed
+  // atomically; each row is sorted afterwards, so the list does not depend on who came first.
+  const auto claim = [](std::uint32_t& counter) {
+    return std::atomic_ref<std::uint32_t>(counter).fetch_add(1, std::memory_order_relaxed);
   };
 
   std::vector<std::uint32_t> offset(n + 1, 0);
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n; ++i) {
-    std::uint32_t count = 0;
-    for_each_entry(i, [&](std::uint32_t) { ++count; });
-    offset[i + 1] = count;
-  }
+  for (std::uint32_t i = 0; i < n; ++i) for_each_pair(i, [&](std::uint32_t owner, std::uint32_t) { claim(offset[owner + 1]); });
   for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
   std::vector<std::uint32_t> other(offset[n]), cross_begin(n), cross_count(n + 1, 0);
+  {
+    std::vector<std::uint32_t> next_free(offset.begin(), offset.end() - 1);
+#pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
+    for (std::uint32_t i = 0; i < n; ++i)
+      for_each_pair(i, [&](std::uint32_t owner, std::uint32_t entry) { other[claim(next_free[owner])] = entry; });
+  }
   std::vector<Vec3> spring(offset[n]);
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
-    std::uint32_t e = offset[i];
-    for_each_entry(i, [&](std::uint32_t j) { other[e++] = j; });
     const auto row = other.begin() + offset[i], row_end = other.begin() + offset[i + 1];
     std::sort(row, row_end);
     const std::uint32_t block_end = std::min(n, (i / kForceBlock + 1) * kForceBlock);

@@ -72,6 +72,40 @@ TEST(MultilevelGrid, NeighboursMatchBruteForceInANarrowPeriodicBox) {
   check_near_against_brute_force(true, 0.45, 4.0, 4);  // fewer than three cells across
 }
 
+// Every pair of spheres within `skin` of touching, found by querying from each sphere the
+// levels of its size and larger only (keeping a same-level pair from its lower id): each pair
+// exactly once, and exactly the brute-force set.
+void check_pairs_from_the_smaller_sphere(bool periodic, double size_ratio, std::uint64_t seed) {
+  const double side = 3.0, skin = 0.01;
+  const Container c = Container::square(side, 2.0, periodic);
+  Spheres s = random_spheres(1500, side, size_ratio, seed);
+  if (periodic)
+    for (Vec3& p : s.centres) p.x = std::fmod(p.x + side, side), p.y = std::fmod(p.y + side, side);
+  const MultilevelGrid grid = filled_grid(s, c);
+  const auto near = [&](std::size_t i, std::size_t j) {
+    return norm(grid.separation(s.centres[i], s.centres[j])) < s.radii[i] + s.radii[j] + skin;
+  };
+  std::multiset<std::pair<std::uint32_t, std::uint32_t>> found, expected;
+  std::size_t cross_level = 0;
+  for (std::uint32_t i = 0; i < s.radii.size(); ++i)
+    grid.for_each_near_larger(s.centres[i], s.radii[i], s.radii[i] + skin, [&](std::uint32_t j, bool same_level) {
+      if (j == i || (same_level && j < i) || !near(i, j)) return;
+      cross_level += same_level ? 0 : 1;
+      EXPECT_TRUE(same_level || s.radii[j] > 0.5 * s.radii[i]) << "a smaller sphere's level was searched";
+      found.emplace(std::min(i, j), std::max(i, j));
+    });
+  for (std::uint32_t i = 0; i < s.radii.size(); ++i)
+    for (std::uint32_t j = i + 1; j < s.radii.size(); ++j)
+      if (near(i, j)) expected.emplace(i, j);
+  EXPECT_GT(cross_level, 50u);  // the test sees pairs across levels, not only within one
+  EXPECT_EQ(found, expected);
+}
+
+TEST(MultilevelGrid, PairsFromTheSmallerSphereMatchBruteForce) { check_pairs_from_the_smaller_sphere(false, 30.0, 6); }
+TEST(MultilevelGrid, PairsFromTheSmallerSphereMatchBruteForceWhenPeriodic) {
+  check_pairs_from_the_smaller_sphere(true, 10.0, 7);
+}
+
 // A falling sphere must see every sphere under its disc whose centre is below it.
 TEST(MultilevelGrid, ColumnScanSeesEverySphereBelow) {
   for (bool periodic : {false, true}) {

@@ -47,9 +47,25 @@ class MultilevelGrid {
     for_each_in_box(p - Vec3{reach, reach, reach}, p + Vec3{reach, reach, reach}, visit);
   }
 
+  // Calls visit(k, same_level) once for every sphere k that may have |c_k - p| <= reach + r_k
+  // and whose level holds spheres at least as large as `radius` (a superset, as above):
+  // same_level says whether k shares the level of `radius`. Every pair of spheres on two
+  // different levels is thus visited once, from the smaller sphere, whose query of the larger
+  // levels spans a few of their coarse cells; a large sphere's query of the fine levels would
+  // scan every small sphere in a cube twice its size.
+  template <class Visit>
+  void for_each_near_larger(const Vec3& p, double radius, double reach, Visit&& visit) const {
+    const std::size_t own = level_of(radius);
+    for (std::size_t l = 0; l <= own && l < levels_.size(); ++l)
+      for_each_in_level_box(levels_[l], p - Vec3{reach, reach, reach}, p + Vec3{reach, reach, reach},
+                            [&](std::uint32_t k) { visit(k, l == own); });
+  }
+
   // Calls visit(k) once for every sphere k whose ball may meet the box [lo, hi] (a superset).
   template <class Visit>
-  void for_each_in_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const;
+  void for_each_in_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const {
+    for (const Level& level : levels_) for_each_in_level_box(level, lo, hi, visit);
+  }
 
   // For a sphere of radius r falling down the vertical line through p: calls visit(k) for the
   // spheres k whose horizontal distance may be below r + r_k and whose centre is at most
@@ -77,6 +93,9 @@ class MultilevelGrid {
   static constexpr std::uint32_t kEmpty = 0xFFFFFFFFu;
 
   [[nodiscard]] std::size_t level_of(double radius) const;
+  // for_each_in_box on one level.
+  template <class Visit>
+  void for_each_in_level_box(const Level& level, const Vec3& lo, const Vec3& hi, Visit&& visit) const;
   // The level of a radius among `level_count` levels below the largest radius `top`.
   [[nodiscard]] static std::size_t level_index(double radius, double top, std::size_t level_count);
   // The levels and their cells for these radii, nothing allocated: what the constructor
@@ -101,25 +120,23 @@ class MultilevelGrid {
 };
 
 template <class Visit>
-void MultilevelGrid::for_each_in_box(const Vec3& lo, const Vec3& hi, Visit&& visit) const {
-  for (const Level& level : levels_) {
-    const int layers = level.layers();
-    if (layers == 0) continue;
-    const double r = level.max_radius;
-    int x0, x1, y0, y1;
-    axis_range(lo.x - r, hi.x + r, lo_.x, level.cell_x, level.nx, x0, x1);
-    axis_range(lo.y - r, hi.y + r, lo_.y, level.cell_y, level.ny, y0, y1);
-    const int z0 = std::max(0, layer_index(lo.z - r, level));
-    const int z1 = std::min(layers - 1, layer_index(hi.z + r, level));
-    const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
-    for (int iy0 = y0; iy0 <= y1; ++iy0) {
-      const int iy = wrap(iy0, level.ny);
-      for (int ix0 = x0; ix0 <= x1; ++ix0) {
-        const std::size_t column = static_cast<std::size_t>(iy) * level.nx + wrap(ix0, level.nx);
-        const int top = std::min(z1, level.top_layer[column]);
-        for (int iz = z0; iz <= top; ++iz)
-          for (std::uint32_t k = level.head[iz * layer_size + column]; k != kEmpty; k = next_[k]) visit(k);
-      }
+void MultilevelGrid::for_each_in_level_box(const Level& level, const Vec3& lo, const Vec3& hi, Visit&& visit) const {
+  const int layers = level.layers();
+  if (layers == 0) return;
+  const double r = level.max_radius;
+  int x0, x1, y0, y1;
+  axis_range(lo.x - r, hi.x + r, lo_.x, level.cell_x, level.nx, x0, x1);
+  axis_range(lo.y - r, hi.y + r, lo_.y, level.cell_y, level.ny, y0, y1);
+  const int z0 = std::max(0, layer_index(lo.z - r, level));
+  const int z1 = std::min(layers - 1, layer_index(hi.z + r, level));
+  const std::size_t layer_size = static_cast<std::size_t>(level.nx) * level.ny;
+  for (int iy0 = y0; iy0 <= y1; ++iy0) {
+    const int iy = wrap(iy0, level.ny);
+    for (int ix0 = x0; ix0 <= x1; ++ix0) {
+      const std::size_t column = static_cast<std::size_t>(iy) * level.nx + wrap(ix0, level.nx);
+      const int top = std::min(z1, level.top_layer[column]);
+      for (int iz = z0; iz <= top; ++iz)
+        for (std::uint32_t k = level.head[iz * layer_size + column]; k != kEmpty; k = next_[k]) visit(k);
     }
   }
 }
