@@ -306,6 +306,9 @@ int main(int argc, char** argv) {
   reproduce_cmd->add_flag("--whole-grading", reproduce.whole_grading,
                           "Also run every Table 2 mix with the sand cut at 0.1, 0.07 and 0.02 in, for its whole grading "
                           "(minutes more: BENCHMARKS.md)");
+  reproduce_cmd->add_flag("--resume", reproduce.resume,
+                          "Continue an interrupted reproduce into the same --out: runs it finished or began are taken "
+                          "up from their checkpoints, not run again");
   reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
   reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
   reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
@@ -328,6 +331,9 @@ int main(int argc, char** argv) {
   auto* sweep_stop_opt =
       sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
   sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
+  sweep_cmd->add_flag("--resume", sweep.resume,
+                      "Continue an interrupted sweep into the same --out: runs it finished or began are taken up "
+                      "from their checkpoints, not run again");
   sweep_cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
 
   std::string export_scenario, export_out;

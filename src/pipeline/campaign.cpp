@@ -7,6 +7,9 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "aggpack/core/error.hpp"
+#include "aggpack/pipeline/checkpoint.hpp"
+
 namespace aggpack {
 
 SeedStatistics seed_statistics(const std::vector<double>& values) {
@@ -27,12 +30,36 @@ SeedStatistics seed_statistics(const std::vector<double>& values) {
   return s;
 }
 
-Campaign::Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs)
+Campaign::Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs, Checkpoints checkpoints)
     : threads_(threads),
       log_(quiet ? nullptr : &log),
       progress_(Progress::wanted(quiet) ? Progress(std::cerr) : Progress()),
       planned_(planned_runs),
+      checkpoints_(checkpoints),
       start_(std::chrono::steady_clock::now()) {}
+
+std::optional<std::string> Campaign::why_not_resumable(const std::filesystem::path& scenario,
+                                                       const std::vector<std::string>& sets, std::uint64_t seed,
+                                                       const std::filesystem::path& out_dir,
+                                                       const std::optional<std::string>& stop_after) {
+  Checkpoint checkpoint;
+  try {
+    checkpoint = read_checkpoint(out_dir);  // refuses another build's
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  if (checkpoint.scenario_text != read_scenario_text(scenario)) return "it holds another scenario text: the file changed since, or it is another run's";
+  if (checkpoint.overrides.set != sets || checkpoint.overrides.seed != seed || checkpoint.stop_after != stop_after)
+    return "it is of another run (other overrides, seed or stop)";
+  return std::nullopt;
+}
+
+void remove_checkpoints(const std::vector<std::filesystem::path>& run_folders) {
+  for (const std::filesystem::path& dir : run_folders) {
+    std::error_code ec;
+    std::filesystem::remove(dir / kCheckpointFile, ec);
+  }
+}
 
 double Campaign::seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -57,19 +84,37 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
     }
     progress_.set_run(std::move(run));
   }
+  options.keep_dem_checkpoint = checkpoints_ != Checkpoints::removed;
+  bool resume = false;
+  if (checkpoints_ == Checkpoints::kept_and_resumed && std::filesystem::exists(out_dir / kCheckpointFile)) {
+    const std::optional<std::string> why_not = why_not_resumable(scenario, sets, seed, out_dir, stop_after);
+    resume = !why_not;
+    if (why_not && log_) {
+      progress_.clear();
+      fmt::print(*log_, "{} seed {}: run again, not resumed: the checkpoint in {} cannot continue it ({})\n", label, seed,
+                 out_dir.string(), *why_not);
+    }
+  }
   std::ostringstream discard;
-  CaseRun c{run_scenario(scenario, options, discard)};
+  RunOptions resumed = options;  // the checkpoint holds the scenario, its overrides and the stop
+  resumed.overrides = {};
+  resumed.stop_after.reset();
+  CaseRun c{resume ? resume_run(out_dir, resumed, discard) : run_scenario(scenario, options, discard)};
   ++done_;
+  if (resume) ++resumed_;
+  if (options.keep_dem_checkpoint && std::filesystem::exists(out_dir / kCheckpointFile)) kept_.push_back(out_dir);
   c.particle_count = c.result.report.particles.size();
   c.after_deposition = c.result.report.density_after_deposition();
   c.after_dynamics = c.result.report.density_after_dynamics();
   if (log_) {
     progress_.clear();
-    fmt::print(*log_, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s)\n", label, seed,
+    fmt::print(*log_, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s{})\n", label, seed,
                c.final_density(),
-               std::isnan(c.after_dynamics) ? std::string(" after deposition")
-                                            : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
-               c.result.report.particles.size(), c.result.wall_clock_s);
+               std::isnan(c.after_dynamics)     ? std::string(" after deposition")
+               : std::isnan(c.after_deposition) ? std::string(" after DEM")  // poured: never deposited
+                                                : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
+               c.result.report.particles.size(), c.result.wall_clock_s,
+               resume ? fmt::format(", resumed from its checkpoint taken {}", *c.result.report.resumed_from) : "");
     log_->flush();
   }
   return c;

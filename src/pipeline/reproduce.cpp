@@ -520,6 +520,8 @@ struct Reproduction {
   std::vector<Table2Outcome> mixes;
   std::vector<Variant> variants;             // of the sensitivity mix, in the plan's order
   std::size_t runs = 0;
+  std::size_t resumed_runs = 0;  // continued from an interrupted reproduce's checkpoints
+  std::vector<fs::path> kept_checkpoints;  // removed once the report is written
   double wall_clock_s = 0.0;
   int threads = 0;
   // Mix 3 (the paper's own example of a blend), or the first mix.
@@ -581,7 +583,8 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
       std::count_if(paper.begin(), paper.end(), [&](const PaperExample& ex) { return fs::exists(pour_scenario(ex)); }));
   Campaign campaign(options.threads, options.quiet, log,
                     seeds * (paper.size() + poured_examples + table2.size() * (1 + plan.table2_cuts_in.size()) +
-                             new_variants));
+                             new_variants),
+                    options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
   const fs::path runs_dir = options.out / "runs";
   const std::vector<std::string> no_particle_files = {"output.formats=[]"};
 
@@ -673,6 +676,8 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   }
   campaign.clear_progress();
   rep.runs = campaign.runs_done();
+  rep.resumed_runs = campaign.runs_resumed();
+  rep.kept_checkpoints = campaign.kept_checkpoints();
   rep.threads = options.threads;
   rep.wall_clock_s = campaign.seconds();
   return rep;
@@ -691,6 +696,12 @@ void compose_header(Document& doc, const Reproduction& rep, const ReproduceOptio
       kVersion, options.quick ? "QUICK" : "full", counted(plan.seeds, "seed"), counted(rep.runs, "run"),
       rep.wall_clock_s, rep.wall_clock_s / 60.0, counted(threads, "thread"), options.threads > 0 ? "" : " (all cores)",
       options.command_line.empty() ? std::string("aggpack reproduce") : options.command_line)});
+  if (rep.resumed_runs > 0)
+    b.emplace_back(Paragraph{fmt::format(
+        "{} continued from the checkpoints that an interrupted reproduce into this folder left (--resume): their "
+        "results are the bytes an uninterrupted run gives; the wall time above is this invocation's, while each "
+        "run's own wall times (the DEM's among them) count its time before the interruption too.",
+        rep.resumed_runs == 1 ? std::string("One run was") : fmt::format("{} runs were", rep.resumed_runs))});
   if (options.quick)
     b.emplace_back(Paragraph{
         "This is the QUICK mode, made to check the pipeline in a few minutes: one seed, DEM stopped at 0.25 s "
@@ -1294,6 +1305,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   result["mode"] = options.quick ? "quick" : "full";
   result["seeds"] = rep.plan.seeds;
   result["runs"] = rep.runs;
+  result["resumed_runs"] = rep.resumed_runs;
   result["wall_clock_s"] = rep.wall_clock_s;
   result["command_line"] = options.command_line;
   nlohmann::json figure_list = nlohmann::json::array();
@@ -1304,6 +1316,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   write_file_atomically(options.out / "report.md", to_markdown(doc));
   write_file_atomically(options.out / "report.html", to_html(doc, figures.files()));
   write_file_atomically(options.out / "reproduce.json", result.dump(2) + "\n");
+  remove_checkpoints(rep.kept_checkpoints);
   if (!options.quiet)
     fmt::print(log, "report: {} and {} ({:.1f} min)\n", (options.out / "report.html").string(),
                (options.out / "report.md").string(), rep.wall_clock_s / 60.0);

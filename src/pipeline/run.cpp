@@ -181,6 +181,9 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
       context.resume_state = nullptr;
     }
     if (checkpointer) checkpointer->set_steps_completed(total);
+    const bool resumed_with_every_step_done = resume && resume->steps_completed == total;  // that checkpoint stands
+    if (checkpointer && controls.checkpoint_before_final_analysis && !resumed_with_every_step_done)
+      checkpointer->write("before the final analysis", nullptr);
     at_safe_point(context.safe_point, controls.stop, "before the final analysis", nullptr);
   } catch (const Interrupted& stop) {
     progress.clear();
@@ -239,6 +242,8 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
 
 namespace {
 
+bool runs_dem(const Scenario& sc) { return sc.dynamics || sc.pour || sc.tapping; }
+
 // run_scenario's and resume_run's common part: runs `sc` into its output folder, with
 // checkpoints of `header` there unless the scenario turns them off.
 RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoint* resume, const RunOptions& options,
@@ -260,6 +265,7 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   controls.before_work = [&] { check_output_directory(sc.output.directory, true); };
   controls.stop = options.stop;
   controls.resume_from = resume;
+  controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
   if (sc.output.checkpoint)
     controls.checkpoints = RunControls::Checkpoints{sc.output.directory, sc.output.checkpoint_every, std::move(header)};
   RunResult result{sc.output.directory, {}, {}, 0.0};
@@ -284,9 +290,9 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   }
   if (result.report.checkpoint_error && !options.quiet)
     fmt::print(log, "aggpack: warning: {}\n", *result.report.checkpoint_error);
-  // A finished run's checkpoint would only mislead a later resume.
+  // A finished run's checkpoint would only mislead a later resume (unless a campaign keeps it).
   std::error_code ec;
-  std::filesystem::remove(result.output_directory / kCheckpointFile, ec);
+  if (!controls.checkpoint_before_final_analysis) std::filesystem::remove(result.output_directory / kCheckpointFile, ec);
   if (!options.quiet) fmt::print(log, "{}", result.report.console_summary(result.output_directory));
   return result;
 }

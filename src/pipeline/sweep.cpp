@@ -293,7 +293,8 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   const SweepPlan plan = plan_sweep(options);
   Campaign campaign(options.threads, options.quiet, log,
                     options.fa_percent.size() * std::max<std::size_t>(plan.cuts.size(), 1) *
-                        static_cast<std::size_t>(options.seeds));
+                        static_cast<std::size_t>(options.seeds),
+                    options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
   std::vector<SweepPoint> points;
   bool has_dynamics = false;
   for (std::size_t b = 0; b < options.fa_percent.size(); ++b)
@@ -308,8 +309,8 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   std::vector<double> indistinguishable;
   for (const SweepPoint& p : points)
     if (top.judged() - p.judged() <= std::max(p.uncertainty(), top.uncertainty())) indistinguishable.push_back(p.fa_percent);
-  const nlohmann::json result =
-      sweep_json(options, plan, points, best, indistinguishable, has_dynamics, campaign.seconds());
+  nlohmann::json result = sweep_json(options, plan, points, best, indistinguishable, has_dynamics, campaign.seconds());
+  result["resumed_runs"] = campaign.runs_resumed();  // continued from an interrupted sweep's checkpoints
 
   std::filesystem::create_directories(options.out);
   for (const SweepPoint& p : points)
@@ -320,6 +321,7 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   write_file_atomically(options.out / "sweep.csv", sweep_csv(points, options.seeds, plan.whole()));
   write_file_atomically(options.out / "sweep.svg", sweep_svg(points, best, has_dynamics, options.scenario));
   write_file_atomically(options.out / "sweep.json", result.dump(2) + "\n");
+  remove_checkpoints(campaign.kept_checkpoints());
   if (!options.quiet) print_sweep(log, options, points, best, indistinguishable);
   return result;
 }

@@ -5,14 +5,21 @@
 
 #include "run_cli.hpp"
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <thread>
 
 namespace {
 
@@ -271,6 +278,81 @@ TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   EXPECT_EQ(count_of(html, "<table>"), 12u);
   EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 12u);
   EXPECT_NE(html.find("</html>"), std::string::npos);
+}
+
+// reproduce.json's values by key path, without what measures the machine or the invocation.
+void flatten_results(const nlohmann::json& v, const std::string& path, std::map<std::string, nlohmann::json>& out) {
+  for (const char* machine : {"wall_clock_s", "particle_steps_per_second", "command_line", "resumed_runs"})
+    if (path.find(machine) != std::string::npos) return;
+  if (v.is_object()) {
+    for (const auto& [k, x] : v.items()) flatten_results(x, path + "." + k, out);
+  } else if (v.is_array()) {
+    for (std::size_t i = 0; i < v.size(); ++i) flatten_results(v[i], path + "[" + std::to_string(i) + "]", out);
+  } else {
+    out[path] = v;
+  }
+}
+
+// A reproduce killed part-way (SIGKILL: nothing of it runs after) and run again with --resume
+// into the same folder takes up the runs it had finished or begun from the checkpoints they
+// left, and ends with every number of an uninterrupted reproduce (here with another thread
+// count). A checkpoint of another run in a run's folder is not taken up: that run is run
+// again. A complete reproduce leaves no checkpoint behind.
+TEST_F(Reproduce, ResumedAfterAKillEndsWithTheNumbersOfAnUninterruptedRun) {
+  ASSERT_EQ(result_.exit_code, 0) << result_.output;
+  const aggpack::testing::ScratchDir scratch("aggpack_reproduce_resume_");
+  const fs::path out = scratch.path() / "out";
+  const fs::path runs = out / "runs";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::freopen("/dev/null", "w", stdout);
+    ::freopen("/dev/null", "w", stderr);
+    ::execl(AGGPACK_EXE, AGGPACK_EXE, "reproduce", "--quick", "--quiet", "--threads", "1", "--out", out.c_str(),
+            static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Killed once the first poured example is done: the examples' runs finished, the rest not begun.
+  int status = 0;
+  bool ended = false;
+  while (!fs::exists(runs / "example1_poured" / "seed_1" / "summary.json") && !ended) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    ended = ::waitpid(pid, &status, WNOHANG) == pid;
+  }
+  if (!ended) {
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, &status, 0);
+  }
+  ASSERT_FALSE(fs::exists(out / "reproduce.json")) << "the reproduce ended before it was killed";
+  // Each finished run with DEM kept its checkpoint, taken before its final analysis.
+  ASSERT_TRUE(fs::exists(runs / "example1" / "seed_1" / "checkpoint.bin"));
+  ASSERT_TRUE(fs::exists(runs / "example2" / "seed_1" / "checkpoint.bin"));
+  fs::copy_file(runs / "example1" / "seed_1" / "checkpoint.bin", runs / "example2" / "seed_1" / "checkpoint.bin",
+                fs::copy_options::overwrite_existing);
+
+  const Result r = run("reproduce --quick --resume --threads 2 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("seed 1: density 0.5971 after DEM"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("resumed from its checkpoint taken before the final analysis)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("seed 1: run again, not resumed: the checkpoint in " + (runs / "example2" / "seed_1").string()),
+            std::string::npos)
+      << r.output;
+  const auto resumed = nlohmann::json::parse(slurp(out / "reproduce.json"));
+  const auto uninterrupted = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  EXPECT_GE(resumed["resumed_runs"].get<int>(), 2);  // Example 1 and the first poured example
+  EXPECT_EQ(uninterrupted["resumed_runs"], 0);
+  std::map<std::string, nlohmann::json> a, b;
+  flatten_results(uninterrupted, "", a);
+  flatten_results(resumed, "", b);
+  EXPECT_EQ(a.size(), b.size());
+  for (const auto& [key, value] : a) {
+    const auto other = b.find(key);
+    ASSERT_NE(other, b.end()) << key;
+    EXPECT_EQ(value, other->second) << key;
+  }
+  EXPECT_NE(slurp(out / "report.md").find("continued from the checkpoints that an interrupted reproduce"),
+            std::string::npos);
+  for (const auto& entry : fs::recursive_directory_iterator(out))
+    EXPECT_NE(entry.path().filename(), "checkpoint.bin") << entry.path();
 }
 
 // A copy of the shipped scenarios with mixes 3 (the sensitivity study's) and 4 only, shrunk to

@@ -32,22 +32,43 @@ struct CaseRun {
 
 // Runs many scenario runs in a row, numbering them for the progress line (on stderr when it
 // is a terminal and not quiet) and timing the whole. Unless quiet, prints one line per run.
+//
+// A resumable campaign (reproduce, sweep: hours) can be killed and continued. Each run with a
+// DEM stage leaves its checkpoint, taken before its final analysis, in its folder until the
+// campaign is complete (remove_checkpoints); resumed, a run whose folder holds a checkpoint
+// of that very run (the same scenario text, overrides, seed and build) continues from it (only
+// analysing, when its steps were done) instead of starting again: the same bytes either way.
 class Campaign {
  public:
-  Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs);
+  enum class Checkpoints { removed, kept, kept_and_resumed };
+  Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs,
+           Checkpoints checkpoints = Checkpoints::removed);
   CaseRun run(const std::string& label, const std::filesystem::path& scenario, const std::vector<std::string>& sets,
               std::uint64_t seed, const std::filesystem::path& out_dir,
               const std::optional<std::string>& stop_after = std::nullopt);
   [[nodiscard]] std::size_t runs_done() const { return done_; }
+  [[nodiscard]] std::size_t runs_resumed() const { return resumed_; }  // continued from a checkpoint
   [[nodiscard]] double seconds() const;
   void clear_progress() { progress_.clear(); }
+  // The run folders whose checkpoint was kept.
+  [[nodiscard]] const std::vector<std::filesystem::path>& kept_checkpoints() const { return kept_; }
 
  private:
+  // Why the checkpoint in `out_dir` cannot continue this run; none when it can.
+  [[nodiscard]] static std::optional<std::string> why_not_resumable(const std::filesystem::path& scenario,
+                                                                    const std::vector<std::string>& sets,
+                                                                    std::uint64_t seed, const std::filesystem::path& out_dir,
+                                                                    const std::optional<std::string>& stop_after);
   int threads_;
   std::ostream* log_;  // null when quiet
   Progress progress_;
-  std::size_t planned_, done_ = 0;
+  std::size_t planned_, done_ = 0, resumed_ = 0;
+  Checkpoints checkpoints_;
+  std::vector<std::filesystem::path> kept_;  // the run folders whose checkpoint was kept
   std::chrono::steady_clock::time_point start_;
 };
+
+// Once a campaign is complete: the checkpoints its runs kept would only mislead a later resume.
+void remove_checkpoints(const std::vector<std::filesystem::path>& run_folders);
 
 }  // namespace aggpack

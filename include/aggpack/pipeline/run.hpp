@@ -34,6 +34,9 @@ struct RunControls {
     Checkpoint header;
   };
   std::optional<Checkpoints> checkpoints;
+  // Also checkpoint once every step is done, before the final analysis, whenever that comes
+  // (a campaign keeps that checkpoint so that, resumed, it does not run the steps again).
+  bool checkpoint_before_final_analysis = false;
   // A checkpoint of this scenario to continue from (aggpack resume); null: start afresh.
   const Checkpoint* resume_from = nullptr;
   // Steps to run instead of the scenario's protocol (aggpack export-lammps: those before its
@@ -59,6 +62,9 @@ struct RunOptions {
   bool quiet = false;
   Progress* progress = nullptr;  // live progress on a terminal; none when null
   const StopRequest* stop = nullptr;  // SIGINT and SIGTERM, from the CLI's handler
+  // Leave a run with a DEM stage its checkpoint, taken before the final analysis, instead of
+  // removing it at the end: resumed, it then only analyses and writes (Campaign's resume).
+  bool keep_dem_checkpoint = false;
 };
 
 struct RunResult {

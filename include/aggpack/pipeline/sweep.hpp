@@ -22,6 +22,7 @@ struct SweepOptions {
   std::optional<std::string> stop_after;
   int threads = 0;
   bool quiet = false;
+  bool resume = false;  // continue the runs an interrupted sweep into `out` left checkpoints of
 };
 
 // The densest blend: runs the scenario at each fine fraction (Ca/Fa = (100 - Fa) / Fa) with
