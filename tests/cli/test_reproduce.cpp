@@ -478,6 +478,15 @@ TEST_F(Sweep, FindsTheDensestOfThePointsItRan) {
   EXPECT_NEAR(run35["sizes"]["ca_fa_generated"].get<double>(), 65.0 / 35.0, 0.02);
   const std::string csv = slurp(dir_ / "sweep.csv");
   EXPECT_EQ(count_of(csv, "\n"), 1u + 3u);  // header, three points
+  // --resume into a complete sweep's folder: no checkpoint was kept (no DEM), so every run runs
+  // again, to the same numbers.
+  EXPECT_EQ(j["resumed_runs"], 0);
+  const Result again = run("sweep " + scenario + " --fa 20:50:15 --seeds 2 --quiet --resume --out " + dir_.string() +
+                           " --set 'particles.fine.d_min=\"0.1 in\"'");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  const auto k = nlohmann::json::parse(slurp(dir_ / "sweep.json"));
+  EXPECT_EQ(k["resumed_runs"], 0);
+  EXPECT_EQ(k["points"], j["points"]);
   EXPECT_EQ(csv.rfind("fa_percent,ca_fa,seeds,", 0), 0u);  // the header is the first line, for pandas.read_csv
   const Result csv_check = aggpack::testing::check_outputs("csv " + (dir_ / "sweep.csv").string());
   EXPECT_EQ(csv_check.exit_code, 0) << csv_check.output;
