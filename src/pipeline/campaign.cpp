@@ -48,7 +48,8 @@ std::optional<std::string> Campaign::why_not_resumable(const std::filesystem::pa
   } catch (const InputError& e) {
     return e.what();
   }
-  if (checkpoint.scenario_text != read_scenario_text(scenario)) return "it holds another scenario text: the file changed since, or it is another run's";
+  if (checkpoint.scenario_text != read_scenario_text(scenario))
+    return "it holds another scenario text: the file changed since, or it is another run's";
   if (checkpoint.overrides.set != sets || checkpoint.overrides.seed != seed || checkpoint.stop_after != stop_after)
     return "it is of another run (other overrides, seed or stop)";
   return std::nullopt;
@@ -91,8 +92,8 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
     resume = !why_not;
     if (why_not && log_) {
       progress_.clear();
-      fmt::print(*log_, "{} seed {}: run again, not resumed: the checkpoint in {} cannot continue it ({})\n", label, seed,
-                 out_dir.string(), *why_not);
+      fmt::print(*log_, "{} seed {}: run again, not resumed: the checkpoint in {} cannot continue it ({})\n", label,
+                 seed, out_dir.string(), *why_not);
     }
   }
   std::ostringstream discard;

@@ -57,7 +57,8 @@ class Campaign {
   // Why the checkpoint in `out_dir` cannot continue this run; none when it can.
   [[nodiscard]] static std::optional<std::string> why_not_resumable(const std::filesystem::path& scenario,
                                                                     const std::vector<std::string>& sets,
-                                                                    std::uint64_t seed, const std::filesystem::path& out_dir,
+                                                                    std::uint64_t seed,
+                                                                    const std::filesystem::path& out_dir,
                                                                     const std::optional<std::string>& stop_after);
   int threads_;
   std::ostream* log_;  // null when quiet
