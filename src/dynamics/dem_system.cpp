@@ -221,22 +221,36 @@ void DemSystem::build_neighbour_list() {
       if (container_.plane_distance(w, xi, towards) < ri + skin_) add(i, n + w);
     }
   };
-  // A pair found from i may belong to another thread's row: counts and places are claimed
+  // The grid is searched once: each thread keeps the pairs it finds, (owner, entry). A pair
+  // found from i may belong to another thread's row: counts and places are claimed
   // atomically; each row is sorted afterwards, so the list does not depend on who came first.
   const auto claim = [](std::uint32_t& counter) {
     return std::atomic_ref<std::uint32_t>(counter).fetch_add(1, std::memory_order_relaxed);
   };
-
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  const std::size_t workers = threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1;
+  std::vector<std::vector<Pair>> pairs_found(workers);
   std::vector<std::uint32_t> offset(n + 1, 0);
-#pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n; ++i) for_each_pair(i, [&](std::uint32_t owner, std::uint32_t) { claim(offset[owner + 1]); });
+#pragma omp parallel if (threaded_) num_threads(threads_)
+  {
+    std::vector<Pair>& mine = pairs_found[static_cast<std::size_t>(omp_get_thread_num())];
+    mine.reserve(other_.size() / workers + other_.size() / (8 * workers));  // the last list's size, and some
+#pragma omp for schedule(dynamic, 512)
+    for (std::uint32_t i = 0; i < n; ++i)
+      for_each_pair(i, [&](std::uint32_t owner, std::uint32_t entry) {
+        mine.emplace_back(owner, entry);
+        claim(offset[owner + 1]);
+      });
+  }
   for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
   std::vector<std::uint32_t> other(offset[n]), cross_begin(n), cross_count(n + 1, 0);
   {
     std::vector<std::uint32_t> next_free(offset.begin(), offset.end() - 1);
-#pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
-    for (std::uint32_t i = 0; i < n; ++i)
-      for_each_pair(i, [&](std::uint32_t owner, std::uint32_t entry) { other[claim(next_free[owner])] = entry; });
+#pragma omp parallel for schedule(static, 1) if (threaded_) num_threads(threads_)
+    for (std::size_t t = 0; t < workers; ++t) {
+      for (const auto& [owner, entry] : pairs_found[t]) other[claim(next_free[owner])] = entry;
+      std::vector<Pair>().swap(pairs_found[t]);
+    }
   }
   std::vector<Vec3> spring(offset[n]);
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
