@@ -36,7 +36,7 @@ struct CaseRun {
 // A resumable campaign (reproduce, sweep: hours) can be killed and continued. Each run with a
 // DEM stage leaves its checkpoint, taken before its final analysis, in its folder until the
 // campaign is complete (remove_checkpoints); resumed, a run whose folder holds a checkpoint
-// of that very run (the same scenario text, overrides, seed and build) continues from it (only
+// of that very run (the same scenario text, overrides, seed and version) continues from it (only
 // analysing, when its steps were done) instead of starting again: the same bytes either way.
 class Campaign {
  public:
