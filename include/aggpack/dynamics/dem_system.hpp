@@ -137,9 +137,9 @@ class DemSystem {
   // minimum image applies. (Inline: it is in the innermost loop.)
   [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const { return container_.minimum_image(to - from); }
   void kick(double half_step);
-  // Moves the grains; true when one has moved more than half the skin, less `slack`, since
-  // the list build.
-  bool drift(double slack);
+  // Gives the free grains `half_kicks` half-kicks of the current forces, then moves every
+  // grain; true when one has moved more than half the skin, less `slack`, since the list build.
+  bool kick_and_drift(int half_kicks, double half_step, double slack);
   // Puts the container where its motion has it at time t.
   void place_container(double t);
   // save_state()'s and restore_state()'s one list of members (System: const or not).
