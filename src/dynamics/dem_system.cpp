@@ -488,14 +488,16 @@ void DemSystem::compute_forces() {
       model_.particle);
 }
 
+void DemSystem::half_kick(std::uint32_t i, double half_step) {
+  Grain& g = grain_[i];
+  g.velocity += load_[i].force * (half_step / g.mass);
+  g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
+}
+
 void DemSystem::kick(double half_step) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n_; ++i) {
-    if (frozen_[i]) continue;
-    Grain& g = grain_[i];
-    g.velocity += load_[i].force * (half_step / g.mass);
-    g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
-  }
+  for (std::uint32_t i = 0; i < n_; ++i)
+    if (!frozen_[i]) half_kick(i, half_step);
 }
 
 bool DemSystem::kick_and_drift(int half_kicks, double half_step, double slack) {
@@ -506,12 +508,9 @@ bool DemSystem::kick_and_drift(int half_kicks, double half_step, double slack) {
   bool stale = false;
 #pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
-    Grain& g = grain_[i];
     if (!frozen_[i])
-      for (int k = 0; k < half_kicks; ++k) {  // each half-kick on its own: the bits of separate passes
-        g.velocity += load_[i].force * (half_step / g.mass);
-        g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
-      }
+      for (int k = 0; k < half_kicks; ++k) half_kick(i, half_step);  // one by one: the bits of separate passes
+    Grain& g = grain_[i];
     g.position += g.velocity * dt;
     if (norm2(g.position - listed_position_[i]) > limit) stale = true;
   }
