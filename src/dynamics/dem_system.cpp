@@ -488,19 +488,17 @@ void DemSystem::compute_forces() {
       model_.particle);
 }
 
-void DemSystem::half_kick(std::uint32_t i, double half_step) {
-  Grain& g = grain_[i];
-  g.velocity += load_[i].force * (half_step / g.mass);
-  g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
-}
-
 void DemSystem::kick(double half_step) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n_; ++i)
-    if (!frozen_[i]) half_kick(i, half_step);
+  for (std::uint32_t i = 0; i < n_; ++i) {
+    if (frozen_[i]) continue;
+    Grain& g = grain_[i];
+    g.velocity += load_[i].force * (half_step / g.mass);
+    g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
+  }
 }
 
-bool DemSystem::kick_and_drift(int half_kicks, double half_step, double slack) {
+bool DemSystem::drift(double slack) {
   const double dt = settings_.time_step;
   // Moved more than half the skin (less what the container moved: a wall may come closer).
   const double reach = 0.5 * skin_ - slack;
@@ -508,22 +506,16 @@ bool DemSystem::kick_and_drift(int half_kicks, double half_step, double slack) {
   bool stale = false;
 #pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
-    if (!frozen_[i])
-      for (int k = 0; k < half_kicks; ++k) half_kick(i, half_step);  // one by one: the bits of separate passes
-    Grain& g = grain_[i];
-    g.position += g.velocity * dt;
-    if (norm2(g.position - listed_position_[i]) > limit) stale = true;
+    grain_[i].position += grain_[i].velocity * dt;
+    if (norm2(grain_[i].position - listed_position_[i]) > limit) stale = true;
   }
   return stale;
 }
 
 void DemSystem::run(std::size_t steps) {
   const double half = 0.5 * settings_.time_step;
-  // A step is half-kick, drift, forces, half-kick. The closing half-kick of one step and the
-  // opening one of the next use the same forces, so they and the next drift share one pass
-  // over the grains (memory, not arithmetic, bounds these loops).
-  int half_kicks = 1;
   for (std::size_t s = 0; s < steps; ++s) {
+    kick(half);
     // The forces of the new positions are those at the end of the step, with the container
     // (when it moves) where it is then.
     force_time_ = static_cast<double>(steps_ + 1) * settings_.time_step;
@@ -532,13 +524,12 @@ void DemSystem::run(std::size_t steps) {
       place_container(force_time_);
       slack = std::abs(container_offset() - listed_offset_);
     }
-    if (kick_and_drift(half_kicks, half, slack)) build_neighbour_list();
+    if (drift(slack)) build_neighbour_list();
     compute_forces();
-    half_kicks = 2;
+    kick(half);
     ++steps_;
     time_ = static_cast<double>(steps_) * settings_.time_step;
   }
-  if (steps > 0) kick(half);
   write_back();
 }
 

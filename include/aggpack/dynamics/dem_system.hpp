@@ -136,12 +136,10 @@ class DemSystem {
   // Positions stay within one period of the box between list builds, so the container's
   // minimum image applies. (Inline: it is in the innermost loop.)
   [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const { return container_.minimum_image(to - from); }
-  // v += F dt/2m and w += T dt/2I for slot i, with the current forces.
-  void half_kick(std::uint32_t i, double half_step);
-  void kick(double half_step);  // a half-kick of every free grain
-  // Gives the free grains `half_kicks` half-kicks of the current forces, then moves every
-  // grain; true when one has moved more than half the skin, less `slack`, since the list build.
-  bool kick_and_drift(int half_kicks, double half_step, double slack);
+  void kick(double half_step);
+  // Moves the grains; true when one has moved more than half the skin, less `slack`, since
+  // the list build.
+  bool drift(double slack);
   // Puts the container where its motion has it at time t.
   void place_container(double t);
   // save_state()'s and restore_state()'s one list of members (System: const or not).
