@@ -22,7 +22,9 @@ for round in $(seq "$rounds"); do
       dir=$tmp/run; rm -rf "$dir"; mkdir "$dir"; cp "$checkpoint" "$dir/"
       OMP_WAIT_POLICY=$policy timeout -s INT "$seconds" "$b" resume "$dir" --threads "$threads" \
         > "$tmp/log" 2>&1 || true
-      reached=$(grep -o 'while settling at [0-9.]* s' "$tmp/log" | grep -o '[0-9.]* s' || echo "?")
+      # the last "while settling at T s" is where the interrupted run stopped (the first, where it resumed)
+      reached=$(grep -o 'while settling at [0-9][0-9.]* s' "$tmp/log" | tail -1 | grep -o '[0-9][0-9.]* s' || true)
+      reached=${reached:-?}
       echo "$round $policy $b $reached"
     done
   done
