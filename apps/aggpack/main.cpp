@@ -129,6 +129,7 @@ int analyze_command(const AnalyzeArguments& a) {
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
   request.max_profile_bins = limits.max_profile_bins;
+  request.max_grid_cells = limits.max_grid_cells;
   // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
   for (const auto& b : boxes) request.boxes.push_back(box_argument(b, *factor));
   for (const auto& c : cubes) request.cube_sides.push_back(length_argument(c, "--cube", *factor));

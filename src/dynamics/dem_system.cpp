@@ -188,8 +188,34 @@ void DemSystem::write_back() {
   }
 }
 
+void DemSystem::check_not_blown_up() const {
+  const double dt = settings_.time_step;
+  const Box& b = container_.bounds;  // where the container is now (a tap moves it)
+  for (std::uint32_t s = 0; s < n_; ++s) {
+    if (frozen_[s]) continue;
+    const Grain& g = grain_[s];
+    const std::size_t user = user_index_[s];
+    const double step = std::sqrt(norm2(g.velocity)) * dt;
+    if (!(step <= g.radius))
+      throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} (radius {:.3g} m) moved {:.3g} m in one time step, more "
+                                  "than its radius: no contact resolves that",
+                                  time_, user, g.radius, step));
+    if (g.position.z < b.lo.z - g.radius)
+      throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} went through the floor (its centre at z = {:.4g} m, the "
+                                  "floor at {:.4g} m)",
+                                  time_, user, g.position.z, b.lo.z));
+    if (!container_.periodic &&
+        (g.position.x < b.lo.x || g.position.x > b.hi.x || g.position.y < b.lo.y || g.position.y > b.hi.y))
+      throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} went through a side wall (its centre at x = {:.4g}, y = "
+                                  "{:.4g} m)",
+                                  time_, user, g.position.x, g.position.y));
+  }
+}
+
 void DemSystem::build_neighbour_list() {
   ++rebuilds_;
+  // Before the grid is sized by the spheres' extent: a blown-up bed would ask for billions of cells.
+  check_not_blown_up();
   const std::uint32_t n = n_;
   if (container_.periodic)
     for (Grain& g : grain_) g.position = container_.wrapped(g.position);

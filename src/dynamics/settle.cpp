@@ -1,9 +1,12 @@
 #include "aggpack/dynamics/settle.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include <fmt/format.h>
 
@@ -76,6 +79,54 @@ SettleSample sample_system(const DemSystem& system, const ParticleStore& particl
   return s;
 }
 
+std::optional<std::string> find_blow_up(const DemSystem& system, const ParticleStore& particles,
+                                        const Container& container, const SettleSample& sample,
+                                        const EnergyBudget& budget) {
+  const Box& b = container.bounds;
+  double d_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    if (system.is_frozen(i)) continue;
+    const Vec3& p = particles.position[i];
+    d_min = std::min(d_min, 2.0 * particles.radius[i]);
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      return fmt::format("sphere {} has a position that is not a number", i);
+    if (p.z < b.lo.z - budget.floor_travel)
+      return fmt::format("sphere {} went through the floor (its centre at z = {:.4g} m, the floor at {:.4g} m)", i,
+                         p.z, b.lo.z);
+    if (!container.periodic && (p.x < b.lo.x || p.x > b.hi.x || p.y < b.lo.y || p.y > b.hi.y))
+      return fmt::format("sphere {} went through a side wall (its centre at x = {:.4g}, y = {:.4g} m)", i, p.x, p.y);
+  }
+  if (!std::isfinite(d_min)) return std::nullopt;  // nothing free to move
+  // Per particle over m g d, as the sample's measure: falling `height` and starting at `speed`
+  // gives at most (v^2 / 2 + g h) / (g d_min); ten times that (and ten diameters' fall) is no
+  // longer a bed moved by gravity.
+  const double g = norm(system.gravity());
+  const double allowed =
+      10.0 * (0.5 * budget.speed * budget.speed + g * budget.height) / (g * d_min) + 10.0;
+  const double energy = sample.translational_per_particle_mgd;
+  if (!(energy <= allowed))
+    return fmt::format("its kinetic energy reached {:.3g} m g d per sphere, more than ten times what gravity, the "
+                       "insertion and the container can give it ({:.3g})",
+                       energy, allowed / 10.0);
+  return std::nullopt;
+}
+
+void run_block(DemSystem& system, std::size_t& steps_left, const std::function<void()>& between) {
+  using Clock = std::chrono::steady_clock;
+  constexpr double kSliceSeconds = 0.25;
+  std::size_t slice = 8;  // a first slice short enough for any bed, then sized by its wall clock
+  while (steps_left > 0) {
+    const std::size_t steps = std::min(slice, steps_left);
+    const auto t0 = Clock::now();
+    system.run(steps);
+    steps_left -= steps;
+    const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    const double per_step = std::max(seconds, 1e-9) / static_cast<double>(steps);
+    slice = std::clamp<std::size_t>(static_cast<std::size_t>(kSliceSeconds / per_step), 1, 1u << 20);
+    if (steps_left > 0 && between) between();
+  }
+}
+
 SettleResult settle(DemSystem& system, const ParticleStore& particles, const QuietCriterion& criterion,
                     const DensityProbe& density, const SampleSink& on_sample, const SettleSafePoint& safe_point,
                     const SettleLoop* resume) {
@@ -120,11 +171,16 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
       result.end = SettleEnd::Quiet;
       break;
     }
-    if (system.time() - start >= criterion.max_time * (1.0 - 1e-12)) {
-      result.end = SettleEnd::MaxTime;
-      break;
+    if (loop.block_steps_left == 0) {  // at a sample: end here, or start the next interval
+      if (system.time() - start >= criterion.max_time * (1.0 - 1e-12)) {
+        result.end = SettleEnd::MaxTime;
+        break;
+      }
+      loop.block_steps_left = steps_per_sample;
     }
-    system.run(steps_per_sample);
+    run_block(system, loop.block_steps_left, [&] {
+      if (safe_point) safe_point(loop);
+    });
     window.push_back(take_sample());
     while (window.size() > 2 && window[1].time <= window.back().time - criterion.window * (1.0 - 1e-9))
       window.pop_front();

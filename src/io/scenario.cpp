@@ -126,6 +126,12 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
   }
   g.d_min = s.length("d_min");
   g.d_max = s.length("d_max");
+  // A cut-off at or below the smallest sieve cuts nothing: taken silently as "no cut-off" it
+  // hides a slip (a value in the wrong unit, or a whole-grading series that repeats one bed).
+  if (g.d_min && !(*g.d_min > g.grading.smallest()))
+    s.fail("d_min", fmt::format("{:.4g} mm is at or below the smallest sieve of grading '{}' ({:.4g} mm), so it cuts "
+                                "nothing; expected a d_min above {:.4g} mm, or no d_min for the whole grading",
+                                1e3 * *g.d_min, g.grading.name, 1e3 * g.grading.smallest(), 1e3 * g.grading.smallest()));
   if (const auto band = s.string("band")) {
     g.band = named_band(*band);
     if (!g.band)

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/spatial/multilevel_grid.hpp"
 
 namespace aggpack {
 
@@ -45,6 +46,30 @@ std::vector<Box> virtual_boxes(const Container& container, const BedGeometry& be
 PackingReport analyze_packing(const ParticleStore& particles, const Container& container,
                               const AnalysisRequest& request) {
   if (particles.empty()) throw InputError("the packing has no particles to analyse");
+  // Every array below is sized by the spheres' extent over their sizes: bounded first, so a
+  // sphere far from the others is refused before any memory is taken (measure_bed's slices
+  // are d_max thick, the profiles' d_max / 4 by default, the coordination's grid cells about
+  // a sphere wide).
+  double top = container.bounds.lo.z, d_max = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    top = std::max(top, particles.position[i].z + particles.radius[i]);
+    d_max = std::max(d_max, 2.0 * particles.radius[i]);
+  }
+  const double height = top - container.bounds.lo.z;
+  const double slices_needed = height / std::min(d_max, request.slice_thickness.value_or(0.25 * d_max));
+  if (!(slices_needed <= request.max_profile_bins))
+    throw InputError(fmt::format("the spheres reach {:.4g} m above the floor, {:.3g} slices of the vertical profile "
+                                 "({:.3g} m thick), more than the limit of {:.3g} (limits.max_profile_bins); expected "
+                                 "a packing without a sphere far above the others, or a thicker slice",
+                                 height, slices_needed, std::min(d_max, request.slice_thickness.value_or(0.25 * d_max)),
+                                 request.max_profile_bins));
+  const double cells = MultilevelGrid::cells_needed(container, particles.radius, container.bounds.volume(),
+                                                    container.height());
+  if (!(cells <= request.max_grid_cells))
+    throw InputError(fmt::format("the spheres span {} but are at most {:.4g} m across: a neighbour grid over them "
+                                 "would need {:.3g} cells, more than the limit of {:.3g} (limits.max_grid_cells); is a "
+                                 "sphere far from the others, or the length unit wrong?",
+                                 box_text(container.bounds), d_max, cells, request.max_grid_cells));
   PackingReport report;
   report.bed = measure_bed(particles, container);
   const BedGeometry& bed = report.bed;

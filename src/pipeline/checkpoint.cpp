@@ -16,7 +16,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 1;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 2;  // raise when what a checkpoint holds changes
 
 template <class Archive>
 void archive_overrides(Archive& ar, ScenarioOverrides& o) {

@@ -645,10 +645,11 @@ TapReport tap_in_lammps(const Scenario& sc, ParticleStore& particles, std::size_
 
 std::string take_positions_from_lammps(ParticleStore& particles, const std::filesystem::path& file,
                                        std::optional<std::int64_t> timestep, const Scenario& sc) {
-  const PackingFile read = read_packing_file(file, 1.0, sc.material.density, max_input_bytes(sc), timestep);
+  PackingFile read = read_packing_file(file, 1.0, sc.material.density, max_input_bytes(sc), timestep);
   if (read.format.rfind("LAMMPS", 0) != 0)
     throw InputError(fmt::format("{}: a {} file, not a LAMMPS dump or data file", file.string(), read.format));
   take_positions(particles, read.particles, file.string(), particles.size());
+  check_imported_bed(sc, particles, file);
   return read.format;
 }
 

@@ -1,6 +1,7 @@
 #include "aggpack/pipeline/preflight.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -10,6 +11,10 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/core/overloaded.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/particle_file.hpp"
+#include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
 #include "aggpack/spatial/multilevel_grid.hpp"
 
@@ -27,6 +32,134 @@ constexpr double kBytesPerParticleDeposition = 450.0;
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
 bool uses_dem(const Scenario& sc) { return sc.dynamics.has_value() || sc.pour.has_value(); }
+
+// An import_lammps step's file against the bed it replaces (`bed`: its radii in the store's
+// order): a LAMMPS file, at the timestep asked for, of as many spheres with the same radii,
+// inside the container and none coincident, as run_step checks when it comes to it.
+void check_import_step(const Scenario& sc, const ImportLammpsStep& import, const std::vector<double>& bed,
+                       const std::string& where) {
+  const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
+  PackingFile read = read_packing_file(import.file, 1.0, sc.material.density, max_bytes, import.timestep);
+  if (!read.format.starts_with("LAMMPS"))
+    throw InputError(fmt::format("{}: import_lammps.file: {} is a {} file; expected a LAMMPS dump or data file", where,
+                                 import.file.string(), read.format));
+  if (read.particles.size() != bed.size())
+    throw InputError(fmt::format("{}: import_lammps.file: {} holds {} spheres, the bed at this step {}; expected the "
+                                 "file of this bed",
+                                 where, import.file.string(), read.particles.size(), bed.size()));
+  std::vector<double> theirs = read.particles.radius, ours = bed;
+  std::sort(theirs.begin(), theirs.end());
+  std::sort(ours.begin(), ours.end());
+  for (std::size_t i = 0; i < ours.size(); ++i)
+    if (std::abs(theirs[i] - ours[i]) > 1e-9 * ours[i])
+      throw InputError(fmt::format("{}: import_lammps.file: the radii of {} are not the bed's (its {}th smallest is "
+                                   "{:.6g} m, the bed's {:.6g} m); expected the file of this bed",
+                                   where, import.file.string(), i + 1, theirs[i], ours[i]));
+  check_imported_bed(sc, read.particles, import.file);
+}
+
+// A number as a person writes it: 1.8e+308 rather than its 309 digits.
+std::string shown(double value) { return fmt::format("{:.4g}", value); }
+
+// The tap's amplitude and duration against the container, the rest and the time step: each
+// tap is one half sine of the container (ContainerMotion), so an amplitude beyond the
+// container, a tap longer than the rest after it, or a period of a few steps is a slip of a
+// key (a frequency in kHz read as Hz), not a protocol.
+void check_tapping(const Scenario& sc, double time_step) {
+  const TappingSettings& t = *sc.tapping;
+  const std::string file = sc.file.string();
+  const double g = norm(sc.dynamics->dem.gravity);
+  const double omega = 2.0 * std::numbers::pi * t.frequency;
+  const double amplitude = t.intensity * g / (omega * omega);
+  const double tap_seconds = 0.5 / t.frequency;
+  const double height = sc.container.height();
+  if (!(amplitude <= 0.5 * height))
+    throw InputError(fmt::format(
+        "{}: tapping.frequency, tapping.intensity: a tap of intensity {} g at {} Hz moves the container by "
+        "{} m (A = intensity g / (2 pi f)^2), more than half its height ({} m); expected a frequency of tens "
+        "of hertz (a tap of a few millimetres)",
+        file, shown(t.intensity), shown(t.frequency), shown(amplitude), shown(0.5 * height)));
+  if (!(tap_seconds <= t.rest_time))
+    throw InputError(fmt::format("{}: tapping.frequency, tapping.rest_time: one tap lasts {} s (half a period at "
+                                 "{} Hz), longer than the {} s of rest after it; expected a tap shorter than "
+                                 "its rest (a higher frequency or a longer rest_time)",
+                                 file, shown(tap_seconds), shown(t.frequency), shown(t.rest_time)));
+  constexpr double kStepsPerPeriod = 20.0;
+  if (!(1.0 / t.frequency >= kStepsPerPeriod * time_step))
+    throw InputError(fmt::format("{}: tapping.frequency: a period of {} s at {} Hz is fewer than {:g} DEM time "
+                                 "steps of {} s; expected a frequency of at most {} Hz",
+                                 file, shown(1.0 / t.frequency), shown(t.frequency), kStepsPerPeriod,
+                                 shown(time_step), shown(1.0 / (kStepsPerPeriod * time_step))));
+}
+
+// The pour's slab and fall against the grid and the time step: a slab of a batch's spheres at
+// a tiny solid fraction is kilometres tall, and a sphere that hits the bed too fast passes
+// through it (a Hertz contact of the smallest sphere pressed half its radius deep, or a step
+// that moves it a tenth of its radius).
+void check_pour(const Scenario& sc, std::span<const double> radii, double solid, double time_step) {
+  const PourSettings& pour = *sc.pour;
+  const Container& c = sc.container;
+  const std::string file = sc.file.string();
+  const auto [r_lo, r_hi] = std::minmax_element(radii.begin(), radii.end());
+  const double r_min = *r_lo, d_max = 2.0 * *r_hi;
+  const double batches = static_cast<double>(std::min<std::size_t>(pour.batches, radii.size()));
+  const double slab = solid / batches / (pour.solid_fraction * c.length_x() * c.length_y());
+  const double gap = pour.gap.value_or(d_max);
+  // The highest a sphere starts: the slab on a bed at most as deep as the container.
+  const double top = c.height() + gap + slab;
+  const double cells = MultilevelGrid::cells_needed(c, radii, std::max(solid / 0.6, 1e-300), top);
+  if (!(cells <= sc.limits.max_grid_cells))
+    throw InputError(fmt::format(
+        "{}: pour.solid_fraction, pour.gap: a batch's insertion slab is {} m tall ({} m^3 of spheres at a solid "
+        "fraction of {}, in {} batches) and starts {} m above the bed, so the neighbour grid would need {:.3g} "
+        "cells, more than limits.max_grid_cells = {:.3g}; expected a solid fraction of 0.05-0.3, more "
+        "pour.batches, or a smaller gap",
+        file, shown(slab), shown(solid), shown(pour.solid_fraction), batches, shown(gap), cells,
+        sc.limits.max_grid_cells));
+  const double g = norm(sc.dynamics->dem.gravity);
+  // A pour falls into the container from about its own height: from ten times higher (or as
+  // fast as that), the spheres rebound out of the open top and the bed never forms.
+  constexpr double kMaxDropHeights = 10.0;
+  const double drop = pour.velocity * pour.velocity / (2.0 * g);
+  if (!(gap <= kMaxDropHeights * c.height()) || !(drop <= kMaxDropHeights * c.height()))
+    throw InputError(fmt::format(
+        "{}: {}: the spheres {} m above the bed, more than {:g} times the container's height ({} m): they "
+        "would rebound out of the open container; expected a pour from about the container's height",
+        file, gap > kMaxDropHeights * c.height() ? "pour.gap" : "pour.velocity",
+        gap > kMaxDropHeights * c.height()
+            ? fmt::format("start {}", shown(gap))
+            : fmt::format("start at {} m/s, as fast as a fall from {}", shown(pour.velocity), shown(drop)),
+        kMaxDropHeights, shown(c.height())));
+  // Each batch waits for the one before to fall its slab: a max_time shorter than that ends
+  // the pour as a falling gas (pour_bed refuses it then; here it is known before any work).
+  const double fall = (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * slab) - pour.velocity) / g;
+  const double max_time = sc.dynamics->quiet.max_time;
+  if (!(max_time >= batches * fall))
+    throw InputError(fmt::format(
+        "{}: dynamics.max_time: {} s is shorter than the pour's {:g} batch{} take to fall their slabs ({} s each, "
+        "{} m tall): the run would end with the spheres still in the air; expected a max_time of at least {} s "
+        "and the time to settle",
+        file, shown(max_time), batches, batches == 1 ? "" : "es", shown(fall), shown(slab), shown(2.0 * batches * fall)));
+  const double impact = std::sqrt(pour.velocity * pour.velocity + 2.0 * g * (gap + slab));
+  const ContactParameters& m = sc.material.contact;
+  const double nu = m.poisson_ratio;
+  const double e_star = 1.0 / ((1.0 - nu * nu) / m.youngs_modulus + (1.0 - nu * nu) / m.wall_youngs_modulus);
+  const double mass = sc.material.density * 4.0 / 3.0 * std::numbers::pi * r_min * r_min * r_min;
+  // The largest overlap of a Hertz sphere of radius r hitting a plane at speed v.
+  const double overlap = std::pow(15.0 * mass * impact * impact / (16.0 * e_star * std::sqrt(r_min)), 0.4);
+  const double per_step = impact * time_step;
+  if (!(overlap <= 0.5 * r_min) || !(per_step <= 0.1 * r_min))
+    throw InputError(fmt::format(
+        "{}: pour.velocity, pour.gap, pour.solid_fraction: a sphere poured at {} m/s from up to {} m above the bed "
+        "(the gap and a {} m slab) reaches it at {} m/s: the smallest sphere (radius {} m) would {}; expected a "
+        "slower or lower pour",
+        file, shown(pour.velocity), shown(gap + slab), shown(slab), shown(impact), shown(r_min),
+        overlap > 0.5 * r_min
+            ? fmt::format("press {} of its radius into the bed (a Hertz impact at this stiffness), passing through",
+                          shown(overlap / r_min))
+            : fmt::format("move {} of its radius in one time step of {} s, through the spheres it meets",
+                          shown(per_step / r_min), shown(time_step))));
+}
 }  // namespace
 
 void check_thread_count(int threads) {
@@ -106,6 +239,11 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   // The neighbour grid, sized as the stages size it.
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  if (sc.dynamics) {
+    const double step = sc.dynamics->time_step.step(stable_time_scale(sc.material.contact, r_min, sc.material.density));
+    if (sc.tapping) check_tapping(sc, step);
+    if (sc.pour) check_pour(sc, radii, solid, step);
+  }
   const double cells = MultilevelGrid::cells_needed(c, radii, std::max(solid / 0.6, 1e-300), c.height());
   if (!(cells <= sc.limits.max_grid_cells))
     throw InputError(fmt::format("{}: container: the neighbour grid would need {:.3g} cells (a {:.4g} x {:.4g} x "
@@ -143,6 +281,76 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   }
 }
 
+// Particles from a file must lie in the container; periodic sides wrap x and y. A bed
+// settled by DEM presses into the floor and walls by a Hertz overlap (about 1e-4 r at rock
+// stiffness, more when the stiffness is reduced): overlaps up to `tolerance` x r are kept
+// as they are; a deeper one is an intrusion and is refused. Returns the largest overlap / r.
+double fit_into_container(ParticleStore& particles, const Container& container, double tolerance,
+                          const std::filesystem::path& file) {
+  const Box& b = container.bounds;
+  double largest = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    Vec3& p = particles.position[i];
+    const double r = particles.radius[i];
+    p = container.wrapped(p);
+    // How far the sphere reaches beyond each boundary (positive: it overlaps it); periodic
+    // sides have only the floor and the top.
+    const std::array<std::pair<double, const char*>, 6> reach{{{b.lo.z - (p.z - r), "the floor"},
+                                                               {(p.z + r) - b.hi.z, "the top of the container"},
+                                                               {b.lo.x - (p.x - r), "the wall x = x_min"},
+                                                               {(p.x + r) - b.hi.x, "the wall x = x_max"},
+                                                               {b.lo.y - (p.y - r), "the wall y = y_min"},
+                                                               {(p.y + r) - b.hi.y, "the wall y = y_max"}}};
+    const auto deepest = std::max_element(reach.begin(), container.periodic ? reach.begin() + 2 : reach.end(),
+                                          [](const auto& a, const auto& c) { return a.first < c.first; });
+    const auto [overlap, where] = *deepest;
+    if (overlap > tolerance * r)
+      throw InputError(fmt::format(
+          "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, reaches {:.3g} m "
+          "({:.3g} r) beyond {} of the container {}; particles.boundary_overlap_tolerance accepts up to {:g} r "
+          "(a contact overlap), not an intrusion",
+          file.string(), i, i + 1, p.x, p.y, p.z, r, overlap, overlap / r, where, box_text(b), tolerance));
+    largest = std::max(largest, overlap / r);  // a sphere clear of every boundary counts as 0
+  }
+  return largest;
+}
+
+void check_imported_bed(const Scenario& sc, ParticleStore& bed, const std::filesystem::path& file) {
+  (void)fit_into_container(bed, sc.container, sc.particles.boundary_overlap_tolerance, file);
+  (void)check_particle_overlaps(bed, sc.container, sc.particles.overlap_tolerance, sc.particles.soft_contacts,
+                                file.string(), sc.limits.max_grid_cells);
+}
+
+void check_protocol_beds(const Scenario& sc, std::span<const double> bed_radii, std::span<const double> to_place) {
+  const std::string file = sc.file.string();
+  const Protocol protocol = scenario_protocol(sc);
+  std::vector<double> bed(bed_radii.begin(), bed_radii.end());
+  const std::size_t n = to_place.size();
+  for (std::size_t k = 0; k < protocol.steps.size(); ++k) {
+    const Step& step = protocol.steps[k];
+    const std::string where = fmt::format("{}: protocol step {} ({})", file, k + 1, step.stage);
+    const auto place = [&](std::uint32_t layer, std::uint32_t layers) {
+      const std::size_t begin = n * layer / layers, end = n * (layer + 1) / layers;
+      if (begin == end)
+        throw InputError(fmt::format("{}: part {} of {} holds no sphere ({} spheres in {} parts); expected at most {} "
+                                     "parts",
+                                     where, layer + 1, layers, n, layers, n));
+      bed.insert(bed.end(), to_place.begin() + static_cast<std::ptrdiff_t>(begin),
+                 to_place.begin() + static_cast<std::ptrdiff_t>(end));
+    };
+    std::visit(Overloaded{[&](const DepositStep& d) { place(d.layer, d.layers); },
+                          [&](const PourStep& p) { place(p.layer, p.layers); },
+                          [&](const ImportLammpsStep& import) { check_import_step(sc, import, bed, where); },
+                          [&](const auto&) {
+                            if (bed.empty())
+                              throw InputError(fmt::format("{}: it comes before any step places the spheres: the bed "
+                                                           "is empty; expected a deposit or pour step first",
+                                                           where));
+                          }},
+               step.kind);
+  }
+}
+
 void check_output_directory(const fs::path& directory, bool create) {
   const std::string shown = directory.string();
   if (shown.empty()) throw InputError("output.directory: the output folder is an empty path; expected a folder name");
@@ -172,9 +380,10 @@ void check_output_directory(const fs::path& directory, bool create) {
   }
   fs::remove(probe, ec);
   if (!written) throw InputError(fmt::format("{}: cannot write into the output folder", shown));
-  // Temporary files of an earlier run into this folder that was killed mid-write.
+  // Temporary files of an earlier run into this folder that was killed mid-write (aggpack's
+  // own name pattern only: a user's `notes.tmp.txt` stays).
   for (const auto& entry : fs::directory_iterator(directory, ec))
-    if (entry.path().filename().string().find(".tmp.") != std::string::npos && entry.is_regular_file(ec))
+    if (is_aggpack_temporary(entry.path()) && entry.is_regular_file(ec))
       fs::remove(entry.path(), ec);
 }
 

@@ -45,7 +45,7 @@ void serialize(Archive& ar, SettleSample& s) {
 }
 template <class Archive>
 void serialize(Archive& ar, SettleLoop& l) {
-  ar(l.start, l.start_steps, l.window);
+  ar(l.start, l.start_steps, l.window, l.block_steps_left);
 }
 template <class Archive>
 void serialize(Archive& ar, StageAnalysis& a) {

@@ -24,40 +24,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-// Particles from a file must lie in the container; periodic sides wrap x and y. A bed
-// settled by DEM presses into the floor and walls by a Hertz overlap (about 1e-4 r at rock
-// stiffness, more when the stiffness is reduced): overlaps up to `tolerance` x r are kept
-// as they are; a deeper one is an intrusion and is refused. Returns the largest overlap / r.
-double fit_into_container(ParticleStore& particles, const Container& container, double tolerance,
-                          const std::filesystem::path& file) {
-  const Box& b = container.bounds;
-  double largest = 0.0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    Vec3& p = particles.position[i];
-    const double r = particles.radius[i];
-    p = container.wrapped(p);
-    // How far the sphere reaches beyond each boundary (positive: it overlaps it); periodic
-    // sides have only the floor and the top.
-    const std::array<std::pair<double, const char*>, 6> reach{{{b.lo.z - (p.z - r), "the floor"},
-                                                               {(p.z + r) - b.hi.z, "the top of the container"},
-                                                               {b.lo.x - (p.x - r), "the wall x = x_min"},
-                                                               {(p.x + r) - b.hi.x, "the wall x = x_max"},
-                                                               {b.lo.y - (p.y - r), "the wall y = y_min"},
-                                                               {(p.y + r) - b.hi.y, "the wall y = y_max"}}};
-    const auto deepest = std::max_element(reach.begin(), container.periodic ? reach.begin() + 2 : reach.end(),
-                                          [](const auto& a, const auto& c) { return a.first < c.first; });
-    const auto [overlap, where] = *deepest;
-    if (overlap > tolerance * r)
-      throw InputError(fmt::format(
-          "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, reaches {:.3g} m "
-          "({:.3g} r) beyond {} of the container {}; particles.boundary_overlap_tolerance accepts up to {:g} r "
-          "(a contact overlap), not an intrusion",
-          file.string(), i, i + 1, p.x, p.y, p.z, r, overlap, overlap / r, where, box_text(b), tolerance));
-    largest = std::max(largest, overlap / r);  // a sphere clear of every boundary counts as 0
-  }
-  return largest;
-}
-
 // What a run starts from, every check before work passed: particles read from a file (with
 // their largest overlaps of the container and of each other), or the generated sizes of an
 // empty bed for the deposition and pour stages to fill.
@@ -84,6 +50,7 @@ InitialBed initial_bed(const Scenario& sc) {
     bed.largest_boundary_overlap =
         fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
     check_sizes(sc, bed.particles.radius);
+    check_protocol_beds(sc, bed.particles.radius, {});
     bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
                                                        sc.particles.soft_contacts, sc.particles.file->string(),
                                                        sc.limits.max_grid_cells);
@@ -98,6 +65,7 @@ InitialBed initial_bed(const Scenario& sc) {
   radii.reserve(bed.sizes->diameters.size());
   for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
   check_sizes(sc, radii);
+  check_protocol_beds(sc, {}, radii);
   return bed;
 }
 
@@ -272,6 +240,10 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   try {
     result.report = run(sc, controls, progress);
   } catch (...) {
+    // A refused run leaves nothing: not the checkpoint it took on its way (a resumed run's
+    // stays: it is the user's way back to the work done before).
+    std::error_code ec;
+    if (!resume) std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
     remove_if_made_empty();
     throw;
   }

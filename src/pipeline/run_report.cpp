@@ -23,6 +23,16 @@ void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
 }  // namespace
 
 // Every modelling choice a result depends on, said in the output.
+std::optional<RunReport::RestState> RunReport::rest_state() const {
+  const bool moved = dynamics || !pours.empty() || !tappings.empty();
+  if (!moved || series.samples.empty() || !scenario.dynamics) return std::nullopt;
+  RestState rest;
+  rest.translational_energy_per_particle_mgd = series.samples.back().translational_per_particle_mgd;
+  rest.quiet_below = scenario.dynamics->quiet.kinetic_fraction;
+  rest.settled = rest.translational_energy_per_particle_mgd <= rest.quiet_below;
+  return rest;
+}
+
 std::vector<std::string> RunReport::modelling_notes() const {
   const RunReport& r = *this;
   const Scenario& sc = r.scenario;
@@ -99,6 +109,11 @@ std::vector<std::string> RunReport::modelling_notes() const {
   if (r.dynamics)
     for (std::string& note : dynamics_notes(sc, *r.dynamics)) notes.push_back(std::move(note));
   if (r.dynamics_skipped) notes.push_back("--stop-after deposition: the [dynamics] stage was not run");
+  if (const auto rest = r.rest_state(); rest && !rest->settled)
+    notes.push_back(fmt::format("not settled: the DEM's last sample had a translational kinetic energy of {:.2e} "
+                                "m g d per particle, above the quiet criterion's {:.0e}: the densities are those of a "
+                                "bed still moving; raise dynamics.max_time for a bed at rest",
+                                rest->translational_energy_per_particle_mgd, rest->quiet_below));
   if (sc.analysis.box_sides.empty())
     notes.push_back("no analysis.box_sides given: one virtual cube of the largest admissible side was used");
   notes.push_back("virtual cubes are centred horizontally and vertically between the floor and the free surface, "
@@ -193,6 +208,11 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["lammps_exchanges"] = all;
   }
   summary["predictions"] = to_json(predictions());
+  if (const auto rest = rest_state()) {
+    summary["settled"] = rest->settled;
+    summary["final_translational_energy_per_particle_mgd"] = rest->translational_energy_per_particle_mgd;
+    summary["quiet_translational_energy_per_particle_mgd"] = rest->quiet_below;
+  }
   summary["modelling_notes"] = modelling_notes();
   if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;
   if (checkpoint_error) summary["checkpoint_error"] = *checkpoint_error;
@@ -292,8 +312,14 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
   }
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {:8.4g} m: density {:.4f}\n", box.side, box.density);
-  fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}), mean coordination {:.3f} over {} spheres\n", final.density.mean,
-                 final.density.sd, final.coordination.mean, final.coordination.particles_counted);
+  const auto rest = rest_state();
+  fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} spheres\n", final.density.mean,
+                 final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,
+                 final.coordination.particles_counted);
+  if (rest && !rest->settled)
+    fmt::format_to(o, "  not settled: the DEM ended with a kinetic energy of {:.2e} m g d per particle, above the "
+                      "quiet criterion's {:.0e}; the density is that of a bed still moving (raise dynamics.max_time)\n",
+                   rest->translational_energy_per_particle_mgd, rest->quiet_below);
   fmt::format_to(o, "{}", describe(predictions()));
   fmt::format_to(o, "  wrote {}\n", written_to.string());
   return out;

@@ -66,13 +66,49 @@ DensityProbe box_density(const Scenario& sc) {
   };
 }
 
-// Appends each sample to the series and shows it on the progress line.
+// The error that stops a run whose bed blew up (`what`: when and how), naming the settings that
+// are the likely cause: the time step against the Rayleigh time, and the stage's own `causes`.
+InputError blow_up_error(const Scenario& sc, const ParticleStore& particles, std::string_view what,
+                         std::string_view causes) {
+  double r_min = std::numeric_limits<double>::infinity();
+  for (const double r : particles.radius) r_min = std::min(r_min, r);
+  const double rayleigh = stable_time_scale(sc.material.contact, r_min, sc.material.density);
+  const double step = sc.dynamics->time_step.step(rayleigh);
+  return InputError(fmt::format(
+      "{}: the DEM blew up {}; the likely cause is the time step ({:.3g} s, {:.3g} times the smallest sphere's Rayleigh "
+      "time{}){}",
+      sc.file.string(), what, step, step / rayleigh,
+      sc.dynamics->allow_unstable_time_step ? ", above the stable limit by dynamics.allow_unstable_time_step" : "",
+      causes.empty() ? std::string() : fmt::format(", or {}", causes)));
+}
+constexpr std::string_view kPourCauses = "the pour (pour.velocity, pour.gap, pour.solid_fraction: a fall too fast "
+                                         "for the stiffness)";
+constexpr std::string_view kTapCauses = "the tap (tapping.intensity and tapping.frequency: the amplitude)";
+
+// The highest point of the free spheres above the floor, m.
+double top_above_floor(const DemSystem& dem, const ParticleStore& particles, const Container& container) {
+  double top = 0.0;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (!dem.is_frozen(i)) top = std::max(top, particles.position[i].z + particles.radius[i] - container.bounds.lo.z);
+  return top;
+}
+
+// Appends each sample to the series and shows it on the progress line; stops a bed that has
+// blown up at once (find_blow_up), naming the settings that are the likely cause, rather than
+// letting it fail later somewhere else.
 class SampleRecorder {
  public:
-  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress)
-      : stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet) {}
+  // `budget` is what the stage can give the bed; `causes` names the stage's own settings that
+  // could make it blow up (the time step's are named for every stage).
+  SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress, const DemSystem& dem,
+                 const ParticleStore& particles, EnergyBudget budget, std::string causes)
+      : sc_(sc), stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet),
+        dem_(dem), particles_(particles), budget_(budget), causes_(std::move(causes)) {}
+  // The pour raises the budget's height as its batches come in higher.
+  EnergyBudget& budget() { return budget_; }
   // `time` is the series' time of the sample; `phase` names what the DEM is doing.
   void operator()(double time, const SettleSample& s, const std::string& phase) {
+    if (const auto what = find_blow_up(dem_, particles_, sc_.container, s, budget_)) blew_up(phase, time, *what);
     series_.samples.push_back({time, layer_, s.density, s.translational_per_particle_mgd,
                                s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                                s.contacts.max_overlap, s.contacts.coordination});
@@ -89,13 +125,22 @@ class SampleRecorder {
                      s.time / end.value_or(criterion.max_time),
                      end ? Progress::TimeLeft::Estimate : Progress::TimeLeft::AtMost);
   }
+  // Stops the run: the bed blew up while `phase` at `time` (the series' time), as `what` says.
+  [[noreturn]] void blew_up(std::string_view phase, double time, std::string_view what) const {
+    throw blow_up_error(sc_, particles_, fmt::format("while {} at {:.4g} s simulated: {}", phase, time, what), causes_);
+  }
 
  private:
+  const Scenario& sc_;
   const DynamicsStage& stage_;
   std::uint32_t layer_;
   TimeSeries& series_;
   Progress& progress_;
   QuietForecast forecast_;
+  const DemSystem& dem_;
+  const ParticleStore& particles_;
+  EnergyBudget budget_;
+  std::string causes_;
 };
 
 // A step's state at a safe point, for a checkpoint: its kind (checked when it is read back),
@@ -145,22 +190,26 @@ struct PourLoop {
   SettleLoop settle;
   double poured_at = 0.0;    // s, when the last batch came
   std::size_t pour_steps = 0;
+  std::size_t block_steps_left = 0;  // of the sample interval in progress (0: at a sample)
   template <class Archive>
   void serialize(Archive& ar) {
-    ar(batch, next, raw_value(rng), raw_value(report), weight, settling, settle, poured_at, pour_steps);
+    ar(batch, next, raw_value(rng), raw_value(report), weight, settling, settle, poured_at, pour_steps,
+       block_steps_left);
   }
 };
 
-// A tapping's loop between samples: in the rest after tap `tap`.
+// A tapping's loop: inside tap `tap` (its steps not all run yet), or in the rest after it.
 struct TapLoop {
   std::size_t tap = 1;
+  std::size_t tap_steps_left = 0;    // of the tap in progress (0: in the rest)
   double rest_end = 0.0;
+  std::size_t rest_steps_left = 0;   // of the rest's sample interval in progress (0: at a sample)
   std::optional<double> quiet_since;
   SettleSample last;
   TapReport report;
   template <class Archive>
   void serialize(Archive& ar) {
-    ar(tap, rest_end, quiet_since, last, report);
+    ar(tap, tap_steps_left, rest_end, rest_steps_left, quiet_since, last, report);
   }
 };
 
@@ -193,7 +242,7 @@ SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scen
 }  // namespace
 
 SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, double time_offset,
-                       const StageControls& controls, TimeSeries& series, Progress& progress) {
+                       const StageControls& controls, TimeSeries& series, Progress& progress) try {
   const DynamicsStage& stage = *sc.dynamics;
   // The layers below this one stay where they are (the paper's layer-by-layer method).
   std::vector<std::uint8_t> frozen(particles.size());
@@ -208,7 +257,8 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   std::optional<SettleLoop> resumed;
   if (controls.resume_state) t0 = restore_step_state("settle", *controls.resume_state, dem, resumed.emplace());
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
-  SampleRecorder recorder(sc, layer, series, progress);
+  SampleRecorder recorder(sc, layer, series, progress, dem, particles,
+                          {top_above_floor(dem, particles, sc.container), 0.0, 0.0}, std::string());
   const SettleResult result = settle(
       dem, particles, stage.quiet, box_density(sc),
       [&](const SettleSample& s) { recorder(time_offset + s.time, s, "settling"); },
@@ -219,10 +269,12 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
       resumed ? &*resumed : nullptr);
   dem.finish();
   return settling_run(dem, setup, sc, layer, result, result.steps, result.simulated_time, t0, particles);
+} catch (const DemBlowUp& e) {
+  throw blow_up_error(sc, particles, fmt::format("while settling, {}", e.what()), std::string_view());
 }
 
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
-                 double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress) {
+                 double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress) try {
   const PourSettings& pour = *sc.pour;
   const DynamicsStage& stage = *sc.dynamics;
   double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
@@ -250,7 +302,8 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
     report.lowest_slab_bottom = std::numeric_limits<double>::infinity();
   }
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
-  SampleRecorder recorder(sc, part, series, progress);
+  SampleRecorder recorder(sc, part, series, progress, dem, particles,
+                          {top_above_floor(dem, particles, sc.container), pour.velocity, 0.0}, std::string(kPourCauses));
   const double g = norm(setup.settings.gravity);
   const std::size_t steps_per_sample = stage.quiet.steps_per_sample(setup.settings.time_step);
   const auto top_of_bed = [&] {
@@ -288,20 +341,24 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
         report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
         report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
         report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
+        recorder.budget().height =
+            std::max(recorder.budget().height, report.highest_slab_top - sc.container.bounds.lo.z);
         dem.admit_new_particles();
         loop.weight = weight_energy(dem, particles);
-        if (b + 1 == report.batches) break;
         // The next batch comes once this one has fallen through its slab's height in free
-        // fall (as LAMMPS's fix pour times its insertions), or at max_time.
+        // fall (as LAMMPS's fix pour times its insertions), or at max_time; after the last,
+        // that time is when the pour has reached the bed.
         const double height = slab.top - slab.bottom;
         const double fall = (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * height) - pour.velocity) / g;
         loop.next = dem.time() + fall;
+        if (b + 1 == report.batches) break;
       }
       batch_in = false;
-      while (dem.time() < std::min(loop.next, stage.quiet.max_time)) {
-        dem.run(steps_per_sample);
-        const SettleSample s = sample_system(dem, particles, loop.weight, nullptr);  // no density: the bed is still being built
+      while (loop.block_steps_left > 0 || dem.time() < std::min(loop.next, stage.quiet.max_time)) {
         const std::string phase = fmt::format("pouring, {} of {} in", particles.size(), radii.size());
+        if (loop.block_steps_left == 0) loop.block_steps_left = steps_per_sample;
+        run_block(dem, loop.block_steps_left, [&] { safe_point(where_simulated(phase, dem.time())); });
+        const SettleSample s = sample_system(dem, particles, loop.weight, nullptr);  // no density: the bed is still being built
         recorder(time_offset + s.time, s, phase);
         safe_point(where_simulated(phase, s.time));
       }
@@ -326,6 +383,13 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
       },
       loop.settling ? &loop.settle : nullptr);
   dem.finish();
+  // Cut by max_time before its last batch has fallen its slab: a gas, not a bed.
+  if (result.end == SettleEnd::MaxTime && dem.time() < loop.next)
+    throw InputError(fmt::format(
+        "{}: dynamics.max_time: the pour ended at {:.4g} s, before its last batch could fall its slab (by {:.4g} s): "
+        "its spheres never reached the bed, and its density would be that of a falling gas; expected a max_time "
+        "of at least {:.3g} s and the time to settle",
+        sc.file.string(), dem.time(), loop.next, 2.0 * loop.next));
   SettleResult whole = result;
   whole.last.time += poured_at;
   PourRun out;
@@ -333,10 +397,12 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   out.settling = settling_run(dem, setup, sc, part, whole, loop.pour_steps + result.steps,
                               poured_at + result.simulated_time, t0, particles);
   return out;
+} catch (const DemBlowUp& e) {
+  throw blow_up_error(sc, particles, fmt::format("while pouring, {}", e.what()), kPourCauses);
 }
 
 TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
-                  TimeSeries& series, Progress& progress) {
+                  TimeSeries& series, Progress& progress) try {
   const TappingSettings& tapping = *sc.tapping;
   const DynamicsStage& stage = *sc.dynamics;
   double r_min = std::numeric_limits<double>::infinity();
@@ -365,7 +431,10 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
     report.time_before = time_offset;
   }
   progress.start_stage("tapping");
-  SampleRecorder recorder(sc, 0, series, progress);
+  SampleRecorder recorder(sc, 0, series, progress, dem, particles,
+                          {top_above_floor(dem, particles, sc.container) + report.amplitude, report.amplitude * omega,
+                           report.amplitude},
+                          std::string(kTapCauses));
   const double weight = weight_energy(dem, particles);
   const double dt = setup.settings.time_step;
   const std::size_t steps_per_sample = stage.quiet.steps_per_sample(dt);
@@ -378,23 +447,29 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
     at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time()),
                   [&](std::ostream& out) { save_step_state(out, "tap", dem, loop, t0); });
   };
-  // A resumed tapping continues in the rest where it stopped.
-  bool in_rest = resumed;
+  // A resumed tapping continues inside the tap, or in the rest, where it stopped.
+  bool resuming = resumed;
   for (; loop.tap <= tapping.taps; ++loop.tap) {
     const std::string phase = fmt::format("tap {} of {}", loop.tap, tapping.taps);
-    if (!in_rest) {
+    if (!resuming) {
       const ContainerMotion tap{dem.time(), report.amplitude, omega, 0.5};
       dem.set_container_motion(tap);
-      // The tap (to the step after its end, so the container is at rest again), then the rest.
-      dem.run(static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1);
+      // The tap runs to the step after its end, so the container is at rest again.
+      loop.tap_steps_left = static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1;
+    }
+    if (!resuming || loop.tap_steps_left > 0) {
+      run_block(dem, loop.tap_steps_left, [&] { safe_point(phase); });
       loop.rest_end = dem.time() + tapping.rest_time;
       loop.quiet_since.reset();  // the first sample of the current quiet spell
       sample(phase);
       safe_point(phase);
     }
-    in_rest = false;
-    while (dem.time() < loop.rest_end - 0.5 * dt) {
-      dem.run(std::min(steps_per_sample, static_cast<std::size_t>(std::llround((loop.rest_end - dem.time()) / dt))));
+    resuming = false;
+    while (loop.rest_steps_left > 0 || dem.time() < loop.rest_end - 0.5 * dt) {
+      if (loop.rest_steps_left == 0)
+        loop.rest_steps_left =
+            std::min(steps_per_sample, static_cast<std::size_t>(std::llround((loop.rest_end - dem.time()) / dt)));
+      run_block(dem, loop.rest_steps_left, [&] { safe_point(phase); });
       sample(phase);
       if (tapping.rest_until_quiet) {
         if (loop.last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) loop.quiet_since.reset();
@@ -411,6 +486,8 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   report.steps = dem.steps();
   report.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return report;
+} catch (const DemBlowUp& e) {
+  throw blow_up_error(sc, particles, fmt::format("while tapping, {}", e.what()), kTapCauses);
 }
 
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report) {

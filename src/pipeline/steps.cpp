@@ -24,6 +24,7 @@ AnalysisRequest analysis_request(const Scenario& sc) {
   request.slice_thickness = sc.analysis.slice_thickness;
   request.shell_thickness = sc.analysis.shell_thickness;
   request.max_profile_bins = sc.limits.max_profile_bins;
+  request.max_grid_cells = sc.limits.max_grid_cells;
   return request;
 }
 

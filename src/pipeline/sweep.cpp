@@ -161,8 +161,10 @@ SweepPlan plan_sweep(const SweepOptions& options) {
       throw InputError(fmt::format("{}: [particles]: a sweep needs a coarse/fine mix (particles.coarse, "
                                    "particles.fine and particles.ca_fa)",
                                    options.scenario.string()));
-    if (plan.whole())
+    if (plan.whole()) {
+      check_cut_offs(*sc.particles.graded, plan.cuts);
       plan.key = cut_off_key(*sc.particles.graded), plan.parameters = whole_grading_parameters(sc, options.calibration);
+    }
   }
   for (const double fa : options.fa_percent) {
     ScenarioOverrides o;

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
@@ -57,6 +58,23 @@ double left_out_fraction(const GradedParticles& g) {
 }
 
 std::string cut_off_key(const GradedParticles& g) { return (g.fine ? g.fine->key : g.main.key) + ".d_min"; }
+
+void check_cut_offs(const GradedParticles& g, std::span<const double> cuts) {
+  const GradingSource& finest = g.fine ? *g.fine : g.main;
+  const Sieve& smallest = finest.grading.sieves.front();
+  const std::string sieve = smallest.name.empty() ? fmt::format("{:.4g} mm", 1e3 * smallest.opening)
+                                                  : fmt::format("{}, {:.4g} mm", smallest.name, 1e3 * smallest.opening);
+  std::vector<std::string> below;
+  for (const double cut : cuts)
+    if (!(cut > smallest.opening)) below.push_back(fmt::format("{:.4g} mm ({:.4g} in)", 1e3 * cut, cut / 0.0254));
+  if (!below.empty())
+    throw InputError(fmt::format(
+        "--cut-offs: {} {} at or below the smallest sieve of {}'s grading '{}' ({}): such a cut-off leaves nothing "
+        "out, so every one of them would simulate the same bed; expected cut-offs above {:.4g} mm, each leaving a "
+        "different part of the grading out",
+        fmt::join(below, ", "), below.size() == 1 ? "is" : "are", finest.key, finest.grading.name, sieve,
+        1e3 * smallest.opening));
+}
 
 ModelParameters whole_grading_parameters(const Scenario& whole, const std::optional<std::filesystem::path>& calibration) {
   if (calibration) return read_calibration(*calibration);
@@ -116,6 +134,7 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
                                  "the whole grading",
                                  whole.file.string()));
   const std::string key = cut_off_key(*whole.particles.graded);
+  check_cut_offs(*whole.particles.graded, options.cut_offs);
   const ModelParameters parameters = whole_grading_parameters(whole, options.calibration);
 
   // Every cut-off's scenario is read (and so checked) before any simulation.

@@ -54,7 +54,7 @@ TEST_F(Cli, RunWritesTheThreeFilesAndTheSummaryKeys) {
   EXPECT_TRUE(r.output.empty()) << r.output;  // --quiet
   for (auto f : {"particles.csv", "particles.vtp", "summary.json"}) EXPECT_TRUE(fs::exists(out / f)) << f;
   for (const auto& e : fs::directory_iterator(out))
-    EXPECT_EQ(e.path().string().find(".tmp."), std::string::npos) << "leftover " << e.path();
+    EXPECT_EQ(e.path().string().find(".aggpack-incomplete."), std::string::npos) << "leftover " << e.path();
   const auto s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   EXPECT_EQ(s["seed"], 5);
   EXPECT_EQ(s["particle_count"], 1000);

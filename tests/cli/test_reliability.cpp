@@ -145,6 +145,29 @@ std::vector<BadInput> bad_inputs() {
       scenario(kDeposit + "[tapping]\n", {"s.toml", "tapping", "[dynamics]"}),
       scenario(kDeposit + "[dynamics]\n[tapping]\ntaps = 0\n", {"tapping.taps"}),
       scenario(kDeposit + "[dynamics]\n[tapping]\nintensity = -2\n", {"tapping.intensity"}),
+      // Dynamic set-ups that cannot work, refused before any work (issue 33): a tap that moves
+      // the container by kilometres, lasts longer than its rest, or has a period of a few steps;
+      // a pour slab kilometres tall, a pour that falls from too high or too fast, or that
+      // max_time ends in the air.
+      scenario(kDeposit + "[dynamics]\n[tapping]\nfrequency = 0.01\n",
+               {"s.toml", "tapping.frequency", "half its height"}),
+      scenario(kDeposit + "[dynamics]\n[tapping]\nfrequency = 1e-300\n", {"s.toml", "tapping.frequency"}),
+      scenario(kDeposit + "[dynamics]\n[tapping]\nfrequency = 2\nintensity = 0.01\n",
+               {"s.toml", "tapping.rest_time", "longer than"}),
+      scenario(kDeposit + "[material]\nyoungs_modulus = 1e6\nwall_youngs_modulus = 1e6\n[dynamics]\n[tapping]\n"
+                          "frequency = 10000\n",
+               {"s.toml", "tapping.frequency", "time steps"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\nsolid_fraction = 1e-12\n[dynamics]\n",
+               {"s.toml", "pour.solid_fraction", "limits.max_grid_cells"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\nvelocity = 99\n[dynamics]\n",
+               {"s.toml", "pour.velocity", "rebound"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\ngap = 1000\n[dynamics]\n",
+               {"s.toml", "pour.gap", "rebound"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\n[dynamics]\nmax_time = 0.001\n",
+               {"s.toml", "dynamics.max_time", "in the air"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[material]\nyoungs_modulus = 1e4\n"
+                      "wall_youngs_modulus = 1e4\n[pour]\ngap = 0.5\n[dynamics]\n",
+               {"s.toml", "pour.velocity", "passing through"}),
       scenario(kDeposit + "[[protocol]]\nstep = \"shake\"\n", {"protocol", "shake"}),
       scenario(kDeposit + "[output]\nformats = [\"pdf\"]\n", {"output.formats", "csv", "vtp"}),
       scenario(kDeposit + "seed = -5\n", {"seed"}),
@@ -324,19 +347,24 @@ TEST_F(Reliability, SigintAndSigtermStopAtASafePointWithAnInterruptedSummary) {
     EXPECT_TRUE(fs::exists(out / "checkpoint.bin"));
     EXPECT_EQ(summary.at("interruption").at("checkpoint").at("taken"), summary.at("interruption").at("stopped"));
     for (const auto& entry : fs::directory_iterator(out))
-      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+      EXPECT_EQ(entry.path().filename().string().find(".aggpack-incomplete."), std::string::npos) << entry.path();
   }
 }
 
-// A killed run's temporary files are removed by the next run into the same folder.
-TEST_F(Reliability, ANewRunRemovesAKilledRunsTemporaryFiles) {
+// A killed run's temporary files are removed by the next run into the same folder; a user's
+// files whose names merely look temporary are not (issue 33: they were deleted).
+TEST_F(Reliability, ANewRunRemovesAKilledRunsTemporaryFilesAndNoUserFile) {
   const fs::path out = dir_ / "out";
   fs::create_directories(out);
-  std::ofstream(out / "particles.csv.tmp.99999") << "half a file";
+  std::ofstream(out / "particles.csv.aggpack-incomplete.99999") << "half a file";
+  const std::vector<std::string> users = {"notes.tmp.txt", "data.tmp.1.csv", "particles.csv.tmp.99999",
+                                          "x.aggpack-incomplete.12a", ".aggpack-incomplete.1"};
+  for (const auto& name : users) std::ofstream(out / name) << "mine";
   std::ofstream(dir_ / "s.toml") << kDeposit;
   const auto r = run_cli("run " + (dir_ / "s.toml").string() + " --quiet --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_FALSE(fs::exists(out / "particles.csv.tmp.99999"));
+  EXPECT_FALSE(fs::exists(out / "particles.csv.aggpack-incomplete.99999"));
+  for (const auto& name : users) EXPECT_EQ(aggpack::testing::slurp(out / name), "mine") << name;
   EXPECT_TRUE(fs::exists(out / "summary.json"));
 }
 

@@ -107,7 +107,7 @@ class Resume : public ::testing::Test {
     EXPECT_EQ(got.size(), expected.size());
     EXPECT_FALSE(fs::exists(resumed / "checkpoint.bin"));
     for (const auto& entry : fs::directory_iterator(resumed))
-      EXPECT_EQ(entry.path().filename().string().find(".tmp."), std::string::npos) << entry.path();
+      EXPECT_EQ(entry.path().filename().string().find(".aggpack-incomplete."), std::string::npos) << entry.path();
   }
 };
 

@@ -1,4 +1,5 @@
 #pragma once
+#include <stdexcept>
 #include <cstddef>
 #include <cstdint>
 #include <istream>
@@ -27,6 +28,15 @@ struct ContactStatistics {
   std::size_t contacts = 0;       // particle-particle contacts (each pair once per free side)
 };
 
+// Thrown by DemSystem::run when the bed has blown up: a free sphere moved more than its own
+// radius in one step (no contact can resolve that: a time step too long for the stiffness, an
+// impact too fast), or its centre went through the floor or a side wall. The bed is lost; what
+// says why is the caller's to add (the settings that set the time step and the speeds).
+class DemBlowUp : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // A discrete element model of the spheres in a store: Hertz contacts with the law of
 // `model`, gravity, the container's floor and side walls (or periodic sides), velocity
 // Verlet for positions and spins. Frozen particles neither move nor feel forces.
@@ -51,7 +61,7 @@ class DemSystem {
   DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
             const DemSettings& settings, std::vector<std::uint8_t> frozen = {});
 
-  // Advances n steps.
+  // Advances n steps. Throws DemBlowUp when the bed blows up (checked at neighbour-list builds).
   void run(std::size_t steps);
 
   // Moves the container (floor and walls together) from now on as `motion` says, its
@@ -129,6 +139,7 @@ class DemSystem {
   // Sorts the records along the Morton curve, then rebuilds the lists (carrying the
   // contact history over).
   void build_neighbour_list();
+  void check_not_blown_up() const;  // throws DemBlowUp
   [[nodiscard]] std::vector<std::uint32_t> morton_order() const;
   // Slot s takes what slot from[s] held (records, flags, forces); the lists are not touched.
   void reorder(const std::vector<std::uint32_t>& from);

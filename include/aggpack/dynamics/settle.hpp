@@ -80,15 +80,41 @@ double weight_energy(const DemSystem& system, const ParticleStore& particles);
 SettleSample sample_system(const DemSystem& system, const ParticleStore& particles, double weight,
                            const DensityProbe& density);
 
+// Runs the `steps_left` steps of a block (a sample interval, a tap) in slices of about a
+// quarter of a second of wall clock, counting `steps_left` down and calling `between` after
+// every slice but the last: a safe point inside the block, however long the block (a tap at
+// 0.01 Hz is 50 s of simulated time), so a signal is honoured and a checkpoint is on time.
+// A loop keeps `steps_left` in its saved state: resumed inside a block, it finishes it.
+// Slicing does not change the result (DemSystem::run(a) then run(b) is run(a + b), bit for bit).
+void run_block(DemSystem& system, std::size_t& steps_left, const std::function<void()>& between);
+
+// What gravity, the insertion and the container can give a bed: spheres that started at most
+// `height` above the floor, at most `speed` fast (the insertion, the container's peak speed),
+// on a floor that moves at most `floor_travel` (a tap's amplitude).
+struct EnergyBudget {
+  double height = 0.0;        // m
+  double speed = 0.0;         // m/s
+  double floor_travel = 0.0;  // m
+};
+// Whether the bed has blown up (a time step beyond what the contacts resolve, an impact too
+// fast for the stiffness): a number that is not finite, a kinetic energy ten times beyond
+// what `budget` allows, or a free sphere whose centre went through the floor or a side wall.
+// Returns what happened, in words; none for a sane bed. O(n): called once per sample.
+std::optional<std::string> find_blow_up(const DemSystem& system, const ParticleStore& particles,
+                                        const Container& container, const SettleSample& sample,
+                                        const EnergyBudget& budget);
+
 // A settling run's loop between two samples: with the system's state (DemSystem::save_state),
 // all it takes to continue the run.
 struct SettleLoop {
   double start = 0.0;               // s, the system's time when the run began
   std::size_t start_steps = 0;      // the system's steps then
   std::deque<SettleSample> window;  // the samples of the quiet window so far
+  std::size_t block_steps_left = 0; // steps still to run before the next sample (0: at a sample)
 };
-// Called after every sample that does not end the run: a safe point, where the caller may
-// save the loop (with the system) for a checkpoint, or stop the run by throwing.
+// Called after every sample that does not end the run, and inside long blocks between samples:
+// a safe point, where the caller may save the loop (with the system) for a checkpoint, or stop
+// the run by throwing.
 using SettleSafePoint = std::function<void(const SettleLoop&)>;
 
 // Steps `system` until the criterion is met, sampling every sample_interval (the first

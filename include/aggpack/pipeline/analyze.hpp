@@ -19,6 +19,7 @@ struct AnalysisRequest {
   std::optional<double> slice_thickness;  // m, default d_max / 4
   std::optional<double> shell_thickness;  // m, default d_max / 4
   double max_profile_bins = 1e6;           // more slices or shells than this are refused
+  double max_grid_cells = 67108864;        // of the coordination's neighbour grid (limits.max_grid_cells)
 };
 
 struct PackingReport {

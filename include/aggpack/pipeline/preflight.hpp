@@ -23,6 +23,23 @@ void check_amount(const Scenario& scenario);
 // stability limit; the neighbour grid's cells and the profiles' bins against [limits].
 void check_sizes(const Scenario& scenario, std::span<const double> radii);
 
+// Particles from a file must lie in the container; periodic sides wrap x and y (moving the
+// positions). Overlaps of the floor or a wall up to `tolerance` x r are a settled bed's
+// contacts and are kept; a deeper one is refused. Returns the largest overlap / r.
+double fit_into_container(ParticleStore& particles, const Container& container, double tolerance,
+                          const std::filesystem::path& file);
+
+// A bed taken from a file at a protocol step (import_lammps): in the container and no two
+// spheres coincident or overlapping beyond the scenario's tolerances, as particles.from.
+void check_imported_bed(const Scenario& scenario, ParticleStore& bed, const std::filesystem::path& file);
+
+// The protocol's steps against the bed each finds: `bed_radii` (a particle file's) to start
+// with, then the parts of `to_place` (the generated sizes) each deposit or pour step adds. A
+// part with no sphere, a step on an empty bed, or an import_lammps file that is not of the bed
+// (format, timestep, count, radii, positions) is refused before any work.
+void check_protocol_beds(const Scenario& scenario, std::span<const double> bed_radii,
+                         std::span<const double> to_place);
+
 // The output folder: an existing directory that can be written, or a path where one can be
 // made. With `create`, makes it and writes and removes a probe file (what `run` does before
 // any work); without, only looks (what `check` does, which writes nothing).

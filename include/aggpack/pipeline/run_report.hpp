@@ -71,6 +71,16 @@ struct RunReport {
   [[nodiscard]] double density_after_dynamics() const;
   // The analytic models on the run's size distribution (summary.json's predictions).
   [[nodiscard]] Predictions predictions() const;
+  // Whether the DEM left the bed at rest: its last sample's translational energy per particle
+  // at or below the quiet criterion's (dynamics.kinetic_fraction); none when no DEM moved the
+  // bed. A run cut by max_time while the bed still moves reports the density of a moving bed,
+  // and says so (summary.json's settled, the console).
+  struct RestState {
+    bool settled = false;
+    double translational_energy_per_particle_mgd = 0.0;
+    double quiet_below = 0.0;
+  };
+  [[nodiscard]] std::optional<RestState> rest_state() const;
   // Every modelling choice the results depend on, in words (summary.json's modelling_notes).
   [[nodiscard]] std::vector<std::string> modelling_notes() const;
   // summary.json (README, "Output files"), `output_seconds` and `total_seconds` included.

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <optional>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -67,6 +68,9 @@ LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y, con
 // that its cut-offs leave out.
 double left_out_fraction(const GradedParticles& graded);
 // The key of the cut-off a whole-grading series varies: the finest grading's d_min.
+// Refuses cut-offs at or below the smallest sieve of the finest grading (clamped there, they
+// would all simulate the same uncut bed), naming them and the sieve.
+void check_cut_offs(const GradedParticles& graded, std::span<const double> cuts);
 std::string cut_off_key(const GradedParticles& graded);
 // CPM's parameters for a whole-grading estimate of `whole`: a calibration file given, else the
 // scenario's models.calibration, else the defaults for its protocol.

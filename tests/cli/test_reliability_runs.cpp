@@ -1,0 +1,162 @@
+// Runs that go wrong while they run (issue 33): a long tap honours a signal inside it, a bed
+// that blows up stops at once with the cause and leaves nothing behind, a DEM cut by max_time
+// says its bed is not settled, cut-off series that would repeat one bed are refused, and
+// `analyze` refuses a packing whose extent would size its arrays beyond the limits.
+#include <gtest/gtest.h>
+
+#include "run_cli.hpp"
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+#include <thread>
+
+namespace {
+
+namespace fs = std::filesystem;
+using aggpack::testing::run_cli;
+using aggpack::testing::slurp;
+
+class ReliabilityRuns : public ::testing::Test {
+ protected:
+  aggpack::testing::ScratchDir scratch_{"aggpack_reliability_runs_"};
+  const fs::path& dir_ = scratch_.path();
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path;
+  }
+};
+
+// 500 spheres of 1 cm deposited, barely settled, then one slow tap: 1 Hz, so the tap is half a
+// second of simulated time, some 4 x 10^5 steps of the stiff spheres (tens of seconds of wall
+// clock). The signal comes while the tap is under way.
+TEST_F(ReliabilityRuns, ASignalInsideALongTapStopsTheRunInsideTheTap) {
+  const fs::path scenario =
+      write("slow_tap.toml",
+            "[container]\nside = 0.1\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 500\n[deposition]\n"
+            "[dynamics]\nmax_time = 0.001\n[tapping]\ntaps = 1\nfrequency = 1\nintensity = 0.1\nrest_time = 0.6\n");
+  const fs::path out = dir_ / "out";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::freopen("/dev/null", "w", stdout);
+    ::freopen("/dev/null", "w", stderr);
+    ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--threads", "1", "--checkpoint-every", "0",
+            "--out", out.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Inside the tap a safe point comes every quarter second or so; before it had none, and
+  // the first checkpoint naming the tap came only once the tap was over.
+  for (int k = 0; k < 3000 && slurp(out / "checkpoint.bin").find("while tap 1 of 1") == std::string::npos; ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  ASSERT_EQ(WEXITSTATUS(status), 143);
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  const std::string stopped = summary.at("interruption").at("stopped").get<std::string>();
+  std::smatch at;
+  ASSERT_TRUE(std::regex_search(stopped, at, std::regex("while tap 1 of 1 at ([0-9.]+) s simulated"))) << stopped;
+  // The tap begins at 0.001 s and lasts 0.5 s: stopped before its end.
+  EXPECT_LT(std::stod(at[1].str()), 0.5) << stopped;
+}
+
+// A time step a hundred times beyond the contacts' resolution, opted in: the bed blows up in
+// its first samples. The run stops then, with exit 2, says it blew up, when, and the likely
+// cause, and leaves neither a checkpoint nor the folder it made.
+TEST_F(ReliabilityRuns, ABedThatBlowsUpStopsAtOnceNamingTheCauseAndLeavesNothing) {
+  const fs::path scenario =
+      write("unstable.toml",
+            "[container]\nside = 0.1\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 500\n[deposition]\n"
+            "[dynamics]\ntime_step = 1e-4\nallow_unstable_time_step = true\nmax_time = 1\n");
+  const fs::path out = dir_ / "out";
+  const auto r = run_cli("run " + scenario.string() + " --threads 1 --checkpoint-every 0 --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  for (const char* word : {"unstable.toml", "blew up", "s simulated", "time step", "Rayleigh",
+                           "allow_unstable_time_step"})
+    EXPECT_NE(r.output.find(word), std::string::npos) << word << " missing in\n" << r.output;
+  EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out)) << "a refused run leaves its folder (checkpoint.bin: " << fs::exists(out / "checkpoint.bin")
+                                << ")";
+  // Into a folder that was there already: the folder stays, with no checkpoint in it.
+  fs::create_directories(out);
+  EXPECT_EQ(run_cli("run " + scenario.string() + " --quiet --threads 1 --out " + out.string()).exit_code, 2);
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
+}
+
+// A pour cut by max_time while its spheres still bounce: the density is reported, marked as
+// not settled in summary.json, on the console and in the modelling notes; the same pour given
+// the time to come to rest is settled.
+TEST_F(ReliabilityRuns, ADemCutWhileTheBedMovesSaysItIsNotSettled) {
+  const std::string pour = "[container]\nside = 0.1\nheight = 0.2\n[particles]\ndiameter = 0.01\ncount = 600\n"
+                           "[material]\nyoungs_modulus = 1e7\nwall_youngs_modulus = 1e7\n[pour]\n"
+                           "[analysis]\nbox_sides = [0.03]\n[dynamics]\n";
+  const fs::path cut = dir_ / "cut";
+  const auto r = run_cli("run " + write("cut.toml", pour + "max_time = 0.2\n").string() + " --threads 1 --out " +
+                         cut.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("NOT SETTLED"), std::string::npos) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(cut / "summary.json"));
+  EXPECT_FALSE(summary.at("settled").get<bool>());
+  EXPECT_GT(summary.at("final_translational_energy_per_particle_mgd").get<double>(),
+            summary.at("quiet_translational_energy_per_particle_mgd").get<double>());
+  bool noted = false;
+  for (const auto& note : summary.at("modelling_notes")) noted |= note.get<std::string>().starts_with("not settled");
+  EXPECT_TRUE(noted);
+
+  const fs::path rest = dir_ / "rest";
+  ASSERT_EQ(run_cli("run " + write("rest.toml", pour + "max_time = 3\n").string() + " --quiet --threads 1 --out " +
+                    rest.string())
+                .exit_code,
+            0);
+  const auto settled = nlohmann::json::parse(std::ifstream(rest / "summary.json"));
+  EXPECT_EQ(settled.at("stages").at("dynamics").at("ended_by"), "quiet");
+  EXPECT_TRUE(settled.at("settled").get<bool>());
+  EXPECT_LE(settled.at("final_translational_energy_per_particle_mgd").get<double>(),
+            settled.at("quiet_translational_energy_per_particle_mgd").get<double>());
+}
+
+// Cut-offs at or below the sand's smallest sieve were all clamped to it: three runs of one bed.
+// Refused before any run, naming the cut-offs and the sieve; a scenario's own d_min there too.
+TEST_F(ReliabilityRuns, CutOffsBelowTheSmallestSieveAreRefusedBeforeAnyRun) {
+  const std::string mix = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
+  const auto whole = run_cli("whole-grading " + mix + " --cut-offs 0.001in,0.0005in,1e-320m --seeds 1 --out " +
+                             (dir_ / "whole").string());
+  EXPECT_EQ(whole.exit_code, 2) << whole.output;
+  for (const char* word : {"--cut-offs", "smallest sieve", "0.0254 mm", "0.0127 mm", "astm_c33_fine_mid"})
+    EXPECT_NE(whole.output.find(word), std::string::npos) << word << " missing in\n" << whole.output;
+  EXPECT_FALSE(fs::exists(dir_ / "whole"));
+  const auto sweep = run_cli("sweep " + mix + " --fa 30,40 --cut-offs 0.001in,0.0005in,0.0002in --seeds 1 --out " +
+                             (dir_ / "sweep").string());
+  EXPECT_EQ(sweep.exit_code, 2) << sweep.output;
+  EXPECT_NE(sweep.output.find("smallest sieve"), std::string::npos) << sweep.output;
+  const auto check = run_cli("check " + mix + " --set particles.fine.d_min=1e-320");
+  EXPECT_EQ(check.exit_code, 2) << check.output;
+  for (const char* word : {"d_min", "smallest sieve", "cuts nothing"})
+    EXPECT_NE(check.output.find(word), std::string::npos) << word << " missing in\n" << check.output;
+}
+
+// Spheres far above the others would size the vertical profile by their height: refused with
+// the reason before any array is made.
+TEST_F(ReliabilityRuns, AnalyzeRefusesAPackingWhoseProfileWouldNeedTooManySlices) {
+  std::string csv = "x,y,z,r\n";
+  for (int i = 0; i < 4; ++i) csv += std::to_string(0.5 + i) + ",0.5,0.5,0.5\n";
+  csv += "2,0.5,3e6,0.5\n";
+  const auto r = run_cli("analyze " + write("tall.csv", csv).string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("tall.csv"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("limits.max_"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+}
+
+}  // namespace
