@@ -259,9 +259,14 @@ TEST_F(LammpsBridge, ProtocolStepsHandABedOverAndTakeItBack) {
   std::ofstream(dir_ / "other.toml") << other << "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = "
                                                "\"import_lammps\"\nfile = \"first/lammps/cluster/settled.dump\"\n"
                                                "[[protocol]]\nstep = \"settle\"\n";
-  const auto o = run_cli("run " + (dir_ / "other.toml").string() + " --out " + (dir_ / "other").string());
-  EXPECT_EQ(o.exit_code, 2) << o.output;
-  EXPECT_NE(o.output.find("settled.dump: holds 300 spheres, the bed 299"), std::string::npos) << o.output;
+  // Before any work, by `run` and by `check` alike (the import step's file is read then).
+  for (const std::string command : {"run " + (dir_ / "other.toml").string() + " --out " + (dir_ / "other").string(),
+                                    "check " + (dir_ / "other.toml").string()}) {
+    const auto o = run_cli(command);
+    EXPECT_EQ(o.exit_code, 2) << o.output;
+    EXPECT_NE(o.output.find("settled.dump holds 300 spheres, the bed at this step 299"), std::string::npos) << o.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "other"));
   // Scenario errors, before any work: no DEM step after an export, no file to import.
   std::ofstream(dir_ / "no_dem.toml") << base << "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"settle\"\n"
                                                  "[[protocol]]\nstep = \"export_lammps\"\nname = \"late\"\n";

@@ -66,6 +66,13 @@ std::vector<BadInput> bad_inputs() {
   const auto grading_cli = [&](std::string csv, std::vector<std::string> words) {
     return BadInput{"grading", {{"g.csv", std::move(csv)}}, "grading @/g.csv", std::move(words)};
   };
+  // A LAMMPS dump of two spheres, and a scenario checked with `protocol` as its [[protocol]].
+  const std::string dump = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff fm\n0 0.1\n0 0.1\n0 0.1\n"
+                           "ITEM: ATOMS id type x y z radius\n1 1 0.02 0.02 0.005 0.005\n2 1 0.05 0.05 0.005 0.005\n";
+  const auto protocol_check = [&](std::string protocol, std::vector<std::string> words) {
+    return BadInput{"scenario", {{"s.toml", kDeposit + protocol}, {"d.dump", dump}, {"bed.csv", lattice()}},
+                    "check @/s.toml", std::move(words)};
+  };
   const auto command = [&](std::string args, std::vector<std::string> words) {
     return BadInput{"command line", {{"s.toml", kDeposit}, {"bed.csv", lattice()}}, std::move(args), std::move(words)};
   };
@@ -165,6 +172,19 @@ std::vector<BadInput> bad_inputs() {
                {"s.toml", "pour.gap", "rebound"}),
       scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\n[dynamics]\nmax_time = 0.001\n",
                {"s.toml", "dynamics.max_time", "in the air"}),
+      // `check` refuses what `run` would refuse at a protocol step: an import_lammps file that
+      // is not of the bed (format, count, timestep), a part with no sphere, a step on no bed.
+      protocol_check("[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"import_lammps\"\nfile = \"bed.csv\"\n",
+                     {"s.toml: protocol step 2 (import_lammps)", "bed.csv is a CSV", "expected a LAMMPS dump"}),
+      protocol_check("[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"import_lammps\"\nfile = \"d.dump\"\n",
+                     {"protocol step 2 (import_lammps)", "holds 2 spheres, the bed at this step 500"}),
+      protocol_check("[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"import_lammps\"\nfile = \"d.dump\"\n"
+                     "timestep = 7\n",
+                     {"d.dump", "7"}),
+      protocol_check("[[protocol]]\nstep = \"analyse\"\nname = \"early\"\n[[protocol]]\nstep = \"deposit\"\n",
+                     {"protocol step 1 (early)", "the bed is empty"}),
+      BadInput{"scenario", {{"s.toml", kDeposit + "[dynamics]\nlayers = 600\n"}}, "check @/s.toml",
+               {"s.toml: protocol step 1 (deposition)", "part 1 of 600 holds no sphere", "at most 500 parts"}},
       scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[material]\nyoungs_modulus = 1e4\n"
                       "wall_youngs_modulus = 1e4\n[pour]\ngap = 0.5\n[dynamics]\n",
                {"s.toml", "pour.velocity", "passing through"}),
