@@ -264,7 +264,8 @@ LammpsBed parse_lammps_data(std::string_view text, const std::string& name, doub
       (axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z) = lo;
       (axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z) = hi;
       bounds[axis] = true;
-    } else if (words.size() >= 3 && words[words.size() - 1] == "xz") {
+    } else if (words.back() == "yz") {
+      // The tilt line ("xy xz yz" its last words): a triclinic box, whatever its tilts.
       lines.fail("a triclinic box (xy xz yz): aggpack's containers are rectangular");
     }
   }

@@ -129,5 +129,22 @@ TEST(LammpsDump, RefusesWhatItCannotReadWithTheLineAndWhatIsExpected) {
   }
 }
 
+// A triclinic data file's header has a tilt line ("xy xz yz" its last words): aggpack's
+// containers are rectangular, so the file is refused, not read as a rectangular box.
+TEST(LammpsData, ATriclinicBoxIsRefusedAtItsTiltLine) {
+  const std::string text =
+      "title\n\n1 atoms\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n0.1 0 0 xy xz yz\n\nAtoms # sphere\n\n"
+      "1 1 0.2 2650 0.5 0.5 0.5\n";
+  ASSERT_TRUE(is_lammps_data(text));
+  try {
+    parse_lammps_data(text, "tilted.data", 1.0, 2650.0);
+    ADD_FAILURE() << "a triclinic box was read as a rectangular one";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tilted.data:7:"), std::string::npos) << what;
+    EXPECT_NE(what.find("triclinic"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace aggpack
