@@ -516,7 +516,7 @@ double memory_limit_bytes(const RunLimits& limits) {
 
 std::string read_scenario_text(const std::filesystem::path& file) {
   // A scenario is a page of TOML: 16 MiB is far beyond any real one.
-  return read_input_file(file, "the scenario", std::uintmax_t{16} << 20);
+  return read_input_text(file, "the scenario", std::uintmax_t{16} << 20);
 }
 
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {

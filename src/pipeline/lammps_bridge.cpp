@@ -392,7 +392,7 @@ std::uintmax_t max_input_bytes(const Scenario& sc) {
 }
 
 LammpsBed read_dump(const std::filesystem::path& file, const Scenario& sc, std::optional<std::int64_t> timestep = {}) {
-  return parse_lammps_dump(read_input_file(file, "LAMMPS's dump", max_input_bytes(sc)), file.string(), 1.0,
+  return parse_lammps_dump(read_input_text(file, "LAMMPS's dump", max_input_bytes(sc)), file.string(), 1.0,
                            sc.material.density, timestep);
 }
 
@@ -422,7 +422,7 @@ std::string run_lammps(const Scenario& sc, const std::filesystem::path& folder, 
   if (status != 0 || !std::filesystem::exists(folder / LammpsDeck::kDumpFile))
     throw InputError(fmt::format("{}: LAMMPS failed on the {} step (exit status {}); its log is {}", sc.file.string(),
                                  deck.step, status, (folder / LammpsDeck::kLogFile).string()));
-  return read_input_file(folder / LammpsDeck::kLogFile, "LAMMPS's log", kDefaultMaxInputFileBytes);
+  return read_input_text(folder / LammpsDeck::kLogFile, "LAMMPS's log", kDefaultMaxInputFileBytes);
 }
 
 struct SettledLine {
@@ -671,7 +671,7 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
     ScenarioOverrides recorded = overrides;
     try {
       const auto summary =
-          nlohmann::json::parse(read_input_file(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
+          nlohmann::json::parse(read_input_text(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
       scenario_file = summary.value("scenario_file", std::string());
       if (!recorded.seed && summary.contains("seed")) recorded.seed = summary.at("seed").get<std::uint64_t>();
       // The run's own overrides first, in their order; the command's --set after them win.
