@@ -311,8 +311,8 @@ PourSettings read_pour(const TomlSection& s) {
   p.solid_fraction = s.number("solid_fraction", {0.0, 0.3, true, false}).value_or(p.solid_fraction);
   p.batches = static_cast<std::size_t>(s.integer("batches", 1, 10000).value_or(1));
   p.velocity = s.number("velocity", {0.0, 100.0, false, false}).value_or(p.velocity);
-  p.gap = s.length("gap");
-  if (p.gap && !(*p.gap >= 0.0)) s.fail("gap", "expected a length >= 0 (from the bed's top to the insertion slab)");
+  // No gap is allowed: the gas's spheres lie inside their slab, so none starts in the bed.
+  p.gap = s.length("gap", kNonNegative);
   return p;
 }
 
