@@ -544,7 +544,13 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   sc.overrides = overrides.set;
   sc.title = s.string("title").value_or(file.stem().string());
   sc.seed = static_cast<std::uint64_t>(s.integer("seed", 0, std::numeric_limits<std::int64_t>::max()).value_or(1));
-  if (overrides.seed) sc.seed = *overrides.seed;
+  if (overrides.seed) {
+    // The file's range, so that no seed reads back as another (2^64 - 1 as -1 in a signed reader).
+    if (*overrides.seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      throw InputError(fmt::format("{}: seed {}: expected an integer from 0 to {}", file.string(), *overrides.seed,
+                                   std::numeric_limits<std::int64_t>::max()));
+    sc.seed = *overrides.seed;
+  }
   sc.container = read_container(s.required(s.table("container"), "container", "a [container] table"));
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
                                 file.parent_path(), sc.container);

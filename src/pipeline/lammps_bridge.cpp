@@ -521,6 +521,19 @@ SettlingRun lammps_settling_run(const Scenario& sc, ParticleStore& particles, st
   return run;
 }
 
+// A run's seed as its summary.json gives it: in the range of a scenario's seed, 0 to 2^63 - 1
+// (an edited -1 would otherwise become 2^64 - 1).
+std::uint64_t recorded_seed(const nlohmann::json& seed, const std::filesystem::path& summary_file) {
+  constexpr auto kMaxSeed = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+  const bool in_range = seed.is_number_unsigned()  ? seed.get<std::uint64_t>() <= kMaxSeed
+                        : seed.is_number_integer() ? seed.get<std::int64_t>() >= 0
+                                                   : false;
+  if (!in_range)
+    throw InputError(fmt::format("{}: seed {}: expected an integer from 0 to {}, as a scenario's seed",
+                                 summary_file.string(), seed.dump(), std::numeric_limits<std::int64_t>::max()));
+  return seed.get<std::uint64_t>();
+}
+
 std::filesystem::path lammps_folder(const Scenario& sc, const std::string& name) {
   return sc.output.directory / "lammps" / name;
 }
@@ -673,7 +686,7 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
       const auto summary =
           nlohmann::json::parse(read_input_text(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
       scenario_file = summary.value("scenario_file", std::string());
-      if (!recorded.seed && summary.contains("seed")) recorded.seed = summary.at("seed").get<std::uint64_t>();
+      if (!recorded.seed && summary.contains("seed")) recorded.seed = recorded_seed(summary.at("seed"), summary_file);
       // The run's own overrides first, in their order; the command's --set after them win.
       if (summary.contains("scenario_overrides")) {
         const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
