@@ -680,12 +680,15 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
         throw InputError(fmt::format("{}: a run's folder holds {}; this one has none (is it the output folder of a "
                                      "finished aggpack run?)",
                                      scenario_or_run.string(), f.filename().string()));
-    std::string scenario_file;
+    std::filesystem::path scenario_file;
     ScenarioOverrides recorded = overrides;
     try {
       const auto summary =
           nlohmann::json::parse(read_input_text(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
       scenario_file = summary.value("scenario_file", std::string());
+      // A relative path is the run's: from the folder it was started in, not this one.
+      const std::filesystem::path started_in = summary.value("working_directory", std::string());
+      if (!scenario_file.empty() && !started_in.empty()) scenario_file = started_in / scenario_file;
       if (!recorded.seed && summary.contains("seed")) recorded.seed = recorded_seed(summary.at("seed"), summary_file);
       // The run's own overrides first, in their order; the command's --set after them win.
       if (summary.contains("scenario_overrides")) {
@@ -698,14 +701,15 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
     if (scenario_file.empty() || !std::filesystem::exists(scenario_file))
       throw InputError(fmt::format("{}: its scenario_file \"{}\" is gone; export the bed with "
                                    "export-lammps SCENARIO, or run the scenario again",
-                                   summary_file.string(), scenario_file));
+                                   summary_file.string(), scenario_file.string()));
     const Scenario sc = load_scenario(scenario_file, recorded);
     if (!sc.dynamics)
       throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "
                                    "stopping rule from there",
-                                   scenario_file));
+                                   scenario_file.string()));
     if (tap && !sc.tapping)
-      throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps", scenario_file));
+      throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps",
+                                   scenario_file.string()));
     ParticleStore bed = read_packing_file(bed_file, 1.0, sc.material.density, max_input_bytes(sc)).particles;
     for (auto& l : bed.layer) l = 0;
     deck = lammps_deck(sc, bed, tap ? LammpsStep{TapStep{}} : LammpsStep{SettleStep{0}});

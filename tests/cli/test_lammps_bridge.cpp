@@ -303,6 +303,25 @@ TEST_F(LammpsBridge, ARunsFinalBedIsExportedWithItsScenarioAndOverrides) {
   EXPECT_NE(t.output.find("--tap: the scenario has no [tapping] table"), std::string::npos) << t.output;
 }
 
+// A run given its scenario by a relative path: export-lammps RUN_DIR finds the scenario from
+// the folder the run was started in, whatever the folder the export is started in.
+TEST_F(LammpsBridge, ARunsRelativeScenarioPathIsTakenFromWhereTheRunStarted) {
+  fs::create_directories(dir_ / "project" / "elsewhere");
+  std::ofstream(dir_ / "project" / "small.toml") << kSmallBed;
+  const fs::path run = dir_ / "run";
+  const auto r = run_command("cd " + (dir_ / "project").string() + " && " + AGGPACK_EXE +
+                             " run small.toml --stop-after deposition --quiet --out " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto e = run_command("cd " + (dir_ / "project" / "elsewhere").string() + " && " + AGGPACK_EXE +
+                             " export-lammps " + run.string() + " --out " + (dir_ / "deck").string());
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  std::stringstream deck;
+  deck << std::ifstream(dir_ / "deck" / "settle.in").rdbuf();
+  EXPECT_NE(deck.str().find("the settle, layer 1 step of " + (dir_ / "project" / "small.toml").string()),
+            std::string::npos)
+      << deck.str();
+}
+
 // summary.json's seed is read as the scenario's seed is, 0 to 2^63 - 1: an edited -1 is
 // refused, naming the file and the key, not wrapped to 2^64 - 1 in the exported deck.
 TEST_F(LammpsBridge, ARunsSeedOutsideTheSeedsRangeIsRefused) {
