@@ -534,6 +534,16 @@ std::uint64_t recorded_seed(const nlohmann::json& seed, const std::filesystem::p
   return seed.get<std::uint64_t>();
 }
 
+// Every file of `deck` saying `note` (what the bed is, when not what its step expects): a
+// comment under the deck's first line, and each data file's title line (LAMMPS skips it).
+void add_note(LammpsDeck& deck, const std::string& note) {
+  for (auto& [name, text] : deck.files) {
+    const std::size_t first_line_end = text.find('\n');
+    if (name == deck.deck_file) text.insert(first_line_end + 1, fmt::format("# {}.\n", note));
+    else if (name.ends_with(".data")) text.insert(first_line_end, fmt::format(". {}.", note));
+  }
+}
+
 std::filesystem::path lammps_folder(const Scenario& sc, const std::string& name) {
   return sc.output.directory / "lammps" / name;
 }
@@ -681,6 +691,7 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
                                      "finished aggpack run?)",
                                      scenario_or_run.string(), f.filename().string()));
     std::filesystem::path scenario_file;
+    std::optional<std::string> stopped;  // where an interrupted run stopped: its bed is not a final one
     ScenarioOverrides recorded = overrides;
     try {
       const auto summary =
@@ -689,6 +700,8 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
       // A relative path is the run's: from the folder it was started in, not this one.
       const std::filesystem::path started_in = summary.value("working_directory", std::string());
       if (!scenario_file.empty() && !started_in.empty()) scenario_file = started_in / scenario_file;
+      if (summary.value("interrupted", false))
+        stopped = summary.at("interruption").value("stopped", std::string("at an unrecorded point"));
       if (!recorded.seed && summary.contains("seed")) recorded.seed = recorded_seed(summary.at("seed"), summary_file);
       // The run's own overrides first, in their order; the command's --set after them win.
       if (summary.contains("scenario_overrides")) {
@@ -713,7 +726,15 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
     ParticleStore bed = read_packing_file(bed_file, 1.0, sc.material.density, max_input_bytes(sc)).particles;
     for (auto& l : bed.layer) l = 0;
     deck = lammps_deck(sc, bed, tap ? LammpsStep{TapStep{}} : LammpsStep{SettleStep{0}});
-    source = fmt::format("the final bed of the run in {}", scenario_or_run.string());
+    if (stopped) {
+      // particles.csv is the bed mid-step (a settle, a pour, a tap): say so wherever it goes.
+      const std::string bed_was =
+          fmt::format("the bed of the interrupted run in {}, as it stood {}", scenario_or_run.string(), *stopped);
+      add_note(deck, "Not a final bed: " + bed_was);
+      source = bed_was + ", not a final bed";
+    } else {
+      source = fmt::format("the final bed of the run in {}", scenario_or_run.string());
+    }
     spheres = bed.size();
   } else {
     if (tap)
