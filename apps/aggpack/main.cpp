@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/particle_file.hpp"
@@ -101,19 +102,27 @@ std::string seconds_argument(const std::string& text) {
   return fmt::format("{}", value);  // the shortest text that reads back as the same double
 }
 
-// "a,b,c" as lengths (bare numbers in `bare_unit` metres), naming `option` in errors.
-std::vector<double> lengths_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
-  std::vector<double> v;
+// The parts of "a,b,c", each as typed (without blanks around it).
+std::vector<std::string> list_parts(const std::string& text) {
+  std::vector<std::string> parts;
   std::size_t start = 0;
   while (true) {
     const auto comma = text.find(',', start);
+    const std::size_t length = comma == std::string::npos ? std::string::npos : comma - start;
+    parts.emplace_back(aggpack::trim(std::string_view(text).substr(start, length)));
+    if (comma == std::string::npos) return parts;
+    start = comma + 1;
+  }
+}
+
+// "a,b,c" as lengths (bare numbers in `bare_unit` metres), naming `option` in errors.
+std::vector<double> lengths_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
+  std::vector<double> v;
+  for (const std::string& part : list_parts(text)) {
     std::string why;
-    const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto value = aggpack::parse_length(part, &why, bare_unit);
     if (!value) throw aggpack::InputError(fmt::format("{} {}: \"{}\": {}", option, text, part, why));
     v.push_back(*value);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return v;
 }
@@ -433,7 +442,10 @@ int main(int argc, char** argv) {
       sweep.out = sweep_out;
       if (*sweep_seeds_opt) sweep.seeds = count_argument(sweep_seeds, "--seeds");
       sweep.fa_percent = aggpack::parse_fa_points(fa_text);
-      if (!sweep_cuts.empty()) sweep.cut_offs = lengths_argument(sweep_cuts, "--cut-offs");
+      if (!sweep_cuts.empty()) {
+        sweep.cut_offs = lengths_argument(sweep_cuts, "--cut-offs");
+        sweep.cut_off_texts = list_parts(sweep_cuts);
+      }
       if (*sweep_stop_opt) sweep.stop_after = sweep_stop;
       aggpack::sweep(sweep, std::cout);
     } else if (*check_cmd) {
@@ -445,6 +457,7 @@ int main(int argc, char** argv) {
       return analyze_command(analyze);
     } else if (*whole_cmd) {
       whole.cut_offs = lengths_argument(whole_cuts, "--cut-offs");
+      whole.cut_off_texts = list_parts(whole_cuts);
       // The files' folders are checked (and made) before the simulations, not after them.
       for (const auto& [option, target] : {std::pair{"--out", whole_out}, std::pair{"--plot", whole_plot}}) {
         if (target.empty()) continue;

@@ -20,8 +20,10 @@ namespace aggpack {
 namespace {
 constexpr NumberRange kFraction{0.0, 1.0, true, false};
 
-// Applies "a.b.c=value" to the table; the value is TOML, or a bare string.
-void apply_override(toml::table& root, const std::string& assignment, ScenarioOrigin& origin) {
+// Applies "a.b.c=value" to the table; the value is TOML, or a bare string. Messages about the
+// key quote `typed`, the option as the user typed it.
+void apply_override(toml::table& root, const std::string& assignment, const std::string& typed,
+                    ScenarioOrigin& origin) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError(fmt::format("--set {}: expected key.path=value, for example --set container.side=\"10 in\"",
@@ -48,7 +50,7 @@ void apply_override(toml::table& root, const std::string& assignment, ScenarioOr
   const std::string leaf = key.substr(start);
   if (leaf.empty()) throw InputError(fmt::format("--set {}: the key ends with '.'", assignment));
   table->insert_or_assign(leaf, *parsed.get("value"));
-  origin.overrides[key] = "--set " + assignment;
+  origin.overrides[key] = typed;
 }
 
 Container read_container(const TomlSection& s) {
@@ -533,7 +535,10 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
     throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
                                  src.begin.column, e.description()));
   }
-  for (const auto& assignment : overrides.set) apply_override(root, assignment, origin);
+  for (const auto& assignment : overrides.set) {
+    const auto typed = overrides.typed_as.find(assignment);
+    apply_override(root, assignment, typed != overrides.typed_as.end() ? typed->second : "--set " + assignment, origin);
+  }
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",

@@ -58,6 +58,20 @@ double left_out_fraction(const GradedParticles& g) {
 
 std::string cut_off_key(const GradedParticles& g) { return (g.fine ? g.fine->key : g.main.key) + ".d_min"; }
 
+std::string cut_off_assignment(const std::string& key, double cut) { return fmt::format("{}={:.17g}", key, cut); }
+
+ScenarioOverrides with_cut_off(ScenarioOverrides base, const std::string& key, double cut,
+                               const std::vector<double>& cut_offs, const std::vector<std::string>& texts) {
+  const std::string assignment = cut_off_assignment(key, cut);
+  const auto at = std::find(cut_offs.begin(), cut_offs.end(), cut);
+  const auto k = static_cast<std::size_t>(at - cut_offs.begin());
+  base.typed_as[assignment] = texts.size() == cut_offs.size() && at != cut_offs.end()
+                                   ? "--cut-offs " + texts[k]
+                                   : fmt::format("--cut-offs {:g} m", cut);
+  base.set.push_back(assignment);
+  return base;
+}
+
 ModelParameters whole_grading_parameters(const Scenario& whole, const std::optional<std::filesystem::path>& calibration) {
   if (calibration) return read_calibration(*calibration);
   if (whole.models_calibration) return read_calibration(*whole.models_calibration);
@@ -124,11 +138,9 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
   if (std::adjacent_find(cuts.begin(), cuts.end()) != cuts.end())
     throw InputError("--cut-offs: a cut-off is given twice");
   std::vector<Scenario> scenarios;
-  for (const double cut : cuts) {
-    ScenarioOverrides o = options.overrides;
-    o.set.push_back(fmt::format("{}={:.17g}", key, cut));
-    scenarios.push_back(load_scenario(options.scenario, o));
-  }
+  for (const double cut : cuts)
+    scenarios.push_back(load_scenario(
+        options.scenario, with_cut_off(options.overrides, key, cut, options.cut_offs, options.cut_off_texts)));
   Progress progress;
   std::vector<CutOffPoint> points;
   for (std::size_t k = 0; k < cuts.size(); ++k) {

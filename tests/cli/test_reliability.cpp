@@ -306,6 +306,27 @@ TEST_F(Reliability, OptionBoundsAreWrittenAsAPersonWouldWriteThem) {
   EXPECT_FALSE(fs::exists(dir_ / "r"));
 }
 
+// whole-grading and sweep try each cut-off as the finest grading's d_min: a cut-off the
+// scenario refuses is quoted as the user typed it, not as the internal --set that carries it.
+TEST_F(Reliability, ACutOffIsQuotedAsTyped) {
+  const std::string mix = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"whole-grading " + mix + " --cut-offs 0.1in,-0.07in,0.04in",
+       "--cut-offs -0.07in: particles.fine.d_min: expected a positive number"},
+      {"whole-grading " + mix + " --cut-offs 0.1in,5in,0.04in", "--cut-offs 5in: particles.fine: the cut-offs"},
+      {"sweep " + mix + " --fa 30,35 --cut-offs 0.1in,0.07in,-2mm --out " + (dir_ / "sweep").string(),
+       "--cut-offs -2mm: particles.fine.d_min: expected a positive number"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    SCOPED_TRACE("aggpack " + arguments);
+    const auto r = run_cli(arguments);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("--set"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "sweep"));
+}
+
 // A settling run stopped by a signal: it stops at the next sample, writes the bed as it stood,
 // its samples and a summary marked interrupted, and exits with 128 + the signal.
 int run_and_signal(const fs::path& scenario, const fs::path& out, int signal_number) {
