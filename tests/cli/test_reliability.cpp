@@ -290,8 +290,8 @@ TEST_F(Reliability, EveryBadInputIsRefusedWithExitTwoAClearMessageAndNothingWrit
 TEST_F(Reliability, OptionBoundsAreWrittenAsAPersonWouldWriteThem) {
   std::ofstream(dir_ / "s.toml") << kDeposit;
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"predict astm_c33_57 --mix astm_c33_fine --ca-fa -1", "--ca-fa -1: expected a number above 0"},
-      {"predict astm_c33_57 --mix astm_c33_fine --ca-fa 0", "--ca-fa 0: expected a number above 0"},
+      {"predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa -1", "--ca-fa -1: expected a number above 0"},
+      {"predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 0", "--ca-fa 0: expected a number above 0"},
       {"sweep " + (dir_ / "s.toml").string() + " --fa 30 --seeds 0", "--seeds 0: expected a whole number, 1 or more"},
       {"reproduce --seeds 0 --out " + (dir_ / "r").string(), "--seeds 0: expected a whole number, 1 or more"},
       {"reproduce --seeds 1.5 --out " + (dir_ / "r").string(), "--seeds 1.5: expected a whole number, 1 or more"},
