@@ -5,12 +5,14 @@
 #include <fmt/ranges.h>
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <csignal>
 #include <functional>
 #include <iostream>
 #include <limits>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/particle_file.hpp"
@@ -71,6 +73,25 @@ std::uint64_t seed_argument(const std::string& text) {
   return static_cast<std::uint64_t>(value);
 }
 
+// A number above 0. (CLI11's PositiveNumber would say "not in range 0.000000 to 1797...",
+// its bound DBL_MAX in 309 digits.)
+double positive_argument(const std::string& text, const std::string& option) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !(value > 0.0) || !std::isfinite(value))
+    throw aggpack::InputError(fmt::format("{} {}: expected a number above 0", option, text));
+  return value;
+}
+
+// A count of 1 or more, such as a number of seeds.
+int count_argument(const std::string& text, const std::string& option) {
+  int value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || value < 1)
+    throw aggpack::InputError(fmt::format("{} {}: expected a whole number, 1 or more", option, text));
+  return value;
+}
+
 // A wall-clock interval in seconds, >= 0, as the TOML value of output.checkpoint_every.
 std::string seconds_argument(const std::string& text) {
   double value = -1.0;
@@ -81,19 +102,27 @@ std::string seconds_argument(const std::string& text) {
   return fmt::format("{}", value);  // the shortest text that reads back as the same double
 }
 
-// "a,b,c" as lengths (bare numbers in `bare_unit` metres), naming `option` in errors.
-std::vector<double> lengths_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
-  std::vector<double> v;
+// The parts of "a,b,c", each as typed (without blanks around it).
+std::vector<std::string> list_parts(const std::string& text) {
+  std::vector<std::string> parts;
   std::size_t start = 0;
   while (true) {
     const auto comma = text.find(',', start);
+    const std::size_t length = comma == std::string::npos ? std::string::npos : comma - start;
+    parts.emplace_back(aggpack::trim(std::string_view(text).substr(start, length)));
+    if (comma == std::string::npos) return parts;
+    start = comma + 1;
+  }
+}
+
+// "a,b,c" as lengths (bare numbers in `bare_unit` metres), naming `option` in errors.
+std::vector<double> lengths_argument(const std::string& text, const std::string& option, long double bare_unit = 1.0L) {
+  std::vector<double> v;
+  for (const std::string& part : list_parts(text)) {
     std::string why;
-    const std::string part = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto value = aggpack::parse_length(part, &why, bare_unit);
     if (!value) throw aggpack::InputError(fmt::format("{} {}: \"{}\": {}", option, text, part, why));
     v.push_back(*value);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
   }
   return v;
 }
@@ -257,7 +286,8 @@ int main(int argc, char** argv) {
   predict_cmd->add_option("input", predict.input, "Scenario (.toml), a shipped grading's name or a CSV sieve analysis")
       ->required();
   predict_cmd->add_option("--mix", predict.fine, "A fine grading (name or file) to blend with the grading");
-  predict_cmd->add_option("--ca-fa", predict.ca_fa, "Coarse/fine volume ratio of the blend")->check(CLI::PositiveNumber);
+  std::string predict_ca_fa;
+  auto* predict_ca_fa_opt = predict_cmd->add_option("--ca-fa", predict_ca_fa, "Coarse/fine volume ratio of the blend");
   predict_cmd->add_option("--k", predict.compaction_index, "CPM compaction index K (4.1 poured ... 9 vibrated and compressed)");
   predict_cmd->add_option("--process", predict.process, "K of a lab process: poured, rodded, vibrated, vibrated_compressed");
   predict_cmd->add_option("--beta", predict.beta, "CPM residual packing density of every class (default 0.72, spheres)");
@@ -300,8 +330,9 @@ int main(int argc, char** argv) {
   auto* reproduce_cmd = app.add_subcommand(
       "reproduce", "Run the paper's Examples 1, 2 and Table 2 over seeds and write report.html and report.md");
   reproduce_cmd->add_flag("--quick", reproduce.quick, "One seed, DEM cut at 0.25 s, short pours, three sensitivity rows (about two minutes)");
-  reproduce_cmd->add_option("--seeds", reproduce.seeds, "Seeds per case (default 3; 1 with --quick)")
-      ->check(CLI::PositiveNumber);
+  std::string reproduce_seeds;
+  auto* reproduce_seeds_opt =
+      reproduce_cmd->add_option("--seeds", reproduce_seeds, "Seeds per case (default 3; 1 with --quick)");
   reproduce_cmd->add_flag("--settle-table2", reproduce.settle_table2,
                           "Also settle seed 1 of every Table 2 mix by DEM at E/1000 (hours: see BENCHMARKS.md)");
   reproduce_cmd->add_flag("--whole-grading", reproduce.whole_grading,
@@ -322,7 +353,8 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("scenario", sweep.scenario, "Scenario with a coarse/fine mix (TOML)")->required();
   sweep_cmd->add_option("--fa", fa_text, "Fine aggregate %: FROM:TO:STEP or a list, e.g. 25:45:5 or 29,35,43")
       ->required();
-  sweep_cmd->add_option("--seeds", sweep.seeds, "Seeds per point (default 3)")->check(CLI::PositiveNumber);
+  std::string sweep_seeds;
+  auto* sweep_seeds_opt = sweep_cmd->add_option("--seeds", sweep_seeds, "Seeds per point (default 3)");
   sweep_cmd->add_option("--out", sweep_out, "Output directory (default out/sweep)");
   sweep_cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
   std::string sweep_cuts;
@@ -404,12 +436,17 @@ int main(int argc, char** argv) {
     } else if (*reproduce_cmd) {
       reproduce.out = reproduce_out;
       reproduce.examples = examples_dir;
+      if (*reproduce_seeds_opt) reproduce.seeds = count_argument(reproduce_seeds, "--seeds");
       for (int k = 0; k < argc; ++k) reproduce.command_line += (k ? " " : "") + std::string(k ? argv[k] : "aggpack");
       aggpack::reproduce(reproduce, std::cout);
     } else if (*sweep_cmd) {
       sweep.out = sweep_out;
+      if (*sweep_seeds_opt) sweep.seeds = count_argument(sweep_seeds, "--seeds");
       sweep.fa_percent = aggpack::parse_fa_points(fa_text);
-      if (!sweep_cuts.empty()) sweep.cut_offs = lengths_argument(sweep_cuts, "--cut-offs");
+      if (!sweep_cuts.empty()) {
+        sweep.cut_offs = lengths_argument(sweep_cuts, "--cut-offs");
+        sweep.cut_off_texts = list_parts(sweep_cuts);
+      }
       if (*sweep_stop_opt) sweep.stop_after = sweep_stop;
       aggpack::sweep(sweep, std::cout);
     } else if (*check_cmd) {
@@ -421,6 +458,7 @@ int main(int argc, char** argv) {
       return analyze_command(analyze);
     } else if (*whole_cmd) {
       whole.cut_offs = lengths_argument(whole_cuts, "--cut-offs");
+      whole.cut_off_texts = list_parts(whole_cuts);
       // The files' folders are checked (and made) before the simulations, not after them.
       for (const auto& [option, target] : {std::pair{"--out", whole_out}, std::pair{"--plot", whole_plot}}) {
         if (target.empty()) continue;
@@ -448,6 +486,7 @@ int main(int argc, char** argv) {
                    c.beta_low, c.beta_high, c.monosized.mean, c.monosized.standard_error, c.mix.mean,
                    c.mix.standard_error, calibration_out);
     } else if (*predict_cmd) {
+      if (*predict_ca_fa_opt) predict.ca_fa = positive_argument(predict_ca_fa, "--ca-fa");
       const aggpack::Predictions p = aggpack::predict(predict);
       if (predict_json) fmt::print("{}\n", aggpack::to_json(p).dump(1));
       else

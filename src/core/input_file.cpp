@@ -35,4 +35,10 @@ std::string read_input_file(const std::filesystem::path& file, std::string_view 
   return text;
 }
 
+std::string read_input_text(const std::filesystem::path& file, std::string_view what, std::uintmax_t max_bytes) {
+  std::string text = read_input_file(file, what, max_bytes);
+  if (text.starts_with("\xEF\xBB\xBF")) text.erase(0, 3);
+  return text;
+}
+
 }  // namespace aggpack

@@ -1,6 +1,7 @@
 #include "aggpack/io/lammps_data.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -174,16 +175,28 @@ LammpsBed parse_lammps_dump(std::string_view text, const std::string& name, doub
     };
     const auto id = column({"id"});
     const auto radius = column({"radius"}), diameter = column({"diameter"});
+    // The position: the three columns of one kind; a kind's value is its own (a scaled one is a
+    // fraction of the box), so columns of different kinds are refused, not read as one.
+    constexpr std::array<std::array<std::string_view, 3>, 3> kinds{{{"x", "y", "z"}, {"xu", "yu", "zu"}, {"xs", "ys", "zs"}}};
     std::optional<std::size_t> pos[3];
     bool scaled = false;
-    for (int axis = 0; axis < 3; ++axis) {
-      const char* plain[] = {"x", "y", "z"};
-      const char* unwrapped[] = {"xu", "yu", "zu"};
-      const char* scaled_name[] = {"xs", "ys", "zs"};
-      pos[axis] = column({plain[axis], unwrapped[axis]});
-      if (!pos[axis] && (pos[axis] = column({scaled_name[axis]}))) scaled = true;
+    for (std::size_t kind = 0; kind < kinds.size() && !pos[0]; ++kind) {
+      const auto x = column({kinds[kind][0]}), y = column({kinds[kind][1]}), z = column({kinds[kind][2]});
+      if (!x || !y || !z) continue;
+      pos[0] = x, pos[1] = y, pos[2] = z;
+      scaled = kind == 2;
     }
-    if (!pos[0] || !pos[1] || !pos[2] || !(radius || diameter))
+    if (!pos[0]) {
+      std::vector<std::string> found;
+      for (const std::string& c : columns)
+        for (const auto& kind : kinds)
+          if (std::find(kind.begin(), kind.end(), c) != kind.end()) found.push_back(c);
+      if (!found.empty())
+        lines.fail(fmt::format("the position columns \"{}\" are of different kinds: expected all three of one, x y z, "
+                               "xu yu zu or xs ys zs (scaled by the box)",
+                               fmt::join(found, " ")));
+    }
+    if (!pos[0] || !(radius || diameter))
       lines.fail(fmt::format("the ATOMS columns \"{}\" need x y z (or xu yu zu, xs ys zs) and radius or diameter "
                              "(for example: dump 1 all custom 1000 bed.dump id type x y z radius)",
                              fmt::join(columns, " ")));
@@ -264,7 +277,8 @@ LammpsBed parse_lammps_data(std::string_view text, const std::string& name, doub
       (axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z) = lo;
       (axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z) = hi;
       bounds[axis] = true;
-    } else if (words.size() >= 3 && words[words.size() - 1] == "xz") {
+    } else if (words.back() == "yz") {
+      // The tilt line ("xy xz yz" its last words): a triclinic box, whatever its tilts.
       lines.fail("a triclinic box (xy xz yz): aggpack's containers are rectangular");
     }
   }

@@ -83,7 +83,7 @@ std::optional<Columns> columns_from_header(const std::vector<std::string>& names
 
 PackingFile read_packing_file(const std::filesystem::path& file, double length_unit, double density,
                               std::uintmax_t max_bytes, std::optional<std::int64_t> timestep) {
-  return parse_packing_text(read_input_file(file, "the particle file", max_bytes), file.string(), length_unit, density,
+  return parse_packing_text(read_input_text(file, "the particle file", max_bytes), file.string(), length_unit, density,
                             timestep);
 }
 

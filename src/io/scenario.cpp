@@ -20,8 +20,10 @@ namespace aggpack {
 namespace {
 constexpr NumberRange kFraction{0.0, 1.0, true, false};
 
-// Applies "a.b.c=value" to the table; the value is TOML, or a bare string.
-void apply_override(toml::table& root, const std::string& assignment, ScenarioOrigin& origin) {
+// Applies "a.b.c=value" to the table; the value is TOML, or a bare string. Messages about the
+// key quote `typed`, the option as the user typed it.
+void apply_override(toml::table& root, const std::string& assignment, const std::string& typed,
+                    ScenarioOrigin& origin) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
     throw InputError(fmt::format("--set {}: expected key.path=value, for example --set container.side=\"10 in\"",
@@ -48,7 +50,7 @@ void apply_override(toml::table& root, const std::string& assignment, ScenarioOr
   const std::string leaf = key.substr(start);
   if (leaf.empty()) throw InputError(fmt::format("--set {}: the key ends with '.'", assignment));
   table->insert_or_assign(leaf, *parsed.get("value"));
-  origin.overrides[key] = "--set " + assignment;
+  origin.overrides[key] = typed;
 }
 
 Container read_container(const TomlSection& s) {
@@ -317,8 +319,8 @@ PourSettings read_pour(const TomlSection& s) {
   p.solid_fraction = s.number("solid_fraction", {0.0, 0.3, true, false}).value_or(p.solid_fraction);
   p.batches = static_cast<std::size_t>(s.integer("batches", 1, 10000).value_or(1));
   p.velocity = s.number("velocity", {0.0, 100.0, false, false}).value_or(p.velocity);
-  p.gap = s.length("gap");
-  if (p.gap && !(*p.gap >= 0.0)) s.fail("gap", "expected a length >= 0 (from the bed's top to the insertion slab)");
+  // No gap is allowed: the gas's spheres lie inside their slab, so none starts in the bed.
+  p.gap = s.length("gap", kNonNegative);
   return p;
 }
 
@@ -522,7 +524,7 @@ double memory_limit_bytes(const RunLimits& limits) {
 
 std::string read_scenario_text(const std::filesystem::path& file) {
   // A scenario is a page of TOML: 16 MiB is far beyond any real one.
-  return read_input_file(file, "the scenario", std::uintmax_t{16} << 20);
+  return read_input_text(file, "the scenario", std::uintmax_t{16} << 20);
 }
 
 Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverrides& overrides) {
@@ -539,7 +541,10 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
     throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
                                  src.begin.column, e.description()));
   }
-  for (const auto& assignment : overrides.set) apply_override(root, assignment, origin);
+  for (const auto& assignment : overrides.set) {
+    const auto typed = overrides.typed_as.find(assignment);
+    apply_override(root, assignment, typed != overrides.typed_as.end() ? typed->second : "--set " + assignment, origin);
+  }
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",
@@ -550,7 +555,13 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   sc.overrides = overrides.set;
   sc.title = s.string("title").value_or(file.stem().string());
   sc.seed = static_cast<std::uint64_t>(s.integer("seed", 0, std::numeric_limits<std::int64_t>::max()).value_or(1));
-  if (overrides.seed) sc.seed = *overrides.seed;
+  if (overrides.seed) {
+    // The file's range, so that no seed reads back as another (2^64 - 1 as -1 in a signed reader).
+    if (*overrides.seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()))
+      throw InputError(fmt::format("{}: seed {}: expected an integer from 0 to {}", file.string(), *overrides.seed,
+                                   std::numeric_limits<std::int64_t>::max()));
+    sc.seed = *overrides.seed;
+  }
   sc.container = read_container(s.required(s.table("container"), "container", "a [container] table"));
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
                                 file.parent_path(), sc.container);

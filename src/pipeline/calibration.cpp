@@ -160,7 +160,7 @@ nlohmann::json to_json(const Calibration& c) {
 ModelParameters read_calibration(const std::filesystem::path& file) {
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(read_input_file(file, "the calibration", kDefaultMaxInputFileBytes));
+    j = nlohmann::json::parse(read_input_text(file, "the calibration", kDefaultMaxInputFileBytes));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("{}: not JSON: {}", file.string(), e.what()));
   }

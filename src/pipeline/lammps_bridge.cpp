@@ -392,7 +392,7 @@ std::uintmax_t max_input_bytes(const Scenario& sc) {
 }
 
 LammpsBed read_dump(const std::filesystem::path& file, const Scenario& sc, std::optional<std::int64_t> timestep = {}) {
-  return parse_lammps_dump(read_input_file(file, "LAMMPS's dump", max_input_bytes(sc)), file.string(), 1.0,
+  return parse_lammps_dump(read_input_text(file, "LAMMPS's dump", max_input_bytes(sc)), file.string(), 1.0,
                            sc.material.density, timestep);
 }
 
@@ -422,7 +422,7 @@ std::string run_lammps(const Scenario& sc, const std::filesystem::path& folder, 
   if (status != 0 || !std::filesystem::exists(folder / LammpsDeck::kDumpFile))
     throw InputError(fmt::format("{}: LAMMPS failed on the {} step (exit status {}); its log is {}", sc.file.string(),
                                  deck.step, status, (folder / LammpsDeck::kLogFile).string()));
-  return read_input_file(folder / LammpsDeck::kLogFile, "LAMMPS's log", kDefaultMaxInputFileBytes);
+  return read_input_text(folder / LammpsDeck::kLogFile, "LAMMPS's log", kDefaultMaxInputFileBytes);
 }
 
 struct SettledLine {
@@ -519,6 +519,29 @@ SettlingRun lammps_settling_run(const Scenario& sc, ParticleStore& particles, st
   run.threads = 1;
   run.lammps_ranks = stage.lammps_ranks;
   return run;
+}
+
+// A run's seed as its summary.json gives it: in the range of a scenario's seed, 0 to 2^63 - 1
+// (an edited -1 would otherwise become 2^64 - 1).
+std::uint64_t recorded_seed(const nlohmann::json& seed, const std::filesystem::path& summary_file) {
+  constexpr auto kMaxSeed = static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max());
+  const bool in_range = seed.is_number_unsigned()  ? seed.get<std::uint64_t>() <= kMaxSeed
+                        : seed.is_number_integer() ? seed.get<std::int64_t>() >= 0
+                                                   : false;
+  if (!in_range)
+    throw InputError(fmt::format("{}: seed {}: expected an integer from 0 to {}, as a scenario's seed",
+                                 summary_file.string(), seed.dump(), std::numeric_limits<std::int64_t>::max()));
+  return seed.get<std::uint64_t>();
+}
+
+// Every file of `deck` saying `note` (what the bed is, when not what its step expects): a
+// comment under the deck's first line, and each data file's title line (LAMMPS skips it).
+void add_note(LammpsDeck& deck, const std::string& note) {
+  for (auto& [name, text] : deck.files) {
+    const std::size_t first_line_end = text.find('\n');
+    if (name == deck.deck_file) text.insert(first_line_end + 1, fmt::format("# {}.\n", note));
+    else if (name.ends_with(".data")) text.insert(first_line_end, fmt::format(". {}.", note));
+  }
 }
 
 std::filesystem::path lammps_folder(const Scenario& sc, const std::string& name) {
@@ -668,13 +691,19 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
         throw InputError(fmt::format("{}: a run's folder holds {}; this one has none (is it the output folder of a "
                                      "finished aggpack run?)",
                                      scenario_or_run.string(), f.filename().string()));
-    std::string scenario_file;
+    std::filesystem::path scenario_file;
+    std::optional<std::string> stopped;  // where an interrupted run stopped: its bed is not a final one
     ScenarioOverrides recorded = overrides;
     try {
       const auto summary =
-          nlohmann::json::parse(read_input_file(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
+          nlohmann::json::parse(read_input_text(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
       scenario_file = summary.value("scenario_file", std::string());
-      if (!recorded.seed && summary.contains("seed")) recorded.seed = summary.at("seed").get<std::uint64_t>();
+      // A relative path is the run's: from the folder it was started in, not this one.
+      const std::filesystem::path started_in = summary.value("working_directory", std::string());
+      if (!scenario_file.empty() && !started_in.empty()) scenario_file = started_in / scenario_file;
+      if (summary.value("interrupted", false))
+        stopped = summary.at("interruption").value("stopped", std::string("at an unrecorded point"));
+      if (!recorded.seed && summary.contains("seed")) recorded.seed = recorded_seed(summary.at("seed"), summary_file);
       // The run's own overrides first, in their order; the command's --set after them win.
       if (summary.contains("scenario_overrides")) {
         const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
@@ -686,18 +715,27 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
     if (scenario_file.empty() || !std::filesystem::exists(scenario_file))
       throw InputError(fmt::format("{}: its scenario_file \"{}\" is gone; export the bed with "
                                    "export-lammps SCENARIO, or run the scenario again",
-                                   summary_file.string(), scenario_file));
+                                   summary_file.string(), scenario_file.string()));
     const Scenario sc = load_scenario(scenario_file, recorded);
     if (!sc.dynamics)
       throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "
                                    "stopping rule from there",
-                                   scenario_file));
+                                   scenario_file.string()));
     if (tap && !sc.tapping)
-      throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps", scenario_file));
+      throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps",
+                                   scenario_file.string()));
     ParticleStore bed = read_packing_file(bed_file, 1.0, sc.material.density, max_input_bytes(sc)).particles;
     for (auto& l : bed.layer) l = 0;
     deck = lammps_deck(sc, bed, tap ? LammpsStep{TapStep{}} : LammpsStep{SettleStep{0}});
-    source = fmt::format("the final bed of the run in {}", scenario_or_run.string());
+    if (stopped) {
+      // particles.csv is the bed mid-step (a settle, a pour, a tap): say so wherever it goes.
+      const std::string bed_was =
+          fmt::format("the bed of the interrupted run in {}, as it stood {}", scenario_or_run.string(), *stopped);
+      add_note(deck, "Not a final bed: " + bed_was);
+      source = bed_was + ", not a final bed";
+    } else {
+      source = fmt::format("the final bed of the run in {}", scenario_or_run.string());
+    }
     spheres = bed.size();
   } else {
     if (tap)

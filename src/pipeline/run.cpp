@@ -230,6 +230,9 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   RunControls controls;
   controls.threads = options.threads;
   controls.stop_after = header.stop_after;
+  // Where a relative scenario_file lies, for export-lammps RUN_DIR (a resumed run: where it began).
+  const std::string working_directory =
+      header.working_directory.empty() ? std::filesystem::current_path().string() : header.working_directory;
   controls.before_work = [&] { check_output_directory(sc.output.directory, true); };
   controls.stop = options.stop;
   controls.resume_from = resume;
@@ -247,6 +250,7 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
     remove_if_made_empty();
     throw;
   }
+  result.report.working_directory = working_directory;
   // Outputs only once everything has been computed: bad input leaves no files behind.
   result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
   result.wall_clock_s = seconds_since(t_start);

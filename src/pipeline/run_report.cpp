@@ -150,6 +150,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   summary["aggpack_version"] = kVersion;
   summary["seed"] = sc.seed;
   summary["scenario_file"] = sc.file.string();
+  if (!working_directory.empty()) summary["working_directory"] = working_directory;
   // What the file alone does not say (export-lammps RUN_DIR reads the scenario again with them);
   // output.* assignments choose files and checkpoints, not results, and are left out.
   std::vector<std::string> overrides;

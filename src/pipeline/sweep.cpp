@@ -138,7 +138,7 @@ std::vector<std::string> blend_sets(const SweepOptions& options, double fa) {
 
 std::vector<std::string> cut_sets(const SweepOptions& options, double fa, const std::string& key, double cut) {
   std::vector<std::string> sets = blend_sets(options, fa);
-  sets.push_back(fmt::format("{}={:.17g}", key, cut));
+  sets.push_back(cut_off_assignment(key, cut));
   return sets;
 }
 
@@ -162,7 +162,7 @@ SweepPlan plan_sweep(const SweepOptions& options) {
                                    "particles.fine and particles.ca_fa)",
                                    options.scenario.string()));
     if (plan.whole()) {
-      check_cut_offs(*sc.particles.graded, plan.cuts);
+      check_cut_offs(*sc.particles.graded, options.cut_offs, options.cut_off_texts);
       plan.key = cut_off_key(*sc.particles.graded), plan.parameters = whole_grading_parameters(sc, options.calibration);
     }
   }
@@ -173,8 +173,9 @@ SweepPlan plan_sweep(const SweepOptions& options) {
     if (!plan.whole()) continue;
     plan.at_cuts.emplace_back();
     for (const double cut : plan.cuts) {
-      o.set = cut_sets(options, fa, plan.key, cut);
-      plan.at_cuts.back().push_back(load_scenario(options.scenario, o));
+      // The assignments of cut_sets, which the runs take; these quote the cut as typed.
+      const ScenarioOverrides at_cut = with_cut_off(o, plan.key, cut, options.cut_offs, options.cut_off_texts);
+      plan.at_cuts.back().push_back(load_scenario(options.scenario, at_cut));
     }
   }
   return plan;

@@ -59,14 +59,18 @@ double left_out_fraction(const GradedParticles& g) {
 
 std::string cut_off_key(const GradedParticles& g) { return (g.fine ? g.fine->key : g.main.key) + ".d_min"; }
 
-void check_cut_offs(const GradedParticles& g, std::span<const double> cuts) {
+void check_cut_offs(const GradedParticles& g, std::span<const double> cuts, std::span<const std::string> texts) {
   const GradingSource& finest = g.fine ? *g.fine : g.main;
   const Sieve& smallest = finest.grading.sieves.front();
   const std::string sieve = smallest.name.empty() ? fmt::format("{:.4g} mm", 1e3 * smallest.opening)
                                                   : fmt::format("{}, {:.4g} mm", smallest.name, 1e3 * smallest.opening);
   std::vector<std::string> below;
-  for (const double cut : cuts)
-    if (!(cut > smallest.opening)) below.push_back(fmt::format("{:.4g} mm ({:.4g} in)", 1e3 * cut, cut / 0.0254));
+  for (std::size_t k = 0; k < cuts.size(); ++k) {
+    const double cut = cuts[k];
+    if (!(cut > 0.0) || cut > smallest.opening) continue;  // a cut-off of 0 or less: the scenario refuses it
+    below.push_back(texts.size() == cuts.size() ? fmt::format("{} ({:.4g} mm)", texts[k], 1e3 * cut)
+                                                : fmt::format("{:.4g} mm ({:.4g} in)", 1e3 * cut, cut / 0.0254));
+  }
   if (!below.empty())
     throw InputError(fmt::format(
         "--cut-offs: {} {} at or below the smallest sieve of {}'s grading '{}' ({}): such a cut-off leaves nothing "
@@ -74,6 +78,20 @@ void check_cut_offs(const GradedParticles& g, std::span<const double> cuts) {
         "different part of the grading out",
         fmt::join(below, ", "), below.size() == 1 ? "is" : "are", finest.key, finest.grading.name, sieve,
         1e3 * smallest.opening));
+}
+
+std::string cut_off_assignment(const std::string& key, double cut) { return fmt::format("{}={:.17g}", key, cut); }
+
+ScenarioOverrides with_cut_off(ScenarioOverrides base, const std::string& key, double cut,
+                               const std::vector<double>& cut_offs, const std::vector<std::string>& texts) {
+  const std::string assignment = cut_off_assignment(key, cut);
+  const auto at = std::find(cut_offs.begin(), cut_offs.end(), cut);
+  const auto k = static_cast<std::size_t>(at - cut_offs.begin());
+  base.typed_as[assignment] = texts.size() == cut_offs.size() && at != cut_offs.end()
+                                   ? "--cut-offs " + texts[k]
+                                   : fmt::format("--cut-offs {:g} m", cut);
+  base.set.push_back(assignment);
+  return base;
 }
 
 ModelParameters whole_grading_parameters(const Scenario& whole, const std::optional<std::filesystem::path>& calibration) {
@@ -134,7 +152,7 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
                                  "the whole grading",
                                  whole.file.string()));
   const std::string key = cut_off_key(*whole.particles.graded);
-  check_cut_offs(*whole.particles.graded, options.cut_offs);
+  check_cut_offs(*whole.particles.graded, options.cut_offs, options.cut_off_texts);
   const ModelParameters parameters = whole_grading_parameters(whole, options.calibration);
 
   // Every cut-off's scenario is read (and so checked) before any simulation.
@@ -143,11 +161,9 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
   if (std::adjacent_find(cuts.begin(), cuts.end()) != cuts.end())
     throw InputError("--cut-offs: a cut-off is given twice");
   std::vector<Scenario> scenarios;
-  for (const double cut : cuts) {
-    ScenarioOverrides o = options.overrides;
-    o.set.push_back(fmt::format("{}={:.17g}", key, cut));
-    scenarios.push_back(load_scenario(options.scenario, o));
-  }
+  for (const double cut : cuts)
+    scenarios.push_back(load_scenario(
+        options.scenario, with_cut_off(options.overrides, key, cut, options.cut_offs, options.cut_off_texts)));
   Progress progress;
   std::vector<CutOffPoint> points;
   for (std::size_t k = 0; k < cuts.size(); ++k) {

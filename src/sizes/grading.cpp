@@ -127,7 +127,7 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
 
 Grading read_grading_csv(const std::string& file, double length_unit, const std::string& percent_column) {
   // A sieve analysis is a few dozen rows: 16 MiB is far beyond any real one.
-  return parse_grading_csv(read_input_file(file, "the grading file", std::uintmax_t{16} << 20), file, length_unit,
+  return parse_grading_csv(read_input_text(file, "the grading file", std::uintmax_t{16} << 20), file, length_unit,
                            percent_column);
 }
 

@@ -723,6 +723,22 @@ TEST_F(Cli, TapsAPouredBedAndWritesTheCompactionCurve) {
   EXPECT_EQ(slurp(dir_ / "tapped_1" / "particles.csv"), slurp(dir_ / "tapped_2" / "particles.csv"));
 }
 
+// pour.gap >= 0 (README): with no gap each slab starts at the top of what is already in the
+// container (the floor, for the first), its spheres inside it, and the pour runs to rest; a
+// negative gap is refused.
+TEST_F(Cli, APourMayHaveNoGapAboveTheBed) {
+  const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 200\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 1.5\n"
+                           "[analysis]\nbox_sides = [0.02]\n";
+  const auto poured = run_text("no_gap", base + "[pour]\ngap = 0\nbatches = 2\n", " --threads 1");
+  EXPECT_EQ(poured["particle_count"], 200);
+  EXPECT_EQ(poured["stages"]["dynamics"]["ended_by"], "quiet");
+  EXPECT_EQ(poured["scenario"]["pour"]["gap_m"], 0.0);
+  EXPECT_EQ(poured["stages"]["pour"]["gap_m"], 0.0);
+  EXPECT_EQ(poured["stages"]["pour"]["lowest_slab_bottom_m"], 0.0);  // the floor: an empty container
+  expect_refused({{base + "[pour]\ngap = \"-1 mm\"\n", "pour.gap: expected a number >= 0"}});
+}
+
 TEST_F(Cli, PourErrorsNameTheKey) {
   const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
                            "[analysis]\nbox_sides = [0.02]\n";

@@ -308,6 +308,47 @@ TEST_F(LammpsBridge, ARunsFinalBedIsExportedWithItsScenarioAndOverrides) {
   EXPECT_NE(t.output.find("--tap: the scenario has no [tapping] table"), std::string::npos) << t.output;
 }
 
+// A run given its scenario by a relative path: export-lammps RUN_DIR finds the scenario from
+// the folder the run was started in, whatever the folder the export is started in.
+TEST_F(LammpsBridge, ARunsRelativeScenarioPathIsTakenFromWhereTheRunStarted) {
+  fs::create_directories(dir_ / "project" / "elsewhere");
+  std::ofstream(dir_ / "project" / "small.toml") << kSmallBed;
+  const fs::path run = dir_ / "run";
+  const auto r = run_command("cd " + (dir_ / "project").string() + " && " + AGGPACK_EXE +
+                             " run small.toml --stop-after deposition --quiet --out " + run.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto e = run_command("cd " + (dir_ / "project" / "elsewhere").string() + " && " + AGGPACK_EXE +
+                             " export-lammps " + run.string() + " --out " + (dir_ / "deck").string());
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  std::stringstream deck;
+  deck << std::ifstream(dir_ / "deck" / "settle.in").rdbuf();
+  EXPECT_NE(deck.str().find("the settle, layer 1 step of " + (dir_ / "project" / "small.toml").string()),
+            std::string::npos)
+      << deck.str();
+}
+
+// summary.json's seed is read as the scenario's seed is, 0 to 2^63 - 1: an edited -1 is
+// refused, naming the file and the key, not wrapped to 2^64 - 1 in the exported deck.
+TEST_F(LammpsBridge, ARunsSeedOutsideTheSeedsRangeIsRefused) {
+  const fs::path scenario = dir_ / "small.toml";
+  std::ofstream(scenario) << kSmallBed;
+  const fs::path run = dir_ / "run";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --stop-after deposition --quiet --out " + run.string()).exit_code, 0);
+  auto summary = nlohmann::json::parse(std::ifstream(run / "summary.json"));
+  for (const nlohmann::json seed : {nlohmann::json(-1), nlohmann::json(18446744073709551615ull), nlohmann::json(2.5)}) {
+    SCOPED_TRACE(seed.dump());
+    summary["seed"] = seed;
+    std::ofstream(run / "summary.json") << summary.dump(2);
+    const auto e = run_cli("export-lammps " + run.string() + " --out " + (dir_ / "deck").string());
+    EXPECT_EQ(e.exit_code, 2) << e.output;
+    EXPECT_NE(e.output.find((run / "summary.json").string() + ": seed " + seed.dump() +
+                            ": expected an integer from 0 to 9223372036854775807"),
+              std::string::npos)
+        << e.output;
+    EXPECT_FALSE(fs::exists(dir_ / "deck"));
+  }
+}
+
 TEST_F(LammpsBridge, ExportRefusesWhatItCannotHandOver) {
   const fs::path loose = dir_ / "loose.toml";
   std::ofstream(loose) << "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 30\n"

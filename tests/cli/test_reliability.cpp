@@ -328,6 +328,48 @@ TEST_F(Reliability, EveryBadInputIsRefusedWithExitTwoAClearMessageAndNothingWrit
   }
 }
 
+// A bound is printed as a person would write it: CLI11's PositiveNumber printed its bounds as
+// "0.000000 to 179769313486231570814527...000.000000" (DBL_MAX in full, 309 digits).
+TEST_F(Reliability, OptionBoundsAreWrittenAsAPersonWouldWriteThem) {
+  std::ofstream(dir_ / "s.toml") << kDeposit;
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa -1", "--ca-fa -1: expected a number above 0"},
+      {"predict fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 0", "--ca-fa 0: expected a number above 0"},
+      {"sweep " + (dir_ / "s.toml").string() + " --fa 30 --seeds 0", "--seeds 0: expected a whole number, 1 or more"},
+      {"reproduce --seeds 0 --out " + (dir_ / "r").string(), "--seeds 0: expected a whole number, 1 or more"},
+      {"reproduce --seeds 1.5 --out " + (dir_ / "r").string(), "--seeds 1.5: expected a whole number, 1 or more"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    SCOPED_TRACE("aggpack " + arguments);
+    const auto r = run_cli(arguments);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("0000000000"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "r"));
+}
+
+// whole-grading and sweep try each cut-off as the finest grading's d_min: a cut-off the
+// scenario refuses is quoted as the user typed it, not as the internal --set that carries it.
+TEST_F(Reliability, ACutOffIsQuotedAsTyped) {
+  const std::string mix = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"whole-grading " + mix + " --cut-offs 0.1in,-0.07in,0.04in",
+       "--cut-offs -0.07in: particles.fine.d_min: expected a positive number"},
+      {"whole-grading " + mix + " --cut-offs 0.1in,5in,0.04in", "--cut-offs 5in: particles.fine: the cut-offs"},
+      {"sweep " + mix + " --fa 30,35 --cut-offs 0.1in,0.07in,-2mm --out " + (dir_ / "sweep").string(),
+       "--cut-offs -2mm: particles.fine.d_min: expected a positive number"},
+  };
+  for (const auto& [arguments, expected] : cases) {
+    SCOPED_TRACE("aggpack " + arguments);
+    const auto r = run_cli(arguments);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(expected), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("--set"), std::string::npos) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "sweep"));
+}
+
 // A settling run stopped by a signal: it stops at the next sample, writes the bed as it stood,
 // its samples and a summary marked interrupted, and exits with 128 + the signal.
 int run_and_signal(const fs::path& scenario, const fs::path& out, int signal_number) {

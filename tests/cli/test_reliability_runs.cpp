@@ -134,7 +134,7 @@ TEST_F(ReliabilityRuns, CutOffsBelowTheSmallestSieveAreRefusedBeforeAnyRun) {
   const auto whole = run_cli("whole-grading " + mix + " --cut-offs 0.001in,0.0005in,1e-320m --seeds 1 --out " +
                              (dir_ / "whole").string());
   EXPECT_EQ(whole.exit_code, 2) << whole.output;
-  for (const char* word : {"--cut-offs", "smallest sieve", "0.0254 mm", "0.0127 mm", "astm_c33_fine_mid"})
+  for (const char* word : {"--cut-offs", "smallest sieve", "0.001in (0.0254 mm)", "1e-320m", "astm_c33_fine_mid"})
     EXPECT_NE(whole.output.find(word), std::string::npos) << word << " missing in\n" << whole.output;
   EXPECT_FALSE(fs::exists(dir_ / "whole"));
   const auto sweep = run_cli("sweep " + mix + " --fa 30,40 --cut-offs 0.001in,0.0005in,0.0002in --seeds 1 --out " +

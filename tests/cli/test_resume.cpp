@@ -181,6 +181,24 @@ TEST_F(Resume, SigintWritesACheckpointThatTheSummaryNamesAndResumeContinues) {
   expect_same_run(reference, out);
 }
 
+// An interrupted run's particles.csv is the bed as it stood mid-step, not a final bed:
+// export-lammps RUN_DIR says so on the terminal and in the files it writes.
+TEST_F(Resume, AnInterruptedRunsBedIsExportedAsTheBedWhereItStopped) {
+  const fs::path scenario = write_scenario("layered", kLayered);
+  const fs::path out = dir_ / "stopped";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "settling at 0.05", SIGINT), 130);
+  const std::string stopped =
+      nlohmann::json::parse(std::ifstream(out / "summary.json")).at("interruption").at("stopped").get<std::string>();
+  const auto e = run_cli("export-lammps " + out.string() + " --out " + (dir_ / "deck").string());
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  const std::string said = "the bed of the interrupted run in " + out.string() + ", as it stood " + stopped;
+  EXPECT_NE(e.output.find("exported " + said + ", not a final bed"), std::string::npos) << e.output;
+  EXPECT_EQ(e.output.find("the final bed"), std::string::npos) << e.output;
+  const std::string deck = slurp(dir_ / "deck" / "settle.in"), data = slurp(dir_ / "deck" / "bed.data");
+  EXPECT_NE(deck.find("\n# Not a final bed: " + said), std::string::npos) << deck;
+  EXPECT_NE(data.substr(0, data.find('\n')).find(". Not a final bed: " + said), std::string::npos) << data.substr(0, 300);
+}
+
 TEST_F(Resume, WithCheckpointsOffAnInterruptedSummarySaysThereIsNone) {
   const fs::path scenario = write_scenario("long", std::string(kLayered) + "[output]\ncheckpoint = false\n");
   const fs::path out = dir_ / "stopped";

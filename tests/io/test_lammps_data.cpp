@@ -129,5 +129,41 @@ TEST(LammpsDump, RefusesWhatItCannotReadWithTheLineAndWhatIsExpected) {
   }
 }
 
+// A position is read by its columns' kind (x y z, xu yu zu: lengths; xs ys zs: fractions of
+// the box): columns of two kinds are refused, naming them, not read all as one kind.
+TEST(LammpsDump, PositionColumnsOfMixedKindsAreRefused) {
+  const std::string head = "ITEM: TIMESTEP\n7\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp fm\n0 1\n0 2\n0 4\n";
+  for (const std::string columns : {"x ys z", "xs ys z", "xu y zs"}) {
+    SCOPED_TRACE(columns);
+    try {
+      parse_lammps_dump(head + "ITEM: ATOMS id " + columns + " radius\n1 0.5 0.25 0.125 0.1\n", "mixed.dump", 1.0,
+                        2650.0);
+      ADD_FAILURE() << "read with every axis of one kind";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("mixed.dump:9:"), std::string::npos) << what;
+      EXPECT_NE(what.find("\"" + columns + "\""), std::string::npos) << what;
+      EXPECT_NE(what.find("x y z, xu yu zu or xs ys zs"), std::string::npos) << what;
+    }
+  }
+}
+
+// A triclinic data file's header has a tilt line ("xy xz yz" its last words): aggpack's
+// containers are rectangular, so the file is refused, not read as a rectangular box.
+TEST(LammpsData, ATriclinicBoxIsRefusedAtItsTiltLine) {
+  const std::string text =
+      "title\n\n1 atoms\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n0.1 0 0 xy xz yz\n\nAtoms # sphere\n\n"
+      "1 1 0.2 2650 0.5 0.5 0.5\n";
+  ASSERT_TRUE(is_lammps_data(text));
+  try {
+    parse_lammps_data(text, "tilted.data", 1.0, 2650.0);
+    ADD_FAILURE() << "a triclinic box was read as a rectangular one";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tilted.data:7:"), std::string::npos) << what;
+    EXPECT_NE(what.find("triclinic"), std::string::npos) << what;
+  }
+}
+
 }  // namespace
 }  // namespace aggpack

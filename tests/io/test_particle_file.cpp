@@ -89,6 +89,29 @@ TEST(ParticleFile, RoundTripThroughOurCsvIsExact) {
   fs::remove(f);
 }
 
+// Editors on Windows start UTF-8 files with a byte order mark: every format is still known
+// by its first line (a dump by "ITEM: TIMESTEP", a CSV by its header) and read.
+TEST(ParticleFile, AUtf8ByteOrderMarkIsSkipped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"bom.dump", "ITEM: TIMESTEP\n5\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS ff ff ff\n0 1\n0 1\n0 1\n"
+                   "ITEM: ATOMS id x y z radius\n1 0.5 0.25 0.125 0.1\n"},
+      {"bom.csv", "x,y,z,r\n0.5,0.25,0.125,0.1\n"},
+      {"bom.data", "title\n\n1 atoms\n0 1 xlo xhi\n0 1 ylo yhi\n0 1 zlo zhi\n\nAtoms # sphere\n\n"
+                   "1 1 0.2 2650 0.5 0.25 0.125\n"}};
+  for (const auto& [name, text] : files) {
+    SCOPED_TRACE(name);
+    const fs::path f = write_temp(name, bom + text), plain = write_temp("no_" + name, text);
+    const PackingFile read = read_packing_file(f, 1.0, 2650.0);
+    EXPECT_EQ(read.format, read_packing_file(plain, 1.0, 2650.0).format);
+    ASSERT_EQ(read.particles.size(), 1u);
+    EXPECT_EQ(read.particles.position[0], (Vec3{0.5, 0.25, 0.125}));
+    EXPECT_EQ(read.particles.radius[0], 0.1);
+    fs::remove(f);
+    fs::remove(plain);
+  }
+}
+
 TEST(ParticleFile, ErrorsNameTheFileAndLine) {
   const auto expect_error = [](const std::string& text, const std::string& part) { expect_refused("e.csv", text, part); };
   expect_error("x,y,r\n1,2,3\n", "e.csv:1: a CSV particle file needs a header");

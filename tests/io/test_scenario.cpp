@@ -68,6 +68,18 @@ TEST_F(ScenarioTest, SetOverridesAnyKeyAndItsErrorsNameTheOption) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--set container.side="), std::string::npos) << e.what();
   }
+  // A seed given beside the file is held to the file's range.
+  o.set.clear();
+  o.seed = std::uint64_t{1} << 63;
+  try {
+    load_scenario(write(kGood), o);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("seed 9223372036854775808: expected an integer from 0 to "
+                                         "9223372036854775807"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 struct BadCase {

@@ -24,7 +24,7 @@ import tempfile
 
 # Keys that measure the machine, not the physics.
 EXCLUDED = ("wall_clock_s", "particles_per_second", "particle_steps_per_second", "threads",
-            "memory_bytes_per_particle", "scenario_file", "scenario.output.")
+            "memory_bytes_per_particle", "scenario_file", "working_directory", "scenario.output.")
 TOLERANCE = {
     "relative": 1e-9,
     "absolute": 1e-12,

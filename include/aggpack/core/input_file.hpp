@@ -15,5 +15,9 @@ inline constexpr std::uintmax_t kDefaultMaxInputFileBytes = std::uintmax_t{2} <<
 // pipe (such as /dev/zero, which would be read for ever), and a file over `max_bytes`.
 [[nodiscard]] std::string read_input_file(const std::filesystem::path& file, std::string_view what,
                                           std::uintmax_t max_bytes = kDefaultMaxInputFileBytes);
+// The same for a text file (scenario, particle, grading, LAMMPS and JSON files): without the
+// UTF-8 byte order mark some editors put first, which would hide the first line's words.
+[[nodiscard]] std::string read_input_text(const std::filesystem::path& file, std::string_view what,
+                                          std::uintmax_t max_bytes = kDefaultMaxInputFileBytes);
 
 }  // namespace aggpack

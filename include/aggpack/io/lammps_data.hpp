@@ -34,8 +34,9 @@ struct LammpsBed {
 
 // A LAMMPS text dump (`dump custom`): the snapshot of `timestep`, or the last one, whose
 // ITEM: ATOMS columns name the position (x y z, unwrapped xu yu zu, or scaled xs ys zs,
-// which the box bounds turn into lengths) and the size (radius or diameter), in any order
-// among other columns; rows are taken in the order of the id column (when there is one).
+// which the box bounds turn into lengths; all three of one kind) and the size (radius or
+// diameter), in any order among other columns; rows are taken in the order of the id
+// column (when there is one).
 // Values x `length_unit` (metres per file unit: 1 for `units si`). InputError naming the
 // file, the line and what is expected.
 LammpsBed parse_lammps_dump(std::string_view text, const std::string& name, double length_unit, double density,

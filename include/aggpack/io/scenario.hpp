@@ -1,6 +1,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -142,6 +143,10 @@ struct Scenario {
 
 struct ScenarioOverrides {
   std::vector<std::string> set;  // "key.path=value", TOML syntax for the value (bare words are strings)
+  // The option the user typed for an assignment of `set` that aggpack made from it (a cut-off
+  // of --cut-offs: "--cut-offs 0.07in"), quoted in messages instead of "--set key=value".
+  // For messages only: a checkpoint does not keep it.
+  std::map<std::string, std::string> typed_as;  // assignment -> option as typed
   std::optional<std::uint64_t> seed;
   std::optional<std::filesystem::path> output_directory;
 };

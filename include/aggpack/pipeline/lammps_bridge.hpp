@@ -75,7 +75,8 @@ std::string take_positions_from_lammps(ParticleStore& particles, const std::file
 // `aggpack export-lammps SCENARIO --out DIR`: runs the scenario's steps before its first DEM
 // step and writes that step's deck into DIR. `aggpack export-lammps RUN_DIR --out DIR`: the
 // final bed of a finished run (its particles.csv, with its scenario) and a deck that settles
-// it, or taps it with `tap`. Returns the step exported, for messages.
+// it, or taps it with `tap`; an interrupted run's bed, as it stood, is marked as not a final
+// bed in the message and in the files. Returns the step exported, for messages.
 std::string export_lammps(const std::filesystem::path& scenario_or_run, const ScenarioOverrides& overrides,
                           const std::filesystem::path& out, bool tap, std::ostream& log);
 

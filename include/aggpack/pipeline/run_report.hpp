@@ -65,6 +65,7 @@ struct RunReport {
   std::optional<Interruption> interrupted;        // set when a signal stopped the run: no final analysis
   std::optional<std::string> resumed_from;        // the checkpoint's safe point, when resumed
   std::optional<std::string> checkpoint_error;    // why checkpoints stopped, when a write failed
+  std::string working_directory;  // the run's, absolute: where a relative scenario.file lies (empty: unknown)
 
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;

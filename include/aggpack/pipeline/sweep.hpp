@@ -18,6 +18,7 @@ struct SweepOptions {
   // Three or more d_min of the fine grading: each blend is simulated at each, and CPM carries the
   // series to the blend's whole grading (whole_grading.hpp); none: the scenario's own cut-off.
   std::vector<double> cut_offs;
+  std::vector<std::string> cut_off_texts;  // each as the user typed it, for messages (empty: none)
   std::optional<std::filesystem::path> calibration;  // CPM's K and beta for that; none: the scenario's or the defaults
   std::optional<std::string> stop_after;
   int threads = 0;

@@ -27,6 +27,7 @@ struct WholeGradingOptions {
   std::filesystem::path scenario;
   ScenarioOverrides overrides;
   std::vector<double> cut_offs;  // m, of the finest grading's d_min
+  std::vector<std::string> cut_off_texts;  // each as the user typed it, for messages (empty: none)
   int seeds = 3;
   std::optional<std::filesystem::path> calibration;  // CPM's K and beta; none: the scenario's or the defaults
   int threads = 0;
@@ -70,8 +71,15 @@ double left_out_fraction(const GradedParticles& graded);
 // The key of the cut-off a whole-grading series varies: the finest grading's d_min.
 // Refuses cut-offs at or below the smallest sieve of the finest grading (clamped there, they
 // would all simulate the same uncut bed), naming them and the sieve.
-void check_cut_offs(const GradedParticles& graded, std::span<const double> cuts);
+// `texts`: the cut-offs as the user typed them (empty: none).
+void check_cut_offs(const GradedParticles& graded, std::span<const double> cuts, std::span<const std::string> texts);
 std::string cut_off_key(const GradedParticles& graded);
+// "key=cut", every digit kept: the override that sets a cut-off.
+std::string cut_off_assignment(const std::string& key, double cut);
+// `base` with that override, quoted in messages as "--cut-offs <the cut as typed>" (the
+// text of `texts` at the cut's place in `cut_offs`; without texts, the cut in metres).
+ScenarioOverrides with_cut_off(ScenarioOverrides base, const std::string& key, double cut,
+                               const std::vector<double>& cut_offs, const std::vector<std::string>& texts);
 // CPM's parameters for a whole-grading estimate of `whole`: a calibration file given, else the
 // scenario's models.calibration, else the defaults for its protocol.
 ModelParameters whole_grading_parameters(const Scenario& whole, const std::optional<std::filesystem::path>& calibration);
