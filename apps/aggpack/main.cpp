@@ -220,6 +220,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--set", run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
   auto* stop_opt = run_cmd->add_option("--stop-after", stop_after, "Stop after this stage (deposition, dynamics)");
   run_cmd->add_flag("--quiet", run.quiet, "Print nothing on success");
+  run_cmd->add_flag("--overwrite", run.overwrite,
+                    "Write into an output folder that holds files no aggpack run wrote (they are left alone)");
   // Checkpoints: the CLI's options are overrides of the scenario's output keys, so that the
   // checkpoint records them with the rest.
   std::string checkpoint_every;

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/core/error.hpp"
@@ -15,6 +16,7 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/pipeline/lammps_bridge.hpp"
+#include "aggpack/pipeline/output_folder.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/pipeline/steps.hpp"
 
@@ -178,33 +180,41 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   const auto t0 = Clock::now();
   const Scenario& sc = report.scenario;
   std::filesystem::create_directories(dir);
+  // Every file written is listed in the folder's manifest, with the checkpoint and the LAMMPS
+  // decks the run's steps wrote, so that a later run into this folder replaces them all.
+  std::vector<std::string> written{kCheckpointFile};
+  if (!report.lammps_exchanges.empty()) written.push_back("lammps");
+  const auto write = [&](const std::string& name, const auto& content) {
+    write_file_atomically(dir / name, content);
+    written.push_back(name);
+  };
   if (report.interrupted) {  // the bed and the samples as they stood, and what was done
-    write_file_atomically(dir / "particles.csv", particles_csv(report.particles));
-    if (!report.series.samples.empty()) write_file_atomically(dir / "timeseries.csv", report.series.csv());
+    write("particles.csv", particles_csv(report.particles));
+    if (!report.series.samples.empty()) write("timeseries.csv", report.series.csv());
     const double output_seconds = seconds_since(t0);
     nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
-    write_file_atomically(dir / "summary.json", summary.dump(2) + "\n");
+    write("summary.json", summary.dump(2) + "\n");
+    write_manifest(dir, written);
     return summary;
   }
-  if (sc.output.csv) write_file_atomically(dir / "particles.csv", particles_csv(report.particles));
-  if (sc.output.csv && sc.deposition) write_file_atomically(dir / "supports.csv", supports_csv(report.supports));
-  if (report.dynamics || !report.tappings.empty())
-    write_file_atomically(dir / "timeseries.csv", report.series.csv());
+  if (sc.output.csv) write("particles.csv", particles_csv(report.particles));
+  if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
+  if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());
   if (!report.tappings.empty()) {
     std::string taps;  // one header, then every tap step's rows
     for (const TapReport& t : report.tappings) {
       const std::string rows = t.csv();
       taps += taps.empty() ? rows : rows.substr(rows.find('\n') + 1);
     }
-    write_file_atomically(dir / "taps.csv", taps);
+    write("taps.csv", taps);
   }
-  for (const auto& [name, bed] : report.snapshots)
-    write_file_atomically(dir / ("particles_" + name + ".csv"), particles_csv(bed));
+  for (const auto& [name, bed] : report.snapshots) write("particles_" + name + ".csv", particles_csv(bed));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
-  if (sc.output.vtp) write_file_atomically(dir / "particles.vtp", particles_vtp(report.particles, provenance));
+  if (sc.output.vtp) write("particles.vtp", particles_vtp(report.particles, provenance));
   const double output_seconds = seconds_since(t0);
   nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
-  write_file_atomically(dir / "summary.json", summary.dump(2) + "\n");
+  write("summary.json", summary.dump(2) + "\n");
+  write_manifest(dir, written);
   return summary;
 }
 
@@ -219,6 +229,8 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   Progress silent;
   Progress& progress = options.progress ? *options.progress : silent;
   check_output_directory(sc.output.directory, false);
+  // A resumed run's folder is its own; any other must hold nothing but an earlier run's files.
+  if (!resume) check_output_folder_contents(sc.output.directory, options.overwrite);
   // The folder is made and probed once the input has passed its checks, before any work, not
   // after hours of it; a run that fails later removes the folder again if it made it empty.
   const bool existed = std::filesystem::exists(sc.output.directory);
@@ -233,7 +245,16 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   // Where a relative scenario_file lies, for export-lammps RUN_DIR (a resumed run: where it began).
   const std::string working_directory =
       header.working_directory.empty() ? std::filesystem::current_path().string() : header.working_directory;
-  controls.before_work = [&] { check_output_directory(sc.output.directory, true); };
+  controls.before_work = [&] {
+    check_output_directory(sc.output.directory, true);
+    // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
+    // manifest names the checkpoint from the start, for a run that is killed.
+    const std::vector<std::string> removed = remove_earlier_run(sc.output.directory);
+    write_manifest(sc.output.directory, {kCheckpointFile});
+    if (!removed.empty() && !options.quiet)
+      fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", sc.output.directory.string(),
+                 fmt::join(removed, ", "));
+  };
   controls.stop = options.stop;
   controls.resume_from = resume;
   controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
@@ -246,7 +267,10 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
     // A refused run leaves nothing: not the checkpoint it took on its way (a resumed run's
     // stays: it is the user's way back to the work done before).
     std::error_code ec;
-    if (!resume) std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
+    if (!resume) {
+      std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
+      std::filesystem::remove(sc.output.directory / kManifestFile, ec);
+    }
     remove_if_made_empty();
     throw;
   }

@@ -423,7 +423,11 @@ TEST_F(Reliability, ANewRunRemovesAKilledRunsTemporaryFilesAndNoUserFile) {
                                           "x.aggpack-incomplete.12a", ".aggpack-incomplete.1"};
   for (const auto& name : users) std::ofstream(out / name) << "mine";
   std::ofstream(dir_ / "s.toml") << kDeposit;
-  const auto r = run_cli("run " + (dir_ / "s.toml").string() + " --quiet --out " + out.string());
+  // The user's files are not an earlier run's: the run is refused (naming them) unless --overwrite.
+  const auto refused = run_cli("run " + (dir_ / "s.toml").string() + " --quiet --out " + out.string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("--overwrite"), std::string::npos) << refused.output;
+  const auto r = run_cli("run " + (dir_ / "s.toml").string() + " --quiet --overwrite --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_FALSE(fs::exists(out / "particles.csv.aggpack-incomplete.99999"));
   for (const auto& name : users) EXPECT_EQ(aggpack::testing::slurp(out / name), "mine") << name;

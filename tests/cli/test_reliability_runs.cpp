@@ -16,6 +16,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <set>
+#include <vector>
 #include <string>
 #include <thread>
 
@@ -160,6 +162,75 @@ TEST_F(ReliabilityRuns, AnalyzeRefusesAPackingWhoseProfileWouldNeedTooManySlices
   for (const char* word : {"tall.csv", "6e+07 m above the floor", "limits.max_profile_bins"})
     EXPECT_NE(r.output.find(word), std::string::npos) << word << " missing in\n" << r.output;
   EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+}
+
+}  // namespace
+
+namespace {
+
+std::set<std::string> folder_names(const fs::path& folder) {
+  std::set<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) names.insert(entry.path().filename().string());
+  return names;
+}
+std::set<std::string> manifest_names(const fs::path& folder) {
+  const auto manifest = nlohmann::json::parse(std::ifstream(folder / "aggpack-manifest.json"));
+  const auto files = manifest.at("files").get<std::vector<std::string>>();
+  return {files.begin(), files.end()};
+}
+
+// Issue 34, item 1: the README's Example 1, then the same scenario with --stop-after
+// deposition into the same folder, kept the first run's timeseries.csv beside the second's
+// summary. The second run now removes the first's files (its manifest lists them) and says so.
+TEST_F(ReliabilityRuns, AReusedFolderHoldsTheLastRunsOutputsOnly) {
+  const fs::path scenario =
+      write("settle.toml", "[container]\nside = 0.1\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 500\n"
+                           "[material]\nyoungs_modulus = 1e7\nwall_youngs_modulus = 1e7\n[deposition]\n"
+                           "[dynamics]\nmax_time = 0.02\n");
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --out " + out.string()).exit_code, 0);
+  ASSERT_TRUE(fs::exists(out / "timeseries.csv"));
+  const auto again = run_cli("run " + scenario.string() + " --stop-after deposition --out " + out.string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_NE(again.output.find("removed the files of the earlier run in " + out.string()), std::string::npos)
+      << again.output;
+  EXPECT_NE(again.output.find("timeseries.csv"), std::string::npos) << again.output;
+  EXPECT_FALSE(fs::exists(out / "timeseries.csv"));
+  // Every file in the folder is the last run's, and its manifest lists them.
+  std::set<std::string> expected = manifest_names(out);
+  expected.insert("aggpack-manifest.json");
+  for (const std::string& name : folder_names(out)) EXPECT_TRUE(expected.contains(name)) << name;
+  EXPECT_FALSE(nlohmann::json::parse(std::ifstream(out / "summary.json")).at("stages").contains("dynamics"));
+
+  // A folder of an aggpack from before manifests (a summary.json naming its version): its
+  // outputs are recognised by name and replaced the same way.
+  const fs::path old = dir_ / "old";
+  fs::create_directories(old);
+  std::ofstream(old / "summary.json") << "{\"aggpack_version\": \"0.0.9\"}\n";
+  std::ofstream(old / "timeseries.csv") << "time_s\n0\n";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --stop-after deposition --out " + old.string()).exit_code,
+            0);
+  EXPECT_FALSE(fs::exists(old / "timeseries.csv"));
+}
+
+// A folder holding files no aggpack run wrote is refused before any work, naming them; with
+// --overwrite the run writes beside them and leaves them alone.
+TEST_F(ReliabilityRuns, AFolderWithOtherFilesIsRefusedUnlessOverwrite) {
+  const fs::path scenario = write("deposit.toml", "[container]\nside = 0.1\nheight = 0.1\n[particles]\n"
+                                                  "diameter = 0.01\ncount = 500\n[deposition]\n");
+  const fs::path out = dir_ / "mine";
+  fs::create_directories(out);
+  std::ofstream(out / "notes.txt") << "mine";
+  const auto refused = run_cli("run " + scenario.string() + " --out " + out.string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  for (const char* word : {"mine", "notes.txt", "no aggpack run wrote", "--overwrite"})
+    EXPECT_NE(refused.output.find(word), std::string::npos) << word << " missing in\n" << refused.output;
+  EXPECT_EQ(folder_names(out), std::set<std::string>{"notes.txt"});
+  const auto written = run_cli("run " + scenario.string() + " --quiet --overwrite --out " + out.string());
+  ASSERT_EQ(written.exit_code, 0) << written.output;
+  EXPECT_EQ(slurp(out / "notes.txt"), "mine");
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+  EXPECT_FALSE(manifest_names(out).contains("notes.txt"));
 }
 
 }  // namespace

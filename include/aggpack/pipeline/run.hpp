@@ -65,6 +65,9 @@ struct RunOptions {
   // Leave a run with a DEM stage its checkpoint, taken before the final analysis, instead of
   // removing it at the end: resumed, it then only analyses and writes (Campaign's resume).
   bool keep_dem_checkpoint = false;
+  // Write into a folder that holds files no aggpack run wrote (left alone); otherwise such a
+  // folder is refused. An earlier run's files (its manifest) are replaced either way.
+  bool overwrite = false;
 };
 
 struct RunResult {
