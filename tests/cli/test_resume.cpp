@@ -230,7 +230,8 @@ TEST_F(Resume, ACheckpointThatCannotBeWrittenDoesNotStopTheRun) {
   const fs::path scenario = write_scenario("layered", kLayered);
   const fs::path out = dir_ / "out";
   fs::create_directories(out / "checkpoint.bin" / "taken");
-  const auto r = run_cli("run " + scenario.string() + " --checkpoint-every 0 --out " + out.string());
+  // The folder is not an earlier run's: the run writes beside it only when told to.
+  const auto r = run_cli("run " + scenario.string() + " --checkpoint-every 0 --overwrite --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("warning: writing " + (out / "checkpoint.bin").string()), std::string::npos) << r.output;
   const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
