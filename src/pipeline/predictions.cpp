@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "aggpack/analysis/bulk_density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/pipeline/calibration.hpp"
@@ -65,6 +66,8 @@ Predictions predict_scenario(const Scenario& sc, const ModelParameters& paramete
                              std::span<const double> file_diameters) {
   Predictions out;
   out.parameters = parameters;
+  out.particle_density = sc.material.density;
+  out.particle_density_source = "the scenario's material.density";
   const ParticleSource& p = sc.particles;
   if (p.sizes) {
     const std::vector<std::size_t> counts = class_counts(*p.sizes);
@@ -167,6 +170,8 @@ nlohmann::json to_json(const Predictions& p) {
                      {"cpm_compaction_index_source", p.parameters.compaction_source},
                      {"cpm_residual_packing_density", p.parameters.beta},
                      {"cpm_residual_packing_density_source", p.parameters.beta_source}};
+  j["parameters"]["particle_density_kg_m3"] = p.particle_density;
+  j["parameters"]["particle_density_source"] = p.particle_density_source;
   if (p.parameters.beta_fine) {
     j["parameters"]["cpm_residual_packing_density_fine"] = *p.parameters.beta_fine;
     j["parameters"]["cpm_residual_packing_density_fine_source"] = p.parameters.beta_fine_source;
@@ -176,9 +181,13 @@ nlohmann::json to_json(const Predictions& p) {
     e["description"] = d.description;
     e["classes"] = d.classes.classes.size();
     e["classes_rule"] = d.classes.rule;
+    const BulkDensity bulk = bulk_density(d.cpm.density, p.particle_density);
     e["cpm"] = {{"density", d.cpm.density},
                 {"virtual_density", d.cpm.virtual_density},
-                {"dominant_class_diameter_m", d.classes.classes[d.cpm.dominant].diameter}};
+                {"dominant_class_diameter_m", d.classes.classes[d.cpm.dominant].diameter},
+                {"voids_content_percent", bulk.voids_percent},
+                {"bulk_density_kg_m3", bulk.kg_per_m3},
+                {"bulk_density_lb_ft3", bulk.lb_per_ft3}};
     // Beyond the polydispersity it was fitted to, the formula runs away (above 1): no value.
     const bool fitted = d.moments.polydispersity <= kDesmondWeeksValidPolydispersity;
     e["desmond_weeks"] = {{"random_close_packing", fitted ? nlohmann::json(d.random_close_packing) : nlohmann::json()},
@@ -205,6 +214,8 @@ std::string describe(const Predictions& p) {
                    p.parameters.beta,
                    p.parameters.beta_fine ? fmt::format(", the fine aggregate's {:g}", *p.parameters.beta_fine) : "",
                    d.cpm.density, d.cpm.virtual_density);
+    fmt::format_to(o, "      {} (particle density {:g} kg/m3, {})\n", describe(bulk_density(d.cpm.density, p.particle_density)),
+                   p.particle_density, p.particle_density_source);
     if (d.moments.polydispersity <= kDesmondWeeksValidPolydispersity)
       fmt::format_to(o, "    Desmond-Weeks random close packing: {:.4f} (polydispersity {:.3f}, skewness {:.3f})\n",
                      d.random_close_packing, d.moments.polydispersity, d.moments.skewness);

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/pipeline/calibration.hpp"
+#include "aggpack/analysis/bulk_density.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/pipeline/checkpoint.hpp"
 #include "aggpack/pipeline/grading_report.hpp"
@@ -234,6 +235,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
             : nlohmann::json(nullptr);
   } else {
     summary.update(to_json(final));
+    // The engineer's quantities beside the packing density (ASTM C29), from material.density.
+    const BulkDensity bulk = bulk_density(final.density.mean, sc.material.density);
+    summary["density"]["voids_content_percent"] = bulk.voids_percent;
+    summary["density"]["bulk_density_kg_m3"] = bulk.kg_per_m3;
+    summary["density"]["bulk_density_lb_ft3"] = bulk.lb_per_ft3;
+    summary["density"]["particle_density_kg_m3"] = bulk.particle_density;
   }
   wall_clock["output"] = output_seconds;
   wall_clock["total"] = total_seconds;
@@ -317,6 +324,8 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} spheres\n", final.density.mean,
                  final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,
                  final.coordination.particles_counted);
+  fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n",
+                 describe(bulk_density(final.density.mean, sc.material.density)), sc.material.density);
   if (rest && !rest->settled)
     fmt::format_to(o, "  not settled: the DEM ended with a kinetic energy of {:.2e} m g d per particle, above the "
                       "quiet criterion's {:.0e}; the density is that of a bed still moving (raise dynamics.max_time)\n",

@@ -8,6 +8,7 @@
 #include <fmt/ostream.h>
 #include <iostream>
 
+#include "aggpack/analysis/bulk_density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
@@ -222,6 +223,7 @@ SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::si
 nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, const std::vector<SweepPoint>& points,
                           std::size_t best, const std::vector<double>& indistinguishable, bool has_dynamics,
                           double seconds) {
+  const double particle_density = plan.blends.front().material.density;  // kg/m3 (bulk density, voids)
   const SweepPoint& top = points[best];
   nlohmann::json result;
   result["aggpack_version"] = kVersion;
@@ -234,7 +236,10 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
     nlohmann::json point = {
         {"fa_percent", p.fa_percent},
         {"ca_fa", p.ca_fa},
-        {"density", {{"mean", p.density.mean}, {"sd", or_null(p.density.sd)}, {"values", p.final_density}}},
+        {"density", {{"mean", p.density.mean}, {"sd", or_null(p.density.sd)}, {"values", p.final_density},
+                     {"voids_content_percent", bulk_density(p.density.mean, particle_density).voids_percent},
+                     {"bulk_density_kg_m3", bulk_density(p.density.mean, particle_density).kg_per_m3},
+                     {"bulk_density_lb_ft3", bulk_density(p.density.mean, particle_density).lb_per_ft3}}},
         {"density_after_deposition", {{"mean", or_null(p.after_deposition.mean)}, {"sd", or_null(p.after_deposition.sd)}}}};
     if (p.whole) {
       nlohmann::json w = to_json(*p.whole);
@@ -244,9 +249,14 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
     }
     result["points"].push_back(point);
   }
+  const BulkDensity best_bulk = bulk_density(top.judged(), particle_density);
   result["best"] = {{"fa_percent", top.fa_percent}, {"ca_fa", top.ca_fa}, {"density_mean", top.density.mean},
                     {"density_sd", or_null(top.density.sd)}, {"within_one_sd_fa_percent", indistinguishable},
-                    {"chosen_by", plan.whole() ? "whole_grading" : "density"}};
+                    {"chosen_by", plan.whole() ? "whole_grading" : "density"},
+                    {"voids_content_percent", best_bulk.voids_percent},
+                    {"bulk_density_kg_m3", best_bulk.kg_per_m3},
+                    {"bulk_density_lb_ft3", best_bulk.lb_per_ft3},
+                    {"particle_density_kg_m3", particle_density}};
   if (plan.whole()) {
     result["best"]["whole_grading"] = {{"density", top.whole->density},
                                        {"band", {top.whole->low, top.whole->high}},
@@ -267,7 +277,7 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
 }
 
 void print_sweep(std::ostream& log, const SweepOptions& options, const std::vector<SweepPoint>& points,
-                 std::size_t best, const std::vector<double>& indistinguishable) {
+                 std::size_t best, const std::vector<double>& indistinguishable, double particle_density) {
   const SweepPoint& top = points[best];
   const bool whole = top.whole.has_value();
   fmt::print(log, "{:>6} {:>7} {:>16}{}\n", "Fa %", "Ca/Fa", whole ? "finest cut-off" : "density",
@@ -282,6 +292,8 @@ void print_sweep(std::ostream& log, const SweepOptions& options, const std::vect
   fmt::print(log, "densest blend{}: Fa = {:g} % (Ca/Fa = {:.3f}), density {:.4f}; within {} of it: Fa = {} %\n",
              whole ? " (whole grading)" : "", top.fa_percent, top.ca_fa, top.judged(), whole ? "half a band" : "one sd",
              nlohmann::json(indistinguishable).dump());
+  fmt::print(log, "densest blend: {} (particle density {:g} kg/m3)\n", describe(bulk_density(top.judged(), particle_density)),
+             particle_density);
   if (whole && !top.whole->trustworthy())
     fmt::print(log, "warning: the densest blend's whole-grading band is {:.3f} wide (more than 0.04): the cut-offs "
                     "leave too much out, or their densities scatter too much, to rank the blends; simulate finer "
@@ -325,7 +337,8 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   write_file_atomically(options.out / "sweep.svg", sweep_svg(points, best, has_dynamics, options.scenario));
   write_file_atomically(options.out / "sweep.json", result.dump(2) + "\n");
   remove_checkpoints(campaign.kept_checkpoints());
-  if (!options.quiet) print_sweep(log, options, points, best, indistinguishable);
+  if (!options.quiet)
+    print_sweep(log, options, points, best, indistinguishable, plan.blends.front().material.density);
   return result;
 }
 

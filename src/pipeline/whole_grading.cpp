@@ -7,6 +7,7 @@
 #include <fmt/ostream.h>
 #include <fmt/ranges.h>
 
+#include "aggpack/analysis/bulk_density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/pipeline/calibration.hpp"
@@ -123,6 +124,7 @@ WholeGradingEstimate fit_whole_grading(const Scenario& whole, const ModelParamet
   e.scenario = whole.file.string();
   e.key = cut_off_key(*whole.particles.graded);
   e.parameters = parameters;
+  e.particle_density = whole.material.density;
   e.points = std::move(points);
   std::vector<double> x, y, y_error;
   for (const CutOffPoint& p : e.points)
@@ -213,6 +215,12 @@ nlohmann::json to_json(const WholeGradingEstimate& e) {
            {{"cpm", e.cpm_whole},
             {"density", e.density},
             {"band", {e.low, e.high}},
+            {"voids_content_percent", bulk_density(e.density, e.particle_density).voids_percent},
+            {"bulk_density_kg_m3", bulk_density(e.density, e.particle_density).kg_per_m3},
+            {"bulk_density_lb_ft3", bulk_density(e.density, e.particle_density).lb_per_ft3},
+            {"bulk_density_band_kg_m3",
+             {bulk_density(e.low, e.particle_density).kg_per_m3, bulk_density(e.high, e.particle_density).kg_per_m3}},
+            {"particle_density_kg_m3", e.particle_density},
             {"simulated_volume_fraction", e.simulated_fraction},
             {"modelled_volume_fraction", 1.0 - e.simulated_fraction},
             {"trustworthy", e.trustworthy()}}}};
@@ -234,6 +242,8 @@ std::string describe(const WholeGradingEstimate& e) {
                  "volume above the finest cut, modelled: the {:.1f} % below it\n",
                  e.density, e.low, e.high, e.cpm_whole, e.residual_at_zero, 100.0 * e.simulated_fraction,
                  100.0 * (1.0 - e.simulated_fraction));
+  fmt::format_to(o, "  whole grading: {} (particle density {:g} kg/m3)\n", describe(bulk_density(e.density, e.particle_density)),
+                 e.particle_density);
   if (!e.trustworthy())
     fmt::format_to(o, "  warning: the band is {:.3f} wide: the cut-offs leave too much of the grading out (or their "
                       "densities scatter too much) to carry the simulation to the whole grading; simulate finer "

@@ -44,6 +44,10 @@ struct DistributionPrediction {
 struct Predictions {
   ModelParameters parameters;
   std::vector<DistributionPrediction> distributions;
+  // The grains' density, for the bulk density and voids beside each density (ASTM C29): the
+  // scenario's material.density, or natural aggregate's 2650 kg/m3 for a grading alone.
+  double particle_density = 2650.0;
+  std::string particle_density_source = "natural aggregate, assumed (no scenario)";
 };
 
 // The models on a scenario's size distribution: the one it simulates (after its cut-offs; for a

@@ -52,6 +52,7 @@ struct WholeGradingEstimate {
   double cpm_whole = 0.0;           // CPM on the whole grading
   double density = 0.0, low = 0.0, high = 0.0;  // the whole grading's estimate and band
   double simulated_fraction = 0.0;  // of the whole grading's volume, at the finest cut
+  double particle_density = 0.0;    // kg/m3, the scenario's material.density (bulk density and voids)
   // A band wider than 0.04 (as wide as the differences between blends) is no estimate.
   [[nodiscard]] bool trustworthy() const { return high - low <= 0.04; }
 };
