@@ -4,6 +4,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/scenario.hpp"
+#include "aggpack/pipeline/calibration.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
 #include "aggpack/pipeline/preflight.hpp"
 #include "aggpack/sizes/grading.hpp"
@@ -42,6 +43,16 @@ void particle_file_reader(std::string_view bytes) {
     const ParticleStore particles = parse_particle_text(bytes, "fuzz.csv", 1.0, 2650.0);
     const Container container = bounding_container(particles);
     (void)check_particle_overlaps(particles, container, 0.25, false, "fuzz.csv", RunLimits{}.max_grid_cells);
+  } catch (const InputError&) {
+  }
+}
+
+void calibration_reader(std::string_view bytes) {
+  try {
+    const ModelParameters p = parse_calibration(bytes, "fuzz.json");
+    // CPM with the file's K and beta, on a binary mix, as predict and a run's predictions use them.
+    const ModelDistribution mix{{{0.02, 0.02, 0.02, 0.6}, {0.005, 0.005, 0.005, 0.4}}, "fuzz"};
+    (void)cpm(mix, std::vector<double>{p.beta}, p.compaction_index);
   } catch (const InputError&) {
   }
 }

@@ -14,5 +14,6 @@ namespace aggpack::fuzz {
 void scenario_reader(std::string_view bytes);
 void grading_reader(std::string_view bytes);
 void particle_file_reader(std::string_view bytes);
+void calibration_reader(std::string_view bytes);
 
 }  // namespace aggpack::fuzz

@@ -10,10 +10,12 @@ std::size_t ParticleStore::add(const Vec3& pos, double r, double density,
   velocity.push_back({});
   angular_velocity.push_back({});
   radius.push_back(r);
-  mass.push_back(density * 4.0 / 3.0 * std::numbers::pi * r * r * r);
+  mass.push_back(sphere_mass(r, density));
   layer.push_back(layer_index);
   return radius.size() - 1;
 }
+
+double ParticleStore::sphere_mass(double r, double density) { return density * 4.0 / 3.0 * std::numbers::pi * r * r * r; }
 
 void ParticleStore::reserve(std::size_t n) {
   position.reserve(n);

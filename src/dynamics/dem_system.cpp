@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -269,7 +270,7 @@ void DemSystem::build_neighbour_list() {
       });
   }
   for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
-  std::vector<std::uint32_t> other(offset[n]), cross_begin(n), cross_count(n + 1, 0);
+  std::vector<std::uint32_t> other(offset[n]);
   {
     std::vector<std::uint32_t> next_free(offset.begin(), offset.end() - 1);
 #pragma omp parallel for schedule(static, 1) if (threaded_) num_threads(threads_)
@@ -283,9 +284,6 @@ void DemSystem::build_neighbour_list() {
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto row = other.begin() + offset[i], row_end = other.begin() + offset[i + 1];
     std::sort(row, row_end);
-    const std::uint32_t block_end = std::min(n, (i / kForceBlock + 1) * kForceBlock);
-    cross_begin[i] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, block_end) - other.begin());
-    cross_count[i + 1] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, n) - other.begin()) - cross_begin[i];
     // Carry each contact's tangential history over from the old list, where the pair sat in
     // the row of its lower old slot (as seen from there: the sign flips if the order did).
     // Grains admitted since that list (old slots from listed_count_ on) have no history; the
@@ -304,32 +302,39 @@ void DemSystem::build_neighbour_list() {
       spring[k] = owner == oi ? old : -old;
     }
   }
-  // Cross-block slots in row order, and for each neighbour the slots it gathers.
-  std::vector<std::uint32_t> slot_base(n), reverse_offset(n + 1, 0);
-  for (std::uint32_t i = 0; i < n; ++i) {
-    slot_base[i] = cross_count[i];
-    cross_count[i + 1] += cross_count[i];
-    for (std::uint32_t k = cross_begin[i]; k < cross_begin[i] + cross_count[i + 1] - cross_count[i]; ++k)
-      ++reverse_offset[other[k] + 1];
-  }
-  for (std::uint32_t j = 0; j < n; ++j) reverse_offset[j + 1] += reverse_offset[j];
-  std::vector<std::uint32_t> reverse(cross_count[n]), filled(reverse_offset.begin(), reverse_offset.end() - 1);
-  for (std::uint32_t i = 0; i < n; ++i)
-    for (std::uint32_t k = cross_begin[i], slot = slot_base[i]; slot < cross_count[i + 1]; ++k, ++slot)
-      reverse[filled[other[k]]++] = slot;
-
   offset_.swap(offset);
-  cross_begin_.swap(cross_begin);
   other_.swap(other);
   spring_.swap(spring);
-  slot_base_.swap(slot_base);
-  reverse_offset_.swap(reverse_offset);
-  reverse_.swap(reverse);
-  cross_.assign(cross_count[n], {});
+  index_cross_block_entries();
   listed_position_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
   listed_count_ = n;
   listed_offset_ = container_offset();
+}
+
+void DemSystem::index_cross_block_entries() {
+  const std::uint32_t n = n_;
+  cross_begin_.resize(n);
+  slot_base_.resize(n);
+  reverse_offset_.assign(std::size_t{n} + 1, 0);
+  std::vector<std::uint32_t> cross_end(n);  // where the row's walls begin
+  std::uint32_t slots = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const auto row = other_.begin() + offset_[i], row_end = other_.begin() + offset_[i + 1];
+    const std::uint32_t block_end = std::min(n, (i / kForceBlock + 1) * kForceBlock);
+    cross_begin_[i] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, block_end) - other_.begin());
+    cross_end[i] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, n) - other_.begin());
+    slot_base_[i] = slots;
+    slots += cross_end[i] - cross_begin_[i];
+    for (std::uint32_t k = cross_begin_[i]; k < cross_end[i]; ++k) ++reverse_offset_[other_[k] + 1];
+  }
+  for (std::uint32_t j = 0; j < n; ++j) reverse_offset_[j + 1] += reverse_offset_[j];
+  reverse_.resize(slots);
+  std::vector<std::uint32_t> filled(reverse_offset_.begin(), reverse_offset_.end() - 1);
+  for (std::uint32_t i = 0; i < n; ++i)
+    for (std::uint32_t k = cross_begin_[i], slot = slot_base_[i]; k < cross_end[i]; ++k, ++slot)
+      reverse_[filled[other_[k]]++] = slot;
+  cross_.assign(slots, {});
 }
 
 std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t first_row, std::uint32_t block_end,
@@ -652,17 +657,17 @@ void DemSystem::finish() {
 }
 
 namespace {
-constexpr std::uint32_t kStateFormat = 1;  // raise when the members below change
+constexpr std::uint32_t kStateFormat = 2;  // raise when the members below change
 }  // namespace
 
 // The members in one list for saving and restoring. Not saved: the model and the settings
-// (the scenario's), the thread count and the per-thread batches (they do not change results).
+// (the scenario's), the thread count and the per-thread batches (they do not change results),
+// and what follows from the list (its cross-block slots: index_cross_block_entries()).
 template <class Archive, class System>
 void DemSystem::archive_state(Archive& ar, System& s) {
   ar(raw_value(s.container_), s.skin_, s.grid_bed_volume_, s.morton_cell_, s.n_, s.listed_count_, s.free_count_);
   ar(raw(s.grain_), raw(s.user_index_), raw(s.slot_of_), raw(s.frozen_), raw(s.load_), raw(s.listed_position_));
-  ar(raw(s.offset_), raw(s.cross_begin_), raw(s.other_), raw(s.spring_), raw(s.cross_), raw(s.slot_base_),
-     raw(s.reverse_offset_), raw(s.reverse_));
+  ar(raw(s.offset_), raw(s.other_), raw(s.spring_));
   ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
      s.rebuilds_);
 }
@@ -673,9 +678,14 @@ void DemSystem::save_state(std::ostream& out) const {
   archive_state(ar, *this);
 }
 
-void DemSystem::restore_state(std::istream& in) {
+void DemSystem::restore_state(std::string_view bytes) {
+  // What the system was made with (the scenario's container and settings, the store's
+  // particles): the restored state must agree with it.
+  MadeWith made{container_, skin_, grid_bed_volume_, morton_cell_, rest_floor_, rest_top_,
+                std::vector<std::uint8_t>(n_)};
+  for (std::uint32_t s = 0; s < n_; ++s) made.frozen_by_index[user_index_[s]] = frozen_[s];
   try {
-    cereal::BinaryInputArchive ar(in);
+    CheckedInputArchive ar(bytes);
     std::uint32_t format = 0;
     std::uint64_t particles = 0;
     ar(format, particles);
@@ -683,13 +693,80 @@ void DemSystem::restore_state(std::istream& in) {
       throw InputError(fmt::format("the DEM state is of format {} for {} particles; this system is of format {} "
                                    "with {}", format, particles, kStateFormat, p_.size()));
     archive_state(ar, *this);
+    if (ar.left() > 0) throw InputError(fmt::format("the DEM state has {} bytes after its end", ar.left()));
   } catch (const cereal::Exception& e) {
     throw InputError(fmt::format("the DEM state is truncated or damaged ({})", e.what()));
   }
-  if (grain_.size() != n_ || n_ != p_.size() || offset_.size() != std::size_t{n_} + 1)
-    throw InputError("the DEM state does not fit its particle store");
+  check_restored(made);
+  index_cross_block_entries();
   threaded_ = n_ >= kThreadedFrom;
   batches_.assign(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1, ContactBatch{});
+}
+
+void DemSystem::check_restored(const MadeWith& made) const {
+  const auto fail = [](std::string_view what) {
+    throw InputError(fmt::format("the DEM state does not fit its run: {}", what));
+  };
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const std::uint32_t n = n_;
+  // The container: the scenario's, moved up or down by its motion only. Its flag is read as a
+  // byte first: any other value than 0 or 1 in a bool is undefined behaviour.
+  unsigned char periodic = 0;
+  std::memcpy(&periodic, &container_.periodic, 1);
+  const Box &box = container_.bounds, &made_box = made.container.bounds;
+  if (periodic != (made.container.periodic ? 1 : 0) || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
+      box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
+      rest_top_ != made.rest_top)
+    fail("its container is not the scenario's");
+  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
+      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_))
+    fail("the container's motion");
+  // Time is counted in steps; the container stands where its motion has it then.
+  if (time_ != static_cast<double>(steps_) * settings_.time_step || force_time_ != time_)
+    fail(fmt::format("its time, {} s, is not its {} steps of {} s", time_, steps_, settings_.time_step));
+  const double offset = motion_.offset(time_);
+  if (box.lo.z != rest_floor_ + offset || box.hi.z != rest_top_ + offset) fail("the container's height");
+  // The sizes the system chose from the store's radii (summed in another order: nearly equal).
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(b); };
+  if (skin_ != made.skin || !near(grid_bed_volume_, made.bed_volume) || !near(morton_cell_, made.morton_cell))
+    fail("its skin or grid sizes are not those of its particles");
+
+  // The records: one per particle, each slot a particle of the store, the inverse table its
+  // inverse, and each record the store's particle (the store is written back at every safe point).
+  if (listed_count_ != n || grain_.size() != n || user_index_.size() != n || slot_of_.size() != n ||
+      frozen_.size() != n || load_.size() != n || listed_position_.size() != n)
+    fail("its tables are not one entry per particle");
+  std::size_t free = 0;
+  for (std::uint32_t s = 0; s < n; ++s) {
+    const std::uint32_t i = user_index_[s];
+    if (i >= n || slot_of_[i] != s) fail(fmt::format("slot {} names particle {}, not a permutation", s, i));
+    if (frozen_[s] != made.frozen_by_index[i]) fail(fmt::format("particle {} is frozen where the run has it free, or the reverse", i));
+    free += frozen_[s] ? 0 : 1;
+    const Grain& g = grain_[s];
+    const double inverse_inertia = frozen_[s] ? 0.0 : 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
+    if (!finite(g.position) || !(g.position == p_.position[i] || g.position == made.container.wrapped(p_.position[i])) ||
+        !(g.velocity == p_.velocity[i]) || !(g.angular_velocity == p_.angular_velocity[i]) ||
+        g.radius != p_.radius[i] || g.mass != p_.mass[i] || g.inverse_inertia != inverse_inertia)
+      fail(fmt::format("the record of particle {} is not the particle", i));
+    if (!finite(listed_position_[s]) || !finite(load_[s].force) || !finite(load_[s].torque))
+      fail(fmt::format("the forces or the listed position of particle {}", i));
+  }
+  if (free != free_count_) fail("its count of free particles");
+
+  // The half neighbour list: rows of ascending entries, each a later slot or a wall.
+  const std::uint32_t walls = container_.plane_count();
+  if (offset_.size() != std::size_t{n} + 1 || offset_[0] != 0 || offset_[n] != other_.size() ||
+      spring_.size() != other_.size())
+    fail("its neighbour list's rows");
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (offset_[i + 1] < offset_[i]) fail(fmt::format("its neighbour list's row {}", i));
+    for (std::uint32_t k = offset_[i]; k < offset_[i + 1]; ++k) {
+      const std::uint32_t j = other_[k];
+      const bool both_frozen = j < n ? frozen_[i] && frozen_[j] : frozen_[i] != 0;
+      if (j <= i || j >= n + walls || (k > offset_[i] && j < other_[k - 1]) || both_frozen || !finite(spring_[k]))
+        fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
+    }
+  }
 }
 
 }  // namespace aggpack

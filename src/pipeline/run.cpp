@@ -74,11 +74,26 @@ InitialBed initial_bed(const Scenario& sc) {
 // Puts a resumed run where its checkpoint was taken: the reports and beds of the steps done
 // (none when it was taken before the first), and the state of the step in progress for that
 // step to take up. Returns the steps done.
-std::size_t restore_checkpoint(const Checkpoint& checkpoint, std::size_t total, RunReport& report,
+std::size_t restore_checkpoint(const Checkpoint& checkpoint, const Protocol& protocol, RunReport& report,
                                RunContext& context) {
+  const std::size_t total = protocol.steps.size();
   if (checkpoint.steps_completed > total)
-    throw InputError(fmt::format("{}: the checkpoint has {} steps done of a protocol of {}",
-                                 report.scenario.file.string(), checkpoint.steps_completed, total));
+    throw DamagedCheckpoint(fmt::format("it has {} steps done of a protocol of {}", checkpoint.steps_completed, total));
+  // A run state from the first step on (none before it); a step state only inside a step of
+  // aggpack's DEM, the only steps with safe points that save one.
+  const bool started = checkpoint.steps_completed > 0 || !checkpoint.step_state.empty();
+  if (started == checkpoint.run_state.empty())
+    throw DamagedCheckpoint(fmt::format("a run state {} steps done", started ? "missing with" : "with no"));
+  if (!checkpoint.step_state.empty()) {
+    const auto in_dem_step = [&] {
+      const StepKind& kind = protocol.steps[checkpoint.steps_completed].kind;
+      return report.scenario.dynamics && report.scenario.dynamics->engine == DemEngine::Aggpack &&
+             (std::holds_alternative<SettleStep>(kind) || std::holds_alternative<PourStep>(kind) ||
+              std::holds_alternative<TapStep>(kind));
+    };
+    const bool dem = checkpoint.steps_completed < total && in_dem_step();
+    if (!dem) throw DamagedCheckpoint(fmt::format("a step state for step {}, not a DEM step", checkpoint.steps_completed + 1));
+  }
   if (!checkpoint.run_state.empty()) decode_run_state(checkpoint.run_state, report, context);
   if (!checkpoint.step_state.empty()) context.resume_state = &checkpoint.step_state;
   report.resumed_from = checkpoint.where;
@@ -138,7 +153,7 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   }
   std::size_t completed = 0;
   const std::size_t total = protocol.steps.size();
-  if (resume) completed = restore_checkpoint(*resume, total, report, context);
+  if (resume) completed = restore_checkpoint(*resume, protocol, report, context);
   else if (checkpointer) checkpointer->write(fmt::format("before step 1 of {}", total), nullptr);  // resume can always start here
   try {
     for (; completed < total; ++completed) {
@@ -335,7 +350,11 @@ RunResult resume_run(const std::filesystem::path& run_directory, const RunOption
   if (!options.quiet)
     fmt::print(log, "aggpack: resuming {} from its checkpoint, taken {} ({} steps done)\n", run_directory.string(),
                checkpoint.where, checkpoint.steps_completed);
-  return run_into_folder(sc, std::move(header), &checkpoint, options, log, t_start);
+  try {
+    return run_into_folder(sc, std::move(header), &checkpoint, options, log, t_start);
+  } catch (const DamagedCheckpoint& e) {
+    throw damaged_checkpoint(run_directory / kCheckpointFile, e.what());
+  }
 }
 
 }  // namespace aggpack

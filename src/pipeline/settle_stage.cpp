@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -15,6 +14,7 @@
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/pipeline/analyze.hpp"
+#include "aggpack/pipeline/checkpoint.hpp"
 #include "pipeline/report_archive.hpp"
 
 namespace aggpack {
@@ -156,23 +156,40 @@ void save_step_state(std::ostream& out, std::string_view kind, const DemSystem& 
   dem.save_state(out);
 }
 // Restores what save_step_state() saved into `dem` and `loop`; returns the start time that
-// makes the step's wall clock count what it took before too.
+// makes the step's wall clock count what it took before too. DamagedCheckpoint when the bytes
+// do not decode, or not to a state of this step (the loop is checked by the step itself).
 template <class Loop>
 Clock::time_point restore_step_state(std::string_view kind, const std::string& state, DemSystem& dem, Loop& loop) {
-  std::istringstream in(state, std::ios::binary);
   std::string saved_kind;
   double elapsed = 0.0;
+  std::size_t dem_state_at = 0;
   try {
-    cereal::BinaryInputArchive ar(in);
+    CheckedInputArchive ar(state);
     ar(saved_kind);
     if (saved_kind != kind)
-      throw InputError(fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
+      throw DamagedCheckpoint(
+          fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
     ar(loop, elapsed);
+    dem_state_at = ar.position();
   } catch (const cereal::Exception& e) {
-    throw InputError(fmt::format("the checkpoint's {} step is truncated or damaged ({})", kind, e.what()));
+    throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
   }
-  dem.restore_state(in);
+  try {
+    dem.restore_state(std::string_view(state).substr(dem_state_at));
+  } catch (const InputError& e) {
+    throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
+  }
+  // At most a billion seconds: its count of clock ticks must fit the clock.
+  if (!(elapsed >= 0.0 && elapsed <= 1e9))
+    throw DamagedCheckpoint(fmt::format("its {} step: {} s of wall clock", kind, elapsed));
   return Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(elapsed));
+}
+
+// A settling loop restored from a checkpoint: it began before the system's time and step now,
+// and has sampled (its quiet window holds the samples so far).
+void check_restored(const SettleLoop& loop, const DemSystem& dem, std::string_view kind) {
+  if (!(loop.start >= 0.0 && loop.start <= dem.time()) || loop.start_steps > dem.steps() || loop.window.empty())
+    throw DamagedCheckpoint(fmt::format("its {} step: its settling loop does not fit its DEM state", kind));
 }
 
 std::string where_simulated(std::string_view phase, double simulated) {
@@ -255,7 +272,10 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings, std::move(frozen));
   std::optional<SettleLoop> resumed;
-  if (controls.resume_state) t0 = restore_step_state("settle", *controls.resume_state, dem, resumed.emplace());
+  if (controls.resume_state) {
+    t0 = restore_step_state("settle", *controls.resume_state, dem, resumed.emplace());
+    check_restored(*resumed, dem, "settle");
+  }
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
   SampleRecorder recorder(sc, layer, series, progress, dem, particles,
                           {top_above_floor(dem, particles, sc.container), 0.0, 0.0}, std::string());
@@ -290,16 +310,26 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   PourLoop loop;
   PourReport& report = loop.report;
   const bool resumed = controls.resume_state != nullptr;
+  PourReport planned;  // what the scenario makes of this pour
+  planned.poured = radii.size();
+  planned.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
+  planned.solid_fraction = pour.solid_fraction;
+  planned.velocity = pour.velocity;
+  planned.gap = pour.gap.value_or(2.0 * r_max);
+  planned.lowest_slab_bottom = std::numeric_limits<double>::infinity();
   if (resumed) {
     t0 = restore_step_state("pour", *controls.resume_state, dem, loop);
+    // Restored: the same pour, within its batches, its numbers finite, its random stream live.
+    if (report.poured != planned.poured || report.batches != planned.batches ||
+        report.solid_fraction != planned.solid_fraction || report.velocity != planned.velocity ||
+        report.gap != planned.gap || loop.batch >= report.batches || !std::isfinite(loop.next) ||
+        !std::isfinite(loop.weight) || !std::isfinite(loop.poured_at) || loop.pour_steps > dem.steps() ||
+        loop.rng.stuck())
+      throw DamagedCheckpoint("its pour step: its loop is not this pour's");
+    if (loop.settling) check_restored(loop.settle, dem, "pour");
   } else {
     loop.rng = pour_stream(sc.seed, part);
-    report.poured = radii.size();
-    report.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
-    report.solid_fraction = pour.solid_fraction;
-    report.velocity = pour.velocity;
-    report.gap = pour.gap.value_or(2.0 * r_max);
-    report.lowest_slab_bottom = std::numeric_limits<double>::infinity();
+    report = planned;
   }
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
   SampleRecorder recorder(sc, part, series, progress, dem, particles,
@@ -419,6 +449,15 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   const bool resumed = controls.resume_state != nullptr;
   if (resumed) {
     t0 = restore_step_state("tap", *controls.resume_state, dem, loop);
+    // Restored: the same tapping, in the rest after tap `tap` (the samples of the taps before).
+    const double dt = setup.settings.time_step, until_rest_end = loop.rest_end - dem.time();
+    if (report.taps != tapping.taps || report.intensity != tapping.intensity ||
+        report.frequency != tapping.frequency || report.rest_time != tapping.rest_time ||
+        report.rest_until_quiet != tapping.rest_until_quiet || report.time_step != dt || loop.tap < 1 ||
+        loop.tap > tapping.taps || report.samples.size() != loop.tap - 1 ||
+        !(until_rest_end >= -dt && until_rest_end <= tapping.rest_time + dt) ||
+        (loop.quiet_since && !std::isfinite(*loop.quiet_since)))
+      throw DamagedCheckpoint("its tap step: its loop is not this tapping's");
   } else {
     report.taps = tapping.taps;
     report.intensity = tapping.intensity;

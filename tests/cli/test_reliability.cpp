@@ -73,6 +73,15 @@ std::vector<BadInput> bad_inputs() {
     return BadInput{"scenario", {{"s.toml", kDeposit + protocol}, {"d.dump", dump}, {"bed.csv", lattice()}},
                     "check @/s.toml", std::move(words)};
   };
+  // A calibration file with the compaction index's range `range`, read by predict and by a run.
+  const auto calibration = [&](std::string args, std::string range, std::vector<std::string> words) {
+    const std::string json = R"({"kind": "aggpack CPM calibration", "cpm": {"compaction_index": 6.5, )"
+                             R"("compaction_index_range": )" + range + R"(, "residual_packing_density": 0.7, )"
+                             R"("residual_packing_density_range": [0.69, 0.71]}})";
+    return BadInput{"calibration",
+                    {{"s.toml", kDeposit}, {"m.toml", kDeposit + "[models]\ncalibration = \"@/c.json\"\n"}, {"c.json", json}},
+                    std::move(args), std::move(words)};
+  };
   const auto command = [&](std::string args, std::vector<std::string> words) {
     return BadInput{"command line", {{"s.toml", kDeposit}, {"bed.csv", lattice()}}, std::move(args), std::move(words)};
   };
@@ -242,6 +251,15 @@ std::vector<BadInput> bad_inputs() {
       analyze(lattice(), " --length-unit parsec", {"--length-unit", "unknown unit"}),
       BadInput{"particles", {}, "analyze @", {"directory", "regular file"}},
       BadInput{"particles", {}, "analyze /dev/zero", {"/dev/zero", "not a regular file"}},
+      // Calibration files (aggpack calibrate's), read by predict --calibration and by a scenario's models.calibration.
+      calibration("predict @/s.toml --calibration @/c.json", "[]",
+                  {"c.json", "cpm.compaction_index_range", "an empty array", "expected [low, high]"}),
+      calibration("predict @/s.toml --calibration @/c.json", "[6.0]",
+                  {"c.json", "cpm.compaction_index_range", "an array of 1 element", "expected [low, high]"}),
+      calibration("predict @/s.toml --calibration @/c.json", "[\"6\", null]",
+                  {"c.json", "cpm.compaction_index_range[0]", "a string", "expected a number or null"}),
+      calibration("run @/m.toml", "[]", {"c.json", "cpm.compaction_index_range", "an empty array"}),
+      calibration("run @/m.toml", "[6.0]", {"c.json", "cpm.compaction_index_range", "an array of 1 element"}),
       // The command line.
       command("run @/s.toml --threads 100000", {"--threads", "256"}),
       command("run @/s.toml --threads 1000", {"--threads", "256"}),

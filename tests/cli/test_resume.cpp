@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
+#include <functional>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -15,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "aggpack/pipeline/checkpoint.hpp"
 #include "run_cli.hpp"
 
 namespace {
@@ -53,6 +56,21 @@ std::map<std::string, nlohmann::json> summary_values(const fs::path& dir) {
   std::map<std::string, nlohmann::json> values;
   flatten(nlohmann::json::parse(std::ifstream(dir / "summary.json")), "", values);
   return values;
+}
+
+// Where the values of a table of `count` 4-byte values start in `bytes`: the first place
+// where `count` (8 bytes) is followed by such values, as `fits` would have them; npos if none.
+std::size_t find_table(const std::string& bytes, std::uint64_t count,
+                       const std::function<bool(const std::vector<std::uint32_t>&, std::size_t end)>& fits) {
+  for (std::size_t at = 0; at + 8 + 4 * count <= bytes.size(); ++at) {
+    std::uint64_t n = 0;
+    std::memcpy(&n, bytes.data() + at, 8);
+    if (n != count) continue;
+    std::vector<std::uint32_t> values(count);
+    std::memcpy(values.data(), bytes.data() + at + 8, 4 * count);
+    if (fits(values, at + 8 + 4 * count)) return at + 8;
+  }
+  return std::string::npos;
 }
 
 class Resume : public ::testing::Test {
@@ -262,7 +280,8 @@ TEST_F(Resume, RefusesWhatItCannotContinue) {
     std::ofstream(out / "checkpoint.bin", std::ios::binary) << bytes;
     refused("resume " + out.string(), words);
   };
-  with_checkpoint(checkpoint.substr(0, checkpoint.size() / 2), {"checkpoint.bin", "truncated or damaged"});
+  with_checkpoint(checkpoint.substr(0, checkpoint.size() / 2),
+                  {"checkpoint.bin is damaged; run again without resume", "runs past the end of the file"});
   with_checkpoint("a text file, not a checkpoint\n", {"checkpoint.bin", "not an aggpack checkpoint"});
   // Written by another version of aggpack (its version string patched in place).
   std::string version = run_cli("--version").output;
@@ -271,7 +290,7 @@ TEST_F(Resume, RefusesWhatItCannotContinue) {
   const auto at = other.find(version);
   ASSERT_NE(at, std::string::npos);
   other.replace(at, version.size(), std::string(version.size(), '9'));
-  with_checkpoint(other, {"checkpoint.bin", "written by aggpack " + std::string(version.size(), '9'), "run the scenario again"});
+  with_checkpoint(aggpack::resealed_checkpoint(other), {"checkpoint.bin", "written by aggpack " + std::string(version.size(), '9'), "run the scenario again"});
   // The grading or particle file changed since the checkpoint: the bed would not be the same.
   // (200 spheres on a loose lattice, falling: far from quiet when killed.)
   const auto write_bed = [&](double last_z) {
@@ -292,6 +311,97 @@ TEST_F(Resume, RefusesWhatItCannotContinue) {
   const auto r = run_cli("resume " + settled.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("a particle or grading file the scenario reads has changed"), std::string::npos) << r.output;
+}
+
+// A damaged checkpoint.bin is refused: exit 2 and "checkpoint.bin is damaged; run again
+// without resume", never a crash, never a resume to another result. A byte changed anywhere
+// past the format number, in a section's length, in the DEM's user-index table or neighbour
+// list: each section's checksum sees it. The same damage with the checksums made to match
+// again (resealed_checkpoint) is refused by the checks of the decoded values against the
+// scenario: indices, the bed's radii.
+TEST_F(Resume, ADamagedCheckpointIsRefusedNeverResumed) {
+  // 200 spheres deposited, then settling (never quiet: killed while settling).
+  const fs::path scenario = write_scenario(
+      "settling", "seed = 5\n[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 200\n"
+                  "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\n"
+                  "max_time = 1\nquiet_kinetic_fraction = 1e-30\n[analysis]\nbox_sides = [0.02]\n");
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "while settling", SIGKILL), -SIGKILL);
+  const std::string intact = slurp(out / "checkpoint.bin");
+  const auto refused = [&](const std::string& bytes, const std::string& damage) {
+    SCOPED_TRACE(damage);
+    std::ofstream(out / "checkpoint.bin", std::ios::binary | std::ios::trunc) << bytes;
+    const auto r = run_cli("resume " + out.string() + " --quiet --threads 1");
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find((out / "checkpoint.bin").string() + " is damaged; run again without resume"),
+              std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out / "summary.json"));
+    // Resealed, the damage passes the checksums: the checks of the values refuse it.
+    if (damage.find("resealed") != std::string::npos) {
+      EXPECT_EQ(r.output.find("checksum"), std::string::npos) << r.output;
+    }
+  };
+  const auto changed = [&](std::size_t at, unsigned char bits) {
+    std::string bytes = intact;
+    bytes[at] = static_cast<char>(bytes[at] ^ bits);
+    return bytes;
+  };
+  // One byte changed, at 24 places across the file after its magic and format number (30 bytes).
+  constexpr std::size_t kStart = 30;
+  for (std::size_t k = 0; k < 24; ++k) {
+    const std::size_t at = kStart + (intact.size() - kStart) * k / 24;
+    refused(changed(at, 0x10), "byte " + std::to_string(at) + " of " + std::to_string(intact.size()));
+  }
+  refused(changed(intact.size() - 1, 0x01), "the last byte");
+  // The run state's length (after the header's length, bytes and checksum): huge, or one more.
+  std::uint64_t header = 0;
+  std::memcpy(&header, intact.data() + kStart, 8);
+  const std::size_t run_state_length = kStart + 8 + header + 8;
+  refused(changed(run_state_length + 6, 0x40), "the run state's length, made huge");
+  refused(changed(run_state_length, 0x01), "the run state's length, one more");
+  // The DEM's user-index table: each of the 200 particles once.
+  const std::size_t user_index = find_table(intact, 200, [](const std::vector<std::uint32_t>& v, std::size_t) {
+    std::vector<bool> seen(v.size());
+    for (const std::uint32_t i : v) {
+      if (i >= v.size() || seen[i]) return false;
+      seen[i] = true;
+    }
+    return true;
+  });
+  ASSERT_NE(user_index, std::string::npos);
+  refused(changed(user_index + 4 * 17, 0x01), "the user-index table");
+  refused(aggpack::resealed_checkpoint(changed(user_index + 4 * 17, 0x01)), "the user-index table, resealed");
+  refused(aggpack::resealed_checkpoint(changed(user_index + 4 * 17 + 3, 0x80)),
+          "the user-index table, out of range, resealed");
+  // The neighbour list: its 201 row offsets (from 0, ascending), then its entries (as many as
+  // the last offset says, after their count).
+  std::uint32_t entries = 0;
+  const std::size_t offsets = find_table(intact, 201, [&](const std::vector<std::uint32_t>& v, std::size_t end) {
+    std::uint64_t count = 0;
+    std::memcpy(&count, intact.data() + end, 8);
+    entries = v.back();
+    return v.front() == 0 && std::is_sorted(v.begin(), v.end()) && count == v.back() && count > 100;
+  });
+  ASSERT_NE(offsets, std::string::npos);
+  const std::size_t list = offsets + 4 * 201 + 8;
+  refused(changed(list + 4 * (entries / 2), 0x04), "the neighbour list");
+  refused(aggpack::resealed_checkpoint(changed(list + 4 * (entries / 2) + 3, 0x7f)), "the neighbour list, resealed");
+  refused(aggpack::resealed_checkpoint(changed(offsets + 4 * 100 + 3, 0x7f)), "a row's offset, resealed");
+  // The bed's radii in the run state: 200 of 5 mm; one changed by a few per cent.
+  std::string radius(16, '\0');
+  const std::uint64_t count = 200;
+  const double five_mm = 0.005;
+  std::memcpy(radius.data(), &count, 8);
+  std::memcpy(radius.data() + 8, &five_mm, 8);
+  const std::size_t radii = intact.find(radius);
+  ASSERT_NE(radii, std::string::npos);
+  refused(aggpack::resealed_checkpoint(changed(radii + 8 + 8 * 3 + 5, 0x01)), "a radius, resealed");
+  // Intact, it is not refused.
+  std::ofstream(out / "checkpoint.bin", std::ios::binary | std::ios::trunc) << intact;
+  const auto r = run_cli("resume " + out.string() + " --quiet --threads 1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -508,10 +509,7 @@ std::string saved_state_of(const DemSystem& dem) {
   dem.save_state(out);
   return std::move(out).str();
 }
-void restore(DemSystem& dem, const std::string& state) {
-  std::istringstream in(state, std::ios::binary);
-  dem.restore_state(in);
-}
+void restore(DemSystem& dem, const std::string& state) { dem.restore_state(state); }
 
 TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   const Container box = Container::square(0.12, 1.0, false);
@@ -603,6 +601,93 @@ TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   EXPECT_EQ(energies_resumed, energies_whole);
   EXPECT_EQ(0, std::memcmp(settled_whole.position.data(), settled_resumed.position.data(),
                            settled_whole.size() * sizeof(Vec3)));
+}
+
+// A state damaged past the checkpoint's checksums (forged): restore_state() refuses it with
+// InputError, or restores a system that runs; never an index out of range or a flag that is
+// not one. Every single-byte change is tried (the sanitize preset would see any bad read);
+// the user-index table, the neighbour list and the container's flag, each damaged, are refused.
+TEST(DemSystem, ADamagedStateIsRefusedOrRunsNeverReadsOutOfRange) {
+  const Container box = Container::square(0.03, 0.2, false);
+  Rng sizes(10, 1);
+  std::vector<double> radii(40);
+  for (double& r : radii) r = sizes.uniform(0.002, 0.003);
+  ParticleStore store;
+  DropAndRoll deposition(store, box, radii, DepositionSettings{}, Rng(10, 2));
+  deposition.deposit(radii, kDensity);
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  settings.threads = 1;
+  const ContactModel model = make_contact_model(material(0.5, 0.3));
+  std::vector<std::uint8_t> frozen(store.size(), 0);
+  for (std::size_t i = 0; i < frozen.size(); i += 4) frozen[i] = 1;  // some, as below a settled layer
+  DemSystem dem(store, box, model, settings, frozen);
+  dem.run(50);
+  const std::string state = saved_state_of(dem);
+  const std::uint32_t n = static_cast<std::uint32_t>(store.size());
+  const auto restore_and_run = [&](const std::string& bytes) {
+    ParticleStore copy = store;
+    DemSystem fresh(copy, box, model, settings, frozen);
+    restore(fresh, bytes);
+    fresh.run(3);
+  };
+  ASSERT_NO_THROW(restore_and_run(state));
+
+  // Where a table of n (or n + 1) 4-byte values follows its count, as `fits` would have it.
+  const auto table = [&](std::uint64_t count, auto fits) {
+    for (std::size_t at = 0; at + 8 + 4 * count <= state.size(); ++at) {
+      std::uint64_t c = 0;
+      std::memcpy(&c, state.data() + at, 8);
+      std::vector<std::uint32_t> v(count);
+      std::memcpy(v.data(), state.data() + at + 8, 4 * count);
+      if (c == count && fits(v)) return at + 8;
+    }
+    return std::string::npos;
+  };
+  const std::size_t user_index = table(n, [](const std::vector<std::uint32_t>& v) {
+    std::vector<std::uint32_t> sorted = v;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::uint32_t i = 0; i < sorted.size(); ++i)
+      if (sorted[i] != i) return false;
+    return true;
+  });
+  const std::size_t offsets = table(n + 1, [](const std::vector<std::uint32_t>& v) {
+    return v.front() == 0 && std::is_sorted(v.begin(), v.end()) && v.back() > 0;
+  });
+  ASSERT_NE(user_index, std::string::npos);
+  ASSERT_NE(offsets, std::string::npos);
+  std::uint32_t entries = 0;
+  std::memcpy(&entries, state.data() + offsets + 4 * n, 4);
+  const std::size_t list = offsets + 4 * (n + 1) + 8;
+  const auto with = [&](std::size_t at, std::uint32_t value) {
+    std::string bytes = state;
+    std::memcpy(bytes.data() + at, &value, 4);
+    return bytes;
+  };
+  EXPECT_THROW(restore_and_run(with(user_index + 4 * 5, n)), InputError);             // out of range
+  EXPECT_THROW(restore_and_run(with(user_index + 4 * 5, 0xFFFFFFFFu)), InputError);
+  std::uint32_t first = 0;
+  std::memcpy(&first, state.data() + user_index, 4);
+  EXPECT_THROW(restore_and_run(with(user_index + 4 * 7, first)), InputError);          // a particle twice
+  EXPECT_THROW(restore_and_run(with(list + 4 * (entries / 2), n + 9)), InputError);    // beyond the walls
+  EXPECT_THROW(restore_and_run(with(list, 0)), InputError);                            // not a later slot
+  EXPECT_THROW(restore_and_run(with(offsets + 4 * (n / 2), entries + 1)), InputError);  // a row past the list
+  std::string flag = state;
+  flag[4 + 8 + sizeof(Box)] = 2;  // the container's `periodic`, after the format, the count and its box
+  EXPECT_THROW(restore_and_run(flag), InputError);
+
+  std::size_t refused = 0;
+  for (std::size_t at = 0; at < state.size(); ++at) {
+    std::string bytes = state;
+    bytes[at] = static_cast<char>(bytes[at] ^ 0x5a);
+    try {
+      restore_and_run(bytes);
+    } catch (const InputError&) {
+      ++refused;
+    }
+  }
+  // Most bytes are records, indices and counts, each checked; a spring or a force may change.
+  EXPECT_GT(refused, state.size() / 2);
 }
 
 // The progress line's time left for a settling run: an energy decaying as E0 (t / t0)^-a

@@ -37,3 +37,6 @@ TEST(FuzzRegressions, GradingReader) { EXPECT_GE(replay("grading", aggpack::fuzz
 TEST(FuzzRegressions, ParticleFileReader) {
   EXPECT_GE(replay("particles", aggpack::fuzz::particle_file_reader), 5u);
 }
+TEST(FuzzRegressions, CalibrationReader) {
+  EXPECT_GE(replay("calibration", aggpack::fuzz::calibration_reader), 4u);
+}

@@ -19,6 +19,8 @@ struct ParticleStore {
 
   // The only way to grow the store. Solid sphere of the given density (kg/m^3).
   std::size_t add(const Vec3& pos, double r, double density, std::uint32_t layer_index = 0);
+  // The mass add() gives a sphere of radius r, kg.
+  [[nodiscard]] static double sphere_mass(double r, double density);
 
   [[nodiscard]] std::size_t size() const { return radius.size(); }
   [[nodiscard]] bool empty() const { return radius.empty(); }

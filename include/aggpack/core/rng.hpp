@@ -16,6 +16,9 @@ class Rng {
   double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
   // Uniform integer in [0, n), n > 0, without modulo bias.
   std::uint64_t below(std::uint64_t n);
+  // In xoshiro's one state that never leaves itself (all zero: every number 0); no seed
+  // gives it, a damaged checkpoint might.
+  [[nodiscard]] bool stuck() const { return (s_[0] | s_[1] | s_[2] | s_[3]) == 0; }
 
  private:
   std::uint64_t s_[4];

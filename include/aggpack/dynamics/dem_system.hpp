@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <istream>
 #include <ostream>
+#include <string_view>
 #include <vector>
 
 #include "aggpack/core/container.hpp"
@@ -108,9 +109,11 @@ class DemSystem {
   // Everything that determines the system's future (records, order, lists, contact history,
   // loads, time, the container's motion), as bytes for a checkpoint; restore_state() on a
   // system made from the same store, model and settings continues bit for bit as this one
-  // would have (with any thread count). Throws InputError when the bytes do not fit.
+  // would have (with any thread count). Throws InputError when the bytes do not fit: a
+  // length, an index, a count, a flag or a number that is not what the store, the container
+  // and the settings make possible (the store as it stood when the state was saved).
   void save_state(std::ostream& out) const;
-  void restore_state(std::istream& in);
+  void restore_state(std::string_view bytes);
 
  private:
   // What a contact reads of a grain, packed (96 bytes).
@@ -153,9 +156,19 @@ class DemSystem {
   bool drift(double slack);
   // Puts the container where its motion has it at time t.
   void place_container(double t);
+  // Derives the list's cross-block parts (cross_begin_, slot_base_, cross_, reverse_offset_,
+  // reverse_) from its rows (offset_, other_).
+  void index_cross_block_entries();
   // save_state()'s and restore_state()'s one list of members (System: const or not).
   template <class Archive, class System>
   static void archive_state(Archive& ar, System& system);
+  // What restore_state() checks a state against: the system as made, before the state.
+  struct MadeWith {
+    Container container;
+    double skin, bed_volume, morton_cell, rest_floor, rest_top;
+    std::vector<std::uint8_t> frozen_by_index;
+  };
+  void check_restored(const MadeWith& made) const;
 
   ParticleStore& p_;
   Container container_;

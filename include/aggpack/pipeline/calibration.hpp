@@ -3,6 +3,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -50,7 +51,9 @@ CalibratedParameters solve_calibration(const ModelDistribution& mix, double mono
 
 Calibration calibrate(const CalibrationOptions& options, std::ostream& log);
 nlohmann::json to_json(const Calibration& calibration);
-// A calibration file (`calibrate --out`) as the models' parameters, naming the file.
+// A calibration file (`calibrate --out`) as the models' parameters, naming the file;
+// parse_calibration() reads its text (InputError naming `file` and the key when it is not one).
 ModelParameters read_calibration(const std::filesystem::path& file);
+ModelParameters parse_calibration(std::string_view text, const std::filesystem::path& file);
 
 }  // namespace aggpack

@@ -1,4 +1,5 @@
 #pragma once
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -6,7 +7,9 @@
 #include <ostream>
 #include <optional>
 #include <string>
+#include <string_view>
 
+#include "aggpack/core/error.hpp"
 #include "aggpack/core/stop_request.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/safe_point.hpp"
@@ -37,19 +40,40 @@ struct Checkpoint {
   std::string step_state;                // the step in progress (empty between steps)
 };
 
-// `header` (its run_state and step_state left aside) with the states the two writers write
-// (null: empty), straight into `out`.
+// The file: "aggpack checkpoint" (as a cereal string) and the format number, then three
+// sections, the header, the run state and the step state, each its length (8 bytes), its
+// bytes and their checksum (XXH64, 8 bytes): any damage to a section is seen before anything
+// in it is decoded. `header` (its run_state and step_state left aside) with the states the
+// two writers write (null: empty), straight into `out`.
 void encode_checkpoint(std::ostream& out, const Checkpoint& header, const StateWriter& run_state,
                        const StateWriter& step_state);
-// Throws InputError naming `file` when the bytes are not a checkpoint of this version.
+// Throws InputError naming `file` when the bytes are not a checkpoint of this version, or
+// damaged_checkpoint() when a section does not match its checksum or its header cannot be read.
 Checkpoint decode_checkpoint(const std::string& bytes, const std::filesystem::path& file);
+// The three sections of a checkpoint, each checked against its checksum (as decode_checkpoint).
+std::array<std::string_view, 3> checkpoint_sections(std::string_view bytes, const std::filesystem::path& file);
+// The bytes with the checksums of the sections from `first` on (0: the header, 1: the run
+// state, 2: the step state) made to match them, as far as their lengths allow: for the fuzz
+// target and the tests, to reach the checks made past the checksums.
+std::string resealed_checkpoint(std::string bytes, std::size_t first = 0);
+
+// A checkpoint whose bytes decode, but to what its run cannot be: thrown by the decoding of
+// the run and step states, turned into damaged_checkpoint() naming the file by resume_run().
+class DamagedCheckpoint : public InputError {
+ public:
+  using InputError::InputError;
+};
+// "FILE is damaged; run again without resume (what)".
+InputError damaged_checkpoint(const std::filesystem::path& file, std::string_view what);
 // The checkpoint in a run's folder; InputError when there is none or it cannot be read.
 Checkpoint read_checkpoint(const std::filesystem::path& run_directory);
 // The scenario file's path for a resumed run: as given when resumed from the same working
 // directory (the summary's paths are then the same), else made absolute against the run's.
 std::filesystem::path resumed_scenario_path(const Checkpoint& checkpoint);
 
-// The steps' reports and beds, and the state passed from step to step.
+// The steps' reports and beds, and the state passed from step to step. Decoding checks them
+// against the run (report.scenario, context.radii, and the particle file's bed in
+// report.particles): DamagedCheckpoint when they do not fit.
 void encode_run_state(std::ostream& out, const RunReport& report, const RunContext& context);
 void decode_run_state(const std::string& state, RunReport& report, RunContext& context);
 
