@@ -260,7 +260,7 @@ TEST_F(LammpsBridge, ProtocolStepsHandABedOverAndTakeItBack) {
                                                "\"import_lammps\"\nfile = \"first/lammps/cluster/settled.dump\"\n"
                                                "[[protocol]]\nstep = \"settle\"\n";
   // Before any work, by `run` and by `check` alike (the import step's file is read then).
-  for (const std::string command : {"run " + (dir_ / "other.toml").string() + " --out " + (dir_ / "other").string(),
+  for (const std::string& command : {"run " + (dir_ / "other.toml").string() + " --out " + (dir_ / "other").string(),
                                     "check " + (dir_ / "other.toml").string()}) {
     const auto o = run_cli(command);
     EXPECT_EQ(o.exit_code, 2) << o.output;
