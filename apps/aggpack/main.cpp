@@ -268,7 +268,7 @@ int main(int argc, char** argv) {
   analyze_cmd->add_option("--timestep", timestep, "A LAMMPS dump's snapshot to read (default: the last)");
 
   aggpack::GradingQuery grading_query;
-  std::string grading_unit = "in", d_min_text, d_max_text;
+  std::string grading_unit, d_min_text, d_max_text;
   bool grading_json = false, grading_list = false;
   auto* grading_cmd = app.add_subcommand("grading", "Print and check a grading (or a coarse/fine mix) without a run");
   grading_cmd->add_option("grading", grading_query.grading, "A shipped grading name or a CSV sieve analysis");
@@ -277,7 +277,8 @@ int main(int argc, char** argv) {
   grading_cmd->add_option("--band", grading_query.band, "Check against astm_c33_fine, astm_c33_57 or astm_c33_67");
   auto* d_min_opt = grading_cmd->add_option("--d-min", d_min_text, "Cut-off below this size (length)");
   auto* d_max_opt = grading_cmd->add_option("--d-max", d_max_text, "Cut-off above this size (length)");
-  grading_cmd->add_option("--length-unit", grading_unit, "Unit of an 'opening' column in files (default in)");
+  grading_cmd->add_option("--length-unit", grading_unit,
+                          "Unit of a bare 'opening' column in files (none by default: such a column is refused)");
   grading_cmd->add_flag("--json", grading_json, "Print machine-readable JSON");
   grading_cmd->add_flag("--list", grading_list, "List the shipped gradings and bands");
 
@@ -507,9 +508,13 @@ int main(int argc, char** argv) {
       }
       if (grading_query.grading.empty())
         throw aggpack::InputError("grading: give a shipped grading name or a CSV file (--list shows the names)");
-      const auto factor = aggpack::metres_per_unit(grading_unit);
-      if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit", grading_unit));
-      grading_query.length_unit = static_cast<double>(*factor);
+      if (!grading_unit.empty()) {
+        const auto factor = aggpack::metres_per_unit(grading_unit);
+        if (!factor)
+          throw aggpack::InputError(
+              fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", grading_unit));
+        grading_query.length_unit = static_cast<double>(*factor);
+      }
       if (*d_min_opt) grading_query.d_min = length_argument(d_min_text, "--d-min");
       if (*d_max_opt) grading_query.d_max = length_argument(d_max_text, "--d-max");
       const auto description = aggpack::describe_grading(grading_query);

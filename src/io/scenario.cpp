@@ -93,10 +93,16 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
                                  fmt::join(named_grading_names(), ", ")));
     g.grading = *named;
   } else if (const auto file = s.string("file")) {
-    const std::string unit = s.string("length_unit").value_or("in");
-    const auto factor = metres_per_unit(unit);
-    if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"", unit));
-    g.grading = read_grading_csv(relative_to(scenario_dir, *file).string(), static_cast<double>(*factor),
+    // The unit of a bare `opening` column only: without it such a column is refused (a sand in
+    // mm was once read in inches by default).
+    std::optional<double> length_unit;
+    if (const auto unit = s.string("length_unit")) {
+      const auto factor = metres_per_unit(*unit);
+      if (!factor)
+        s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", *unit));
+      length_unit = static_cast<double>(*factor);
+    }
+    g.grading = read_grading_csv(relative_to(scenario_dir, *file).string(), length_unit,
                                  s.string("percent_column").value_or("percent_passing"));
   } else if (const auto law = s.choice("law", kGradingLawNames)) {
     GradingLaw l;

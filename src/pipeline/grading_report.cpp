@@ -28,7 +28,7 @@ std::string snapped_sieves_text(const std::vector<SnappedSieve>& snapped) {
                      100 * kSieveSnapTolerance, fmt::join(moves, ", "));
 }
 
-Grading load_grading(const std::string& name_or_file, double unit) {
+Grading load_grading(const std::string& name_or_file, std::optional<double> unit) {
   if (auto g = named_grading(name_or_file)) return *g;
   if (std::filesystem::exists(name_or_file)) return read_grading_csv(name_or_file, unit);
   throw InputError(fmt::format("{}: neither a shipped grading ({}) nor a file", name_or_file,

@@ -455,8 +455,13 @@ void take_positions(ParticleStore& particles, const ParticleStore& dump, const s
   }
 }
 
-// The bed measured as aggpack's samples measure it (contacts, energy, density), frozen below `layer`.
-SettleSample measured_sample(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, bool density) {
+// The bed as LAMMPS left it (velocities zeroed), measured as aggpack's samples measure it
+// (contacts, density), frozen below `layer`, with LAMMPS's translational kinetic energy per
+// sum(m g d) of the free spheres, `energy`. The deck measures only that ratio: the energy in
+// joules is that ratio times aggpack's sum(m g d) of the same spheres (the deck's divisor),
+// and the rotational energy, which the deck does not measure, is NaN (an empty cell).
+SettleSample measured_sample(const Scenario& sc, ParticleStore& particles, std::uint32_t layer, bool density,
+                             double energy) {
   std::vector<std::uint8_t> frozen(particles.size());
   double r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles.size(); ++i) {
@@ -466,15 +471,21 @@ SettleSample measured_sample(const Scenario& sc, ParticleStore& particles, std::
   const DemSetup setup = dem_setup(sc, r_min, 1);
   DemSystem measure(particles, sc.container, setup.model, setup.settings, frozen);
   const double weight = weight_energy(measure, particles);
+  const auto lammps_energies = [&](SettleSample s) {
+    s.translational_per_particle_mgd = energy;
+    s.kinetic_energy.translational = energy * weight;
+    s.kinetic_energy.rotational = std::numeric_limits<double>::quiet_NaN();
+    return s;
+  };
   if (density) {
     try {
-      return sample_system(measure, particles, weight,
-                           [&](const ParticleStore& store) { return analyse_bed(sc, store).density.mean; });
+      return lammps_energies(sample_system(
+          measure, particles, weight, [&](const ParticleStore& store) { return analyse_bed(sc, store).density.mean; }));
     } catch (const InputError&) {
       // the boxes do not fit this bed: the sample has no density
     }
   }
-  return sample_system(measure, particles, weight, nullptr);
+  return lammps_energies(sample_system(measure, particles, weight, nullptr));
 }
 
 double box_density_or_nan(const Scenario& sc, const ParticleStore& particles) {
@@ -497,9 +508,8 @@ SettlingRun lammps_settling_run(const Scenario& sc, ParticleStore& particles, st
                                 double time_offset, TimeSeries& series) {
   const DynamicsStage& stage = *sc.dynamics;
   const DemSetup setup = dem_setup(sc, r_min, 1);
-  SettleSample last = measured_sample(sc, particles, frozen_below, true);
+  SettleSample last = measured_sample(sc, particles, frozen_below, true, end.energy);
   last.time = end.time;
-  last.translational_per_particle_mgd = end.energy;
   append_sample(series, time_offset + end.time, layer, last);
   SettlingRun run;
   run.layer = layer;
@@ -653,9 +663,7 @@ TapReport tap_in_lammps(const Scenario& sc, ParticleStore& particles, std::size_
       throw InputError(fmt::format("{}: malformed line \"{}\"", (folder / LammpsDeck::kLogFile).string(), lines[k]));
     const std::filesystem::path dump = folder / fmt::format("tap_{}.dump", k + 1);
     take_positions(after, read_dump(dump, sc).particles, dump.string(), after.size());
-    SettleSample s = measured_sample(sc, after, 0, false);
-    s.translational_per_particle_mgd = energy;
-    append_sample(series, time_offset + time, 0, s);
+    append_sample(series, time_offset + time, 0, measured_sample(sc, after, 0, false, energy));
     report.samples.push_back({k + 1, time_offset + time, box_density_or_nan(sc, after), energy});
   }
   const std::filesystem::path dump = folder / LammpsDeck::kDumpFile;

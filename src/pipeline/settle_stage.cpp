@@ -20,12 +20,15 @@
 namespace aggpack {
 
 std::string TimeSeries::csv() const {
+  // The energies with every digit (shortest round trip): the per-m g d one and the joules are
+  // one quantity, and their ratio is checkable only unrounded. A quantity not measured is empty.
+  const auto energy = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{}", v); };
   std::string body;
   for (const TimeSample& s : samples)
-    fmt::format_to(std::back_inserter(body), "{:.9g},{},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.5g}\n", s.time, s.layer,
+    fmt::format_to(std::back_inserter(body), "{:.9g},{},{},{},{},{},{:.6g},{:.6g},{:.5g}\n", s.time, s.layer,
                    std::isnan(s.density) ? std::string() : fmt::format("{:.6f}", s.density),
-                   s.translational_per_particle_mgd, s.translational_energy, s.rotational_energy, s.mean_overlap,
-                   s.max_overlap, s.coordination);
+                   energy(s.translational_per_particle_mgd), energy(s.translational_energy),
+                   energy(s.rotational_energy), s.mean_overlap, s.max_overlap, s.coordination);
   return "time_s,layer,density,translational_energy_per_particle_mgd,translational_energy_j,rotational_energy_j,"
          "mean_overlap_rel,max_overlap_rel,coordination\n" +
          body;

@@ -1,16 +1,20 @@
 #include "aggpack/sizes/grading.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
+#include "aggpack/core/units.hpp"
 
 namespace aggpack {
 
@@ -59,6 +63,65 @@ Grading band_curve(const std::string& name, const std::vector<BandRow>& rows, in
   return make_grading(name, std::move(sieves), "built-in grading", row_names);
 }
 
+// A designation as the series spells it: "No. 4" and "no4" as "#4", `3/8"` and "3/8 in" as
+// "3/8in", "1 1/2 in" as "1-1/2in".
+std::string designation_key(std::string_view name) {
+  const std::string_view t = trim(name);
+  std::string key;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const auto c = static_cast<unsigned char>(t[i]);
+    if (std::isspace(c)) {
+      if (!key.empty() && std::isdigit(static_cast<unsigned char>(key.back())) && i + 1 < t.size() &&
+          std::isdigit(static_cast<unsigned char>(t[i + 1])))
+        key += '-';
+      continue;
+    }
+    key += static_cast<char>(std::tolower(c));
+  }
+  for (const std::string_view prefix : {"no.", "no"})
+    if (key.starts_with(prefix) && key.size() > prefix.size() &&
+        std::isdigit(static_cast<unsigned char>(key[prefix.size()]))) {
+      key = "#" + key.substr(prefix.size());
+      break;
+    }
+  for (const std::string_view suffix : {"\"", "in.", "inch", "inches"})
+    if (key.ends_with(suffix)) {
+      key = key.substr(0, key.size() - suffix.size()) + "in";
+      break;
+    }
+  return key;
+}
+
+// The opening (m) a sieve's name stands for: a standard designation ("#200", "3/8in") or a
+// length with its unit ("4.75 mm"); nothing for other names ("pan", "2", empty).
+std::optional<double> designated_opening(std::string_view name) {
+  const std::string key = designation_key(name);
+  if (key.empty()) return std::nullopt;
+  for (const StandardSieve& standard : astm_sieve_series())
+    if (key == standard.name) return standard.opening;
+  // A bare number ("2", EN 933-2's 2 mm sieve) has no unit to check against.
+  if (std::none_of(key.begin(), key.end(), [](unsigned char c) { return std::isalpha(c); })) return std::nullopt;
+  return parse_length(name);
+}
+
+// A sieve whose name and opening disagree by more than the snapping tolerance: one of the two
+// is wrong (most often the unit of the openings), so neither is taken.
+void check_designations(const std::vector<Sieve>& sieves, const std::string& source,
+                        const std::function<std::string(std::size_t)>& row) {
+  for (std::size_t i = 0; i < sieves.size(); ++i) {
+    const Sieve& s = sieves[i];
+    const auto designated = designated_opening(s.name);
+    if (!designated || std::abs(s.opening / *designated - 1.0) <= kSieveSnapTolerance) continue;
+    throw InputError(fmt::format(
+        "{}: {}: sieve '{}' is the {:.4g} mm ({:.4g} in) sieve, but its opening reads {:.4g} mm ({:.4g} in), {:.3g} "
+        "times {}; the designation and the opening contradict each other (beyond {:g} %): check the unit of the "
+        "openings (opening_mm or opening_in in a file's header) or the designation",
+        source, row(i), s.name, *designated / kMm, *designated / kInch, s.opening / kMm, s.opening / kInch,
+        s.opening > *designated ? s.opening / *designated : *designated / s.opening,
+        s.opening > *designated ? "as large" : "as small", 100 * kSieveSnapTolerance));
+  }
+}
+
 // Moves each opening within kSieveSnapTolerance of a standard sieve onto it (unless another
 // opening is already there or would land there too) and returns what moved.
 std::vector<SnappedSieve> snap_to_standard_sieves(std::vector<Sieve>& sieves) {
@@ -99,6 +162,7 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
       throw InputError(fmt::format("{}: {}: percent passing must be between 0 and 100, got {:g}", source, row(i),
                                    s.percent_passing));
   }
+  check_designations(sieves, source, row);
   std::vector<SnappedSieve> snapped = snap_to_standard_sieves(sieves);
   std::vector<std::size_t> order(sieves.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
@@ -125,22 +189,71 @@ Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::str
   return g;
 }
 
-Grading read_grading_csv(const std::string& file, double length_unit, const std::string& percent_column) {
+Grading read_grading_csv(const std::string& file, std::optional<double> length_unit,
+                         const std::string& percent_column) {
   // A sieve analysis is a few dozen rows: 16 MiB is far beyond any real one.
   return parse_grading_csv(read_input_text(file, "the grading file", std::uintmax_t{16} << 20), file, length_unit,
                            percent_column);
 }
 
-Grading parse_grading_csv(std::string_view text, const std::string& file, double length_unit,
+namespace {
+// An opening column: its header and its unit (metres per unit), which a bare `opening` header
+// has only from the caller.
+struct OpeningColumn {
+  int col = -1;
+  std::string header;
+  std::optional<double> unit;
+};
+std::optional<OpeningColumn> opening_column(const std::string& header, int col, std::optional<double> length_unit) {
+  if (header == "opening") return OpeningColumn{col, header, length_unit};
+  if (!header.starts_with("opening_")) return std::nullopt;
+  const auto unit = metres_per_unit(std::string_view(header).substr(8));
+  if (!unit) return std::nullopt;
+  return OpeningColumn{col, header, static_cast<double>(*unit)};
+}
+
+// A bare `opening` column of plain numbers and no unit from the caller: millimetres and inches
+// are both common in sieve tables and 25.4 apart, so the column is refused showing what its
+// first rows would be in each (and which one the sieve designations agree with).
+struct BareOpening {
+  std::size_t line = 0;
+  double value = 0.0;
+  std::string sieve;  // the row's designation, if any
+};
+[[noreturn]] void refuse_unitless_openings(const std::string& file, std::size_t header_line,
+                                           const std::vector<BareOpening>& bare) {
+  std::vector<std::string> readings;
+  for (std::size_t k = 0; k < std::min<std::size_t>(bare.size(), 3); ++k)
+    readings.push_back(fmt::format("line {}: {:g} is {:.4g} mm, or {:.4g} mm if inches", bare[k].line, bare[k].value,
+                                   bare[k].value, bare[k].value * kInch / kMm));
+  std::string hint;
+  for (std::size_t k = 0; k < bare.size() && hint.empty(); ++k) {
+    const auto designated = designated_opening(bare[k].sieve);
+    if (!designated) continue;
+    for (const auto& [unit, symbol] : {std::pair{kMm, "mm"}, std::pair{kInch, "in"}})
+      if (std::abs(bare[k].value * unit / *designated - 1.0) <= kSieveSnapTolerance)
+        hint = fmt::format(" (its sieve column agrees with {}: {} is {:.4g} mm)", symbol, bare[k].sieve,
+                           *designated / kMm);
+  }
+  throw InputError(fmt::format(
+      "{}:{}: the column 'opening' gives no unit{}; {}; name the column opening_mm, opening_in or opening_m, or "
+      "write the unit in each value (\"{:g} mm\"), or give the unit of a bare 'opening' column (length_unit in the "
+      "scenario's grading table, --length-unit of aggpack grading)",
+      file, header_line, hint, fmt::join(readings, "; "), bare.front().value));
+}
+}  // namespace
+
+Grading parse_grading_csv(std::string_view text, const std::string& file, std::optional<double> length_unit,
                           const std::string& percent_column) {
   std::istringstream in{std::string(text)};
   std::string line;
   std::vector<std::string> header;
-  std::size_t line_no = 0;
+  std::size_t line_no = 0, header_line = 0;
   std::vector<Sieve> sieves;
   std::vector<std::string> rows;
-  int name_col = -1, opening_col = -1, percent_col = -1;
-  double unit = length_unit;
+  int name_col = -1, percent_col = -1;
+  std::optional<OpeningColumn> opening;
+  std::vector<BareOpening> bare;  // plain numbers in a column without a unit
   while (std::getline(in, line)) {
     ++line_no;
     line = std::string(trim(line));
@@ -150,40 +263,61 @@ Grading parse_grading_csv(std::string_view text, const std::string& file, double
     const auto fields = split_csv_fields(line);
     if (header.empty()) {
       header = fields;
+      header_line = line_no;
       for (std::size_t c = 0; c < header.size(); ++c) {
         const std::string& h = header[c];
         if (h == "sieve") name_col = static_cast<int>(c);
         else if (h == percent_column) percent_col = static_cast<int>(c);
-        else if (opening_col < 0 && (h == "opening_in" || h == "opening_mm" || h == "opening_m" || h == "opening")) {
-          opening_col = static_cast<int>(c);
-          unit = h == "opening_in" ? kInch : h == "opening_mm" ? kMm : h == "opening_m" ? 1.0 : length_unit;
-        }
+        else if (!opening) opening = opening_column(h, static_cast<int>(c), length_unit);
       }
-      if (opening_col < 0 || percent_col < 0)
-        throw InputError(fmt::format("{}:{}: the header needs an opening column (opening_in, opening_mm, opening_m "
-                                     "or opening) and a '{}' column; got '{}'",
+      if (!opening || percent_col < 0)
+        throw InputError(fmt::format("{}:{}: the header needs an opening column (opening_mm, opening_in, opening_m, "
+                                     "or opening with a unit in each value) and a '{}' column; got '{}'",
                                      file, line_no, percent_column, line));
       continue;
     }
-    const auto number = [&](int col, const char* what) {
+    const auto field = [&](int col, const char* what) -> const std::string& {
       if (col >= static_cast<int>(fields.size()) || fields[col].empty())
         throw InputError(fmt::format("{}:{}: missing {}", file, line_no, what));
+      return fields[col];
+    };
+    const auto plain_number = [](const std::string& value) -> std::optional<double> {
       try {
         std::size_t used = 0;
-        const double v = std::stod(fields[col], &used);
-        if (used != fields[col].size()) throw std::invalid_argument("trailing");
-        return v;
+        const double v = std::stod(value, &used);
+        if (used == value.size()) return v;
       } catch (const std::exception&) {
-        throw InputError(fmt::format("{}:{}: {} '{}' is not a number", file, line_no, what, fields[col]));
       }
+      return std::nullopt;
     };
     Sieve s;
-    s.opening = number(opening_col, "sieve opening") * unit;
-    s.percent_passing = number(percent_col, "percent passing");
     if (name_col >= 0 && name_col < static_cast<int>(fields.size())) s.name = fields[name_col];
+    const std::string& opening_text = field(opening->col, "sieve opening");
+    if (const auto v = plain_number(opening_text)) {
+      if (opening->unit) s.opening = *v * *opening->unit;
+      else bare.push_back({line_no, *v, s.name});
+    } else if (opening->header != "opening") {
+      // A unit in the value would repeat the header's or contradict it.
+      throw InputError(fmt::format("{}:{}: sieve opening '{}' is not a number; column '{}' takes plain numbers", file,
+                                   line_no, opening_text, opening->header));
+    } else {
+      std::string why;
+      const auto length = parse_length(opening_text, &why);
+      if (!length)
+        throw InputError(fmt::format("{}:{}: sieve opening '{}' is not a length ({}); expected a number or a length "
+                                     "such as \"4.75 mm\"",
+                                     file, line_no, opening_text, why));
+      s.opening = *length;
+    }
+    const std::string& percent_text = field(percent_col, "percent passing");
+    const auto percent = plain_number(percent_text);
+    if (!percent)
+      throw InputError(fmt::format("{}:{}: percent passing '{}' is not a number", file, line_no, percent_text));
+    s.percent_passing = *percent;
     sieves.push_back(s);
     rows.push_back(fmt::format("line {}", line_no));
   }
+  if (!bare.empty()) refuse_unitless_openings(file, header_line, bare);
   std::string stem = file.substr(file.find_last_of('/') + 1);
   stem = stem.substr(0, stem.find_last_of('.'));
   return make_grading(stem, std::move(sieves), file, rows);

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -217,6 +218,53 @@ TEST_F(Cli, GradingPrintsAndChecksWithoutARun) {
   EXPECT_EQ(run("grading astm_c33_fine_mid --d-min '20 mm'").exit_code, 2);
   r = run("grading --list");
   EXPECT_NE(r.output.find("band astm_c33_67"), std::string::npos);
+}
+
+// Issue 34: the shipped sand under a bare `opening` header was read in inches (fineness
+// modulus 7.53, a blend's CPM density 0.6713 for 0.7561). Its unit now comes from the header,
+// the values, the scenario's length_unit or --length-unit, and the reading is the same.
+TEST_F(Cli, ASieveFileReadsInTheUnitItSaysAndABareOpeningNeedsOne) {
+  std::ifstream shipped(example("sand_example.csv"));
+  std::string text((std::istreambuf_iterator<char>(shipped)), std::istreambuf_iterator<char>());
+  ASSERT_NE(text.find("sieve,opening_mm,"), std::string::npos);
+  std::ofstream(dir_ / "mm.csv") << text;
+  std::ofstream(dir_ / "bare.csv") << text.replace(text.find("sieve,opening_mm,"), 17, "sieve,opening,");
+  const auto fineness = [](const Result& r) {
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return nlohmann::json::parse(r.output).at("grading").at("fineness_modulus").get<double>();
+  };
+  const double fm = fineness(run("grading " + (dir_ / "mm.csv").string() + " --json"));
+  EXPECT_EQ(fineness(run("grading " + (dir_ / "bare.csv").string() + " --length-unit mm --json")), fm);
+  Result r = run("grading " + (dir_ / "bare.csv").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("#200 is 0.075 mm"), std::string::npos) << r.output;
+  // Read in inches the sieve column contradicts it.
+  r = run("grading " + (dir_ / "bare.csv").string() + " --length-unit in");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'#200'"), std::string::npos) << r.output;
+
+  // A Table 2 mix with this sand: the same blend's CPM density from either file.
+  std::ifstream mix3(example("table2_mix3.toml"));
+  std::string mix((std::istreambuf_iterator<char>(mix3)), std::istreambuf_iterator<char>());
+  const auto with_sand = [&](const std::string& name, const std::string& keys) {
+    std::string scenario = mix;
+    scenario.replace(scenario.find("name = \"astm_c33_fine_mid\""), 26, "file = \"" + name + "\"" + keys);
+    std::ofstream(dir_ / "mix.toml") << scenario;
+    return run("predict " + (dir_ / "mix.toml").string() + " --json");
+  };
+  const auto density = [](const Result& p) {
+    EXPECT_EQ(p.exit_code, 0) << p.output;
+    return nlohmann::json::parse(p.output.substr(p.output.find('{')))
+        .at("whole_grading").at("cpm").at("density").get<double>();
+  };
+  const double blend = density(with_sand("mm.csv", ""));
+  EXPECT_EQ(density(with_sand("bare.csv", "\nlength_unit = \"mm\"")), blend);
+  r = with_sand("bare.csv", "");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  const auto header_line = 1 + std::count(text.begin(), text.begin() + text.find("sieve,opening,"), '\n');
+  EXPECT_NE(r.output.find("bare.csv:" + std::to_string(header_line) + ": the column 'opening' gives no unit"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST_F(Cli, CheckValidatesWithoutWriting) {

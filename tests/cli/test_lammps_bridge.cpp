@@ -3,8 +3,11 @@
 // (`mpirun`, openmpi-bin), imported back, and compared with aggpack settling the same bed.
 #include <cmath>
 #include <fstream>
+#include <map>
+#include <numbers>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -36,6 +39,46 @@ std::string fmt_box(const double lo[3], const double hi[3]) {
   return s.str();
 }
 fs::path copy_of(const fs::path& dir, const std::string& ranks) { return dir / ("lammps_" + ranks); }
+
+// The rows of a CSV file as numbers by column name (an empty cell is NaN).
+std::vector<std::map<std::string, double>> csv_rows(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::vector<std::string> names;
+  std::getline(in, line);
+  for (std::istringstream header(line); std::getline(header, line, ',');) names.push_back(line);
+  std::vector<std::map<std::string, double>> rows;
+  while (std::getline(in, line)) {
+    std::istringstream cells(line + ",");
+    std::map<std::string, double>& row = rows.emplace_back();
+    std::string cell;
+    for (std::size_t c = 0; c < names.size() && std::getline(cells, cell, ','); ++c)
+      row[names[c]] = cell.empty() ? std::nan("") : std::stod(cell);
+  }
+  return rows;
+}
+
+// Issue 34: LAMMPS rows of timeseries.csv had translational_energy_j = 0 beside a nonzero
+// energy per m g d. On every row of a run whose spheres are all free, the two are one energy:
+// their ratio is the bed's sum of m g d (from particles.csv and the scenario's density and g).
+void expect_energies_agree(const fs::path& run) {
+  const auto summary = nlohmann::json::parse(std::ifstream(run / "summary.json"));
+  const double density = summary.at("scenario").at("material").at("density_kg_m3").get<double>();
+  const double g = summary.at("scenario").at("dynamics").at("gravity_m_s2").get<double>();
+  double weight = 0.0;
+  for (const auto& sphere : csv_rows(run / "particles.csv")) {
+    const double r = sphere.at("r");
+    weight += density * 4.0 / 3.0 * std::numbers::pi * r * r * r * g * 2.0 * r;
+  }
+  const auto rows = csv_rows(run / "timeseries.csv");
+  ASSERT_FALSE(rows.empty());
+  for (const auto& row : rows) {
+    const double joules = row.at("translational_energy_j"), per_mgd = row.at("translational_energy_per_particle_mgd");
+    ASSERT_GT(per_mgd, 0.0) << "at " << row.at("time_s") << " s";
+    EXPECT_NEAR(joules / per_mgd / weight, 1.0, 1e-9) << "at " << row.at("time_s") << " s: " << joules << " J, "
+                                                      << per_mgd << " m g d";
+  }
+}
 
 class LammpsBridge : public ::testing::Test {
  protected:
@@ -159,6 +202,7 @@ TEST_F(LammpsBridge, ARunHandsItsSettleStepToLammpsAndGoesOn) {
                          (dir_ / "reimported").string());
   ASSERT_EQ(i.exit_code, 0) << i.output;
   EXPECT_EQ(mean_density(out), mean_density(dir_ / "reimported"));
+  expect_energies_agree(out);
   // A LAMMPS that is not there is refused before any work, naming the packages.
   std::ofstream(dir_ / "missing.toml") << with_dynamics("engine = \"lammps\"\nlammps_binary = \"no-such-lmp\"\n");
   const auto m = run_cli("run " + (dir_ / "missing.toml").string() + " --out " + (dir_ / "missing").string());
@@ -190,6 +234,7 @@ TEST_F(LammpsBridge, APourAndATappingRunInLammpsAsInAggpack) {
   ASSERT_FALSE(own.is_null());
   ASSERT_FALSE(handed.is_null());
   const auto &own_pour = own.at("stages").at("pour"), &lmp_pour = handed.at("stages").at("pour");
+  expect_energies_agree(dir_ / "handed");
   EXPECT_EQ(handed.at("stages").at("dynamics").at("engine"), "lammps");
   EXPECT_EQ(handed.at("stages").at("tapping").at("engine"), "lammps");
   EXPECT_EQ(handed.at("particle_count"), 300);

@@ -220,6 +220,22 @@ std::vector<BadInput> bad_inputs() {
       grading("", {"g.csv"}),
       grading_cli("sieve,percent_passing\n#4,100\n", {"g.csv:1", "opening"}),
       grading_cli(std::string("opening_mm,percent_passing\n4.75,1\0\0", 33), {"g.csv"}),
+      // A bare `opening` has no unit: a sand in mm was read in inches (issue 34). Refused with
+      // both readings, in a scenario, by `aggpack grading` and by `aggpack predict`.
+      grading("sieve,opening,percent_passing\n#200,0.075,2\n#4,4.75,97\n3/8in,9.5,100\n",
+              {"g.csv:1", "'opening'", "0.075 mm", "1.905 mm", "opening_mm", "opening_in", "length_unit"}),
+      grading_cli("sieve,opening,percent_passing\n#200,0.075,2\n#4,4.75,97\n3/8in,9.5,100\n",
+                  {"g.csv:1", "0.075 mm", "1.905 mm", "--length-unit"}),
+      BadInput{"grading", {{"g.csv", "opening,percent_passing\n0.075,2\n9.5,100\n"}}, "predict @/g.csv",
+               {"g.csv:1", "0.075 mm", "1.905 mm"}},
+      // A designation that contradicts its opening: the row, the designation's opening and the file's.
+      grading("sieve,opening_in,percent_passing\n#200,0.075,2\n#4,4.75,97\n3/8in,9.5,100\n",
+              {"g.csv: line 2", "'#200'", "0.075 mm", "1.905 mm (0.075 in)"}),
+      BadInput{"grading", {{"g.csv", "sieve,opening,percent_passing\n#200,0.075,2\n#4,4.75,97\n3/8in,9.5,100\n"}},
+               "grading @/g.csv --length-unit in", {"g.csv: line 2", "'#200'", "0.075 mm", "1.905 mm"}},
+      scenario(kBox + "[particles]\ncount = 10\n[particles.grading]\nsieves = [{ sieve = \"#4\", "
+                      "opening = \"4.75 in\", passing = 50 }, { opening = \"10 in\", passing = 100 }]\n[deposition]\n",
+               {"particles.grading.sieves[0]", "'#4'", "4.75 mm", "120.6 mm"}),
       BadInput{"grading", {}, "grading @", {"directory", "regular file"}},
       BadInput{"grading", {}, "grading /dev/zero", {"/dev/zero", "not a regular file"}},
       BadInput{"grading", {}, "grading @/missing.csv", {"missing.csv"}},

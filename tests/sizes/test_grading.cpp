@@ -152,5 +152,74 @@ TEST(Grading, ReadsCsvFilesAndNamesTheLineOfABadValue) {
   std::filesystem::remove_all(dir);
 }
 
+// The message of the InputError `f` throws; a failure if it throws none.
+template <class F>
+std::string refusal(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "accepted";
+  return {};
+}
+
+// A sand in millimetres under a bare `opening` header was read in inches, 25.4 times too
+// coarse (issue 34): a bare number has no unit, so the column is refused showing both readings.
+TEST(Grading, ABareOpeningColumnNeedsAUnitAndItsRefusalShowsBothReadings) {
+  const std::string sand = "sieve,opening,percent_passing\n#200,0.075,1.5\n#100,0.150,4\n#16,1.18,66\n"
+                           "#4,4.75,97\n3/8in,9.5,100\n";
+  const std::string why = refusal([&] { (void)parse_grading_csv(sand, "sand.csv"); });
+  for (const char* part : {"sand.csv:1", "'opening'", "line 2", "0.075 mm", "1.905 mm", "opening_mm", "opening_in",
+                           "length_unit", "#200 is 0.075 mm"})
+    EXPECT_NE(why.find(part), std::string::npos) << part << " in: " << why;
+  // With its unit, from the header, from the caller (a scenario's length_unit) or in the
+  // values, the same sand is the same grading.
+  std::string in_mm = sand;
+  in_mm.replace(in_mm.find("opening"), 7, "opening_mm");
+  const Grading g = parse_grading_csv(in_mm, "sand.csv");
+  EXPECT_DOUBLE_EQ(g.smallest(), 0.075e-3);
+  EXPECT_DOUBLE_EQ(fineness_modulus(parse_grading_csv(sand, "sand.csv", 1e-3)), fineness_modulus(g));
+  const Grading with_units = parse_grading_csv(
+      "opening,percent_passing\n0.075 mm,1.5\n0.15 mm,4\n1.18mm,66\n4.75 mm,97\n0.375 in,100\n", "sand.csv");
+  EXPECT_DOUBLE_EQ(fineness_modulus(with_units), fineness_modulus(g));
+  // Other unit suffixes on the header, as the units a scenario knows.
+  EXPECT_DOUBLE_EQ(parse_grading_csv("opening_cm,percent_passing\n0.475,10\n0.95,100\n", "c.csv").smallest(),
+                   4.75e-3);
+  // A value with no unit among ones with a unit is refused in the same way.
+  EXPECT_NE(refusal([] { (void)parse_grading_csv("opening,percent_passing\n4.75 mm,10\n9.5,100\n", "m.csv"); })
+                .find("line 3: 9.5 is 9.5 mm"),
+            std::string::npos);
+}
+
+// A designation and an opening that contradict each other (a #200 given as 0.075 in) cannot
+// both be right: refused naming the row, the designation's opening and the one given.
+TEST(Grading, ASieveDesignationThatContradictsItsOpeningIsRefused) {
+  const std::string inches = "sieve,opening_in,percent_passing\n#200,0.075,1.5\n#4,4.75,97\n3/8in,9.5,100\n";
+  const std::string why = refusal([&] { (void)parse_grading_csv(inches, "sand.csv"); });
+  for (const char* part : {"sand.csv", "line 2", "#200", "0.075 mm", "1.905 mm", "0.075 in"})
+    EXPECT_NE(why.find(part), std::string::npos) << part << " in: " << why;
+  // Inline sieves of a scenario, and the usual spellings of a designation.
+  for (const char* name : {"#4", "No. 4", "no4", "4.75 mm", "4.75mm"})
+    EXPECT_NE(refusal([&] {
+                (void)make_grading("g", {{name, 4.75 * kIn, 50}, {"", 9.5 * kIn, 100}}, "t",
+                                   {"sieves[0]", "sieves[1]"});
+              }).find("sieves[0]"),
+              std::string::npos)
+        << name;
+  for (const char* name : {"3/8in", "3/8\"", "3/8 in", "0.375 in"})
+    EXPECT_NE(refusal([&] { (void)make_grading("g", {{"", 0.3e-3, 50}, {name, 9.5e-6, 100}}, "t", {}); }).find(name),
+              std::string::npos)
+        << name;
+  EXPECT_NE(refusal([] { (void)make_grading("g", {{"", 1e-3, 50}, {"1 1/2in", 37.5e-6, 100}}, "t", {}); })
+                .find("1 1/2in"),
+            std::string::npos);
+  // Within the snapping tolerance they agree: an inch table's #16 (0.049 in = 1.245 mm), and
+  // names that are no designation (EN 933-2's sieves named by number, "pan") are not checked.
+  EXPECT_NO_THROW((void)parse_grading_csv(
+      "sieve,opening_in,percent_passing\n#16,0.049,40\n#4,0.187,90\n3/8in,0.375,100\n", "t.csv"));
+  EXPECT_NO_THROW((void)make_grading("g", {{"pan", 0.01e-3, 0}, {"2", 2e-3, 40}, {"No. 4", 4.75e-3, 100}}, "t", {}));
+}
+
 }  // namespace
 }  // namespace aggpack

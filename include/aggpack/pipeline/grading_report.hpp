@@ -18,12 +18,12 @@ struct GradingQuery {
   double ca_fa = 1.0;                   // coarse/fine volume ratio of the mix
   std::optional<std::string> band;      // a shipped band to check the grading (or the mix) against
   std::optional<double> d_min, d_max;   // cut-offs, m
-  double length_unit = 0.0254;          // metres per unit of an `opening` column in files
+  std::optional<double> length_unit;    // metres per unit of a bare `opening` column in files
 };
 
-// A shipped grading by name, or a CSV sieve analysis (`length_unit` metres per unit of an
-// `opening` column). InputError naming both when it is neither.
-Grading load_grading(const std::string& name_or_file, double length_unit = 0.0254);
+// A shipped grading by name, or a CSV sieve analysis (`length_unit` metres per unit of a bare
+// `opening` column, see read_grading_csv). InputError naming both when it is neither.
+Grading load_grading(const std::string& name_or_file, std::optional<double> length_unit = std::nullopt);
 
 // The band check as JSON: { name, all_inside, sieves[] { sieve, opening_m, min_percent,
 // max_percent, percent, inside } } (summary.json and `aggpack grading --json`).

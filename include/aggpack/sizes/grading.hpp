@@ -39,18 +39,24 @@ struct Grading {
 // An opening within kSieveSnapTolerance of a standard one (astm_sieve_series) is taken as that
 // sieve and recorded in `snapped`: tables converted from inches (1.245 mm for the 1.18 mm #16)
 // then meet metric ones at the same sieve. Two openings that would meet at one are left alone.
+// A sieve named by a designation ("#200", "No. 4", "3/8in") or a length ("4.75 mm") whose
+// opening is further than kSieveSnapTolerance from it is refused (a slip of unit, mostly).
 inline constexpr double kSieveSnapTolerance = 0.06;
 Grading make_grading(std::string name, std::vector<Sieve> sieves, const std::string& source,
                      const std::vector<std::string>& row_names);
 
-// A CSV grading: a header with `opening_in`, `opening_mm`, `opening_m` or `opening` (in
-// `length_unit` metres per unit), a percent column (`percent_column`, default
-// "percent_passing"), and optionally `sieve`; '#' lines are comments.
+// A CSV grading: a header with an opening column, a percent column (`percent_column`, default
+// "percent_passing"), and optionally `sieve`; '#' lines are comments. The opening column says
+// its unit (`opening_mm`, `opening_in`, `opening_m`, or opening_<unit> for any unit of
+// parse_length), or is a bare `opening` whose values carry their unit ("4.75 mm") or are in
+// `length_unit` (metres per unit). Plain numbers with no unit are refused, showing their mm and
+// inch readings: the two are common in sieve tables and 25.4 apart.
 // A file that is not a regular file, or is over 16 MiB, is refused before it is read.
-Grading read_grading_csv(const std::string& file, double length_unit = 0.0254,
+Grading read_grading_csv(const std::string& file, std::optional<double> length_unit = std::nullopt,
                          const std::string& percent_column = "percent_passing");
 // The same reader on text in memory; `file` names it in messages.
-Grading parse_grading_csv(std::string_view text, const std::string& file, double length_unit = 0.0254,
+Grading parse_grading_csv(std::string_view text, const std::string& file,
+                          std::optional<double> length_unit = std::nullopt,
                           const std::string& percent_column = "percent_passing");
 
 // Percent passing by mass at any opening d (m): linear in log d between sieves, 100 above the
