@@ -380,7 +380,7 @@ TEST_F(LammpsBridge, ARunsSeedOutsideTheSeedsRangeIsRefused) {
   const fs::path run = dir_ / "run";
   ASSERT_EQ(run_cli("run " + scenario.string() + " --stop-after deposition --quiet --out " + run.string()).exit_code, 0);
   auto summary = nlohmann::json::parse(std::ifstream(run / "summary.json"));
-  for (const nlohmann::json seed : {nlohmann::json(-1), nlohmann::json(18446744073709551615ull), nlohmann::json(2.5)}) {
+  for (const nlohmann::json& seed : {nlohmann::json(-1), nlohmann::json(18446744073709551615ull), nlohmann::json(2.5)}) {
     SCOPED_TRACE(seed.dump());
     summary["seed"] = seed;
     std::ofstream(run / "summary.json") << summary.dump(2);
