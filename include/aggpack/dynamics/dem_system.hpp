@@ -52,7 +52,7 @@ class DemSystem {
   DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
             const DemSettings& settings, std::vector<std::uint8_t> frozen = {});
 
-  // Advances n steps.
+  // Advances n steps. InputError when the system diverges (a position no longer finite).
   void run(std::size_t steps);
 
   // Moves the container (floor and walls together) from now on as `motion` says, its
