@@ -5,8 +5,10 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/calibration.hpp"
+#include "aggpack/pipeline/checkpoint.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
 #include "aggpack/pipeline/preflight.hpp"
+#include "aggpack/pipeline/run.hpp"
 #include "aggpack/sizes/grading.hpp"
 
 namespace aggpack::fuzz {
@@ -55,6 +57,35 @@ void calibration_reader(std::string_view bytes) {
     (void)cpm(mix, std::vector<double>{p.beta}, p.compaction_index);
   } catch (const InputError&) {
   }
+}
+
+void checkpoint_reader(std::string_view bytes) {
+  // What `aggpack resume` does, but that a stop is requested from the start: the run restores
+  // the checkpoint, continues to its first safe point and stops there.
+  const auto resume = [](const std::string& file) {
+    try {
+      const Checkpoint checkpoint = decode_checkpoint(file, "/nonexistent/fuzz/checkpoint.bin");
+      const Scenario sc =
+          parse_scenario(checkpoint.scenario_text, resumed_scenario_path(checkpoint), checkpoint.overrides);
+      StopRequest stop;
+      stop.request(2);
+      RunControls controls;
+      controls.threads = 1;
+      controls.stop_after = checkpoint.stop_after;
+      controls.stop = &stop;
+      controls.resume_from = &checkpoint;
+      controls.final_analysis = false;
+      Progress progress;
+      (void)run(sc, controls, progress);
+    } catch (const InputError&) {
+    }
+  };
+  // The bytes as they are (the checksums see any change), then with the checksums of their
+  // run and step states made to match them: what the checks of the decoded values must catch.
+  // The header (the scenario's text) stays sealed: the scenario reader has its own target.
+  const std::string as_given(bytes), resealed = resealed_checkpoint(as_given, 1);
+  resume(as_given);
+  if (resealed != as_given) resume(resealed);
 }
 
 }  // namespace aggpack::fuzz

@@ -15,5 +15,6 @@ void scenario_reader(std::string_view bytes);
 void grading_reader(std::string_view bytes);
 void particle_file_reader(std::string_view bytes);
 void calibration_reader(std::string_view bytes);
+void checkpoint_reader(std::string_view bytes);
 
 }  // namespace aggpack::fuzz

@@ -534,12 +534,20 @@ bool DemSystem::drift(double slack) {
   // Moved more than half the skin (less what the container moved: a wall may come closer).
   const double reach = 0.5 * skin_ - slack;
   const double limit = reach > 0.0 ? reach * reach : -1.0;  // -1: rebuild now
-  bool stale = false;
-#pragma omp parallel for schedule(static) reduction(|| : stale) if (threaded_) num_threads(threads_)
+  bool stale = false, lost = false;
+#pragma omp parallel for schedule(static) reduction(|| : stale, lost) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
     grain_[i].position += grain_[i].velocity * dt;
-    if (norm2(grain_[i].position - listed_position_[i]) > limit) stale = true;
+    const double moved = norm2(grain_[i].position - listed_position_[i]);
+    if (moved > limit) stale = true;
+    if (!std::isfinite(moved)) lost = true;
   }
+  // A position that is no longer a number cannot be sorted or put in a cell (a cast of NaN).
+  if (lost)
+    throw DemBlowUp(fmt::format("the DEM diverged at {:.6g} s simulated (a sphere's position is no longer finite): "
+                                 "its time step is too large for its contacts, or it started from a state no run "
+                                 "reaches",
+                                 time_));
   return stale;
 }
 

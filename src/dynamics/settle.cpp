@@ -71,8 +71,13 @@ SettleSample sample_system(const DemSystem& system, const ParticleStore& particl
                            const DensityProbe& density) {
   SettleSample s;
   s.time = system.time();
-  s.density = density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
   s.kinetic_energy = system.kinetic_energy();
+  // A system that diverged has positions no analysis can take (they would be cast to cells).
+  if (!std::isfinite(s.kinetic_energy.total()))
+    throw InputError(fmt::format("the DEM diverged at {:.6g} s simulated (a kinetic energy of {} J): its time step is "
+                                 "too large for its contacts, or it started from a state no run reaches",
+                                 s.time, s.kinetic_energy.total()));
+  s.density = density ? density(particles) : std::numeric_limits<double>::quiet_NaN();
   // Per particle over mean m g d: the free-particle count cancels.
   s.translational_per_particle_mgd = weight > 0.0 ? s.kinetic_energy.translational / weight : 0.0;
   s.contacts = system.contact_statistics();

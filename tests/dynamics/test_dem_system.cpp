@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <sstream>
@@ -688,6 +689,28 @@ TEST(DemSystem, ADamagedStateIsRefusedOrRunsNeverReadsOutOfRange) {
   }
   // Most bytes are records, indices and counts, each checked; a spring or a force may change.
   EXPECT_GT(refused, state.size() / 2);
+}
+
+// A system that has diverged (a sphere at 1e200 m/s, its kinetic energy infinite: an unstable
+// time step does the like) is refused at its sample, before the density probe casts its
+// positions to cells; one whose positions stop being finite, at the step.
+TEST(Settle, ADivergedSystemIsRefusedAtItsSample) {
+  ParticleStore store;
+  store.add({0.01, 0.01, 0.01}, 0.005, kDensity);
+  store.add({0.02, 0.01, 0.01}, 0.005, kDensity);
+  store.velocity[1] = {1e200, 0.0, 0.0};
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  DemSystem dem(store, Container::square(0.05, 0.05, false), make_contact_model(material(0.5, 0.3)), settings);
+  bool probed = false;
+  EXPECT_THROW((void)sample_system(dem, store, 1.0, [&](const ParticleStore&) { return probed = true, 0.5; }),
+               InputError);
+  EXPECT_FALSE(probed);
+  // Diverging within a step: a position no longer finite stops it, before a neighbour list
+  // is built from it (the Morton sort and the grid cast positions to cells).
+  store.velocity[1] = {std::numeric_limits<double>::infinity(), 0.0, 0.0};
+  DemSystem lost(store, Container::square(0.05, 0.05, false), make_contact_model(material(0.5, 0.3)), settings);
+  EXPECT_THROW(lost.run(1), InputError);
 }
 
 // The progress line's time left for a settling run: an energy decaying as E0 (t / t0)^-a

@@ -40,3 +40,4 @@ TEST(FuzzRegressions, ParticleFileReader) {
 TEST(FuzzRegressions, CalibrationReader) {
   EXPECT_GE(replay("calibration", aggpack::fuzz::calibration_reader), 4u);
 }
+TEST(FuzzRegressions, CheckpointReader) { EXPECT_GE(replay("checkpoint", aggpack::fuzz::checkpoint_reader), 4u); }

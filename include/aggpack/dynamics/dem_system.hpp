@@ -62,7 +62,8 @@ class DemSystem {
   DemSystem(ParticleStore& particles, const Container& container, const ContactModel& model,
             const DemSettings& settings, std::vector<std::uint8_t> frozen = {});
 
-  // Advances n steps. Throws DemBlowUp when the bed blows up (checked at neighbour-list builds).
+  // Advances n steps. Throws DemBlowUp when the bed blows up: a position no longer finite (at
+  // any step), a sphere faster than its radius per step or through a wall (at neighbour-list builds).
   void run(std::size_t steps);
 
   // Moves the container (floor and walls together) from now on as `motion` says, its

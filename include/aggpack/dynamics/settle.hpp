@@ -77,6 +77,7 @@ double weight_energy(const DemSystem& system, const ParticleStore& particles);
 
 // The system's state now (time since it was made, energies, contacts, the probe's density, or
 // NaN without a probe), the energy per particle relative to `weight` (weight_energy above).
+// InputError when the system has diverged (its kinetic energy is not finite).
 SettleSample sample_system(const DemSystem& system, const ParticleStore& particles, double weight,
                            const DensityProbe& density);
 
