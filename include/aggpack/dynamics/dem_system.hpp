@@ -7,6 +7,7 @@
 #include <string_view>
 #include <vector>
 
+#include "aggpack/core/error.hpp"
 #include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/dynamics/contact_batch.hpp"
@@ -33,9 +34,10 @@ struct ContactStatistics {
 // radius in one step (no contact can resolve that: a time step too long for the stiffness, an
 // impact too fast), or its centre went through the floor or a side wall. The bed is lost; what
 // says why is the caller's to add (the settings that set the time step and the speeds).
-class DemBlowUp : public std::runtime_error {
+// An InputError: the settings that made the bed blow up are the user's (a stage adds which).
+class DemBlowUp : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  using InputError::InputError;
 };
 
 // A discrete element model of the spheres in a store: Hertz contacts with the law of
