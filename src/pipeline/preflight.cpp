@@ -31,6 +31,10 @@ constexpr double kBytesPerParticleDeposition = 450.0;
 
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
+// The most slices or shells of a profile the average sphere may reach (4 or 5 at the default
+// thickness d_max / 4): each is a sphere-box volume at every analysis.
+constexpr double kMaxProfileBinsPerSphere = 100.0;
+
 bool uses_dem(const Scenario& sc) { return sc.dynamics.has_value() || sc.pour.has_value(); }
 
 // An import_lammps step's file against the bed it replaces (`bed`: its radii in the store's
@@ -261,6 +265,20 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
                                  "d_max / 4)",
                                  file, c.height() / slice >= 0.5 * width / shell ? "slice_thickness" : "shell_thickness",
                                  bins, sc.limits.max_profile_bins));
+  // Each sphere adds its volume to every slice (shell) it reaches: the bins above bound the
+  // profiles' memory, not this work, which grows as the spheres' count times d / thickness.
+  double diameters = 0.0;
+  for (const double r : radii) diameters += 2.0 * r;
+  const double d_mean = diameters / static_cast<double>(radii.size());
+  const bool by_slice = slice <= shell;
+  const double thinnest = std::min(slice, shell);
+  if (!(d_mean / thinnest <= kMaxProfileBinsPerSphere))
+    throw InputError(fmt::format(
+        "{}: analysis.{}: {} m cuts each sphere (mean diameter {} m) into {} {} on average, {:.3g} sphere-{} "
+        "volumes for every profile; expected at least d_mean / {:g} = {} m (default d_max / 4)",
+        file, by_slice ? "slice_thickness" : "shell_thickness", shown(thinnest), shown(d_mean),
+        shown(d_mean / thinnest), by_slice ? "slices" : "shells", diameters / thinnest, by_slice ? "slice" : "shell",
+        kMaxProfileBinsPerSphere, shown(d_mean / kMaxProfileBinsPerSphere)));
 
   // A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
   // if even that leaves no room for a virtual cube, the run would fail after all its work.

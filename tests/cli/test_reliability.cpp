@@ -134,6 +134,15 @@ std::vector<BadInput> bad_inputs() {
       scenario(kDeposit + "[limits]\nspeed = 1\n", {"limits.speed"}),
       scenario(kDeposit + "[analysis]\nslice_thickness = 1e-9\n", {"s.toml", "analysis.slice_thickness", "bins"}),
       scenario(kDeposit + "[analysis]\nshell_thickness = 1e-9\n", {"s.toml", "analysis.shell_thickness", "bins"}),
+      // Slices within the bins' limit, each sphere cut into 9x10^4 of them: `check` of a bed of
+      // 1000 spheres took 7.5 s.
+      BadInput{"scenario",
+               {{"s.toml", kBox + "[particles]\nfrom = \"@/bed.csv\"\n[analysis]\nslice_thickness = 1.1e-7\n"},
+                {"bed.csv", lattice()}},
+               "check @/s.toml",
+               {"s.toml", "analysis.slice_thickness", "into 9.091e+04 slices", "expected at least d_mean / 100 = 0.0001 m"}},
+      scenario(kDeposit + "[analysis]\nshell_thickness = 1e-6\n",
+               {"s.toml", "analysis.shell_thickness", "shells", "expected at least d_mean / 100"}),
       scenario(kDeposit + "[analysis]\nbox_sides = [0.2]\n", {"s.toml", "analysis.box_sides", "largest admissible"}),
       scenario(kDeposit + "[analysis]\nbox_sides = [-0.01]\n", {"analysis.box_sides"}),
       scenario(kDeposit + "[analysis]\ncontact_tolerance = 2\n", {"analysis.contact_tolerance"}),

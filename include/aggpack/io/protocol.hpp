@@ -3,7 +3,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -67,8 +69,9 @@ struct Protocol {
   // The stages in order, each once: what --stop-after may name.
   [[nodiscard]] std::vector<std::string> stage_names() const {
     std::vector<std::string> names;
+    std::set<std::string_view> seen;  // each analyse step is a stage: a search of `names` was quadratic
     for (const Step& s : steps)
-      if (std::find(names.begin(), names.end(), s.stage) == names.end()) names.push_back(s.stage);
+      if (seen.insert(s.stage).second) names.push_back(s.stage);
     return names;
   }
 };
