@@ -237,10 +237,11 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary.update(to_json(final));
     // The engineer's quantities beside the packing density (ASTM C29), from material.density.
     const BulkDensity bulk = bulk_density(final.density.mean, sc.material.density);
-    summary["density"]["voids_content_percent"] = bulk.voids_percent;
-    summary["density"]["bulk_density_kg_m3"] = bulk.kg_per_m3;
-    summary["density"]["bulk_density_lb_ft3"] = bulk.lb_per_ft3;
-    summary["density"]["particle_density_kg_m3"] = bulk.particle_density;
+    summary["bulk_density"] = {{"voids_content_percent", bulk.voids_percent},
+                               {"kg_m3", bulk.kg_per_m3},
+                               {"lb_ft3", bulk.lb_per_ft3},
+                               {"particle_density_kg_m3", bulk.particle_density},
+                               {"of", "density.mean"}};
   }
   wall_clock["output"] = output_seconds;
   wall_clock["total"] = total_seconds;

@@ -458,7 +458,10 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
         report.frequency != tapping.frequency || report.rest_time != tapping.rest_time ||
         report.rest_until_quiet != tapping.rest_until_quiet || report.time_step != dt || loop.tap < 1 ||
         loop.tap > tapping.taps || report.samples.size() != loop.tap - 1 ||
-        !(until_rest_end >= -dt && until_rest_end <= tapping.rest_time + dt) ||
+        // Inside a tap (its steps still to run, at most one tap's), or in the rest after it.
+        !(loop.tap_steps_left > 0 ? static_cast<double>(loop.tap_steps_left) <= 0.5 / tapping.frequency / dt + 2.0
+                                  : until_rest_end >= -dt && until_rest_end <= tapping.rest_time + dt) ||
+        static_cast<double>(loop.rest_steps_left) > tapping.rest_time / dt + 2.0 ||
         (loop.quiet_since && !std::isfinite(*loop.quiet_since)))
       throw DamagedCheckpoint("its tap step: its loop is not this tapping's");
   } else {

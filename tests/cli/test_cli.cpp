@@ -856,13 +856,13 @@ TEST(CliEngineersQuantities, VoidsAndBulkDensityStandBesideEveryDensity) {
                                            out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
-  const auto& density = summary.at("density");
+  const auto& bulk = summary.at("bulk_density");
   const double phi = M_PI / 6.0, rho = summary.at("scenario").at("material").at("density_kg_m3").get<double>();
-  EXPECT_NEAR(density.at("mean").get<double>(), phi, 1e-9);
-  EXPECT_NEAR(density.at("voids_content_percent").get<double>(), 100.0 * (1.0 - phi), 1e-7);
-  EXPECT_NEAR(density.at("bulk_density_kg_m3").get<double>(), phi * rho, 1e-6);
+  EXPECT_NEAR(summary.at("density").at("mean").get<double>(), phi, 1e-9);
+  EXPECT_NEAR(bulk.at("voids_content_percent").get<double>(), 100.0 * (1.0 - phi), 1e-7);
+  EXPECT_NEAR(bulk.at("kg_m3").get<double>(), phi * rho, 1e-6);
   // 1 lb/ft3 = 0.45359237 kg / 0.3048^3 m3 = 16.018463 kg/m3.
-  EXPECT_NEAR(density.at("bulk_density_lb_ft3").get<double>(), phi * rho / 16.018463373960138, 1e-6);
+  EXPECT_NEAR(bulk.at("lb_ft3").get<double>(), phi * rho / 16.018463373960138, 1e-6);
   char line[96];
   std::snprintf(line, sizeof line, "voids %.1f %%, dry bulk density %.0f kg/m3", 100.0 * (1.0 - phi), phi * rho);
   EXPECT_NE(r.output.find(line), std::string::npos) << line << " missing in\n" << r.output;
