@@ -35,7 +35,22 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // thickness d_max / 4): each is a sphere-box volume at every analysis.
 constexpr double kMaxProfileBinsPerSphere = 100.0;
 
+// What a run keeps until it ends beyond its bed: a copy of the bed's arrays (ParticleStore) for
+// each snapshot step, and for each analysis its profiles, a bin's position and solid fraction
+// as doubles, as JSON values and as the text of summary.json.
+constexpr double kBytesPerSnapshotParticle = 3 * sizeof(Vec3) + 2 * sizeof(double) + sizeof(std::uint32_t);
+constexpr double kBytesPerProfileBin = 128.0;
+
 bool uses_dem(const Scenario& sc) { return sc.dynamics.has_value() || sc.pour.has_value(); }
+
+double bytes_per_particle(const Scenario& sc) {
+  return uses_dem(sc) ? kBytesPerParticleDem : kBytesPerParticleDeposition;
+}
+
+std::string memory_limit_text(const Scenario& sc) {
+  return fmt::format("the memory limit of {:.3g} GiB ({})", memory_limit_bytes(sc.limits) / kGiB,
+                     sc.limits.max_memory_gib ? "limits.max_memory_gib" : "80 % of this machine's memory");
+}
 
 // An import_lammps step's file against the bed it replaces (`bed`: its radii in the store's
 // order): a LAMMPS file, at the timestep asked for, of as many spheres with the same radii,
@@ -180,16 +195,12 @@ void check_amount(const Scenario& sc) {
                                  "{:.3g}; generate less (count, solid_volume or fill_height), raise the fine "
                                  "cut-off d_min, or raise the limit",
                                  where, count, sc.limits.max_particles));
-  const double bytes = count * (uses_dem(sc) ? kBytesPerParticleDem : kBytesPerParticleDeposition);
-  const double limit = memory_limit_bytes(sc.limits);
-  if (bytes > limit)
+  const double bytes = count * bytes_per_particle(sc);
+  if (bytes > memory_limit_bytes(sc.limits))
     throw InputError(fmt::format("{}: about {:.3g} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), "
-                                 "more than the memory limit of {:.3g} GiB ({}); generate less, or raise "
-                                 "limits.max_memory_gib",
-                                 where, count, bytes / kGiB,
-                                 uses_dem(sc) ? kBytesPerParticleDem : kBytesPerParticleDeposition,
-                                 uses_dem(sc) ? " with the DEM" : "", limit / kGiB,
-                                 sc.limits.max_memory_gib ? "limits.max_memory_gib" : "80 % of this machine's memory"));
+                                 "more than {}; generate less, or raise limits.max_memory_gib",
+                                 where, count, bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
+                                 memory_limit_text(sc)));
 }
 
 void check_sizes(const Scenario& sc, std::span<const double> radii) {
@@ -258,12 +269,13 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
                                  sc.limits.max_grid_cells));
   const double slice = sc.analysis.slice_thickness.value_or(0.25 * d_max);
   const double shell = sc.analysis.shell_thickness.value_or(0.25 * d_max);
-  const double bins = std::max(c.height() / slice, 0.5 * width / shell);
+  const double slices = c.height() / slice, shells = 0.5 * width / shell;
+  const double bins = std::max(slices, shells);
   if (!(bins <= sc.limits.max_profile_bins))
     throw InputError(fmt::format("{}: analysis.{}: the profiles would need {:.3g} bins across the container, more "
                                  "than limits.max_profile_bins = {:.3g}; expected a thicker slice (default "
                                  "d_max / 4)",
-                                 file, c.height() / slice >= 0.5 * width / shell ? "slice_thickness" : "shell_thickness",
+                                 file, slices >= shells ? "slice_thickness" : "shell_thickness",
                                  bins, sc.limits.max_profile_bins));
   // Each sphere adds its volume to every slice (shell) it reaches: the bins above bound the
   // profiles' memory, not this work, which grows as the spheres' count times d / thickness.
@@ -279,6 +291,33 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
         file, by_slice ? "slice_thickness" : "shell_thickness", shown(thinnest), shown(d_mean),
         shown(d_mean / thinnest), by_slice ? "slices" : "shells", diameters / thinnest, by_slice ? "slice" : "shell",
         kMaxProfileBinsPerSphere, shown(d_mean / kMaxProfileBinsPerSphere)));
+
+  // The memory of the bed (a particle file's is known only now) and of what the protocol keeps
+  // until the run ends: a copy of the bed for each snapshot step, the profiles of each analysis.
+  const double n = static_cast<double>(radii.size());
+  const double bed_bytes = n * bytes_per_particle(sc);
+  const double limit = memory_limit_bytes(sc.limits);
+  if (bed_bytes > limit)
+    throw InputError(fmt::format("{}: {}: {} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), more than "
+                                 "{}; expected a smaller bed, or a larger limits.max_memory_gib",
+                                 file, sc.particles.file ? "particles.from" : "particles", radii.size(),
+                                 bed_bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
+                                 memory_limit_text(sc)));
+  std::size_t snapshots = 0, analyses = 1;  // and the run's final analysis
+  for (const Step& step : scenario_protocol(sc).steps) {
+    snapshots += std::holds_alternative<SnapshotStep>(step.kind) ? 1 : 0;
+    analyses += std::holds_alternative<AnalyseStep>(step.kind) ? 1 : 0;
+  }
+  const double kept = static_cast<double>(snapshots) * n * kBytesPerSnapshotParticle +
+                      static_cast<double>(analyses) * (slices + shells) * kBytesPerProfileBin;
+  if (bed_bytes + kept > limit)
+    throw InputError(fmt::format(
+        "{}: protocol: {} snapshot step{} (a copy of the {} particles each) and {} analys{} (profiles of {:.3g} bins "
+        "each) keep an estimated {:.3g} GiB until the run ends, with the bed's {:.3g} GiB more than {}; expected fewer "
+        "snapshot or analyse steps, a thicker analysis.slice_thickness or shell_thickness, or a larger "
+        "limits.max_memory_gib",
+        file, snapshots, snapshots == 1 ? "" : "s", radii.size(), analyses, analyses == 1 ? "is" : "es",
+        slices + shells, kept / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
 
   // A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
   // if even that leaves no room for a virtual cube, the run would fail after all its work.

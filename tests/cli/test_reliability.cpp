@@ -123,6 +123,24 @@ std::vector<BadInput> bad_inputs() {
       scenario(kDeposit + "[limits]\nmax_particles = -3\n", {"limits.max_particles"}),
       scenario(kDeposit + "[limits]\nmax_memory_gib = 0\n", {"limits.max_memory_gib", "(0, "}),
       scenario(kDeposit + "[limits]\nspeed = 1\n", {"limits.speed"}),
+      // What a run keeps until it ends counts against the memory limit: a copy of the bed per
+      // snapshot step, the profiles of each analysis; and a particle file's bed itself.
+      scenario(kDeposit + "[limits]\nmax_memory_gib = 0.001\n[[protocol]]\nstep = \"deposit\"\n" + [] {
+        std::string steps;
+        for (int i = 0; i < 20; ++i) steps += "[[protocol]]\nstep = \"snapshot\"\nname = \"s" + std::to_string(i) + "\"\n";
+        return steps;
+      }(), {"s.toml", "protocol", "20 snapshot steps", "limits.max_memory_gib"}),
+      scenario(kDeposit + "[analysis]\nslice_thickness = 1e-4\n[limits]\nmax_memory_gib = 0.001\n"
+                          "[[protocol]]\nstep = \"deposit\"\n" + [] {
+        std::string steps;
+        for (int i = 0; i < 10; ++i) steps += "[[protocol]]\nstep = \"analyse\"\nname = \"a" + std::to_string(i) + "\"\n";
+        return steps;
+      }(), {"s.toml", "protocol", "11 analyses", "analysis.slice_thickness", "limits.max_memory_gib"}),
+      BadInput{"scenario",
+               {{"s.toml", kBox + "[particles]\nfrom = \"@/bed.csv\"\n[dynamics]\n[limits]\nmax_memory_gib = 1e-5\n"},
+                {"bed.csv", lattice()}},
+               "check @/s.toml",
+               {"s.toml", "particles.from", "27 particles", "with the DEM", "limits.max_memory_gib"}},
       scenario(kDeposit + "[analysis]\nslice_thickness = 1e-9\n", {"s.toml", "analysis.slice_thickness", "bins"}),
       scenario(kDeposit + "[analysis]\nshell_thickness = 1e-9\n", {"s.toml", "analysis.shell_thickness", "bins"}),
       // Slices within the bins' limit, each sphere cut into 9x10^4 of them: `check` of a bed of
