@@ -148,6 +148,10 @@ int analyze_command(const AnalyzeArguments& a) {
   const auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json, timestep] = a;
   const auto factor = aggpack::metres_per_unit(unit);
   if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", unit));
+  if (boxes.size() + cubes.size() > aggpack::kMaxAnalysisBoxes)
+    throw aggpack::InputError(fmt::format("--box, --cube: {} boxes; expected at most {} (each is a pass over every "
+                                          "sphere)",
+                                          boxes.size() + cubes.size(), aggpack::kMaxAnalysisBoxes));
   const aggpack::PackingFile packing =
       aggpack::read_packing_file(file, static_cast<double>(*factor), 1.0, aggpack::kDefaultMaxInputFileBytes, timestep);
   const aggpack::ParticleStore& particles = packing.particles;

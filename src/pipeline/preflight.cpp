@@ -14,6 +14,7 @@
 #include "aggpack/core/overloaded.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
+#include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
 #include "aggpack/spatial/multilevel_grid.hpp"
@@ -228,6 +229,10 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   const double width = std::min(c.length_x(), c.length_y());
   const double horizontal = c.periodic ? width : width - 2.0 * d_max;
   const double vertical = c.height() - 2.0 * d_max;
+  if (sc.analysis.box_sides.size() > kMaxAnalysisBoxes)
+    throw InputError(fmt::format("{}: analysis.box_sides: {} sides; expected at most {} (each cube is a pass over every "
+                                 "sphere, at each analysis and each density check of the DEM)",
+                                 file, sc.analysis.box_sides.size(), kMaxAnalysisBoxes));
   for (const double side : sc.analysis.box_sides)
     if (side > std::min(horizontal, vertical))
       throw InputError(fmt::format(

@@ -154,6 +154,11 @@ std::vector<BadInput> bad_inputs() {
                {"s.toml", "analysis.shell_thickness", "shells", "expected at least d_mean / 100"}),
       scenario(kDeposit + "[analysis]\nbox_sides = [0.2]\n", {"s.toml", "analysis.box_sides", "largest admissible"}),
       scenario(kDeposit + "[analysis]\nbox_sides = [-0.01]\n", {"analysis.box_sides"}),
+      scenario(kDeposit + "[analysis]\nbox_sides = [0.02" + [] {
+        std::string more;
+        for (int i = 0; i < 100; ++i) more += ", 0.02";
+        return more;
+      }() + "]\n", {"s.toml", "analysis.box_sides", "101 sides", "at most 100"}),
       scenario(kDeposit + "[analysis]\ncontact_tolerance = 2\n", {"analysis.contact_tolerance"}),
       scenario(kDeposit + "[analysis]\nplacement = \"random\"\n", {"analysis.placement", "centered"}),
       scenario(kDeposit + "fill_height = 0.005\n", {"deposition.fill_height", "below the largest diameter"}),
@@ -265,6 +270,13 @@ std::vector<BadInput> bad_inputs() {
       analyze("x,y,z,r\n0,0,0,0.5\n0.01,0,0,0.5\n", " --soft-contacts", {"bed.csv", "centre is inside"}),
       analyze(lattice(), " --box 1,1,1,2,2,2", {"bed.csv", "does not lie inside the packing"}),
       analyze(lattice(), " --cube 1", {"bed.csv", "virtual cube"}),
+      // Each box is a pass over every sphere: 10^5 box sides over 8000 spheres, a 0.5 MB
+      // scenario, made `check` take 8 s.
+      analyze(lattice(), [] {
+        std::string cubes;
+        for (int i = 0; i < 101; ++i) cubes += " --cube 0.005";
+        return cubes;
+      }(), {"--box, --cube", "101 boxes", "at most 100"}),
       analyze(lattice(), " --box 1,2,3", {"--box", "xmin,ymin,zmin,xmax,ymax,zmax"}),
       analyze(lattice(), " --length-unit parsec", {"--length-unit", "unknown unit"}),
       BadInput{"particles", {}, "analyze @", {"directory", "regular file"}},

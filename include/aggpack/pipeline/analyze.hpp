@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -8,6 +9,10 @@
 #include "aggpack/analysis/density.hpp"
 
 namespace aggpack {
+
+// The most boxes (explicit and cubes) one analysis measures: each is a pass over every sphere,
+// at every analysis of a run and at every density check of its DEM.
+inline constexpr std::size_t kMaxAnalysisBoxes = 100;
 
 // What to measure in a packing. Boxes are explicit; cube sides are placed as in
 // method.md (centred, clear of walls, floor and free surface). With neither, one cube
