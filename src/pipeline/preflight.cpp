@@ -41,6 +41,10 @@ constexpr double kMaxProfileBinsPerSphere = 100.0;
 // as doubles, as JSON values and as the text of summary.json.
 constexpr double kBytesPerSnapshotParticle = 3 * sizeof(Vec3) + 2 * sizeof(double) + sizeof(std::uint32_t);
 constexpr double kBytesPerProfileBin = 128.0;
+// And each DEM sample, in the time series and as its row of timeseries.csv.
+constexpr double kBytesPerSample = 256.0;
+// The most samples in the quiet criterion's window: it scans them all at every sample.
+constexpr double kMaxSamplesPerWindow = 1e4;
 
 bool uses_dem(const Scenario& sc) { return sc.dynamics.has_value() || sc.pour.has_value(); }
 
@@ -180,6 +184,36 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
             : fmt::format("move {} of its radius in one time step of {} s, through the spheres it meets",
                           shown(per_step / r_min), shown(time_step))));
 }
+
+// The quiet criterion scans the samples of its window at every sample (at most one a DEM
+// step): a sample interval far below the window makes that scan the run's work.
+void check_sampling(const Scenario& sc, double time_step) {
+  const QuietCriterion& q = sc.dynamics->quiet;
+  const double every = std::max(q.sample_interval, time_step);
+  const double window = std::min(q.window, q.max_time);
+  if (!(window / every <= kMaxSamplesPerWindow))
+    throw InputError(fmt::format(
+        "{}: dynamics.sample_interval: samples every {} s (sample_interval = {} s, at most one a time step) put "
+        "{:.3g} samples in the quiet window of {} s, each scanned at every sample; expected at most {:g}: a "
+        "sample_interval of at least {} s or a shorter quiet_window",
+        sc.file.string(), shown(every), shown(q.sample_interval), window / every, shown(window),
+        kMaxSamplesPerWindow, shown(window / kMaxSamplesPerWindow)));
+}
+
+// The most samples a DEM step of the protocol takes: one a sample interval (at most one a time
+// step) up to max_time for a settle or a pour, and after each tap and through its rest.
+double dem_samples(const Scenario& sc, const Step& step, double time_step) {
+  const double every = std::max(sc.dynamics->quiet.sample_interval, time_step);
+  const double up_to_max_time = sc.dynamics->quiet.max_time / every + 1.0;
+  return std::visit(Overloaded{[&](const SettleStep&) { return up_to_max_time; },
+                               [&](const PourStep&) { return up_to_max_time; },
+                               [&](const TapStep&) {
+                                 const TappingSettings& t = *sc.tapping;
+                                 return static_cast<double>(t.taps) * (t.rest_time / every + 2.0);
+                               },
+                               [](const auto&) { return 0.0; }},
+                    step.kind);
+}
 }  // namespace
 
 void check_thread_count(int threads) {
@@ -259,10 +293,12 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   // The neighbour grid, sized as the stages size it.
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double time_step =
+      sc.dynamics ? sc.dynamics->time_step.step(stable_time_scale(sc.material.contact, r_min, sc.material.density)) : 0.0;
   if (sc.dynamics) {
-    const double step = sc.dynamics->time_step.step(stable_time_scale(sc.material.contact, r_min, sc.material.density));
-    if (sc.tapping) check_tapping(sc, step);
-    if (sc.pour) check_pour(sc, radii, solid, step);
+    if (sc.tapping) check_tapping(sc, time_step);
+    if (sc.pour) check_pour(sc, radii, solid, time_step);
+    check_sampling(sc, time_step);
   }
   const double cells = MultilevelGrid::cells_needed(c, radii, std::max(solid / 0.6, 1e-300), c.height());
   if (!(cells <= sc.limits.max_grid_cells))
@@ -309,9 +345,12 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
                                  bed_bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
                                  memory_limit_text(sc)));
   std::size_t snapshots = 0, analyses = 1;  // and the run's final analysis
-  for (const Step& step : scenario_protocol(sc).steps) {
+  double samples = 0.0;                     // of the DEM steps, at most
+  const Protocol protocol = scenario_protocol(sc);
+  for (const Step& step : protocol.steps) {
     snapshots += std::holds_alternative<SnapshotStep>(step.kind) ? 1 : 0;
     analyses += std::holds_alternative<AnalyseStep>(step.kind) ? 1 : 0;
+    if (sc.dynamics) samples += dem_samples(sc, step, time_step);
   }
   const double kept = static_cast<double>(snapshots) * n * kBytesPerSnapshotParticle +
                       static_cast<double>(analyses) * (slices + shells) * kBytesPerProfileBin;
@@ -323,6 +362,15 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
         "limits.max_memory_gib",
         file, snapshots, snapshots == 1 ? "" : "s", radii.size(), analyses, analyses == 1 ? "is" : "es",
         slices + shells, kept / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
+  if (sc.dynamics && bed_bytes + kept + samples * kBytesPerSample > limit) {
+    const QuietCriterion& q = sc.dynamics->quiet;
+    throw InputError(fmt::format(
+        "{}: dynamics.sample_interval: the DEM steps would keep up to {:.3g} samples for timeseries.csv (a sample "
+        "every {} s, up to max_time = {} s for each settle or pour step), an estimated {:.3g} GiB, with the bed's "
+        "{:.3g} GiB more than {}; expected a longer sample_interval or a shorter max_time",
+        file, samples, shown(std::max(q.sample_interval, time_step)), shown(q.max_time),
+        samples * kBytesPerSample / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
+  }
 
   // A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
   // if even that leaves no room for a virtual cube, the run would fail after all its work.

@@ -136,6 +136,13 @@ std::vector<BadInput> bad_inputs() {
         for (int i = 0; i < 10; ++i) steps += "[[protocol]]\nstep = \"analyse\"\nname = \"a" + std::to_string(i) + "\"\n";
         return steps;
       }(), {"s.toml", "protocol", "11 analyses", "analysis.slice_thickness", "limits.max_memory_gib"}),
+      // The DEM's samples: the quiet window's, scanned at every sample, and all of them kept for
+      // timeseries.csv (`check`: a run would go on for hours).
+      BadInput{"scenario", {{"s.toml", kDeposit + "[dynamics]\nsample_interval = 1e-6\nquiet_window = 1\n"}},
+               "check @/s.toml", {"s.toml", "dynamics.sample_interval", "quiet window", "at most 10000"}},
+      BadInput{"scenario",
+               {{"s.toml", kDeposit + "[dynamics]\nsample_interval = 1e-6\nquiet_window = 1e-3\nmax_time = 1e4\n"}},
+               "check @/s.toml", {"s.toml", "dynamics.sample_interval", "samples for timeseries.csv", "GiB"}},
       BadInput{"scenario",
                {{"s.toml", kBox + "[particles]\nfrom = \"@/bed.csv\"\n[dynamics]\n[limits]\nmax_memory_gib = 1e-5\n"},
                 {"bed.csv", lattice()}},
