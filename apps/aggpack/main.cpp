@@ -159,6 +159,15 @@ int analyze_command(const AnalyzeArguments& a) {
   const aggpack::RunLimits limits;  // the defaults: analyze has no scenario to raise them
   const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file,
                                                         limits.max_grid_cells);
+  const auto [r_min, r_max] = std::minmax_element(particles.radius.begin(), particles.radius.end());
+  if (!particles.empty() &&
+      !(aggpack::contact_reach_diameters(tolerance, *r_min, *r_max) <= aggpack::kMaxContactReachDiameters))
+    throw aggpack::InputError(fmt::format(
+        "--tolerance {}: the smallest sphere of {} (radius {:.4g} m) would look for contacts {:.4g} of its diameters "
+        "away; expected at most {:g}, a tolerance of at most {:.4g}",
+        tolerance, file, *r_min, aggpack::contact_reach_diameters(tolerance, *r_min, *r_max),
+        aggpack::kMaxContactReachDiameters,
+        tolerance * aggpack::kMaxContactReachDiameters / aggpack::contact_reach_diameters(tolerance, *r_min, *r_max)));
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
   request.max_profile_bins = limits.max_profile_bins;

@@ -259,6 +259,15 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   if (sc.particles.graded && sc.particles.graded->fill_height && *sc.particles.graded->fill_height < d_max)
     throw InputError(fmt::format("{}: particles.fill_height: {:.6g} m is below the largest diameter ({:.6g} m); "
                                  "expected at least one diameter", file, *sc.particles.graded->fill_height, d_max));
+  const double reach = contact_reach_diameters(sc.analysis.contact_tolerance, r_min, 0.5 * d_max);
+  if (!(reach <= kMaxContactReachDiameters))
+    throw InputError(fmt::format(
+        "{}: analysis.contact_tolerance: {} makes the smallest sphere (radius {} m) look for contacts {} of its "
+        "diameters away, beside spheres up to {} m across: the neighbour search would scan some {:.3g} cells for "
+        "each; expected at most {:g} diameters, a contact_tolerance of at most {}",
+        file, shown(sc.analysis.contact_tolerance), shown(r_min), shown(reach), shown(d_max),
+        std::pow(2.0 * reach + 3.0, 3.0), kMaxContactReachDiameters,
+        shown(sc.analysis.contact_tolerance * kMaxContactReachDiameters / reach)));
   // A virtual cube keeps one d_max from the walls: a side beyond that can never be placed.
   const double width = std::min(c.length_x(), c.length_y());
   const double horizontal = c.periodic ? width : width - 2.0 * d_max;

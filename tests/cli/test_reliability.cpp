@@ -277,6 +277,14 @@ std::vector<BadInput> bad_inputs() {
       analyze("x,y,z,r\n0,0,0,0.5\n0.01,0,0,0.5\n", " --soft-contacts", {"bed.csv", "centre is inside"}),
       analyze(lattice(), " --box 1,1,1,2,2,2", {"bed.csv", "does not lie inside the packing"}),
       analyze(lattice(), " --cube 1", {"bed.csv", "virtual cube"}),
+      // A sphere 100 times smaller than the others looking for contacts 25 of its diameters away.
+      analyze(lattice() + "0.09,0.09,0.0001,0.00005\n", " --tolerance 0.5",
+              {"--tolerance 0.5", "bed.csv", "25.25 of its diameters", "at most 4"}),
+      BadInput{"scenario",
+               {{"s.toml", kBox + "[particles]\nfrom = \"@/bed.csv\"\n[analysis]\ncontact_tolerance = 0.5\n"},
+                {"bed.csv", lattice() + "0.09,0.09,0.0001,0.00005\n"}},
+               "check @/s.toml",
+               {"s.toml", "analysis.contact_tolerance", "25.25 of its diameters", "at most 0.07921"}},
       // Each box is a pass over every sphere: 10^5 box sides over 8000 spheres, a 0.5 MB
       // scenario, made `check` take 8 s.
       analyze(lattice(), [] {
