@@ -148,6 +148,10 @@ int analyze_command(const AnalyzeArguments& a) {
   const auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json, timestep] = a;
   const auto factor = aggpack::metres_per_unit(unit);
   if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", unit));
+  if (boxes.size() + cubes.size() > aggpack::kMaxAnalysisBoxes)
+    throw aggpack::InputError(fmt::format("--box, --cube: {} boxes; expected at most {} (each is a pass over every "
+                                          "sphere)",
+                                          boxes.size() + cubes.size(), aggpack::kMaxAnalysisBoxes));
   const aggpack::PackingFile packing =
       aggpack::read_packing_file(file, static_cast<double>(*factor), 1.0, aggpack::kDefaultMaxInputFileBytes, timestep);
   const aggpack::ParticleStore& particles = packing.particles;
@@ -155,6 +159,15 @@ int analyze_command(const AnalyzeArguments& a) {
   const aggpack::RunLimits limits;  // the defaults: analyze has no scenario to raise them
   const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file,
                                                         limits.max_grid_cells);
+  const auto [r_min, r_max] = std::minmax_element(particles.radius.begin(), particles.radius.end());
+  if (!particles.empty() &&
+      !(aggpack::contact_reach_diameters(tolerance, *r_min, *r_max) <= aggpack::kMaxContactReachDiameters))
+    throw aggpack::InputError(fmt::format(
+        "--tolerance {}: the smallest sphere of {} (radius {:.4g} m) would look for contacts {:.4g} of its diameters "
+        "away; expected at most {:g}, a tolerance of at most {:.4g}",
+        tolerance, file, *r_min, aggpack::contact_reach_diameters(tolerance, *r_min, *r_max),
+        aggpack::kMaxContactReachDiameters,
+        tolerance * aggpack::kMaxContactReachDiameters / aggpack::contact_reach_diameters(tolerance, *r_min, *r_max)));
   aggpack::AnalysisRequest request;
   request.contact_tolerance = tolerance;
   request.max_profile_bins = limits.max_profile_bins;

@@ -14,6 +14,7 @@
 #include "aggpack/core/overloaded.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
+#include "aggpack/pipeline/analyze.hpp"
 #include "aggpack/pipeline/protocol.hpp"
 #include "aggpack/pipeline/generate_sizes.hpp"
 #include "aggpack/spatial/multilevel_grid.hpp"
@@ -35,7 +36,26 @@ constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 // thickness d_max / 4): each is a sphere-box volume at every analysis.
 constexpr double kMaxProfileBinsPerSphere = 100.0;
 
+// What a run keeps until it ends beyond its bed: a copy of the bed's arrays (ParticleStore) for
+// each snapshot step, and for each analysis its profiles, a bin's position and solid fraction
+// as doubles, as JSON values and as the text of summary.json.
+constexpr double kBytesPerSnapshotParticle = 3 * sizeof(Vec3) + 2 * sizeof(double) + sizeof(std::uint32_t);
+constexpr double kBytesPerProfileBin = 128.0;
+// And each DEM sample, in the time series and as its row of timeseries.csv.
+constexpr double kBytesPerSample = 256.0;
+// The most samples in the quiet criterion's window: it scans them all at every sample.
+constexpr double kMaxSamplesPerWindow = 1e4;
+
 bool uses_dem(const Scenario& sc) { return sc.dynamics.has_value() || sc.pour.has_value(); }
+
+double bytes_per_particle(const Scenario& sc) {
+  return uses_dem(sc) ? kBytesPerParticleDem : kBytesPerParticleDeposition;
+}
+
+std::string memory_limit_text(const Scenario& sc) {
+  return fmt::format("the memory limit of {:.3g} GiB ({})", memory_limit_bytes(sc.limits) / kGiB,
+                     sc.limits.max_memory_gib ? "limits.max_memory_gib" : "80 % of this machine's memory");
+}
 
 // An import_lammps step's file against the bed it replaces (`bed`: its radii in the store's
 // order): a LAMMPS file, at the timestep asked for, of as many spheres with the same radii,
@@ -164,6 +184,36 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
             : fmt::format("move {} of its radius in one time step of {} s, through the spheres it meets",
                           shown(per_step / r_min), shown(time_step))));
 }
+
+// The quiet criterion scans the samples of its window at every sample (at most one a DEM
+// step): a sample interval far below the window makes that scan the run's work.
+void check_sampling(const Scenario& sc, double time_step) {
+  const QuietCriterion& q = sc.dynamics->quiet;
+  const double every = std::max(q.sample_interval, time_step);
+  const double window = std::min(q.window, q.max_time);
+  if (!(window / every <= kMaxSamplesPerWindow))
+    throw InputError(fmt::format(
+        "{}: dynamics.sample_interval: samples every {} s (sample_interval = {} s, at most one a time step) put "
+        "{:.3g} samples in the quiet window of {} s, each scanned at every sample; expected at most {:g}: a "
+        "sample_interval of at least {} s or a shorter quiet_window",
+        sc.file.string(), shown(every), shown(q.sample_interval), window / every, shown(window),
+        kMaxSamplesPerWindow, shown(window / kMaxSamplesPerWindow)));
+}
+
+// The most samples a DEM step of the protocol takes: one a sample interval (at most one a time
+// step) up to max_time for a settle or a pour, and after each tap and through its rest.
+double dem_samples(const Scenario& sc, const Step& step, double time_step) {
+  const double every = std::max(sc.dynamics->quiet.sample_interval, time_step);
+  const double up_to_max_time = sc.dynamics->quiet.max_time / every + 1.0;
+  return std::visit(Overloaded{[&](const SettleStep&) { return up_to_max_time; },
+                               [&](const PourStep&) { return up_to_max_time; },
+                               [&](const TapStep&) {
+                                 const TappingSettings& t = *sc.tapping;
+                                 return static_cast<double>(t.taps) * (t.rest_time / every + 2.0);
+                               },
+                               [](const auto&) { return 0.0; }},
+                    step.kind);
+}
 }  // namespace
 
 void check_thread_count(int threads) {
@@ -180,16 +230,12 @@ void check_amount(const Scenario& sc) {
                                  "{:.3g}; generate less (count, solid_volume or fill_height), raise the fine "
                                  "cut-off d_min, or raise the limit",
                                  where, count, sc.limits.max_particles));
-  const double bytes = count * (uses_dem(sc) ? kBytesPerParticleDem : kBytesPerParticleDeposition);
-  const double limit = memory_limit_bytes(sc.limits);
-  if (bytes > limit)
+  const double bytes = count * bytes_per_particle(sc);
+  if (bytes > memory_limit_bytes(sc.limits))
     throw InputError(fmt::format("{}: about {:.3g} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), "
-                                 "more than the memory limit of {:.3g} GiB ({}); generate less, or raise "
-                                 "limits.max_memory_gib",
-                                 where, count, bytes / kGiB,
-                                 uses_dem(sc) ? kBytesPerParticleDem : kBytesPerParticleDeposition,
-                                 uses_dem(sc) ? " with the DEM" : "", limit / kGiB,
-                                 sc.limits.max_memory_gib ? "limits.max_memory_gib" : "80 % of this machine's memory"));
+                                 "more than {}; generate less, or raise limits.max_memory_gib",
+                                 where, count, bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
+                                 memory_limit_text(sc)));
 }
 
 void check_sizes(const Scenario& sc, std::span<const double> radii) {
@@ -213,10 +259,23 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   if (sc.particles.graded && sc.particles.graded->fill_height && *sc.particles.graded->fill_height < d_max)
     throw InputError(fmt::format("{}: particles.fill_height: {:.6g} m is below the largest diameter ({:.6g} m); "
                                  "expected at least one diameter", file, *sc.particles.graded->fill_height, d_max));
+  const double reach = contact_reach_diameters(sc.analysis.contact_tolerance, r_min, 0.5 * d_max);
+  if (!(reach <= kMaxContactReachDiameters))
+    throw InputError(fmt::format(
+        "{}: analysis.contact_tolerance: {} makes the smallest sphere (radius {} m) look for contacts {} of its "
+        "diameters away, beside spheres up to {} m across: the neighbour search would scan some {:.3g} cells for "
+        "each; expected at most {:g} diameters, a contact_tolerance of at most {}",
+        file, shown(sc.analysis.contact_tolerance), shown(r_min), shown(reach), shown(d_max),
+        std::pow(2.0 * reach + 3.0, 3.0), kMaxContactReachDiameters,
+        shown(sc.analysis.contact_tolerance * kMaxContactReachDiameters / reach)));
   // A virtual cube keeps one d_max from the walls: a side beyond that can never be placed.
   const double width = std::min(c.length_x(), c.length_y());
   const double horizontal = c.periodic ? width : width - 2.0 * d_max;
   const double vertical = c.height() - 2.0 * d_max;
+  if (sc.analysis.box_sides.size() > kMaxAnalysisBoxes)
+    throw InputError(fmt::format("{}: analysis.box_sides: {} sides; expected at most {} (each cube is a pass over every "
+                                 "sphere, at each analysis and each density check of the DEM)",
+                                 file, sc.analysis.box_sides.size(), kMaxAnalysisBoxes));
   for (const double side : sc.analysis.box_sides)
     if (side > std::min(horizontal, vertical))
       throw InputError(fmt::format(
@@ -243,10 +302,12 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   // The neighbour grid, sized as the stages size it.
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double time_step =
+      sc.dynamics ? sc.dynamics->time_step.step(stable_time_scale(sc.material.contact, r_min, sc.material.density)) : 0.0;
   if (sc.dynamics) {
-    const double step = sc.dynamics->time_step.step(stable_time_scale(sc.material.contact, r_min, sc.material.density));
-    if (sc.tapping) check_tapping(sc, step);
-    if (sc.pour) check_pour(sc, radii, solid, step);
+    if (sc.tapping) check_tapping(sc, time_step);
+    if (sc.pour) check_pour(sc, radii, solid, time_step);
+    check_sampling(sc, time_step);
   }
   const double cells = MultilevelGrid::cells_needed(c, radii, std::max(solid / 0.6, 1e-300), c.height());
   if (!(cells <= sc.limits.max_grid_cells))
@@ -258,12 +319,13 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
                                  sc.limits.max_grid_cells));
   const double slice = sc.analysis.slice_thickness.value_or(0.25 * d_max);
   const double shell = sc.analysis.shell_thickness.value_or(0.25 * d_max);
-  const double bins = std::max(c.height() / slice, 0.5 * width / shell);
+  const double slices = c.height() / slice, shells = 0.5 * width / shell;
+  const double bins = std::max(slices, shells);
   if (!(bins <= sc.limits.max_profile_bins))
     throw InputError(fmt::format("{}: analysis.{}: the profiles would need {:.3g} bins across the container, more "
                                  "than limits.max_profile_bins = {:.3g}; expected a thicker slice (default "
                                  "d_max / 4)",
-                                 file, c.height() / slice >= 0.5 * width / shell ? "slice_thickness" : "shell_thickness",
+                                 file, slices >= shells ? "slice_thickness" : "shell_thickness",
                                  bins, sc.limits.max_profile_bins));
   // Each sphere adds its volume to every slice (shell) it reaches: the bins above bound the
   // profiles' memory, not this work, which grows as the spheres' count times d / thickness.
@@ -279,6 +341,45 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
         file, by_slice ? "slice_thickness" : "shell_thickness", shown(thinnest), shown(d_mean),
         shown(d_mean / thinnest), by_slice ? "slices" : "shells", diameters / thinnest, by_slice ? "slice" : "shell",
         kMaxProfileBinsPerSphere, shown(d_mean / kMaxProfileBinsPerSphere)));
+
+  // The memory of the bed (a particle file's is known only now) and of what the protocol keeps
+  // until the run ends: a copy of the bed for each snapshot step, the profiles of each analysis.
+  const double n = static_cast<double>(radii.size());
+  const double bed_bytes = n * bytes_per_particle(sc);
+  const double limit = memory_limit_bytes(sc.limits);
+  if (bed_bytes > limit)
+    throw InputError(fmt::format("{}: {}: {} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), more than "
+                                 "{}; expected a smaller bed, or a larger limits.max_memory_gib",
+                                 file, sc.particles.file ? "particles.from" : "particles", radii.size(),
+                                 bed_bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
+                                 memory_limit_text(sc)));
+  std::size_t snapshots = 0, analyses = 1;  // and the run's final analysis
+  double samples = 0.0;                     // of the DEM steps, at most
+  const Protocol protocol = scenario_protocol(sc);
+  for (const Step& step : protocol.steps) {
+    snapshots += std::holds_alternative<SnapshotStep>(step.kind) ? 1 : 0;
+    analyses += std::holds_alternative<AnalyseStep>(step.kind) ? 1 : 0;
+    if (sc.dynamics) samples += dem_samples(sc, step, time_step);
+  }
+  const double kept = static_cast<double>(snapshots) * n * kBytesPerSnapshotParticle +
+                      static_cast<double>(analyses) * (slices + shells) * kBytesPerProfileBin;
+  if (bed_bytes + kept > limit)
+    throw InputError(fmt::format(
+        "{}: protocol: {} snapshot step{} (a copy of the {} particles each) and {} analys{} (profiles of {:.3g} bins "
+        "each) keep an estimated {:.3g} GiB until the run ends, with the bed's {:.3g} GiB more than {}; expected fewer "
+        "snapshot or analyse steps, a thicker analysis.slice_thickness or shell_thickness, or a larger "
+        "limits.max_memory_gib",
+        file, snapshots, snapshots == 1 ? "" : "s", radii.size(), analyses, analyses == 1 ? "is" : "es",
+        slices + shells, kept / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
+  if (sc.dynamics && bed_bytes + kept + samples * kBytesPerSample > limit) {
+    const QuietCriterion& q = sc.dynamics->quiet;
+    throw InputError(fmt::format(
+        "{}: dynamics.sample_interval: the DEM steps would keep up to {:.3g} samples for timeseries.csv (a sample "
+        "every {} s, up to max_time = {} s for each settle or pour step), an estimated {:.3g} GiB, with the bed's "
+        "{:.3g} GiB more than {}; expected a longer sample_interval or a shorter max_time",
+        file, samples, shown(std::max(q.sample_interval, time_step)), shown(q.max_time),
+        samples * kBytesPerSample / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
+  }
 
   // A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
   // if even that leaves no room for a virtual cube, the run would fail after all its work.

@@ -132,6 +132,31 @@ std::vector<BadInput> bad_inputs() {
       scenario(kDeposit + "[limits]\nmax_particles = -3\n", {"limits.max_particles"}),
       scenario(kDeposit + "[limits]\nmax_memory_gib = 0\n", {"limits.max_memory_gib", "(0, "}),
       scenario(kDeposit + "[limits]\nspeed = 1\n", {"limits.speed"}),
+      // What a run keeps until it ends counts against the memory limit: a copy of the bed per
+      // snapshot step, the profiles of each analysis; and a particle file's bed itself.
+      scenario(kDeposit + "[limits]\nmax_memory_gib = 0.001\n[[protocol]]\nstep = \"deposit\"\n" + [] {
+        std::string steps;
+        for (int i = 0; i < 20; ++i) steps += "[[protocol]]\nstep = \"snapshot\"\nname = \"s" + std::to_string(i) + "\"\n";
+        return steps;
+      }(), {"s.toml", "protocol", "20 snapshot steps", "limits.max_memory_gib"}),
+      scenario(kDeposit + "[analysis]\nslice_thickness = 1e-4\n[limits]\nmax_memory_gib = 0.001\n"
+                          "[[protocol]]\nstep = \"deposit\"\n" + [] {
+        std::string steps;
+        for (int i = 0; i < 10; ++i) steps += "[[protocol]]\nstep = \"analyse\"\nname = \"a" + std::to_string(i) + "\"\n";
+        return steps;
+      }(), {"s.toml", "protocol", "11 analyses", "analysis.slice_thickness", "limits.max_memory_gib"}),
+      // The DEM's samples: the quiet window's, scanned at every sample, and all of them kept for
+      // timeseries.csv (`check`: a run would go on for hours).
+      BadInput{"scenario", {{"s.toml", kDeposit + "[dynamics]\nsample_interval = 1e-6\nquiet_window = 1\n"}},
+               "check @/s.toml", {"s.toml", "dynamics.sample_interval", "quiet window", "at most 10000"}},
+      BadInput{"scenario",
+               {{"s.toml", kDeposit + "[dynamics]\nsample_interval = 1e-6\nquiet_window = 1e-3\nmax_time = 1e4\n"}},
+               "check @/s.toml", {"s.toml", "dynamics.sample_interval", "samples for timeseries.csv", "GiB"}},
+      BadInput{"scenario",
+               {{"s.toml", kBox + "[particles]\nfrom = \"@/bed.csv\"\n[dynamics]\n[limits]\nmax_memory_gib = 1e-5\n"},
+                {"bed.csv", lattice()}},
+               "check @/s.toml",
+               {"s.toml", "particles.from", "27 particles", "with the DEM", "limits.max_memory_gib"}},
       scenario(kDeposit + "[analysis]\nslice_thickness = 1e-9\n", {"s.toml", "analysis.slice_thickness", "bins"}),
       scenario(kDeposit + "[analysis]\nshell_thickness = 1e-9\n", {"s.toml", "analysis.shell_thickness", "bins"}),
       // Slices within the bins' limit, each sphere cut into 9x10^4 of them: `check` of a bed of
@@ -145,6 +170,11 @@ std::vector<BadInput> bad_inputs() {
                {"s.toml", "analysis.shell_thickness", "shells", "expected at least d_mean / 100"}),
       scenario(kDeposit + "[analysis]\nbox_sides = [0.2]\n", {"s.toml", "analysis.box_sides", "largest admissible"}),
       scenario(kDeposit + "[analysis]\nbox_sides = [-0.01]\n", {"analysis.box_sides"}),
+      scenario(kDeposit + "[analysis]\nbox_sides = [0.02" + [] {
+        std::string more;
+        for (int i = 0; i < 100; ++i) more += ", 0.02";
+        return more;
+      }() + "]\n", {"s.toml", "analysis.box_sides", "101 sides", "at most 100"}),
       scenario(kDeposit + "[analysis]\ncontact_tolerance = 2\n", {"analysis.contact_tolerance"}),
       scenario(kDeposit + "[analysis]\nplacement = \"random\"\n", {"analysis.placement", "centered"}),
       scenario(kDeposit + "fill_height = 0.005\n", {"deposition.fill_height", "below the largest diameter"}),
@@ -272,6 +302,21 @@ std::vector<BadInput> bad_inputs() {
       analyze("x,y,z,r\n0,0,0,0.5\n0.01,0,0,0.5\n", " --soft-contacts", {"bed.csv", "centre is inside"}),
       analyze(lattice(), " --box 1,1,1,2,2,2", {"bed.csv", "does not lie inside the packing"}),
       analyze(lattice(), " --cube 1", {"bed.csv", "virtual cube"}),
+      // A sphere 100 times smaller than the others looking for contacts 25 of its diameters away.
+      analyze(lattice() + "0.09,0.09,0.0001,0.00005\n", " --tolerance 0.5",
+              {"--tolerance 0.5", "bed.csv", "25.25 of its diameters", "at most 4"}),
+      BadInput{"scenario",
+               {{"s.toml", kBox + "[particles]\nfrom = \"@/bed.csv\"\n[analysis]\ncontact_tolerance = 0.5\n"},
+                {"bed.csv", lattice() + "0.09,0.09,0.0001,0.00005\n"}},
+               "check @/s.toml",
+               {"s.toml", "analysis.contact_tolerance", "25.25 of its diameters", "at most 0.07921"}},
+      // Each box is a pass over every sphere: 10^5 box sides over 8000 spheres, a 0.5 MB
+      // scenario, made `check` take 8 s.
+      analyze(lattice(), [] {
+        std::string cubes;
+        for (int i = 0; i < 101; ++i) cubes += " --cube 0.005";
+        return cubes;
+      }(), {"--box, --cube", "101 boxes", "at most 100"}),
       analyze(lattice(), " --box 1,2,3", {"--box", "xmin,ymin,zmin,xmax,ymax,zmax"}),
       analyze(lattice(), " --length-unit parsec", {"--length-unit", "unknown unit"}),
       BadInput{"particles", {}, "analyze @", {"directory", "regular file"}},

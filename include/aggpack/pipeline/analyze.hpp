@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 #include <optional>
 #include <vector>
 
@@ -8,6 +9,19 @@
 #include "aggpack/analysis/density.hpp"
 
 namespace aggpack {
+
+// The most boxes (explicit and cubes) one analysis measures: each is a pass over every sphere,
+// at every analysis of a run and at every density check of its DEM.
+inline constexpr std::size_t kMaxAnalysisBoxes = 100;
+
+// How far, in its own diameters, the smallest sphere may look for contacts: the coordination's
+// neighbour search reaches r (1 + tolerance) + r_max tolerance from each sphere and scans the
+// cube of cells (about a small sphere wide) within that reach.
+inline constexpr double kMaxContactReachDiameters = 4.0;
+// The contact tolerance's reach beyond the smallest sphere (radius r_min), in its diameters.
+[[nodiscard]] inline double contact_reach_diameters(double tolerance, double r_min, double r_max) {
+  return tolerance * (r_min + r_max) / (2.0 * r_min);
+}
 
 // What to measure in a packing. Boxes are explicit; cube sides are placed as in
 // method.md (centred, clear of walls, floor and free surface). With neither, one cube
