@@ -227,9 +227,9 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "Run a scenario and write particles.csv, particles.vtp, summary.json");
   run_cmd->add_option("scenario", scenario, "Scenario file (TOML)")->required();
   auto* out_opt = run_cmd->add_option("--out", out_dir, "Output directory (overrides output.directory)");
-  const auto thread_range = CLI::Range(0, aggpack::kMaxThreads, "0 (all cores) to 256");
+  const auto thread_range = CLI::Range(0, aggpack::kMaxThreads, "0 (all cores) or 1 to 256");
   auto* seed_opt = run_cmd->add_option("--seed", seed, "Random seed, 0 to 2^63-1 (overrides seed)");
-  run_cmd->add_option("--threads", run.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default 0: all cores)")->check(thread_range);
   run_cmd->add_option("--set", run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
   auto* stop_opt = run_cmd->add_option("--stop-after", stop_after, "Stop after this stage (deposition, dynamics)");
   run_cmd->add_flag("--quiet", run.quiet, "Print nothing on success");
@@ -251,7 +251,7 @@ int main(int argc, char** argv) {
   auto* resume_cmd = app.add_subcommand(
       "resume", "Continue an interrupted or killed run from the checkpoint in its folder; same results, bit for bit");
   resume_cmd->add_option("run_dir", resume_dir, "The run's output folder (holding checkpoint.bin)")->required();
-  resume_cmd->add_option("--threads", resume.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
+  resume_cmd->add_option("--threads", resume.threads, "OpenMP threads (default 0: all cores)")
       ->check(thread_range);
   auto* resume_every_opt =
       resume_cmd->add_option("--checkpoint-every", resume_every, "Checkpoint at most every SECONDS from now on");
@@ -319,7 +319,7 @@ int main(int argc, char** argv) {
   calibrate_cmd->add_option("scenario", calibration.scenario, "Scenario of two sizes or more (TOML)")->required();
   calibrate_cmd->add_option("--out", calibration_out, "The calibration file to write (JSON)")->required();
   calibrate_cmd->add_option("--seeds", calibration.seeds, "Seeds per packing (default 3)")->check(CLI::Range(1, 100));
-  calibrate_cmd->add_option("--threads", calibration.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
+  calibrate_cmd->add_option("--threads", calibration.threads, "OpenMP threads (default 0: all cores)")
       ->check(thread_range);
   calibrate_cmd->add_option("--set", calibration.overrides.set, "Override a scenario key: key.path=value");
   calibrate_cmd->add_flag("--quiet", calibration.quiet, "Print nothing on success");
@@ -336,7 +336,7 @@ int main(int argc, char** argv) {
   whole_cmd->add_option("--calibration", whole.calibration, "CPM's K and beta from a file aggpack calibrate wrote");
   whole_cmd->add_option("--out", whole_out, "Also write the estimate as JSON to this file");
   whole_cmd->add_option("--plot", whole_plot, "Also draw the density against the volume left out to this SVG file");
-  whole_cmd->add_option("--threads", whole.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
+  whole_cmd->add_option("--threads", whole.threads, "OpenMP threads (default 0: all cores)")->check(thread_range);
   whole_cmd->add_option("--set", whole.overrides.set, "Override a scenario key: key.path=value");
   whole_cmd->add_flag("--quiet", whole.quiet, "Print only the estimate");
 
@@ -359,7 +359,7 @@ int main(int argc, char** argv) {
                           "up from their checkpoints, not run again");
   reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
   reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
-  reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")
+  reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads (default 0: all cores)")
       ->check(thread_range);
   reproduce_cmd->add_flag("--quiet", reproduce.quiet, "Print nothing on success, no progress line");
 
@@ -379,7 +379,7 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--calibration", sweep.calibration, "CPM's K and beta (with --cut-offs) from aggpack calibrate");
   auto* sweep_stop_opt =
       sweep_cmd->add_option("--stop-after", sweep_stop, "Stop each run after this stage (deposition, dynamics)");
-  sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads, 1 to 256 (default 0: all cores)")->check(thread_range);
+  sweep_cmd->add_option("--threads", sweep.threads, "OpenMP threads (default 0: all cores)")->check(thread_range);
   sweep_cmd->add_flag("--resume", sweep.resume,
                       "Continue an interrupted sweep into the same --out: runs it finished or began are taken up "
                       "from their checkpoints, not run again");
@@ -497,7 +497,7 @@ int main(int argc, char** argv) {
       aggpack::write_file_atomically(calibration_out, aggpack::to_json(c).dump(1) + "\n");
       if (!calibration.quiet)
         fmt::print("aggpack: calibrated CPM from {} ({}; {} seeds): K = {:.3g} ({:.3g} to {:.3g}), beta = {:.4f} ({:.4f} "
-                   "to {:.4f}); monosized {:.4f} +- {:.4f}, mix {:.4f} +- {:.4f}; wrote {}\n",
+                   "to {:.4f}); monosized {:.4f} ± {:.4f}, mix {:.4f} ± {:.4f}; wrote {}\n",
                    c.scenario, c.protocol, c.seeds, c.compaction_index, c.compaction_low, c.compaction_high, c.beta,
                    c.beta_low, c.beta_high, c.monosized.mean, c.monosized.standard_error, c.mix.mean,
                    c.mix.standard_error, calibration_out);

@@ -192,7 +192,7 @@ std::string particles_csv(const ParticleStore& particles) {
   fmt::format_to(std::back_inserter(out), "id,x,y,z,r\n");
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Vec3& p = particles.position[i];
-    fmt::format_to(std::back_inserter(out), "{},{},{},{},{}\n", i, p.x, p.y, p.z, particles.radius[i]);
+    fmt::format_to(std::back_inserter(out), "{},{},{},{},{}\n", i + 1, p.x, p.y, p.z, particles.radius[i]);
   }
   return fmt::to_string(out);
 }
@@ -202,12 +202,19 @@ std::string particles_csv(const ParticleStore& particles) {
 namespace aggpack {
 
 std::string supports_csv(std::span<const Supports> supports) {
+  // Each support in two typed columns, so that a table reader takes each column as one type:
+  // its kind (a word) and, for a sphere, that sphere's id (0 for anything else).
+  const auto kind = [](SupportId id) {
+    return id == kNoSupport ? std::string("none") : is_particle(id) ? std::string("sphere") : support_name(id);
+  };
+  const auto sphere_id = [](SupportId id) { return is_particle(id) ? static_cast<std::uint64_t>(id) + 1 : 0; };
   fmt::memory_buffer out;
-  fmt::format_to(std::back_inserter(out), "id,support_1,support_2,support_3\n");
+  fmt::format_to(std::back_inserter(out),
+                 "id,support_1_kind,support_1_id,support_2_kind,support_2_id,support_3_kind,support_3_id\n");
   for (std::size_t i = 0; i < supports.size(); ++i) {
     const auto& ids = supports[i].ids;
-    fmt::format_to(std::back_inserter(out), "{},{},{},{}\n", i, support_name(ids[0]), support_name(ids[1]),
-                   support_name(ids[2]));
+    fmt::format_to(std::back_inserter(out), "{},{},{},{},{},{},{}\n", i + 1, kind(ids[0]), sphere_id(ids[0]),
+                   kind(ids[1]), sphere_id(ids[1]), kind(ids[2]), sphere_id(ids[2]));
   }
   return fmt::to_string(out);
 }

@@ -65,7 +65,7 @@ Container read_container(const TomlSection& s) {
 SizeClass read_size_class(const TomlSection& s) {
   s.allow_only({"diameter", "count", "volume_fraction"});
   SizeClass c;
-  c.diameter = s.required(s.length("diameter"), "diameter", "a length such as \"0.5 in\"");
+  c.diameter = s.required(s.length("diameter", kPositive, kLargestBareGrain), "diameter", "a length such as \"0.5 in\"");
   if (const auto n = s.integer("count", 1, 1'000'000'000)) c.count = static_cast<std::size_t>(*n);
   c.volume_fraction = s.number("volume_fraction", kFraction);
   if (c.count.has_value() == c.volume_fraction.has_value())
@@ -76,6 +76,23 @@ SizeClass read_size_class(const TomlSection& s) {
 
 std::filesystem::path relative_to(const std::filesystem::path& dir, const std::string& file) {
   return std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : dir / file;
+}
+
+// The input file that `key` names, from the scenario's folder: one that is not there is
+// refused at the key, with the path it was looked for at (absolute) and the path as given.
+// (One that is there but is no regular file is refused when it is read, saying what it is.)
+std::filesystem::path input_file_at(const TomlSection& s, std::string_view key, const std::filesystem::path& scenario_dir,
+                                    const std::string& given, std::string_view what) {
+  const std::filesystem::path path = relative_to(scenario_dir, given);
+  std::error_code exists_error;
+  if (!std::filesystem::exists(path, exists_error)) {
+    std::error_code ec;
+    const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    s.fail(key, fmt::format("{} \"{}\" is not a file: looked for at {} (a relative path is taken from the scenario's "
+                            "folder)",
+                            what, given, (ec ? path : absolute).lexically_normal().string()));
+  }
+  return path;
 }
 
 GradingSource read_grading_source(const TomlSection& s, const std::filesystem::path& scenario_dir) {
@@ -103,14 +120,15 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
         s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", *unit));
       length_unit = static_cast<double>(*factor);
     }
-    g.grading = read_grading_csv(relative_to(scenario_dir, *file).string(), length_unit,
+    g.grading = read_grading_csv(input_file_at(s, "file", scenario_dir, *file, "the sieve file").string(), length_unit,
                                  s.string("percent_column").value_or("percent_passing"));
   } else if (const auto law = s.choice("law", kGradingLawNames)) {
     GradingLaw l;
     l.kind = *law;
-    l.d_max = s.required(s.length("law_d_max"), "law_d_max", "the largest size of the law, such as \"1 in\"");
+    l.d_max = s.required(s.length("law_d_max", kPositive, kLargestBareGrain), "law_d_max",
+                         "the largest size of the law, such as \"1 in\"");
     l.q = s.number("q", kPositive).value_or(l.kind == GradingLawKind::Andreasen ? 0.37 : 0.5);
-    l.d_min = s.length("law_d_min").value_or(0.0);
+    l.d_min = s.length("law_d_min", kPositive, kLargestBareGrain).value_or(0.0);
     try {
       g.grading = grading_from_law(l);
     } catch (const InputError& e) {
@@ -125,7 +143,7 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
       row.allow_only({"sieve", "opening", "passing"});
       Sieve sieve;
       sieve.name = row.string("sieve").value_or("");
-      sieve.opening = row.required(row.length("opening"), "opening", "a length such as \"0.5 in\"");
+      sieve.opening = row.required(row.length("opening", kPositive, kLargestBareGrain), "opening", "a length such as \"0.5 in\"");
       sieve.percent_passing = row.required(row.number("passing", {0.0, 100.0, false, false}), "passing",
                                            "percent passing, 0 to 100");
       sieves.push_back(sieve);
@@ -133,8 +151,8 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
     }
     g.grading = make_grading(g.key, std::move(sieves), s.location("sieves"), rows);
   }
-  g.d_min = s.length("d_min");
-  g.d_max = s.length("d_max");
+  g.d_min = s.length("d_min", kPositive, kLargestBareGrain);
+  g.d_max = s.length("d_max", kPositive, kLargestBareGrain);
   // A cut-off at or below the smallest sieve cuts nothing: taken silently as "no cut-off" it
   // hides a slip (a value in the wrong unit, or a whole-grading series that repeats one bed).
   if (g.d_min && !(*g.d_min > g.grading.smallest()))
@@ -206,7 +224,6 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   if (const auto file = s.string("from")) {
     for (auto k : {"count", "solid_volume", "order"})
       if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
-    source.file = relative_to(scenario_dir, *file);
     const std::string unit = s.string("length_unit").value_or("m");
     const auto factor = metres_per_unit(unit);
     if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
@@ -216,6 +233,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
     source.overlap_tolerance = s.number("overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.overlap_tolerance);
     source.soft_contacts = s.boolean("soft_contacts").value_or(false);
     source.file_timestep = s.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
+    source.file = input_file_at(s, "from", scenario_dir, *file, "the particle file");  // after its keys are checked
     return source;
   }
   for (auto k : {"length_unit", "boundary_overlap_tolerance", "overlap_tolerance", "soft_contacts", "timestep"})
@@ -224,7 +242,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   spec.order = s.choice("order", kSizeOrderNames).value_or(SizeOrder::Shuffled);
   const auto count = s.integer("count", 1, 1'000'000'000);
   const auto solid_volume = s.number("solid_volume", kPositive);
-  if (const auto d = s.length("diameter")) {
+  if (const auto d = s.length("diameter", kPositive, kLargestBareGrain)) {
     if (solid_volume) s.fail("solid_volume", "monosized particles take a 'count'");
     spec.classes.push_back({*d, static_cast<std::size_t>(s.required(count, "count", "a positive integer")), {}});
   } else {
@@ -468,10 +486,7 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
       e.allow_only({"step", "file", "timestep"});
       const std::string file =
           e.required(e.string("file"), "file", "the LAMMPS dump or data file to take the positions from");
-      std::filesystem::path path = file;
-      if (path.is_relative()) path = sc.file.parent_path() / path;
-      if (!std::filesystem::is_regular_file(path))
-        e.fail("file", fmt::format("{} is not a file (relative paths are from the scenario's folder)", path.string()));
+      const std::filesystem::path path = input_file_at(e, "file", sc.file.parent_path(), file, "the LAMMPS file");
       ImportLammpsStep import{path, std::nullopt};
       if (e.has("timestep")) import.timestep = e.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
       p.steps.push_back({"import_lammps", import});
@@ -573,7 +588,10 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
                                    std::numeric_limits<std::int64_t>::max()));
     sc.seed = *overrides.seed;
   }
-  sc.container = read_container(s.required(s.table("container"), "container", "a [container] table"));
+  const TomlSection container = s.required(s.table("container"), "container", "a [container] table");
+  sc.container = read_container(container);
+  sc.written_length_unit = container.written_unit("side").value_or("");
+  if (sc.written_length_unit == "m") sc.written_length_unit.clear();
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
                                 file.parent_path(), sc.container);
   if (const auto m = s.table("material")) sc.material = read_material(*m);

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
 #include "aggpack/core/units.hpp"
 
 namespace aggpack {
@@ -172,7 +173,8 @@ std::optional<std::string> TomlSection::choice(std::string_view key,
   fail(key, fmt::format("expected one of {}, got \"{}\"", list, *s));
 }
 
-double TomlSection::length_value(const toml::node& n, const std::string& full_key, NumberRange range) const {
+double TomlSection::length_value(const toml::node& n, const std::string& full_key, NumberRange range,
+                                 double largest_bare) const {
   const auto bad = [&](const std::string& what) -> double {
     throw InputError(fmt::format("{}: {}: {}", node_location(n, full_key), full_key, what));
   };
@@ -193,13 +195,28 @@ double TomlSection::length_value(const toml::node& n, const std::string& full_ke
   }
   if (!range.contains(v))
     return bad(fmt::format("expected {} (in metres), got {}", range.describe(), render(n)));
+  if (!n.is_string() && v > largest_bare)
+    return bad(fmt::format("{} is a bare number, read as {:g} m, more than {:g} m: if it is in inches or millimetres, "
+                           "write its unit (\"{} in\", \"{} mm\"); a length this large is taken with its unit written "
+                           "(\"{} m\")",
+                           render(n), v, largest_bare, render(n), render(n), render(n)));
   return v;
 }
 
-std::optional<double> TomlSection::length(std::string_view key, NumberRange range) const {
+std::optional<double> TomlSection::length(std::string_view key, NumberRange range, double largest_bare) const {
   const toml::node* n = node(key);
   if (!n) return std::nullopt;
-  return length_value(*n, key_path(key), range);
+  return length_value(*n, key_path(key), range, largest_bare);
+}
+
+std::optional<std::string> TomlSection::written_unit(std::string_view key) const {
+  const toml::node* n = node(key);
+  const auto* text = n ? n->as_string() : nullptr;
+  if (!text) return std::nullopt;
+  const std::string value = text->get();
+  const std::size_t unit = value.find_first_not_of("0123456789+-.eE \t");
+  if (unit == std::string::npos) return std::nullopt;
+  return std::string(trim(std::string_view(value).substr(unit)));
 }
 
 std::optional<std::vector<double>> TomlSection::length_list(std::string_view key) const {

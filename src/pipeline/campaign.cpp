@@ -78,12 +78,9 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   options.quiet = true;
   options.progress = &progress_;
   {
-    std::string run = fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed);
-    if (done_ > 0) {
-      const double per_run = seconds() / static_cast<double>(done_);
-      run += fmt::format(" (about {:.0f} min left in all)", per_run * static_cast<double>(planned_ - done_) / 60.0);
-    }
-    progress_.set_run(std::move(run));
+    std::optional<double> left_in_all;  // s, from the pace of the runs so far
+    if (done_ > 0) left_in_all = seconds() / static_cast<double>(done_) * static_cast<double>(planned_ - done_);
+    progress_.set_run(fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed), left_in_all);
   }
   options.keep_dem_checkpoint = checkpoints_ != Checkpoints::removed;
   bool resume = false;
@@ -111,9 +108,10 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
     progress_.clear();
     fmt::print(*log_, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s{})\n", label, seed,
                c.final_density(),
-               std::isnan(c.after_dynamics)     ? std::string(" after deposition")
-               : std::isnan(c.after_deposition) ? std::string(" after DEM")  // poured: never deposited
-                                                : fmt::format(" after DEM, {:.4f} after deposition", c.after_deposition),
+               std::isnan(c.after_dynamics) ? std::string(" after deposition")
+               : std::isnan(c.after_deposition)
+                   ? fmt::format(" after {}", c.result.report.last_dem_stage())  // poured: never deposited
+                   : fmt::format(" after {}, {:.4f} after deposition", c.result.report.last_dem_stage(), c.after_deposition),
                c.result.report.particles.size(), c.result.wall_clock_s,
                resume ? fmt::format(", resumed from its checkpoint taken {}", *c.result.report.resumed_from) : "");
     log_->flush();

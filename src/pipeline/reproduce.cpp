@@ -15,6 +15,7 @@
 #include <iostream>
 #include <omp.h>
 
+#include "aggpack/analysis/bulk_density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/text.hpp"
 #include "aggpack/core/version.hpp"
@@ -414,13 +415,17 @@ std::string table2_dem_text(const std::vector<Table2Outcome>& mixes, const std::
   if (!(speed > 0.0)) return fmt::format("These beds are not settled by DEM: {} particles down to {:.2f} mm need time "
                                          "steps of {:.1e} s at the aggregate's stiffness.",
                                          particle_count(first), 2e3 * r_min, step);
+  // The cost at a rate measured once, not at this run's own pace: that depends on what else the
+  // machine was doing (17 h in one report, 38 h in another).
+  constexpr double kReferenceRate = 5.4e6;  // particle-steps/s: a Table 2 bed settled on two cores (BENCHMARKS.md)
   return fmt::format(
       "These beds are not settled by DEM: {} particles down to {:.2f} mm need time steps of {:.1e} s at the "
       "aggregate's stiffness, so half a second of settling is {:.0e} particle-steps, about {:.0f} hours per bed at "
-      "the {:.1f} million particle-steps per second the examples ran at here. The examples show what DEM adds to a "
-      "deposited bed ({:+.3f} to {:+.3f}). Add a [dynamics] table to a Table 2 scenario to run it anyway.",
-      particle_count(first), 2e3 * r_min, step, particle_steps, particle_steps / speed / 3600.0, 1e-6 * speed, gain_lo,
-      gain_hi);
+      "{:.1f} million particle-steps per second (a Table 2 bed settled on two cores, BENCHMARKS.md). The examples "
+      "show what DEM adds to a deposited bed ({:+.3f} to {:+.3f}). Add a [dynamics] table to a Table 2 scenario to "
+      "run it anyway.",
+      particle_count(first), 2e3 * r_min, step, particle_steps, particle_steps / kReferenceRate / 3600.0,
+      1e-6 * kReferenceRate, gain_lo, gain_hi);
 }
 
 // A variant of the sensitivity study: extra --set overrides on Table 2 mix 3.
@@ -840,13 +845,13 @@ std::string compaction_plot(const PaperExample& ex, const std::vector<CaseRun>& 
   Plot plot;
   plot.title = fmt::format("{} poured, then tapped: the compaction curve", ex.short_name);
   plot.legend_at_bottom = true;
-  plot.x_label = "taps";
+  plot.x_label = fmt::format("taps ({})", tapping);
   plot.y_label = "packing density in the virtual boxes";
   double taps = 1.0, lo = ex.experiment, hi = ex.experiment;
   for (const CaseRun& r : runs)
     for (const TapReport& t : r.result.report.tappings) {
       PlotSeries s;
-      s.label = fmt::format("aggpack, seed {} ({})", r.result.report.scenario.seed, tapping);
+      s.label = fmt::format("aggpack, seed {}", r.result.report.scenario.seed);
       s.mark = Mark::LineAndPoints;
       if (!std::isnan(t.density_before)) s.x.push_back(0.0), s.y.push_back(t.density_before);
       for (const TapSample& sample : t.samples)
@@ -881,6 +886,20 @@ void compose_protocols(Document& doc, FigureSet& figures, nlohmann::json& result
     for (const TapReport& tap : r.tappings) s += tap.wall_clock_s;
     return s;
   };
+  // "Until quiet" only where every run's DEM ended quiet; a DEM cut by its time limit says so.
+  const auto how_long = [](const std::vector<CaseRun>& runs) {
+    std::size_t cut = 0;
+    double longest = 0.0;
+    for (const CaseRun& r : runs) {
+      const std::optional<RunReport::RestState> rest = r.result.report.rest_state();
+      if (rest && !rest->settled) ++cut;
+      const auto& dynamics = r.result.report.scenario.dynamics;
+      if (dynamics) longest = std::max(longest, dynamics->quiet.max_time);
+    }
+    return cut == 0 ? std::string("until quiet")
+                    : fmt::format("cut at its time limit ({:g} s simulated) before quiet in {} of {} runs", longest, cut,
+                                  runs.size());
+  };
   for (const PaperExample& ex : rep.paper) {
     const auto found = rep.poured.find(ex.id);
     if (found == rep.poured.end()) continue;
@@ -899,9 +918,10 @@ void compose_protocols(Document& doc, FigureSet& figures, nlohmann::json& result
       t.rows.push_back({ex.short_name, protocol, stat_text(stats), seconds(wall), difference_text(stats.mean, ex.experiment)});
     };
     row("drop-and-roll", deposited.deposition, mean_of(deposited.runs, deposition_s));
-    row("drop-and-roll, then DEM until quiet (the paper's method)", deposited.dynamics,
+    row(fmt::format("drop-and-roll, then DEM {} (the paper's method)", how_long(deposited.runs)), deposited.dynamics,
         mean_of(deposited.runs, [&](const RunReport& r) { return deposition_s(r) + dynamics_s(r); }));
-    row("pour: a random gas at 0.2, fallen through the DEM until quiet", pour_only, mean_of(poured.runs, dynamics_s));
+    row(fmt::format("pour: a random gas at solid fraction 0.2, fallen through the DEM {}", how_long(poured.runs)),
+        pour_only, mean_of(poured.runs, dynamics_s));
     row("pour, then " + rep.plan.tapping_label, poured.dynamics,
         mean_of(poured.runs, [&](const RunReport& r) { return dynamics_s(r) + tapping_s(r); }));
     t.rows.push_back({ex.short_name, "the paper (drop, then DEM)", value_text(ex.after_dem, 3), "", ""});
@@ -972,6 +992,31 @@ std::vector<PlotSeries> cpm_curves(const Reproduction& rep) {
   return {simulated, whole};
 }
 
+// Table 2 as a concrete lab reports it (ASTM C29): voids content and dry bulk density, ours
+// beside the experiment's, from the scenario's particle density.
+std::optional<Table> table2_engineers_table(const std::vector<Table2Outcome>& mixes) {
+  if (mixes.empty() || mixes.front().runs.empty()) return std::nullopt;
+  const double particle_density = mixes.front().runs.front().result.report.scenario.material.density;
+  Table t;
+  t.header = {"mix", "ours: voids %", "ours: dry bulk density kg/m³", "ours: lb/ft³", "experiment: voids %",
+              "experiment: kg/m³", "experiment: lb/ft³"};
+  for (const Table2Outcome& m : mixes) {
+    const BulkDensity ours = bulk_density(m.final_stats().mean, particle_density),
+                      measured = bulk_density(m.row.experiment, particle_density);
+    t.rows.push_back({fmt::format("{}", m.row.mix), fmt::format("{:.1f}", ours.voids_percent),
+                      fmt::format("{:.0f}", ours.kg_per_m3), fmt::format("{:.1f}", ours.lb_per_ft3),
+                      fmt::format("{:.1f}", measured.voids_percent), fmt::format("{:.0f}", measured.kg_per_m3),
+                      fmt::format("{:.1f}", measured.lb_per_ft3)});
+  }
+  t.caption = fmt::format(
+      "The densities of Table 2 as a concrete lab reports them (ASTM C29/C29M): voids content 100 (1 − density) % "
+      "and dry bulk density, density × the grains' oven-dry density, {:g} kg/m³ (the scenarios' material.density; "
+      "the experiments' own is not printed, so theirs is converted at the same). Ours: after DEM where it ran, else "
+      "after deposition.",
+      particle_density);
+  return t;
+}
+
 // Table 2: the mixes, Fig. 9, a paragraph, each mix's grading and one bed.
 // The paper's Fig. 9 redrawn: density against Fa %, ours, the paper's and the experiments'.
 void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
@@ -983,7 +1028,8 @@ void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
   plot.legend_at_bottom = true;
   plot.x_label = "fine aggregate Fa (% of aggregate volume)";
   plot.y_label = "packing density";
-  PlotSeries dep{"aggpack after deposition", {}, {}, {}, Mark::LineAndPoints, true, "#2ca02c"};
+  // Ours solid, CPM's curves dashed: the caption tells them apart by that.
+  PlotSeries dep{"aggpack after deposition", {}, {}, {}, Mark::LineAndPoints, false, "#2ca02c"};
   PlotSeries dyn{"aggpack after DEM", {}, {}, {}, Mark::LineAndPoints, false, "#1f77b4"};
   PlotSeries paper{"paper, computed", {}, {}, {}, Mark::Points, false, "#d62728"};
   PlotSeries exp{"experiment", {}, {}, {}, Mark::Points, false, "#000000"};
@@ -1035,11 +1081,12 @@ void compose_table2_figures(Document& doc, FigureSet& figures, const Reproductio
     section.cut_away = true;
     section.supersample = 3;
     section.legend = true;
+    section.log_colour = true;  // the sand's sizes told apart, not all one colour
     const std::string fig = figures.add(fmt::format("table2_mix{}_packing.png", mixes.front().row.mix),
                                         encode_png(render_spheres(r.result.report.particles, frame, section)));
     b.emplace_back(Figure{fig, fmt::format("Table 2 mix {} ({} particles), seed 1, the deposited bed cut through its "
-                                           "middle, coloured by diameter (viridis: {:.1f} mm dark blue to {:.1f} mm "
-                                           "yellow, colour bar and scale bar below the picture).",
+                                           "middle, coloured by diameter (viridis on a log scale of diameter: {:.1f} mm "
+                                           "purple to {:.1f} mm yellow, colour bar and scale bar below the picture).",
                                            mixes.front().row.mix, particle_count(r),
                                            1e3 * r.result.report.final.bed.d_min,
                                            1e3 * r.result.report.final.bed.d_max)});
@@ -1106,15 +1153,22 @@ void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& re
   std::string series;
   for (const CutOffPoint& p : e.points)
     series += fmt::format("{}{:g} in: {:.3f}", series.empty() ? "" : ", ", p.cut_off / 0.0254, p.mean);
+  // A band wider than 0.04 gives no estimate: then no number is quoted as one.
+  const std::string outcome =
+      e.trustworthy()
+          ? fmt::format("The whole grading then packs at {:.3f} (band {:.3f} to {:.3f}), against {:.3f} measured: "
+                        "{:+.3f}.",
+                        e.density, e.low, e.high, row.experiment, e.density - row.experiment)
+          : fmt::format("Its band, {:.3f} to {:.3f}, is wider than 0.04: these runs give no estimate of the whole "
+                        "grading (measured: {:.3f}).",
+                        e.low, e.high, row.experiment);
   b.emplace_back(Paragraph{fmt::format(
       "The whole grading of mix {}. Its cut-off series after deposition ({}) is carried below the finest cut by "
       "CPM ({}): the residual simulated − CPM, a line in the volume left out, is extrapolated to nothing left out "
-      "(aggpack whole-grading's fit, on these runs). The whole grading then packs at {:.3f} (band {:.3f} to "
-      "{:.3f}{}), against {:.3f} measured: {:+.3f}. The simulation covers {:.1f} % of the blend's volume, the "
+      "(aggpack whole-grading's fit, on these runs). {} The simulation covers {:.1f} % of the blend's volume, the "
       "model the {:.1f} % below the finest cut. {}",
-      row.mix, series, cpm_parameters_text(rep), e.density, e.low, e.high,
-      e.trustworthy() ? "" : ", wider than 0.04: no estimate", row.experiment, e.density - row.experiment,
-      100.0 * e.simulated_fraction, 100.0 * (1.0 - e.simulated_fraction),
+      row.mix, series, cpm_parameters_text(rep), outcome, 100.0 * e.simulated_fraction,
+      100.0 * (1.0 - e.simulated_fraction),
       !e.trustworthy() ? "The band is too wide to conclude anything; more seeds and finer cut-offs narrow it."
       : e.low > row.experiment
           ? "Frictionless spheres laid by drop-and-roll pack denser than the measured aggregate once the whole sand "
@@ -1197,6 +1251,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                ".";
   b.emplace_back(t2);
   result["table2"] = t2_json;
+  if (std::optional<Table> engineers = table2_engineers_table(mixes)) b.emplace_back(std::move(*engineers));
   compose_fig9(doc, figures, rep);
   {
     b.emplace_back(Paragraph{fmt::format(
@@ -1257,10 +1312,17 @@ void compose_sensitivity(Document& doc, nlohmann::json& result, const Reproducti
           ? fmt::format(" ({:.1f} times more per halving of the cut-off here)",
                         std::pow(2.0, -slope_per_10(log_cut, log_count) / 10.0))
           : std::string();
+  // Only the variants this mode ran are spoken of (the quick mode runs cut-offs only).
+  const bool walls_varied = std::any_of(variants.begin(), variants.end(), [](const Variant& v) {
+    return !v.runs.empty() && (v.spec.label.find("container") != std::string::npos ||
+                               v.spec.label.find("periodic") != std::string::npos);
+  });
   b.emplace_back(Paragraph{
       "A finer sand cut-off keeps more of the sand, which fills voids between the coarse particles, at the cost of "
-      "the particle count" + per_halving + ". A wider container or periodic sides show how much wall effect the "
-      "virtual boxes leave." + number_sampling});
+      "the particle count" + per_halving + "." +
+      (walls_varied ? " A wider container or periodic sides show how much wall effect the virtual boxes leave."
+                    : std::string()) +
+      number_sampling});
 
 }
 

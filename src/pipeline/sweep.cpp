@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 #include <iostream>
 
 #include "aggpack/analysis/bulk_density.hpp"
@@ -16,6 +17,7 @@
 #include "aggpack/pipeline/campaign.hpp"
 #include "aggpack/pipeline/whole_grading.hpp"
 #include "aggpack/report/svg_plot.hpp"
+#include "aggpack/sizes/grading_sampler.hpp"
 
 namespace aggpack {
 
@@ -62,6 +64,9 @@ struct SweepPoint {
   std::vector<double> final_density;   // per seed, after the scenario's last stage (at the finest cut-off)
   SeedStatistics density, after_deposition;
   std::optional<WholeGradingEstimate> whole;  // with cut-offs
+  // Without cut-offs, what the scenario's own cut-offs leave out of the blend and of its sand
+  // (volume fractions): the densities are of the rest only.
+  double left_out = 0.0, fine_left_out = 0.0;
   // What the best blend is chosen by, and how far off it the point may be and not be told apart.
   [[nodiscard]] double judged() const { return whole ? whole->density : density.mean; }
   [[nodiscard]] double uncertainty() const {
@@ -213,6 +218,12 @@ SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::si
   }
   point.density = seed_statistics(point.final_density);
   point.after_deposition = seed_statistics(deposited);
+  if (!plan.whole()) {
+    const GradedParticles& graded = *plan.blends[blend].particles.graded;
+    point.left_out = left_out_fraction(graded);
+    const GradingCut fine = cut_grading(graded.fine->grading, graded.fine->d_min, graded.fine->d_max, graded.fine->key);
+    point.fine_left_out = fine.cut_below + fine.cut_above;
+  }
   if (plan.whole()) {
     point.whole = fit_whole_grading(plan.blends[blend], plan.parameters, std::move(cut_points));
     point.whole->scenario = options.scenario.string();
@@ -241,6 +252,10 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
                      {"bulk_density_kg_m3", bulk_density(p.density.mean, particle_density).kg_per_m3},
                      {"bulk_density_lb_ft3", bulk_density(p.density.mean, particle_density).lb_per_ft3}}},
         {"density_after_deposition", {{"mean", or_null(p.after_deposition.mean)}, {"sd", or_null(p.after_deposition.sd)}}}};
+    if (!p.whole) {
+      point["left_out_volume_fraction"] = p.left_out;
+      point["fine_left_out_volume_fraction"] = p.fine_left_out;
+    }
     if (p.whole) {
       nlohmann::json w = to_json(*p.whole);
       w.erase("aggpack_version");
@@ -271,6 +286,12 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
         "each blend simulated at the cut-offs {} of {}; its whole grading is modelled below them by CPM (K {:g}, "
         "beta {:g}); density_mean is at the finest cut-off; the best blend is the one of the densest whole grading",
         nlohmann::json(plan.cuts).dump(), plan.key, m.compaction_index, m.beta)};
+  } else {
+    result["notes"] = {fmt::format(
+        "each blend is simulated without what its scenario's cut-offs leave out ({:.0f} % of the sand's volume and "
+        "{:.0f} % of the blend's at the densest blend, Fa = {:g} %): the densities are of the simulated part only; "
+        "--cut-offs estimates each blend's whole grading",
+        100.0 * top.fine_left_out, 100.0 * top.left_out, top.fa_percent)};
   }
   result["wall_clock_s"] = seconds;
   return result;
@@ -289,11 +310,22 @@ void print_sweep(std::ostream& log, const SweepOptions& options, const std::vect
                p.whole ? fmt::format(" {:>9.4f} ({:.4f} to {:.4f}){}", p.whole->density, p.whole->low, p.whole->high,
                                      p.whole->trustworthy() ? "" : " wide")
                        : "");
-  fmt::print(log, "densest blend{}: Fa = {:g} % (Ca/Fa = {:.3f}), density {:.4f}; within {} of it: Fa = {} %\n",
-             whole ? " (whole grading)" : "", top.fa_percent, top.ca_fa, top.judged(), whole ? "half a band" : "one sd",
-             nlohmann::json(indistinguishable).dump());
+  // One seed has no spread: nothing is told apart from the best, and saying "within one sd" would
+  // claim a comparison that was never made.
+  const std::string told_apart =
+      whole || options.seeds > 1
+          ? fmt::format("; within {} of it: Fa = {} %", whole ? "half a band" : "one sd",
+                        fmt::join(indistinguishable, ", "))
+          : "; one seed: no spread to tell blends apart (run --seeds 3 or more)";
+  fmt::print(log, "densest blend{}: Fa = {:g} % (Ca/Fa = {:.3f}), density {:.4f}{}\n", whole ? " (whole grading)" : "",
+             top.fa_percent, top.ca_fa, top.judged(), told_apart);
   fmt::print(log, "densest blend: {} (particle density {:g} kg/m3)\n", describe(bulk_density(top.judged(), particle_density)),
              particle_density);
+  if (!whole && top.fine_left_out > 0.0)
+    fmt::print(log, "note: {:.0f} % of the sand's volume ({:.0f} % of this blend's) is outside the scenario's cut-offs "
+                    "and was not simulated: these densities are of the simulated part only; --cut-offs estimates "
+                    "each blend's whole grading\n",
+               100.0 * top.fine_left_out, 100.0 * top.left_out);
   if (whole && !top.whole->trustworthy())
     fmt::print(log, "warning: the densest blend's whole-grading band is {:.3f} wide (more than 0.04): the cut-offs "
                     "leave too much out, or their densities scatter too much, to rank the blends; simulate finer "

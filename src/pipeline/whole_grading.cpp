@@ -232,10 +232,10 @@ std::string describe(const WholeGradingEstimate& e) {
   fmt::format_to(o, "aggpack {}: the whole grading of {} from cut-offs of {} (CPM K {:g}, beta {:g})\n", kVersion,
                  e.scenario, e.key, e.parameters.compaction_index, e.parameters.beta);
   for (const CutOffPoint& p : e.points)
-    fmt::format_to(o, "  cut-off {:.4g} mm ({:.1f} % of the grading left out, {} spheres): simulated {:.4f} +- {:.4f}, "
+    fmt::format_to(o, "  cut-off {:.4g} mm ({:.1f} % of the grading left out, {} spheres): simulated {:.4f} ± {:.4f}, "
                       "CPM {:.4f}, residual {:+.4f}\n",
                    1e3 * p.cut_off, 100.0 * p.left_out, p.spheres, p.mean, p.standard_error, p.cpm, p.residual());
-  fmt::format_to(o, "  residual at nothing left out {:+.4f} +- {:.4f} (a line in the fraction left out)\n",
+  fmt::format_to(o, "  residual at nothing left out {:+.4f} ± {:.4f} (a line in the fraction left out)\n",
                  e.residual_at_zero, e.residual_standard_error);
   fmt::format_to(o,
                  "  whole grading: {:.4f} (band {:.4f} to {:.4f}) = CPM {:.4f} {:+.4f}; simulated: the {:.1f} % of the "

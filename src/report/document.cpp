@@ -1,5 +1,7 @@
 #include "aggpack/report/document.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -53,14 +55,37 @@ std::string to_markdown(const Document& doc) {
   return out;
 }
 
+std::vector<bool> numeric_columns(const Table& table) {
+  // A number's cell starts with a digit, a sign (ASCII or U+2212), "±" or "."; an empty cell
+  // or a dash ("—", "-": nothing to report) goes with either kind.
+  const auto starts_a_number = [](const std::string& cell) {
+    return !cell.empty() && (std::isdigit(static_cast<unsigned char>(cell[0])) || cell[0] == '+' || cell[0] == '.' ||
+                             (cell[0] == '-' && cell.size() > 1) || cell.starts_with("\u2212") || cell.starts_with("±"));
+  };
+  const auto is_blank = [](const std::string& cell) { return cell.empty() || cell == "-" || cell == "\u2014"; };
+  std::size_t columns = table.header.size();
+  for (const auto& row : table.rows) columns = std::max(columns, row.size());
+  std::vector<bool> numeric(columns, false);
+  for (std::size_t c = 0; c < columns; ++c) {
+    bool any = false, all = true;
+    for (const auto& row : table.rows) {
+      if (c >= row.size() || is_blank(row[c])) continue;
+      any = true;
+      all = all && starts_a_number(row[c]);
+    }
+    numeric[c] = any && all;
+  }
+  return numeric;
+}
+
 std::string to_html(const Document& doc, const std::map<std::string, std::string>& figures) {
   std::string out = fmt::format(
       "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>\n"
       "body {{ font-family: sans-serif; max-width: 980px; margin: 2em auto; padding: 0 1em; line-height: 1.45; }}\n"
       "table {{ border-collapse: collapse; margin: 0.5em 0 1.2em; font-size: 0.92em; }}\n"
       ".table-scroll {{ overflow-x: auto; max-width: 100%; }}\n"
-      "th, td {{ border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: right; }}\n"
-      "th {{ background: #eee; }} td:first-child, th:first-child {{ text-align: left; }}\n"
+      "th, td {{ border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: left; }}\n"
+      "th {{ background: #eee; }} th.num, td.num {{ text-align: right; white-space: nowrap; }}\n"
       "figure {{ margin: 1em 0; }} figcaption {{ font-size: 0.9em; color: #333; }}\n"
       "img, svg {{ max-width: 100%; height: auto; }}\n</style>\n</head>\n<body>\n<h1>{}</h1>\n",
       xml_escape(doc.title), xml_escape(doc.title));
@@ -72,12 +97,17 @@ std::string to_html(const Document& doc, const std::map<std::string, std::string
                      // A wide table scrolls inside its box instead of running off a narrow page.
                      out += "<div class=\"table-scroll\">\n<table>\n";
                      if (!t.caption.empty()) out += "<caption>" + xml_escape(t.caption) + "</caption>\n";
+                     const std::vector<bool> numeric = numeric_columns(t);
+                     const auto cell_tag = [&](const char* tag, std::size_t column, const std::string& text) {
+                       const bool num = column < numeric.size() && numeric[column];
+                       return fmt::format("<{0}{1}>{2}</{0}>", tag, num ? " class=\"num\"" : "", xml_escape(text));
+                     };
                      out += "<tr>";
-                     for (const auto& h : t.header) out += "<th>" + xml_escape(h) + "</th>";
+                     for (std::size_t c = 0; c < t.header.size(); ++c) out += cell_tag("th", c, t.header[c]);
                      out += "</tr>\n";
                      for (const auto& row : t.rows) {
                        out += "<tr>";
-                       for (const auto& cell : row) out += "<td>" + xml_escape(cell) + "</td>";
+                       for (std::size_t c = 0; c < row.size(); ++c) out += cell_tag("td", c, row[c]);
                        out += "</tr>\n";
                      }
                      out += "</table>\n</div>\n";

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -16,15 +17,37 @@ namespace {
 constexpr int kMarginPixels = 8;
 }
 
+std::optional<SectionPlane> section_plane(const Box& frame, const Vec3& camera_forward) {
+  const Vec3 horizontal{-camera_forward.x, -camera_forward.y, 0.0};
+  if (!(dot(horizontal, horizontal) > 1e-24)) return std::nullopt;  // looking straight down: no vertical plane faces it
+  return SectionPlane{0.5 * (frame.lo + frame.hi), normalized(horizontal)};
+}
+
 Camera::Camera(const Box& frame, const RenderOptions& options) : width_(options.width) {
   const double az = options.azimuth_deg * std::numbers::pi / 180.0, el = options.elevation_deg * std::numbers::pi / 180.0;
   forward_ = -Vec3{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
   right_ = normalized(cross(forward_, Vec3{0, 0, 1}));
   up_ = cross(right_, forward_);
+  // What is framed: the box, or for a section the half of it behind the section plane (its
+  // corners there and where its edges cross the plane; the whole box left an empty band
+  // below the picture, where the front half was cut away).
+  const auto corner_of = [&](int k) {
+    return Vec3{k & 1 ? frame.hi.x : frame.lo.x, k & 2 ? frame.hi.y : frame.lo.y, k & 4 ? frame.hi.z : frame.lo.z};
+  };
+  const std::optional<SectionPlane> section = options.cut_away ? section_plane(frame, forward_) : std::nullopt;
+  std::vector<Vec3> framed;
+  for (int k = 0; k < 8; ++k)
+    if (!section || !section->removes(corner_of(k))) framed.push_back(corner_of(k));
+  if (section)
+    for (int k = 0; k < 8; ++k)
+      for (const int axis : {1, 2, 4})
+        if (!(k & axis)) {  // each edge once: from corner k to the corner one step along `axis`
+          const Vec3 a = corner_of(k), b = corner_of(k | axis);
+          const double da = section->signed_distance(a), db = section->signed_distance(b);
+          if ((da > 0.0) != (db > 0.0)) framed.push_back(a + (da / (da - db)) * (b - a));
+        }
   double u_lo = std::numeric_limits<double>::infinity(), u_hi = -u_lo, v_lo = u_lo, v_hi = -u_lo;
-  for (int corner = 0; corner < 8; ++corner) {
-    const Vec3 c{corner & 1 ? frame.hi.x : frame.lo.x, corner & 2 ? frame.hi.y : frame.lo.y,
-                 corner & 4 ? frame.hi.z : frame.lo.z};
+  for (const Vec3& c : framed) {
     u_lo = std::min(u_lo, dot(c, right_));
     u_hi = std::max(u_hi, dot(c, right_));
     v_lo = std::min(v_lo, dot(c, up_));
@@ -52,15 +75,12 @@ Image ray_cast(const ParticleStore& particles, const Box& frame, const RenderOpt
   std::vector<double> depth(static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height()),
                             std::numeric_limits<double>::infinity());
   const double scale = camera.pixels_per_metre();
-  // The section plane: vertical, through the frame's centre, facing the camera.
-  const Vec3 centre = 0.5 * (frame.lo + frame.hi);
-  const Vec3 towards_camera = normalized(Vec3{-camera.forward().x, -camera.forward().y, 0.0});
+  const std::optional<SectionPlane> section = options.cut_away ? section_plane(frame, camera.forward()) : std::nullopt;
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (options.cut_away && dot(particles.position[i] - centre, towards_camera) > 0.0) continue;
+    if (section && section->removes(particles.position[i])) continue;
     const double r = particles.radius[i];
     const Camera::Projection c = camera.project(particles.position[i]);
-    const double t = d_hi > d_lo ? (2.0 * r - d_lo) / (d_hi - d_lo) : 0.5;
-    const Rgb base = viridis(t);
+    const Rgb base = viridis(colour_position(2.0 * r, d_lo, d_hi, options.log_colour));
     const double r_px = r * scale;
     const int x0 = std::max(0, static_cast<int>(std::floor(c.column - r_px)));
     const int x1 = std::min(camera.width() - 1, static_cast<int>(std::ceil(c.column + r_px)));
@@ -112,6 +132,12 @@ std::string millimetres(double metres) {
 }
 }  // namespace
 
+double colour_position(double d, double d_lo, double d_hi, bool log_colour) {
+  if (!(d_hi > d_lo)) return 0.5;
+  const double t = log_colour && d_lo > 0.0 ? std::log(d / d_lo) / std::log(d_hi / d_lo) : (d - d_lo) / (d_hi - d_lo);
+  return std::clamp(t, 0.0, 1.0);
+}
+
 Image render_spheres(const ParticleStore& particles, const Box& frame, const RenderOptions& options) {
   double d_lo = options.d_lo, d_hi = options.d_hi;
   if (d_lo <= 0.0 && d_hi <= 0.0 && particles.size() > 0) {
@@ -125,7 +151,7 @@ Image render_spheres(const ParticleStore& particles, const Box& frame, const Ren
   Image picture = ray_cast(particles, frame, fine, d_lo, d_hi);
   if (n > 1) picture = downsampled(picture, n);
   if (!options.legend) return picture;
-  return add_legend(picture, d_lo, d_hi, Camera(frame, fine).pixels_per_metre() / n);
+  return add_legend(picture, d_lo, d_hi, Camera(frame, fine).pixels_per_metre() / n, options.log_colour);
 }
 
 double scale_bar_length(int width, double pixels_per_metre) {
@@ -137,7 +163,7 @@ double scale_bar_length(int width, double pixels_per_metre) {
   return length;
 }
 
-Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_per_metre) {
+Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_per_metre, bool log_colour) {
   constexpr int kMargin = 8, kBarHeight = 12, kBarWidth = 200;
   Image out(picture.width(), picture.height() + kLegendHeight, Rgb{255, 255, 255});
   for (int y = 0; y < picture.height(); ++y)
@@ -152,6 +178,11 @@ Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_p
   draw_text(out, bar_left, label_top, millimetres(d_lo), text);
   const std::string hi = millimetres(d_hi);
   draw_text(out, bar_left + kBarWidth - text_width(hi, text), label_top, hi, text);
+  if (log_colour && d_lo > 0.0 && d_hi > d_lo) {  // the middle of a log bar is the geometric mean: say so
+    const std::string mid = millimetres(std::sqrt(d_lo * d_hi));
+    draw_text(out, bar_left + (kBarWidth - text_width(mid, text)) / 2, label_top, mid, text);
+    draw_text(out, bar_left + kBarWidth + kMargin, top, "(log)", text);
+  }
   // Scale bar at the right: a black bar with end ticks, its length below it.
   const double length = scale_bar_length(picture.width(), pixels_per_metre);
   const int bar_px = static_cast<int>(std::lround(length * pixels_per_metre));

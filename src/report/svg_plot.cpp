@@ -5,7 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -42,6 +45,24 @@ struct Rect {
     return px >= x - margin && px <= x + w + margin && py >= y - margin && py <= y + h + margin;
   }
 };
+
+// Characters, not bytes: "±" takes one.
+std::size_t characters(const std::string& text) {
+  std::size_t n = 0;
+  for (const unsigned char c : text) n += (c & 0xC0) != 0x80;
+  return n;
+}
+
+// `text` in lines of at most `width` characters, broken at spaces (a longer word stands alone).
+std::vector<std::string> wrapped(const std::string& text, std::size_t width) {
+  std::vector<std::string> lines(1);
+  std::istringstream words(text);
+  for (std::string word; words >> word;) {
+    if (!lines.back().empty() && characters(lines.back()) + 1 + characters(word) > width) lines.emplace_back();
+    lines.back() += (lines.back().empty() ? "" : " ") + word;
+  }
+  return lines;
+}
 
 }  // namespace
 
@@ -149,10 +170,17 @@ std::string svg_plot(const Plot& plot) {
     for (int k = 0; k <= steps; ++k)
       marked.emplace_back(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps);
   };
-  std::size_t next_colour = 0, labelled = 0, longest = 0;
+  // Each label in lines that keep the legend inside the plot area (a long one ran past the
+  // plot and covered the y axis): its width at about 6.6 px per character at 12 px.
+  constexpr double kPixelsPerCharacter = 6.6, kLegendPadding = 44;
+  const auto max_characters = static_cast<std::size_t>((w - 12 - kLegendPadding) / kPixelsPerCharacter);
+  std::vector<std::vector<std::string>> label_lines;
+  std::size_t next_colour = 0, legend_lines = 0, longest = 0;
   std::vector<std::string> colours;
   for (const PlotSeries& s : plot.series) {
-    if (!s.label.empty()) ++labelled, longest = std::max(longest, s.label.size());
+    label_lines.push_back(s.label.empty() ? std::vector<std::string>{} : wrapped(s.label, max_characters));
+    legend_lines += label_lines.back().size();
+    for (const std::string& line : label_lines.back()) longest = std::max(longest, characters(line));
     const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
     colours.push_back(colour);
     const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
@@ -190,7 +218,8 @@ std::string svg_plot(const Plot& plot) {
 
   // The legend: a white box sized to its labels (about 6.6 px per character at 12 px), in the
   // first corner of the plot area where it covers nothing drawn, else below the plot.
-  const double legend_w = 44 + 6.6 * static_cast<double>(longest), legend_h = 8 + 16 * static_cast<double>(labelled);
+  const double legend_w = kLegendPadding + kPixelsPerCharacter * static_cast<double>(longest),
+               legend_h = 8 + 16 * static_cast<double>(legend_lines);
   const double left = kLeft + 6, right = kLeft + w - legend_w - 6, top = kTop + 6, bottom = kTop + h - legend_h - 6;
   std::vector<Rect> corners = {{right, top, legend_w, legend_h}, {left, top, legend_w, legend_h},
                                {right, bottom, legend_w, legend_h}, {left, bottom, legend_w, legend_h}};
@@ -209,7 +238,7 @@ std::string svg_plot(const Plot& plot) {
     height = kHeight + legend_h + 4;
   }
   std::string legend;
-  if (labelled > 0)
+  if (legend_lines > 0)
     legend = fmt::format("<rect class=\"legend\" x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" "
                          "fill=\"white\" fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
                          place->x, place->y, place->w, place->h);
@@ -226,8 +255,10 @@ std::string svg_plot(const Plot& plot) {
       legend += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" stroke=\"{3}\" "
                             "stroke-width=\"2\"{4}/>",
                             legend_x + 8, legend_y, legend_x + 30, colour, dash);
-    legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, xml_escape(s.label));
-    legend_y += 16;
+    for (const std::string& line : label_lines[k]) {
+      legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, xml_escape(line));
+      legend_y += 16;
+    }
   }
   svg += legend;
   return fmt::format(

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -74,9 +75,11 @@ TEST_F(Cli, RunWritesTheThreeFilesAndTheSummaryKeys) {
   EXPECT_TRUE(s["wall_clock_s"].contains("total"));
   EXPECT_DOUBLE_EQ(s["coordination"]["mean"].get<double>(), 6.0);
   std::ifstream csv(out / "particles.csv");
-  std::string header;
+  std::string header, first;
   std::getline(csv, header);
+  std::getline(csv, first);
   EXPECT_EQ(header, "id,x,y,z,r");
+  EXPECT_EQ(first.substr(0, 2), "1,");  // one numbering, 1..N, as particles.vtp and LAMMPS
 }
 
 // A "--" in the scenario path went into the VTP's provenance comment unescaped: invalid XML,
@@ -137,6 +140,8 @@ TEST_F(Cli, RunsExample1ThroughDeposition) {
   const fs::path out = dir_ / "ex1";
   const Result r = run("run " + example("example1.toml") + " --stop-after deposition --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // A scenario written in inches reads its lengths in inches too, beside SI.
+  EXPECT_NE(r.output.find("  virtual cube 0.1524 m (6 in): density "), std::string::npos) << r.output;
   const nlohmann::json s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   const auto& d = s["stages"]["deposition"];
   EXPECT_EQ(d["particles_placed"].get<int>(), 1733);
@@ -151,8 +156,28 @@ TEST_F(Cli, RunsExample1ThroughDeposition) {
   std::string header, first;
   std::getline(supports, header);
   std::getline(supports, first);
-  EXPECT_EQ(header, "id,support_1,support_2,support_3");
-  EXPECT_EQ(first, "0,floor,,");
+  // Typed columns (a kind, a sphere id; pandas read the old mixed column as floats) and one
+  // numbering 1..N, as particles.csv, particles.vtp and the LAMMPS files.
+  EXPECT_EQ(header, "id,support_1_kind,support_1_id,support_2_kind,support_2_id,support_3_kind,support_3_id");
+  EXPECT_EQ(first, "1,floor,0,none,0,none,0");
+  std::size_t resting_on_spheres = 0;
+  for (std::string row; std::getline(supports, row);) {
+    std::vector<std::string> cells;
+    std::istringstream cells_in(row);
+    for (std::string cell; std::getline(cells_in, cell, ',');) cells.push_back(cell);
+    ASSERT_EQ(cells.size(), 7u) << row;
+    for (std::size_t k = 1; k < 7; k += 2) {
+      const long sphere = std::stol(cells[k + 1]);
+      if (cells[k] == "sphere") {
+        ++resting_on_spheres;
+        EXPECT_GE(sphere, 1) << row;
+        EXPECT_LT(sphere, std::stol(cells[0])) << row;  // placed earlier
+      } else {
+        EXPECT_EQ(sphere, 0) << row;
+      }
+    }
+  }
+  EXPECT_GT(resting_on_spheres, 1000u);
   // Same seed, same bytes; another seed, another packing.
   const fs::path again = dir_ / "ex1b", other = dir_ / "ex1c";
   ASSERT_EQ(run("run " + example("example1.toml") + " --stop-after deposition --out " + again.string()).exit_code, 0);
@@ -771,6 +796,96 @@ TEST_F(Cli, TapsAPouredBedAndWritesTheCompactionCurve) {
   EXPECT_EQ(slurp(dir_ / "tapped_1" / "particles.csv"), slurp(dir_ / "tapped_2" / "particles.csv"));
 }
 
+// A bare number is metres; one far beyond any bed or grain was meant in another unit: the
+// message names the file, line and key, the reading in metres and the unit to write (it was a
+// bed-depth message with no key). With its unit written, a large length is taken.
+TEST_F(Cli, ALengthFarTooLargeForItsKeyAsksForItsUnit) {
+  const std::string particles = "[particles]\ndiameter = 0.01\ncount = 100\n[deposition]\n";
+  std::ofstream(dir_ / "inches.toml") << "[container]\nside = 12\nheight = 0.3\n" << particles;
+  const Result r = run("run " + (dir_ / "inches.toml").string() + " --out " + (dir_ / "inches").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find((dir_ / "inches.toml").string() + ":2:8: container.side: 12 is a bare number, read as 12 m, "
+                          "more than 2 m: if it is in inches or millimetres, write its unit (\"12 in\", \"12 mm\")"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "inches"));
+  expect_refused({{"[container]\nside = 0.1\nheight = 0.3\n[particles]\ndiameter = 0.5\ncount = 100\n[deposition]\n",
+                   "particles.diameter: 0.5 is a bare number, read as 0.5 m, more than 0.2 m"}});
+  // Written with its unit, the same length is what was meant: refused later, for what it is.
+  std::ofstream(dir_ / "metres.toml") << "[container]\nside = \"12 m\"\nheight = 0.3\n" << particles;
+  const Result m = run("check " + (dir_ / "metres.toml").string());
+  EXPECT_EQ(m.output.find("bare number"), std::string::npos) << m.output;
+}
+
+// The console tells a protocol's steps in the order they ran (it told every tapping before an
+// import_lammps that came first), and a pour's fraction as the solid fraction it is.
+TEST_F(Cli, TheConsoleTellsTheStepsInTheOrderTheyRan) {
+  const std::string base = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 150\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n"
+                           "[dynamics]\nmax_time = 0.3\n[analysis]\nbox_sides = [0.02]\n";
+  const std::string tap_settings = "[tapping]\ntaps = 1\nintensity = 2\nrest_time = 0.05\n";
+  // A bed handed over as LAMMPS data, written by an export step (no LAMMPS run needed).
+  std::ofstream(dir_ / "first.toml") << base << "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = "
+                                              "\"export_lammps\"\nname = \"hand_over\"\n[[protocol]]\nstep = \"settle\"\n";
+  const Result first = run("run " + (dir_ / "first.toml").string() + " --stop-after deposition --out " +
+                           (dir_ / "first").string());
+  ASSERT_EQ(first.exit_code, 0) << first.output;
+  std::ofstream(dir_ / "second.toml") << base << tap_settings << "[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = "
+                                               "\"import_lammps\"\nfile = \"first/lammps/hand_over/bed.data\"\n"
+                                               "[[protocol]]\nstep = \"tap\"\n";
+  const Result second = run("run " + (dir_ / "second.toml").string() + " --out " + (dir_ / "second").string());
+  ASSERT_EQ(second.exit_code, 0) << second.output;
+  const auto deposition = second.output.find("  deposition: "), imported = second.output.find("  import_lammps: "),
+             tapping = second.output.find("  tapping: ");
+  ASSERT_NE(deposition, std::string::npos) << second.output;
+  ASSERT_NE(imported, std::string::npos) << second.output;
+  ASSERT_NE(tapping, std::string::npos) << second.output;
+  EXPECT_LT(deposition, imported) << second.output;
+  EXPECT_LT(imported, tapping) << second.output;
+
+  // One numbering across the bridge: the bed taken back from LAMMPS data has LAMMPS's ids.
+  const fs::path data = dir_ / "first" / "lammps" / "hand_over" / "bed.data";
+  const Result back = run("import-lammps " + data.string() + " --scenario " + (dir_ / "first.toml").string() +
+                          " --quiet --out " + (dir_ / "back").string());
+  ASSERT_EQ(back.exit_code, 0) << back.output;
+  std::map<long, double> data_z;  // Atoms (sphere): id type diameter density x y z
+  {
+    std::ifstream in(data);
+    bool atoms = false;
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("Atoms", 0) == 0) atoms = true;
+      else if (atoms && line.rfind("Velocities", 0) == 0) break;
+      long id = 0, type = 0;
+      double d = 0, rho = 0, x = 0, y = 0, z = 0;
+      if (atoms && std::sscanf(line.c_str(), "%ld %ld %lf %lf %lf %lf %lf", &id, &type, &d, &rho, &x, &y, &z) == 7)
+        data_z[id] = z;
+    }
+  }
+  ASSERT_EQ(data_z.size(), 150u);
+  std::ifstream rows(dir_ / "back" / "particles.csv");
+  std::string row;
+  std::getline(rows, row);
+  std::size_t matched = 0;
+  for (; std::getline(rows, row); ++matched) {
+    long id = 0;
+    double x = 0, y = 0, z = 0;
+    ASSERT_EQ(std::sscanf(row.c_str(), "%ld,%lf,%lf,%lf", &id, &x, &y, &z), 4) << row;
+    ASSERT_TRUE(data_z.contains(id)) << row;
+    EXPECT_EQ(z, data_z[id]) << row;
+  }
+  EXPECT_EQ(matched, 150u);
+
+  std::string pour_base = base;
+  pour_base.replace(pour_base.find("[deposition]\n"), 13, "[pour]\n");
+  std::ofstream(dir_ / "poured.toml") << pour_base << tap_settings << "[[protocol]]\nstep = \"pour\"\n[[protocol]]\nstep = \"tap\"\n";
+  const Result poured = run("run " + (dir_ / "poured.toml").string() + " --out " + (dir_ / "poured").string());
+  ASSERT_EQ(poured.exit_code, 0) << poured.output;
+  EXPECT_NE(poured.output.find("  pour: 150 particles inserted as a gas at solid fraction 0.2 in 1 batch"),
+            std::string::npos)
+      << poured.output;
+  EXPECT_LT(poured.output.find("  pour: "), poured.output.find("  tapping: ")) << poured.output;
+}
+
 // pour.gap >= 0 (README): with no gap each slab starts at the top of what is already in the
 // container (the floor, for the first), its spheres inside it, and the pour runs to rest; a
 // negative gap is refused.
@@ -840,6 +955,20 @@ TEST_F(Cli, HelpOnEverySubcommandExitsZero) {
     const Result r = run(std::string(sub) + "--help");
     EXPECT_EQ(r.exit_code, 0) << sub;
     EXPECT_NE(r.output.find("Usage"), std::string::npos) << r.output;
+  }
+}
+
+// --threads says its bounds once, as they are: 0 for all cores, or 1 to 256 (the entry said
+// "0 (all cores) to 256" and "1 to 256").
+TEST_F(Cli, ThreadsHelpStatesItsBoundsOnce) {
+  for (auto sub : {"run", "resume", "calibrate", "whole-grading", "reproduce", "sweep"}) {
+    const Result r = run(std::string(sub) + " --help");
+    EXPECT_EQ(r.exit_code, 0) << sub;
+    const auto at = r.output.find("--threads");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::string entry = r.output.substr(at, r.output.find("\n  -", at + 1) - at);
+    EXPECT_NE(entry.find("0 (all cores) or 1 to 256"), std::string::npos) << entry;
+    EXPECT_EQ(entry.find("256", entry.find("256") + 1), std::string::npos) << entry;
   }
 }
 

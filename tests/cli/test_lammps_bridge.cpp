@@ -325,7 +325,10 @@ TEST_F(LammpsBridge, ProtocolStepsHandABedOverAndTakeItBack) {
                                                   "\"settle\"\n";
   const auto f = run_cli("run " + (dir_ / "no_file.toml").string() + " --out " + (dir_ / "no_file").string());
   EXPECT_EQ(f.exit_code, 2) << f.output;
-  EXPECT_NE(f.output.find("missing.dump is not a file"), std::string::npos) << f.output;
+  EXPECT_NE(f.output.find("protocol[1].file: the LAMMPS file \"missing.dump\" is not a file: looked for at " +
+                          (dir_ / "missing.dump").lexically_normal().string()),
+            std::string::npos)
+      << f.output;
   EXPECT_FALSE(fs::exists(dir_ / "no_dem"));
   EXPECT_FALSE(fs::exists(dir_ / "no_file"));
 }

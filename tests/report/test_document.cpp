@@ -50,6 +50,24 @@ TEST(Document, HtmlTablesScrollSidewaysInsteadOfRunningOffThePage) {
   EXPECT_NE(html.find(".table-scroll { overflow-x: auto; max-width: 100%; }"), std::string::npos);
 }
 
+// Text columns were right-aligned like numbers, and "0.612 (-2.2 %)" broke inside its cell:
+// a column of numbers is right-aligned and kept on one line, any other is text, left-aligned.
+TEST(Document, NumbersAlignRightOnOneLineAndTextAlignsLeft) {
+  Document doc;
+  doc.blocks.emplace_back(Table{{"mix", "protocol", "density", "ours − experiment"},
+                                {{"3", "drop-and-roll, then DEM", "0.612 (-2.2 %)", "−0.014"},
+                                 {"4", "pour", "—", "+0.003"},
+                                 {"5", "experiment", "0.6600", ""}},
+                                ""});
+  EXPECT_EQ(numeric_columns(std::get<Table>(doc.blocks.front())), (std::vector<bool>{true, false, true, true}));
+  const std::string html = to_html(doc, {});
+  EXPECT_NE(html.find("<td class=\"num\">0.612 (-2.2 %)</td>"), std::string::npos) << html;
+  EXPECT_NE(html.find("<td>drop-and-roll, then DEM</td>"), std::string::npos) << html;
+  EXPECT_NE(html.find("<th class=\"num\">ours − experiment</th>"), std::string::npos) << html;
+  EXPECT_NE(html.find("th.num, td.num { text-align: right; white-space: nowrap; }"), std::string::npos);
+  EXPECT_NE(html.find("th, td { border: 1px solid #bbb; padding: 0.25em 0.6em; text-align: left; }"), std::string::npos);
+}
+
 TEST(Base64, KnownVectors) {
   EXPECT_EQ(base64(""), "");
   EXPECT_EQ(base64("f"), "Zg==");

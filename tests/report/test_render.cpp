@@ -72,6 +72,33 @@ TEST(Render, CutAwayShowsTheSectionBehindTheFrontHalf) {
   EXPECT_GT(seen(true).r, seen(true).b);    // cut away: the back sphere shows
 }
 
+// A section frames the half of the box that is left: the whole box left an empty band below
+// the Table 2 picture, where the front half had been cut away.
+TEST(Render, ASectionFillsItsPictureToTheBottom) {
+  const Box frame{{0, 0, 0}, {1, 1, 1}};
+  ParticleStore bed;  // a simple cubic lattice filling the box
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) bed.add({0.05 + 0.1 * i, 0.05 + 0.1 * j, 0.05 + 0.1 * k}, 0.05, 1000.0);
+  RenderOptions options;  // the report's view: azimuth -60, elevation 25
+  options.width = 400;
+  options.cut_away = true;
+  const Image picture = render_spheres(bed, frame, options);
+  const auto row_is_empty = [&](int y) {
+    for (int x = 0; x < picture.width(); ++x)
+      if (picture.at(x, y).r != 255 || picture.at(x, y).g != 255 || picture.at(x, y).b != 255) return false;
+    return true;
+  };
+  int lowest = picture.height() - 1;
+  while (lowest > 0 && row_is_empty(lowest)) --lowest;
+  int highest = 0;
+  while (highest < picture.height() - 1 && row_is_empty(highest)) ++highest;
+  // The bed reaches the margins (8 px) at the top and the bottom alike, but for the rim of a
+  // sphere (14 px here); the whole box's framing left some 80 px empty below.
+  EXPECT_GE(lowest, picture.height() - 1 - 8 - 20) << picture.height();
+  EXPECT_LE(highest, 8 + 20) << picture.height();
+}
+
 TEST(Render, FramesTheBoxWithItsAspect) {
   RenderOptions options;
   options.width = 500;

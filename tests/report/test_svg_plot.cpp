@@ -134,5 +134,26 @@ TEST(SvgPlot, TheLegendHidesNoPoint) {
   EXPECT_NE(svg.find("height=\"" + std::to_string(static_cast<int>(400 + below.h + 4)) + "\""), std::string::npos);
 }
 
+// The quick report's compaction plot: a 90-character label made the legend wider than the
+// plot, over the y axis. Long labels are wrapped; the box stays inside the plot's width.
+TEST(SvgPlot, ALongLabelIsWrappedInsideThePlot) {
+  Plot plot;
+  const std::string label = "aggpack, seed 1 (2 taps of 2 g at 30 Hz, 0.15 s apart (QUICK: the pour cut at 0.6 s)) and "
+                            "a few more words to make it long";
+  plot.series.push_back({label, {0, 1, 2}, {0.60, 0.61, 0.62}, {}, Mark::LineAndPoints, false, ""});
+  const std::string svg = svg_plot(plot);
+  const LegendBox box = legend_box(svg);
+  EXPECT_GE(box.x, 70.0) << svg;               // right of the y axis (kLeft)
+  EXPECT_LE(box.x + box.w, 640.0 - 20.0) << svg;  // inside the plot's right edge
+  // Every word of the label is there, in order, over several lines.
+  std::string shown;
+  const std::regex text("<text x=\"([0-9.]+)\" y=\"[0-9.]+\">([^<]*)</text>");
+  std::size_t lines = 0;
+  for (auto t = std::sregex_iterator(svg.begin(), svg.end(), text); t != std::sregex_iterator(); ++t)
+    if (std::stod((*t)[1]) > box.x && std::stod((*t)[1]) < box.x + 40) shown += (shown.empty() ? "" : " ") + (*t)[2].str(), ++lines;
+  EXPECT_GE(lines, 2u) << svg;
+  EXPECT_EQ(shown, label) << svg;
+}
+
 }  // namespace
 }  // namespace aggpack

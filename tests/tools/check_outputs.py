@@ -44,9 +44,16 @@ def check_csv(path):
     for number, row in enumerate(rows[1:], start=2):
         if len(row) != len(header):
             fail(f"{path}:{number}: {len(row)} fields for {len(header)} columns")
-        for name, cell in zip(header, row):
-            # supports.csv names the floor and walls; every other cell is a number or empty.
-            if cell and not is_number(cell) and not (name.startswith("support_") and cell.replace("_", "").isalpha()):
+    # Each column holds one type, as a table reader types it: numbers (or empty), or words only
+    # in a column whose name says so (supports.csv's support_k_kind). A column mixing ids and
+    # words is read by pandas as strings or floats.
+    for index, name in enumerate(header):
+        words = name.endswith("_kind")
+        for number, row in enumerate(rows[1:], start=2):
+            cell = row[index]
+            if words and not cell.replace("_", "").isalpha():
+                fail(f"{path}:{number}: column {name}: '{cell}' is not a word")
+            if not words and cell and not is_number(cell):
                 fail(f"{path}:{number}: column {name}: '{cell}' is not a number")
 
 

@@ -41,12 +41,15 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
 ParticleStore parse_particle_text(std::string_view text, const std::string& name, double length_unit,
                                   double density);
 
-// "id,x,y,z,r" in metres, one row per particle in store order, full double precision.
+// "id,x,y,z,r" in metres, one row per particle in store order, full double precision. Ids
+// run 1..N in store order: the numbering of particles.vtp and of the LAMMPS files (one
+// numbering across the bridge; LAMMPS has no atom 0).
 std::string particles_csv(const ParticleStore& particles);
 
-// "id,support_1,support_2,support_3": what each sphere came to rest on in the deposition
-// stage (a particle id, floor, wall_x_low, wall_x_high, wall_y_low, wall_y_high; empty when
-// fewer). Floor resters list only the floor.
+// "id,support_1_kind,support_1_id,...,support_3_id": what each sphere (id 1..N) came to rest
+// on in the deposition stage. A kind is sphere, floor, wall_x_low, wall_x_high, wall_y_low,
+// wall_y_high or none; the id is the supporting sphere's, 0 for any other kind. Floor resters
+// list only the floor.
 std::string supports_csv(std::span<const Supports> supports);
 
 // A bed read from a file: coincident spheres are refused; overlapping pairs deeper than

@@ -129,6 +129,9 @@ struct Scenario {
   std::string title;
   std::uint64_t seed = 1;
   Container container;
+  // The unit container.side is written in ("in", "mm"): the console gives lengths in it beside
+  // SI. Empty: metres, or a bare number.
+  std::string written_length_unit;
   ParticleSource particles;
   Material material;
   std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)

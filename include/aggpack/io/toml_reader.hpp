@@ -28,6 +28,12 @@ struct NumberRange {
 inline constexpr NumberRange kPositive{0.0, 1e308, true, false};
 inline constexpr NumberRange kNonNegative{0.0, 1e308, false, false};
 
+// The largest a bare number (read as metres) may be for a length key: beyond it the number was
+// most likely meant in inches or millimetres ("side = 12"). A length this large is accepted
+// when its unit is written ("12 m").
+inline constexpr double kLargestBareLength = 2.0;  // m: a container side or height, a fill height
+inline constexpr double kLargestBareGrain = 0.2;   // m: a grain's diameter, a sieve opening
+
 // Reads one TOML table of a scenario. Every error names the file, line and dotted key,
 // says what is wrong and what is expected, and is thrown as InputError.
 class TomlSection {
@@ -55,9 +61,12 @@ class TomlSection {
     const auto name = choice(key, names_of(table));
     return name ? value_of(table, *name) : std::nullopt;
   }
-  // A string with a unit ("1 in") or a bare number (metres).
-  std::optional<double> length(std::string_view key, NumberRange range = kPositive) const;
+  // A string with a unit ("1 in") or a bare number (metres), at most `largest_bare` when bare.
+  std::optional<double> length(std::string_view key, NumberRange range = kPositive,
+                               double largest_bare = kLargestBareLength) const;
   std::optional<std::vector<double>> length_list(std::string_view key) const;
+  // The unit symbol a length key is written with ("in" for "4 in"); none for a bare number.
+  [[nodiscard]] std::optional<std::string> written_unit(std::string_view key) const;
   std::optional<std::vector<std::string>> string_list(std::string_view key) const;
   std::optional<TomlSection> table(std::string_view key) const;
   // Elements of an array of tables, each as a section named key[i].
@@ -75,7 +84,8 @@ class TomlSection {
  private:
   [[nodiscard]] const toml::node* node(std::string_view key) const;
   [[nodiscard]] std::string node_location(const toml::node& n, const std::string& key_path) const;
-  [[nodiscard]] double length_value(const toml::node& n, const std::string& key_path, NumberRange range) const;
+  [[nodiscard]] double length_value(const toml::node& n, const std::string& key_path, NumberRange range,
+                                    double largest_bare = kLargestBareLength) const;
 
   const toml::table* table_;
   std::string path_;  // dotted path of this table, "" for the root

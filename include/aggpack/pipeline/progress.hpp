@@ -27,7 +27,11 @@ class Progress {
   // bound (a settling run that stops when quiet, or at max_time at the latest).
   enum class TimeLeft { Estimate, AtMost };
 
-  void set_run(std::string run) { run_ = std::move(run); }
+  // The run, and for a campaign's run the time left in all (told beside the stage's time left).
+  void set_run(std::string run, std::optional<double> seconds_left_in_all = std::nullopt) {
+    run_ = std::move(run);
+    left_in_all_ = seconds_left_in_all;
+  }
   void start_stage(std::string stage);
   // `fields`: what the stage reports, most important first. `done` in [0, 1] gives the time
   // left from the stage's pace so far.
@@ -42,6 +46,12 @@ class Progress {
   [[nodiscard]] static std::string fit_line(const std::string& run, const std::string& stage,
                                             const std::vector<std::string>& fields, const std::string& time_left,
                                             int columns);
+  // The time left to show: the one shown last (none: the first), counted down by the seconds
+  // since, moved kTimeLeftWeight of the way to the stage's new estimate. One estimate far off
+  // (a DEM's pace changes as the bed settles, and its quiet forecast with it) moves the line
+  // by a fraction of its error, not all of it.
+  static constexpr double kTimeLeftWeight = 0.2;
+  [[nodiscard]] static double smoothed_time_left(std::optional<double> shown, double seconds_since, double estimate);
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -50,6 +60,9 @@ class Progress {
   std::optional<int> columns_;
   std::string run_, stage_;
   Clock::time_point stage_start_{}, last_print_{};
+  std::optional<double> left_in_all_;  // s, a campaign's
+  std::optional<double> time_left_;  // s, as last shown
+  TimeLeft time_left_kind_ = TimeLeft::Estimate;
   bool shown_ = false;
 };
 

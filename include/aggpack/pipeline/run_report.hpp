@@ -70,6 +70,9 @@ struct RunReport {
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;
   [[nodiscard]] double density_after_dynamics() const;
+  // The last DEM stage that moved the bed, in words ("tapping", "pour", "DEM settling"): what
+  // density_after_dynamics is after.
+  [[nodiscard]] std::string last_dem_stage() const;
   // The analytic models on the run's size distribution (summary.json's predictions).
   [[nodiscard]] Predictions predictions() const;
   // Whether the DEM left the bed at rest: its last sample's translational energy per particle

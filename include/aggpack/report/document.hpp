@@ -36,6 +36,9 @@ std::string to_markdown(const Document& doc);
 
 // `figures` maps each Figure::file to its bytes (SVG text or PNG).
 std::string to_html(const Document& doc, const std::map<std::string, std::string>& figures);
+// Which of a table's columns hold numbers (every cell that is not blank or a dash starts as a
+// number does): the HTML right-aligns them and keeps each on one line.
+std::vector<bool> numeric_columns(const Table& table);
 
 std::string base64(const std::string& bytes);
 

@@ -1,4 +1,6 @@
 #pragma once
+#include <optional>
+
 #include "aggpack/core/box.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/report/image.hpp"
@@ -14,7 +16,23 @@ struct RenderOptions {
   bool cut_away = false;         // leave out spheres centred nearer than the frame's vertical mid-plane: a section
   int supersample = 1;           // n x n rays per pixel, averaged: spheres a few pixels wide stay round
   bool legend = false;           // a strip below the picture: the diameter colour bar and a scale bar
+  // Colour by log(d) instead of d: a grading from 1 to 25 mm on a linear scale paints all the
+  // sand one colour.
+  bool log_colour = false;
 };
+
+// Where a diameter d falls on the colour map, 0 at d_lo to 1 at d_hi (0.5 when they are equal).
+[[nodiscard]] double colour_position(double d, double d_lo, double d_hi, bool log_colour);
+
+// A section's plane: vertical, through the frame's centre, facing the camera; the spheres
+// centred on the camera's side of it are cut away.
+struct SectionPlane {
+  Vec3 centre, towards_camera;  // a point of the plane; its unit normal, horizontal
+  [[nodiscard]] double signed_distance(const Vec3& p) const { return dot(p - centre, towards_camera); }
+  [[nodiscard]] bool removes(const Vec3& p) const { return signed_distance(p) > 0.0; }
+};
+// None when the camera looks straight down (no vertical plane faces it).
+[[nodiscard]] std::optional<SectionPlane> section_plane(const Box& frame, const Vec3& camera_forward);
 
 // An orthographic camera framing a box: world point -> pixel column, row and depth.
 class Camera {
@@ -48,7 +66,7 @@ inline constexpr int kLegendHeight = 44;
 // to d_hi, labelled in mm) on the left and, on the right, a bar of a round length (1, 2 or
 // 5 x 10^k mm, about a fifth of the width) at `pixels_per_metre`: the camera is
 // orthographic, so the bar holds for any length in the picture plane.
-Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_per_metre);
+Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_per_metre, bool log_colour = false);
 // The scale bar's length for a picture `width` pixels wide, m.
 [[nodiscard]] double scale_bar_length(int width, double pixels_per_metre);
 
