@@ -659,6 +659,19 @@ TEST_F(Cli, WholeGradingCarriesACutOffSeriesToTheWholeGrading) {
   const auto& w = e.at("whole_grading");
   EXPECT_DOUBLE_EQ(w.at("density").get<double>(),
                    w.at("cpm").get<double>() + e.at("residual_fit").at("at_nothing_left_out").get<double>());
+  // The figure's data beside it (issue 34, item 15): one row a plotted point, the simulated
+  // points at 100 x the volume fraction left out, with their means and standard errors.
+  const fs::path data = dir_ / "plots" / "cut_offs.csv";
+  const Result read = aggpack::testing::check_outputs("csv " + data.string());
+  EXPECT_EQ(read.exit_code, 0) << read.output;
+  const std::string csv = slurp(data);
+  EXPECT_EQ(csv.rfind("series,left_out_volume_percent,packing_density,packing_density_error\n", 0), 0u) << csv;
+  for (const auto& c : e.at("cut_offs"))
+    EXPECT_NE(csv.find(fmt::format("simulated (mean ± se over seeds),{},{},{}\n",
+                                   100.0 * c.at("left_out_volume_fraction").get<double>(), c.at("mean").get<double>(),
+                                   c.at("standard_error").get<double>())),
+              std::string::npos)
+        << csv;
   // This toy blend leaves four fifths of its grading out: the band says the estimate is none.
   EXPECT_FALSE(w.at("trustworthy").get<bool>());
   EXPECT_NE(r.output.find("warning: the band is"), std::string::npos) << r.output;

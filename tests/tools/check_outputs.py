@@ -3,7 +3,8 @@
 
   check_outputs.py csv FILE [FILE ...]   every CSV loads as plain pandas.read_csv(FILE) would:
                                          the first line is the header, every row has its
-                                         fields, and the cells are numbers (or ids, or empty)
+                                         fields, and the cells are numbers (or ids, a
+                                         figure's series names, or empty)
   check_outputs.py vtp FILE N [CSV] [--arrays A,B,..] [--contact-tolerance T]
                                          the VTP is well-formed XML with N points and every
                                          array of N tuples, decoded from ASCII or from
@@ -71,8 +72,10 @@ def check_csv(path):
         if len(row) != len(header):
             fail(f"{path}:{number}: {len(row)} fields for {len(header)} columns")
         for name, cell in zip(header, row):
-            # supports.csv names the floor and walls; every other cell is a number or empty.
-            if cell and not is_number(cell) and not (name.startswith("support_") and cell.replace("_", "").isalpha()):
+            # supports.csv names the floor and walls, a figure's data its series; every other
+            # cell is a number or empty.
+            words = name == "series" or name.startswith("support_") and cell.replace("_", "").isalpha()
+            if cell and not is_number(cell) and not words:
                 fail(f"{path}:{number}: column {name}: '{cell}' is not a number")
 
 
