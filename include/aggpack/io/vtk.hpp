@@ -10,8 +10,8 @@
 namespace aggpack {
 
 // How the arrays of a VTP are stored. ZlibAppended: binary, zlib-compressed, in the file's
-// <AppendedData> section (VTK's own writer's default; about a quarter of the ASCII size and
-// several times faster to read). Ascii: every value as text, for reading by eye or by a tool
+// <AppendedData> section (VTK's own writer's default; about a third of the ASCII size and
+// six times faster to read for a bed of 300 000 spheres). Ascii: every value as text, for reading by eye or by a tool
 // without zlib.
 enum class VtpEncoding { ZlibAppended, Ascii };
 
