@@ -485,7 +485,13 @@ int main(int argc, char** argv) {
       }
       const aggpack::WholeGradingEstimate e = aggpack::estimate_whole_grading(whole, std::cout);
       if (!whole_out.empty()) aggpack::write_file_atomically(whole_out, aggpack::to_json(e).dump(1) + "\n");
-      if (!whole_plot.empty()) aggpack::write_file_atomically(whole_plot, aggpack::whole_grading_svg(e));
+      if (!whole_plot.empty()) {
+        const aggpack::Plot plot = aggpack::whole_grading_plot(e);
+        aggpack::write_file_atomically(whole_plot, aggpack::svg_plot(plot));
+        // The figure's data beside it, under the same name (not over a file named .csv itself).
+        std::filesystem::path data = whole_plot;
+        if (data.extension() != ".csv") aggpack::write_file_atomically(data.replace_extension(".csv"), aggpack::plot_csv(plot));
+      }
       fmt::print("{}", aggpack::describe(e));
     } else if (*calibrate_cmd) {
       // The file's folder is checked (and made) before the simulations, not after them.

@@ -21,7 +21,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 2;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 3;  // raise when what a checkpoint holds changes
 constexpr std::array<const char*, 3> kSections{"header", "run state", "step state"};
 
 template <class Archive>
@@ -86,7 +86,7 @@ void write_section(std::ostream& out, const StateWriter& write) {
 // The run's state from step to step (the scenario and the drop sequence are made again).
 template <class Archive>
 void archive_run_state(Archive& ar, RunReport& r, RunContext& c) {
-  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, r.lammps_exchanges, raw(r.supports),
+  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, r.snapshot_times, r.lammps_exchanges, raw(r.supports),
      r.series, r.wall_clock_s, c.simulated_time, c.deposition_stopped_at);
 }
 }  // namespace
@@ -254,6 +254,9 @@ void check_reports(const RunReport& r, const RunContext& c) {
   }
   for (const auto& [name, bed] : r.snapshots)
     if (!snapshots.contains(name)) fail(fmt::format("a snapshot \"{}\" the protocol does not take", name));
+  for (const auto& [name, time] : r.snapshot_times)
+    if (!r.snapshots.contains(name) || !std::isfinite(time) || time < 0.0)
+      fail(fmt::format("the time of snapshot \"{}\"", name));
   for (const auto& [name, analysis] : r.analyses)
     if (!analyses.contains(name)) fail(fmt::format("an analysis \"{}\" the protocol does not make", name));
   if (!std::isfinite(c.simulated_time) || c.simulated_time < 0.0) fail("its simulated time");

@@ -106,6 +106,14 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
   Rng rng = make_rng(seed, RngPurpose::Sizes);
   if (source.sizes) {
     out.diameters = generate_diameters(*source.sizes, rng);
+    // The class of each diameter: the first listed with that diameter (two classes of one
+    // diameter are one size).
+    out.component.reserve(out.diameters.size());
+    const auto& classes = source.sizes->classes;
+    for (const double d : out.diameters) {
+      const auto k = std::find_if(classes.begin(), classes.end(), [d](const auto& c) { return c.diameter == d; });
+      out.component.push_back(static_cast<std::int32_t>(k - classes.begin()));
+    }
     out.report.method = "classes";
     out.report.count = out.diameters.size();
   } else {
@@ -122,6 +130,7 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
       const GradingSampler fine(fine_cut, g.sampling);
       std::vector<std::uint8_t> is_fine;
       out.diameters = sample_mix(main, fine, g.ca_fa, g.amount, g.order, rng, &is_fine);
+      out.component.assign(is_fine.begin(), is_fine.end());
       std::vector<double> coarse_d, fine_d;
       for (std::size_t i = 0; i < out.diameters.size(); ++i)
         (is_fine[i] ? fine_d : coarse_d).push_back(out.diameters[i]);
@@ -137,6 +146,7 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
       out.notes.push_back(cut_note(*g.fine, fine_cut));
     } else {
       out.diameters = sample_diameters(main, g.amount, rng);
+      out.component.assign(out.diameters.size(), 0);
       out.report.method = "grading";
       out.report.components = {component_report(g.main, main_cut, out.diameters)};
     }

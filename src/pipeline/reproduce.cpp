@@ -155,7 +155,8 @@ double box_spread(const std::vector<CaseRun>& runs) {
 
 std::size_t particle_count(const CaseRun& r) { return r.particle_count; }
 
-// Figures are kept in memory for the HTML page and written as files for report.md.
+// Figures are kept in memory for the HTML page and written as files for report.md; a plot's
+// data goes beside its SVG as a CSV of the same name, for readers who replot it.
 class FigureSet {
  public:
   explicit FigureSet(fs::path dir) : dir_(std::move(dir)) {}
@@ -164,15 +165,22 @@ class FigureSet {
     files_[file] = std::move(content);
     return file;
   }
+  // `name` ends in .svg; its data is written as the same name with .csv.
+  std::string add(const std::string& name, const Plot& plot) {
+    data_["figures/" + fs::path(name).replace_extension(".csv").string()] = plot_csv(plot);
+    return add(name, svg_plot(plot));
+  }
   void write() const {
     fs::create_directories(dir_ / "figures");
     for (const auto& [file, content] : files_) write_file_atomically(dir_ / file, content);
+    for (const auto& [file, content] : data_) write_file_atomically(dir_ / file, content);
   }
   [[nodiscard]] const std::map<std::string, std::string>& files() const { return files_; }
+  [[nodiscard]] const std::map<std::string, std::string>& data() const { return data_; }
 
  private:
   fs::path dir_;
-  std::map<std::string, std::string> files_;
+  std::map<std::string, std::string> files_, data_;
 };
 
 PlotSeries reference_line(const std::string& label, double x0, double x1, double y, const std::string& colour) {
@@ -181,12 +189,14 @@ PlotSeries reference_line(const std::string& label, double x0, double x1, double
 }
 
 // Density against simulated time, one curve per seed, with the paper's and the experiment's values.
-std::string density_time_plot(const PaperExample& ex, const std::vector<CaseRun>& runs) {
+Plot density_time_plot(const PaperExample& ex, const std::vector<CaseRun>& runs) {
   Plot plot;
   plot.title = fmt::format("{}: density during DEM settling (the paper's {})", ex.short_name, ex.figure);
   plot.legend_at_bottom = true;
   plot.x_label = "simulated time (s)";
   plot.y_label = "packing density in the virtual boxes";
+  plot.x_column = "time_s";
+  plot.y_column = "packing_density";
   double t_max = 0.0, lo = std::min(ex.after_deposition, ex.experiment), hi = std::max(ex.after_dem, ex.experiment);
   for (std::size_t k = 0; k < runs.size(); ++k) {
     PlotSeries s;
@@ -208,7 +218,7 @@ std::string density_time_plot(const PaperExample& ex, const std::vector<CaseRun>
                                        ex.after_deposition, "#aaaaaa"));
   plot.x_range = {{0.0, t_max}};
   plot.y_range = {{std::floor(lo * 100 - 0.5) / 100, std::ceil(hi * 100 + 0.5) / 100}};
-  return svg_plot(plot);
+  return plot;
 }
 
 Box bed_frame(const ParticleStore& particles, const Box& container) {
@@ -229,7 +239,7 @@ Grading report_curve(const GradingReport& report, bool generated) {
 
 // The blend's target curve (components at the requested Ca/Fa) and the generated one (at the
 // generated volumes), at every sieve of either component.
-std::string grading_plot(const Table2Row& row, const SizesReport& sizes) {
+Plot grading_plot(const Table2Row& row, const SizesReport& sizes) {
   const std::vector<SizesComponent>& comps = sizes.components;
   std::set<double> openings;
   for (const SizesComponent& c : comps)
@@ -260,11 +270,13 @@ std::string grading_plot(const Table2Row& row, const SizesReport& sizes) {
   plot.title = fmt::format("Table 2 mix {} ({}), Ca/Fa = {:.2f}: grading of the blend", row.mix, row.state, row.ca_fa);
   plot.x_label = "sieve opening (mm, log scale)";
   plot.y_label = "percent passing by volume";
+  plot.x_column = "sieve_opening_mm";
+  plot.y_column = "percent_passing_by_volume";
   plot.log_x = true;
   plot.legend_at_bottom = true;
   plot.y_range = {{0.0, 100.0}};
   plot.series = {target, generated};
-  return svg_plot(plot);
+  return plot;
 }
 
 struct Table2Outcome : SeedRuns {
@@ -841,12 +853,14 @@ void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep
 }
 
 // The compaction curves of the poured-and-tapped runs: density against tap number (0: as poured).
-std::string compaction_plot(const PaperExample& ex, const std::vector<CaseRun>& runs, const std::string& tapping) {
+Plot compaction_plot(const PaperExample& ex, const std::vector<CaseRun>& runs, const std::string& tapping) {
   Plot plot;
   plot.title = fmt::format("{} poured, then tapped: the compaction curve", ex.short_name);
   plot.legend_at_bottom = true;
   plot.x_label = fmt::format("taps ({})", tapping);
   plot.y_label = "packing density in the virtual boxes";
+  plot.x_column = "tap";
+  plot.y_column = "packing_density";
   double taps = 1.0, lo = ex.experiment, hi = ex.experiment;
   for (const CaseRun& r : runs)
     for (const TapReport& t : r.result.report.tappings) {
@@ -863,7 +877,7 @@ std::string compaction_plot(const PaperExample& ex, const std::vector<CaseRun>& 
   plot.series.push_back(reference_line(fmt::format("experiment {:.4f}", ex.experiment), 0, taps, ex.experiment, "#000000"));
   plot.x_range = {{0.0, taps}};
   plot.y_range = {{std::floor(lo * 100 - 0.5) / 100, std::ceil(hi * 100 + 0.5) / 100}};
-  return svg_plot(plot);
+  return plot;
 }
 
 // How the bed is made, for each example: drop-and-roll, with DEM, poured, poured and tapped,
@@ -1028,6 +1042,8 @@ void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
   plot.legend_at_bottom = true;
   plot.x_label = "fine aggregate Fa (% of aggregate volume)";
   plot.y_label = "packing density";
+  plot.x_column = "fa_percent";
+  plot.y_column = "packing_density";
   // Ours solid, CPM's curves dashed: the caption tells them apart by that.
   PlotSeries dep{"aggpack after deposition", {}, {}, {}, Mark::LineAndPoints, false, "#2ca02c"};
   PlotSeries dyn{"aggpack after DEM", {}, {}, {}, Mark::LineAndPoints, false, "#1f77b4"};
@@ -1048,7 +1064,7 @@ void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
   // CPM's curves: the mixes share their gradings and differ in Ca/Fa only.
   const std::vector<PlotSeries> model = cpm_curves(rep);
   plot.series.insert(plot.series.end(), model.begin(), model.end());
-  const std::string fig = figures.add("table2_density_vs_fa.svg", svg_plot(plot));
+  const std::string fig = figures.add("table2_density_vs_fa.svg", plot);
   b.emplace_back(Figure{fig, fmt::format("Computed and measured density against Fa % (the paper's Fig. 9); error "
                                          "bars: {}sd over the four virtual boxes (paper). Dashed: CPM (de Larrard's "
                                          "Compressible Packing Model, {}) on the blend between the runs' cut-offs "
@@ -1177,7 +1193,7 @@ void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& re
           : "The experiment lies within the band or above it.")});
   const std::string fig = figures.add(
       fmt::format("table2_mix{}_whole_grading.svg", row.mix),
-      whole_grading_svg(e, row.experiment, fmt::format("Table 2 mix {}: density against the sand cut-off", row.mix)));
+      whole_grading_plot(e, row.experiment, fmt::format("Table 2 mix {}: density against the sand cut-off", row.mix)));
   b.emplace_back(Figure{fig, fmt::format("Mix {}: the density after deposition against the volume of the blend the "
                                          "cut-offs leave out (each point a sand cut-off, mean ± se over seeds), CPM on "
                                          "each simulated distribution, and the model fitted to them carried to the "
@@ -1373,6 +1389,9 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   nlohmann::json figure_list = nlohmann::json::array();
   for (const auto& [file, content] : figures.files()) figure_list.push_back(file);
   result["figures"] = figure_list;
+  nlohmann::json data_list = nlohmann::json::array();  // each plot's data, beside its SVG
+  for (const auto& [file, content] : figures.data()) data_list.push_back(file);
+  result["figure_data"] = data_list;
 
   figures.write();
   write_file_atomically(options.out / "report.md", to_markdown(doc));

@@ -10,6 +10,7 @@
 #include <fmt/ranges.h>
 
 #include "aggpack/pipeline/calibration.hpp"
+#include "aggpack/analysis/coordination.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
@@ -166,6 +167,7 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
       context.resume_state = nullptr;
     }
     if (checkpointer) checkpointer->set_steps_completed(total);
+    report.simulated_time = context.simulated_time;
     const bool resumed_with_every_step_done = resume && resume->steps_completed == total;  // that checkpoint stands
     if (checkpointer && controls.checkpoint_before_final_analysis && !resumed_with_every_step_done)
       checkpointer->write("before the final analysis", nullptr);
@@ -190,6 +192,39 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   report.wall_clock_s["analysis"] = seconds_since(t0);
   return report;
 }
+
+namespace {
+
+// The snapshot steps' names in the order the protocol takes them.
+std::vector<std::string> snapshot_names_in_order(const RunReport& report) {
+  std::vector<std::string> names;
+  for (const Step& step : scenario_protocol(report.scenario).steps)
+    if (const auto* snapshot = std::get_if<SnapshotStep>(&step.kind))
+      if (report.snapshots.contains(snapshot->name) && report.snapshot_times.contains(snapshot->name))
+        names.push_back(snapshot->name);
+  return names;
+}
+
+// A bed as VTP, with each sphere's contacts and, for generated sizes, the part of the size
+// specification it came from (bed index i is the drop sequence's i: every stage adds spheres
+// in its order, which the radii confirm).
+std::string bed_vtp(const RunReport& report, const ParticleStore& bed, std::string_view provenance) {
+  const Scenario& sc = report.scenario;
+  std::vector<std::int32_t> coordination;
+  coordination.reserve(bed.size());
+  for (const int k : contact_counts(bed, sc.container, sc.analysis.contact_tolerance))
+    coordination.push_back(static_cast<std::int32_t>(k));
+  std::span<const std::int32_t> component;
+  if (report.sizes && bed.size() <= report.sizes->component.size()) {
+    const std::vector<double>& d = report.sizes->diameters;
+    bool same_order = true;
+    for (std::size_t i = 0; i < bed.size() && same_order; ++i) same_order = bed.radius[i] == 0.5 * d[i];
+    if (same_order) component = std::span(report.sizes->component).first(bed.size());
+  }
+  return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component});
+}
+
+}  // namespace
 
 nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far) {
   const auto t0 = Clock::now();
@@ -225,7 +260,26 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   }
   for (const auto& [name, bed] : report.snapshots) write("particles_" + name + ".csv", particles_csv(bed));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
-  if (sc.output.vtp) write("particles.vtp", particles_vtp(report.particles, provenance));
+  if (sc.output.vtp) {
+    write("particles.vtp", bed_vtp(report, report.particles, provenance));
+    // The snapshots and the final bed as one series, for ParaView to animate.
+    const std::vector<std::string> snapshots = snapshot_names_in_order(report);
+    if (!snapshots.empty()) {
+      std::vector<PvdFrame> frames;
+      for (const std::string& name : snapshots) {
+        const std::string file = "particles_" + name + ".vtp";
+        write(file, bed_vtp(report, report.snapshots.at(name), provenance));
+        frames.push_back({report.snapshot_times.at(name), file, "snapshot " + name});
+      }
+      // A protocol that ends with a snapshot has that bed as its final one: one frame of it.
+      const ParticleStore& last = report.snapshots.at(snapshots.back());
+      const bool final_is_last_snapshot = frames.back().time == report.simulated_time &&
+                                          last.position == report.particles.position &&
+                                          last.radius == report.particles.radius;
+      if (!final_is_last_snapshot) frames.push_back({report.simulated_time, "particles.vtp", "the final bed"});
+      write("particles.pvd", particles_pvd(frames, provenance));
+    }
+  }
   const double output_seconds = seconds_since(t0);
   nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
   write("summary.json", summary.dump(2) + "\n");

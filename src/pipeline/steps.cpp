@@ -123,7 +123,10 @@ void run_step(const AnalyseStep& step, RunContext& ctx) {
   ctx.report.analyses[step.report_as] = std::move(analysis);
 }
 
-void run_step(const SnapshotStep& step, RunContext& ctx) { ctx.report.snapshots[step.name] = ctx.report.particles; }
+void run_step(const SnapshotStep& step, RunContext& ctx) {
+  ctx.report.snapshots[step.name] = ctx.report.particles;
+  ctx.report.snapshot_times[step.name] = ctx.simulated_time;  // its place in particles.pvd
+}
 
 void run_step(const ExportLammpsStep& step, RunContext& ctx) {
   const Scenario& sc = ctx.report.scenario;

@@ -106,6 +106,8 @@ std::string sweep_svg(const std::vector<SweepPoint>& points, std::size_t best, b
   plot.title = fmt::format("Density against sand fraction: {}", scenario.filename().string());
   plot.x_label = "fine aggregate Fa (% of aggregate volume)";
   plot.y_label = has_dynamics ? "packing density after DEM" : "packing density after deposition";
+  plot.x_column = "fa_percent";
+  plot.y_column = "packing_density";
   if (points[best].whole) ours.label = "aggpack at the finest cut-off (mean ± sd over seeds)";
   plot.series.push_back(ours);
   if (points[best].whole) {
@@ -361,10 +363,13 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
 
   std::filesystem::create_directories(options.out);
   for (const SweepPoint& p : points)
-    if (p.whole)
-      write_file_atomically(options.out / fmt::format("fa_{:g}", p.fa_percent) / "whole_grading.svg",
-                            whole_grading_svg(*p.whole, std::nullopt,
-                                              fmt::format("Fa = {:g} %: the whole grading from its cut-offs", p.fa_percent)));
+    if (p.whole) {  // the figure, and its data beside it
+      const Plot plot = whole_grading_plot(*p.whole, std::nullopt,
+                                           fmt::format("Fa = {:g} %: the whole grading from its cut-offs", p.fa_percent));
+      const std::filesystem::path folder = options.out / fmt::format("fa_{:g}", p.fa_percent);
+      write_file_atomically(folder / "whole_grading.svg", svg_plot(plot));
+      write_file_atomically(folder / "whole_grading.csv", plot_csv(plot));
+    }
   write_file_atomically(options.out / "sweep.csv", sweep_csv(points, options.seeds, plan.whole()));
   write_file_atomically(options.out / "sweep.svg", sweep_svg(points, best, has_dynamics, options.scenario));
   write_file_atomically(options.out / "sweep.json", result.dump(2) + "\n");

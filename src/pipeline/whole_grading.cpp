@@ -253,6 +253,10 @@ std::string describe(const WholeGradingEstimate& e) {
 }
 
 std::string whole_grading_svg(const WholeGradingEstimate& e, std::optional<double> measured, const std::string& title) {
+  return svg_plot(whole_grading_plot(e, measured, title));
+}
+
+Plot whole_grading_plot(const WholeGradingEstimate& e, std::optional<double> measured, const std::string& title) {
   PlotSeries simulated{"simulated (mean ± se over seeds)", {}, {}, {}, Mark::Points, false, "#1f77b4"};
   PlotSeries cpm{"CPM on the simulated distribution", {}, {}, {}, Mark::LineAndPoints, true, "#7f7f7f"};
   PlotSeries fitted{"CPM + the fitted residual line, to the whole grading", {}, {}, {}, Mark::Line, false, "#ff7f0e"};
@@ -271,6 +275,8 @@ std::string whole_grading_svg(const WholeGradingEstimate& e, std::optional<doubl
   plot.title = title.empty() ? fmt::format("The whole grading from cut-offs of {}", e.key) : title;
   plot.x_label = "volume of the grading left out by the cut-offs (%)";
   plot.y_label = "packing density";
+  plot.x_column = "left_out_volume_percent";
+  plot.y_column = "packing_density";
   plot.legend_at_bottom = true;
   plot.series = {cpm, fitted, simulated,
                  {fmt::format("whole grading: {:.3f} (band {:.3f} to {:.3f})", e.density, e.low, e.high),
@@ -281,7 +287,7 @@ std::string whole_grading_svg(const WholeGradingEstimate& e, std::optional<doubl
                   false,
                   "#d62728"}};
   if (measured) plot.series.push_back({fmt::format("measured: {:.3f}", *measured), {0.0}, {*measured}, {}, Mark::Points, false, "#000000"});
-  return svg_plot(plot);
+  return plot;
 }
 
 }  // namespace aggpack

@@ -269,4 +269,42 @@ std::string svg_plot(const Plot& plot) {
          svg + "</svg>\n";
 }
 
+std::string plot_csv(const Plot& plot) {
+  const bool errors = std::any_of(plot.series.begin(), plot.series.end(),
+                                  [](const PlotSeries& s) { return !s.y_error.empty(); });
+  fmt::memory_buffer csv;
+  auto out = std::back_inserter(csv);
+  fmt::format_to(out, "series,{},{}", plot.x_column, plot.y_column);
+  if (errors) fmt::format_to(out, ",{}_error", plot.y_column);
+  fmt::format_to(out, "\n");
+  const auto cell = [&](double v) {  // NaN: an empty cell
+    if (std::isfinite(v)) fmt::format_to(out, "{}", v);
+  };
+  for (const PlotSeries& s : plot.series) {
+    std::string label;
+    if (s.label.find_first_of(",\"\n") == std::string::npos) {
+      label = s.label;
+    } else {
+      label.push_back('"');
+      for (const char c : s.label) {
+        if (c == '"') label.push_back('"');
+        label.push_back(c);
+      }
+      label.push_back('"');
+    }
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+      fmt::format_to(out, "{},", label);
+      cell(s.x[i]);
+      fmt::format_to(out, ",");
+      cell(s.y[i]);
+      if (errors) {
+        fmt::format_to(out, ",");
+        if (i < s.y_error.size()) cell(s.y_error[i]);
+      }
+      fmt::format_to(out, "\n");
+    }
+  }
+  return fmt::to_string(csv);
+}
+
 }  // namespace aggpack

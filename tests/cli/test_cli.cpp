@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
@@ -96,6 +97,44 @@ TEST_F(Cli, VtpIsValidXmlWhenThePathHoldsTwoDashes) {
   EXPECT_EQ(xml.exit_code, 0) << xml.output;
   const Result csv = aggpack::testing::check_outputs("csv " + (out / "particles.csv").string());
   EXPECT_EQ(csv.exit_code, 0) << csv.output;
+}
+
+// Issue 34, item 15: the VTP was ASCII (124 B a sphere). It is now VTK's zlib-compressed
+// appended binary, decoded here by Python's zlib and struct (tests/tools/check_outputs.py),
+// with each sphere's velocity, coordination and component beside its radius.
+TEST_F(Cli, VtpIsZlibBinaryWithVelocityCoordinationAndComponent) {
+  const std::string text = "seed = 3\n[container]\nside = 0.04\nheight = 0.3\n[particles]\norder = \"shuffled\"\n"
+                           "classes = [{ diameter = 0.01, count = 80 }, { diameter = 0.005, count = 320 }]\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n"
+                           "[dynamics]\nmax_time = 0.01\n[analysis]\nbox_sides = [0.02]\n";
+  const auto summary = run_text("binary", text);
+  const fs::path vtp = dir_ / "binary" / "particles.vtp";
+  const std::string bytes = slurp(vtp);
+  EXPECT_NE(bytes.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  EXPECT_NE(bytes.find("<AppendedData encoding=\"raw\">"), std::string::npos);
+  EXPECT_EQ(bytes.find("format=\"ascii\""), std::string::npos);
+  const double tolerance = summary.at("scenario").at("analysis").at("contact_tolerance").get<double>();
+  const Result checked = aggpack::testing::check_outputs(
+      "vtp " + vtp.string() + " 400 " + (dir_ / "binary" / "particles.csv").string() +
+      " --arrays velocity,coordination,component --component-diameters 0.01,0.005 --contact-tolerance " +
+      fmt::format("{}", tolerance));
+  EXPECT_EQ(checked.exit_code, 0) << checked.output;
+  // The same run written as ASCII holds the same arrays, value for value, at several times the size.
+  run_text("ascii", text, " --set output.vtp_encoding=ascii");
+  const fs::path ascii = dir_ / "ascii" / "particles.vtp";
+  EXPECT_NE(slurp(ascii).find("format=\"ascii\""), std::string::npos);
+  const Result same = aggpack::testing::check_outputs("vtp-same " + vtp.string() + " " + ascii.string());
+  EXPECT_EQ(same.exit_code, 0) << same.output;
+  EXPECT_LT(fs::file_size(vtp) * 2, fs::file_size(ascii));
+  // The DEM was cut while the bed still moved: the velocities are the bed's, not zeros.
+  EXPECT_EQ(summary.at("settled"), false);
+  const Result moving = aggpack::testing::check_outputs("vtp " + vtp.string() + " 400 --nonzero velocity");
+  EXPECT_EQ(moving.exit_code, 0) << moving.output;
+  // Byte for byte the same for any thread count.
+  const Result threads = run("run " + (dir_ / "binary.toml").string() + " --quiet --threads 2 --out " +
+                             (dir_ / "threads").string());
+  ASSERT_EQ(threads.exit_code, 0) << threads.output;
+  EXPECT_EQ(slurp(dir_ / "threads" / "particles.vtp"), bytes);
 }
 
 TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {
@@ -645,6 +684,19 @@ TEST_F(Cli, WholeGradingCarriesACutOffSeriesToTheWholeGrading) {
   const auto& w = e.at("whole_grading");
   EXPECT_DOUBLE_EQ(w.at("density").get<double>(),
                    w.at("cpm").get<double>() + e.at("residual_fit").at("at_nothing_left_out").get<double>());
+  // The figure's data beside it (issue 34, item 15): one row a plotted point, the simulated
+  // points at 100 x the volume fraction left out, with their means and standard errors.
+  const fs::path data = dir_ / "plots" / "cut_offs.csv";
+  const Result read = aggpack::testing::check_outputs("csv " + data.string());
+  EXPECT_EQ(read.exit_code, 0) << read.output;
+  const std::string csv = slurp(data);
+  EXPECT_EQ(csv.rfind("series,left_out_volume_percent,packing_density,packing_density_error\n", 0), 0u) << csv;
+  for (const auto& c : e.at("cut_offs"))
+    EXPECT_NE(csv.find(fmt::format("simulated (mean ± se over seeds),{},{},{}\n",
+                                   100.0 * c.at("left_out_volume_fraction").get<double>(), c.at("mean").get<double>(),
+                                   c.at("standard_error").get<double>())),
+              std::string::npos)
+        << csv;
   // This toy blend leaves four fifths of its grading out: the band says the estimate is none.
   EXPECT_FALSE(w.at("trustworthy").get<bool>());
   EXPECT_NE(r.output.find("warning: the band is"), std::string::npos) << r.output;
@@ -681,6 +733,19 @@ TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
   EXPECT_NE(slurp(dir_ / "snap" / "particles_loose.csv"), slurp(dir_ / "snap" / "particles.csv"));
   const Result csv = aggpack::testing::check_outputs("csv " + (dir_ / "snap" / "particles_loose.csv").string());
   EXPECT_EQ(csv.exit_code, 0) << csv.output;
+  // And as a VTP beside the CSV, the two listed with their times in particles.pvd for ParaView
+  // to animate: the deposited bed at 0 s, the settled one at the end of the DEM.
+  const Result vtp = aggpack::testing::check_outputs("vtp " + (dir_ / "snap" / "particles_loose.vtp").string() +
+                                                     " 200 " + (dir_ / "snap" / "particles_loose.csv").string());
+  EXPECT_EQ(vtp.exit_code, 0) << vtp.output;
+  const Result pvd = aggpack::testing::check_outputs("pvd " + (dir_ / "snap" / "particles.pvd").string());
+  EXPECT_EQ(pvd.exit_code, 0) << pvd.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "snap" / "summary.json"));
+  const double end = summary.at("stages").at("dynamics").at("simulated_time_s").get<double>();
+  EXPECT_EQ(pvd.output, fmt::format("0 particles_loose.vtp\n{} particles.vtp\nok\n", end));
+  // A run stopped after deposition ends with the snapshot's bed: one frame, the snapshot.
+  const Result stopped = aggpack::testing::check_outputs("pvd " + (dir_ / "loose" / "particles.pvd").string());
+  EXPECT_EQ(stopped.output, "0 particles_loose.vtp\nok\n");
   std::ofstream(dir_ / "bad.toml") << "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\n"
                                       "count = 200\n[deposition]\n[[protocol]]\nstep = \"deposit\"\n"
                                       "[[protocol]]\nstep = \"snapshot\"\nname = \"../x\"\n";

@@ -241,6 +241,7 @@ std::vector<BadInput> bad_inputs() {
                {"s.toml", "pour.velocity", "passing through"}),
       scenario(kDeposit + "[[protocol]]\nstep = \"shake\"\n", {"protocol", "shake"}),
       scenario(kDeposit + "[output]\nformats = [\"pdf\"]\n", {"output.formats", "csv", "vtp"}),
+      scenario(kDeposit + "[output]\nvtp_encoding = \"base64\"\n", {"output.vtp_encoding", "binary", "ascii"}),
       scenario(kDeposit + "seed = -5\n", {"seed"}),
       scenario("seed = 18446744073709551615\n" + kDeposit, {"s.toml"}),
       scenario(kFromFile + "[deposition]\n", {"s.toml", "particles.from"}),

@@ -291,6 +291,25 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
     }
   }
   EXPECT_EQ(svgs, 2u + 2u + 1u + 1u + 8u);  // Figs. 4 and 7, two compaction curves, Fig. 9, mix 3's cut-offs, eight gradings
+  // Issue 34, item 15: each plot's data beside its SVG, as a CSV that Python's csv module reads,
+  // its columns named with their units.
+  std::size_t data = 0;
+  for (const auto& f : j["figure_data"]) {
+    const fs::path csv = out_ / f.get<std::string>();
+    ASSERT_TRUE(fs::exists(csv)) << csv;
+    EXPECT_TRUE(fs::exists(fs::path(csv).replace_extension(".svg"))) << csv;
+    const Result read = aggpack::testing::check_outputs("csv " + csv.string());
+    EXPECT_EQ(read.exit_code, 0) << read.output;
+    ++data;
+  }
+  EXPECT_EQ(data, svgs);
+  EXPECT_EQ(slurp(out_ / "figures" / "example1_density_vs_time.csv").rfind("series,time_s,packing_density\n", 0), 0u);
+  EXPECT_EQ(slurp(out_ / "figures" / "table2_density_vs_fa.csv")
+                .rfind("series,fa_percent,packing_density,packing_density_error\n", 0),
+            0u);
+  EXPECT_EQ(slurp(out_ / "figures" / "table2_mix3_grading.csv")
+                .rfind("series,sieve_opening_mm,percent_passing_by_volume\n", 0),
+            0u);
   EXPECT_EQ(pngs, 3u);            // Fig. 6 a and b, one Table 2 bed
 
   // Fig. 4: time from 0 to the end of the (quick) settling run; densities from the paper's
@@ -615,6 +634,8 @@ TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
     if (w["whole_grading"]["density"].get<double>() > best) best = w["whole_grading"]["density"], best_fa = p["fa_percent"];
     const fs::path blend = dir_ / fmt::format("fa_{:g}", p["fa_percent"].get<double>());
     EXPECT_TRUE(fs::exists(blend / "whole_grading.svg"));
+    const Result data = aggpack::testing::check_outputs("csv " + (blend / "whole_grading.csv").string());
+    EXPECT_EQ(data.exit_code, 0) << data.output;
     EXPECT_TRUE(fs::exists(blend / "cut_3.048mm" / "seed_2" / "summary.json"));
   }
   EXPECT_EQ(j["best"]["fa_percent"].get<double>(), best_fa);

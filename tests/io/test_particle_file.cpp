@@ -10,6 +10,8 @@
 
 #include <fmt/format.h>
 #include <cmath>
+#include <cstring>
+#include <stdexcept>
 #include "aggpack/io/vtk.hpp"
 
 namespace aggpack {
@@ -133,70 +135,63 @@ TEST(Vtk, ProvenanceCommentStaysValidXmlWhateverThePath) {
   EXPECT_NE(body.find("runs-=old/a-=-b.toml"), std::string::npos) << body;
 }
 
-TEST(Vtk, PolyDataHasRadiusDiameterAndIdArrays) {
+TEST(Vtk, AsciiPolyDataHasRadiusDiameterIdAndVelocityArrays) {
   ParticleStore p;
   p.add({1, 2, 3}, 0.5, 1.0);
-  const std::string vtp = particles_vtp(p, "aggpack test, seed 3");
+  p.velocity[0] = {0.25, -1, 0};
+  const std::string vtp = particles_vtp(p, "aggpack test, seed 3", VtpEncoding::Ascii);
   EXPECT_NE(vtp.find("<!-- aggpack test, seed 3 -->"), std::string::npos);
   EXPECT_NE(vtp.find("type=\"PolyData\""), std::string::npos);
   EXPECT_NE(vtp.find("Name=\"radius\""), std::string::npos);
   EXPECT_NE(vtp.find("Name=\"diameter\""), std::string::npos);
   EXPECT_NE(vtp.find("Name=\"id\""), std::string::npos);
+  EXPECT_NE(vtp.find("Name=\"velocity\" NumberOfComponents=\"3\" format=\"ascii\">\n0.25 -1 0\n"), std::string::npos);
   EXPECT_NE(vtp.find("NumberOfPoints=\"1\""), std::string::npos);
   EXPECT_NE(vtp.find("1 2 3\n"), std::string::npos);
+  EXPECT_EQ(vtp.find("AppendedData"), std::string::npos);
+  EXPECT_EQ(vtp.find("Name=\"coordination\""), std::string::npos);  // not given: left out
 }
 
-}  // namespace
-}  // namespace aggpack
-
-namespace aggpack {
-namespace {
-
-// The overlap check on its grid finds the same worst pair as a brute-force pass over all
-// pairs, in a walled and in a periodic container (where pairs meet across the sides).
-TEST(ParticleOverlaps, TheWorstPairMatchesBruteForce) {
-  for (const bool periodic : {false, true}) {
-    const Container container = Container::square(0.1, 0.1, periodic);
-    Rng rng = make_rng(7, RngPurpose::Sizes);
-    const auto unit = [](Rng& g) { return g.uniform(); };
-    ParticleStore store;
-    for (int k = 0; k < 400; ++k) {
-      const double r = 0.002 + 0.004 * unit(rng);
-      store.add({0.1 * unit(rng), 0.1 * unit(rng), r + 0.08 * unit(rng)}, r, 2650.0);
-    }
-    double worst = 0.0;
-    for (std::size_t i = 0; i < store.size(); ++i)
-      for (std::size_t j = 0; j < i; ++j) {
-        const Vec3 d = container.minimum_image(store.position[i] - store.position[j]);
-        const double depth = (store.radius[i] + store.radius[j] - std::sqrt(norm2(d))) /
-                             std::min(store.radius[i], store.radius[j]);
-        worst = std::max(worst, depth);
-      }
-    ASSERT_GT(worst, 0.1);  // random spheres do overlap: the comparison means something
-    const PairOverlap found = check_particle_overlaps(store, container, 10.0, false, "random", 1e8);
-    EXPECT_NEAR(found.depth_over_radius, worst, 1e-12) << (periodic ? "periodic" : "walls");
-    // Below the worst depth, the same bed is refused, naming the pair.
-    try {
-      (void)check_particle_overlaps(store, container, 0.5 * worst, false, "random", 1e8);
-      ADD_FAILURE() << "an overlap beyond the tolerance was accepted";
-    } catch (const InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(fmt::format("particles {} and {}", found.i, found.j)), std::string::npos)
-          << e.what();
-    }
-  }
+// The default: every array in the appended section, zlib-compressed, as VTK's own writer
+// does (tests/tools/check_outputs.py decodes the bytes against particles.csv).
+TEST(Vtk, BinaryPolyDataIsZlibAppendedWithTheGivenArrays) {
+  ParticleStore p;
+  for (int i = 0; i < 5000; ++i) p.add({0.01 * i, 0, 0}, 0.004, 2650.0);  // more than one 32 KiB block
+  const std::vector<std::int32_t> coordination(p.size(), 2), component(p.size(), 1);
+  const std::string vtp = particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component});
+  EXPECT_NE(vtp.find("header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\""), std::string::npos);
+  EXPECT_NE(vtp.find("<DataArray type=\"Float64\" Name=\"radius\" format=\"appended\" offset=\"0\"/>"),
+            std::string::npos);
+  EXPECT_NE(vtp.find("<DataArray type=\"Int32\" Name=\"coordination\" format=\"appended\""), std::string::npos);
+  EXPECT_NE(vtp.find("<DataArray type=\"Int32\" Name=\"component\" format=\"appended\""), std::string::npos);
+  EXPECT_NE(vtp.find("<AppendedData encoding=\"raw\">\n   _"), std::string::npos);
+  EXPECT_EQ(vtp.substr(vtp.size() - 30), "\n  </AppendedData>\n</VTKFile>\n");
+  // The radius array: 40000 bytes, one full block of 32768 and one of 7232.
+  const std::size_t data = vtp.find('_', vtp.find("<AppendedData")) + 1;
+  std::uint64_t header[3];
+  std::memcpy(header, vtp.data() + data, sizeof header);
+  EXPECT_EQ(header[0], 2u);
+  EXPECT_EQ(header[1], 32768u);
+  EXPECT_EQ(header[2], 40000u - 32768u);
+  EXPECT_LT(vtp.size(), particles_vtp(p, "t", VtpEncoding::Ascii, {coordination, component}).size() / 3);
+  EXPECT_EQ(vtp, particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component}));  // deterministic
+  const std::vector<std::int32_t> short_array(3, 0);
+  EXPECT_THROW(particles_vtp(p, "t", VtpEncoding::ZlibAppended, {short_array, {}}), std::invalid_argument);
 }
 
-TEST(ParticleOverlaps, CoincidentSpheresAndHugeGridsAreRefused) {
-  ParticleStore store;
-  store.add({0.05, 0.05, 0.01}, 0.01, 2650.0);
-  store.add({0.05, 0.05, 0.01}, 0.005, 2650.0);
-  const Container box = Container::square(0.1, 0.1, false);
-  EXPECT_THROW((void)check_particle_overlaps(store, box, 1.0, true, "same", 1e8), InputError);
-  ParticleStore far;
-  far.add({0.0, 0.0, 0.01}, 0.01, 2650.0);
-  far.add({1e6, 1e6, 0.01}, 0.01, 2650.0);
-  Container wide = Container::square(1e6 + 1.0, 0.1, false);
-  EXPECT_THROW((void)check_particle_overlaps(far, wide, 0.25, false, "far", 1e8), InputError);
+TEST(Vtk, PvdListsTheFramesWithTheirTimesOrTheirNumbersWhenTimesRepeat) {
+  const std::vector<PvdFrame> frames{{0.0, "particles_loose.vtp", "snapshot loose"},
+                                     {0.25, "particles.vtp", "the final bed"}};
+  const std::string pvd = particles_pvd(frames, "aggpack test");
+  EXPECT_NE(pvd.find("<VTKFile type=\"Collection\""), std::string::npos);
+  EXPECT_NE(pvd.find("<DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"particles_loose.vtp\"/>"),
+            std::string::npos);
+  EXPECT_NE(pvd.find("<DataSet timestep=\"0.25\" group=\"\" part=\"0\" file=\"particles.vtp\"/>"),
+            std::string::npos);
+  const std::vector<PvdFrame> same_time{{0.0, "a.vtp", "a"}, {0.0, "b.vtp", "b"}};
+  const std::string numbered = particles_pvd(same_time, "aggpack test");
+  EXPECT_NE(numbered.find("timestep=\"1\" group=\"\" part=\"0\" file=\"b.vtp\""), std::string::npos);
+  EXPECT_NE(numbered.find("each timestep is the frame's number"), std::string::npos);
 }
 
 }  // namespace

@@ -155,5 +155,23 @@ TEST(SvgPlot, ALongLabelIsWrappedInsideThePlot) {
   EXPECT_EQ(shown, label) << svg;
 }
 
+// Issue 34, item 15: each report figure's data as a CSV beside its SVG, read back by Python's
+// csv module in the reproduce test.
+TEST(PlotCsv, OneRowAPointWithTheColumnsUnitsAndTheErrorBars) {
+  Plot plot;
+  plot.x_column = "fa_percent";
+  plot.y_column = "packing_density";
+  plot.series.push_back({"aggpack, mean of 3 seeds", {25, 30}, {0.8123456789012345, 0.81}, {0.002, 0.003}, Mark::Line, false, ""});
+  plot.series.push_back({"paper \"Table 2\"", {25}, {std::nan("")}, {}, Mark::Points, false, ""});
+  EXPECT_EQ(plot_csv(plot),
+            "series,fa_percent,packing_density,packing_density_error\n"
+            "\"aggpack, mean of 3 seeds\",25,0.8123456789012345,0.002\n"
+            "\"aggpack, mean of 3 seeds\",30,0.81,0.003\n"
+            "\"paper \"\"Table 2\"\"\",25,,\n");
+  plot.series.pop_back();
+  plot.series.front().y_error.clear();
+  EXPECT_EQ(plot_csv(plot).substr(0, plot_csv(plot).find('\n')), "series,fa_percent,packing_density");
+}
+
 }  // namespace
 }  // namespace aggpack

@@ -15,6 +15,7 @@
 #include "aggpack/dynamics/dem_system.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/io/protocol.hpp"
+#include "aggpack/io/vtk.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
 #include "aggpack/sizes/size_spec.hpp"
 
@@ -116,6 +117,8 @@ struct OutputSettings {
   std::filesystem::path directory;
   bool csv = true;
   bool vtp = true;
+  // particles.vtp's arrays: zlib-compressed binary (the default), or ASCII text.
+  VtpEncoding vtp_encoding = VtpEncoding::ZlibAppended;
   // Checkpoints of a run into `directory` (checkpoint.bin), at most every `checkpoint_every`
   // seconds of wall clock (0: at every safe point), for `aggpack resume`.
   bool checkpoint = true;

@@ -34,6 +34,9 @@ nlohmann::json to_json(const SizesReport& report);
 // modelling notes it implies.
 struct GeneratedSizes {
   std::vector<double> diameters;  // m
+  // Where each diameter came from, by index: a mix's grading (0 coarse, 1 fine: the order of
+  // report.components), a class of particles.classes (as listed); 0 for one grading.
+  std::vector<std::int32_t> component;
   SizesReport report;
   std::vector<std::string> notes;
 };

@@ -58,6 +58,8 @@ struct RunReport {
   ParticleStore particles;                        // the final bed
   std::optional<ParticleStore> deposited;         // the bed after a single deposition, when DEM then moved it
   std::map<std::string, ParticleStore> snapshots;  // beds copied by snapshot steps, by name
+  std::map<std::string, double> snapshot_times;    // s of simulated time at each snapshot step
+  double simulated_time = 0.0;                     // s, every DEM step's, when the steps ended
   std::vector<LammpsExchange> lammps_exchanges;   // export_lammps and import_lammps steps, in order
   std::vector<Supports> supports;                 // what each sphere rested on after deposition
   TimeSeries series;                              // the settling runs' samples

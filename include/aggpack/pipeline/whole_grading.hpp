@@ -10,6 +10,7 @@
 
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/pipeline/predictions.hpp"
+#include "aggpack/report/svg_plot.hpp"
 
 namespace aggpack {
 
@@ -103,5 +104,8 @@ std::string describe(const WholeGradingEstimate& estimate);
 // whole grading with the band, and a measured density at the whole grading when given.
 std::string whole_grading_svg(const WholeGradingEstimate& estimate, std::optional<double> measured = std::nullopt,
                               const std::string& title = {});
+// That figure as a Plot, for its data (plot_csv) beside the SVG.
+Plot whole_grading_plot(const WholeGradingEstimate& estimate, std::optional<double> measured = std::nullopt,
+                        const std::string& title = {});
 
 }  // namespace aggpack
