@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <functional>
 #include <iostream>
 #include <limits>
@@ -27,6 +28,7 @@
 #include "aggpack/pipeline/run.hpp"
 #include "aggpack/pipeline/sweep.hpp"
 #include "aggpack/pipeline/whole_grading.hpp"
+#include "examples_dir.hpp"
 
 namespace {
 
@@ -341,8 +343,9 @@ int main(int argc, char** argv) {
   whole_cmd->add_flag("--quiet", whole.quiet, "Print only the estimate");
 
   aggpack::ReproduceOptions reproduce;
-  reproduce.examples = AGGPACK_EXAMPLES_DIR;
+  reproduce.examples = default_examples_dir(argc > 0 ? argv[0] : nullptr);
   std::string reproduce_out = reproduce.out.string(), examples_dir = reproduce.examples.string();
+  bool reproduce_dry_run = false;
   auto* reproduce_cmd = app.add_subcommand(
       "reproduce", "Run the paper's Examples 1, 2 and Table 2 over seeds and write report.html and report.md");
   reproduce_cmd->add_flag("--quick", reproduce.quick, "One seed, DEM cut at 0.25 s, short pours, three sensitivity rows (about two minutes)");
@@ -358,7 +361,11 @@ int main(int argc, char** argv) {
                           "Continue an interrupted reproduce into the same --out: runs it finished or began are taken "
                           "up from their checkpoints, not run again");
   reproduce_cmd->add_option("--out", reproduce_out, "Output directory (default out/reproduce)");
-  reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv");
+  auto* examples_opt =
+      reproduce_cmd->add_option("--examples", examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv")
+          ->capture_default_str();
+  reproduce_cmd->add_flag("--dry-run", reproduce_dry_run,
+                          "Print the scenarios' folder and the runs this reproduce would make; run nothing");
   reproduce_cmd->add_option("--threads", reproduce.threads, "OpenMP threads (default 0: all cores)")
       ->check(thread_range);
   reproduce_cmd->add_flag("--quiet", reproduce.quiet, "Print nothing on success, no progress line");
@@ -451,8 +458,20 @@ int main(int argc, char** argv) {
       return run_until_done_or_stopped(resume, [&] { return aggpack::resume_run(resume_dir, resume, std::cout); });
     } else if (*reproduce_cmd) {
       reproduce.out = reproduce_out;
+      if (examples_dir.empty())
+        throw aggpack::InputError("reproduce: cannot tell where this aggpack is installed (no /proc/self/exe), so "
+                                  "not where its shipped scenarios are: give --examples DIR");
+      if (!*examples_opt && !std::filesystem::is_directory(examples_dir))
+        throw aggpack::InputError(fmt::format(
+            "reproduce: no shipped scenarios in {}, where an installed aggpack keeps them (share/aggpack/examples "
+            "beside its bin/; cmake --install puts them there): give --examples DIR",
+            examples_dir));
       reproduce.examples = examples_dir;
       if (*reproduce_seeds_opt) reproduce.seeds = count_argument(reproduce_seeds, "--seeds");
+      if (reproduce_dry_run) {
+        fmt::print("{}", aggpack::describe(aggpack::plan_reproduce(reproduce)));
+        return 0;
+      }
       for (int k = 0; k < argc; ++k) reproduce.command_line += (k ? " " : "") + std::string(k ? argv[k] : "aggpack");
       aggpack::reproduce(reproduce, std::cout);
     } else if (*sweep_cmd) {

@@ -568,39 +568,73 @@ Table2Errors table2_errors(const std::vector<Table2Outcome>& mixes) {
   return e;
 }
 
-// Runs every case of the plan: Examples 1 and 2, the Table 2 mixes and the sensitivity variants.
-Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
-  const Plan plan = make_plan(options);
-  const fs::path examples = options.examples;
-  const std::vector<Table2Row> table2 = read_table2(examples / "fu2003_table2.csv");
-  const std::vector<PaperExample> paper = read_examples(examples / "fu2003_examples.csv");
-  for (const PaperExample& ex : paper)
+// The paper's tables and the scenarios a reproduction reads, all checked before any run.
+struct ReproduceInputs {
+  fs::path examples;
+  std::vector<Table2Row> table2;
+  std::vector<PaperExample> paper;
+  [[nodiscard]] fs::path pour_scenario(const PaperExample& ex) const {
+    return examples / (fs::path(ex.scenario).stem().string() + "_pour.toml");
+  }
+};
+
+ReproduceInputs read_inputs(const fs::path& examples) {
+  ReproduceInputs in{examples, read_table2(examples / "fu2003_table2.csv"),
+                     read_examples(examples / "fu2003_examples.csv")};
+  for (const PaperExample& ex : in.paper)
     if (!fs::exists(examples / ex.scenario))
       throw InputError(fmt::format("{}: not found (give --examples DIR, the folder of the shipped scenarios)",
                                    (examples / ex.scenario).string()));
-  for (const Table2Row& row : table2) {
+  for (const Table2Row& row : in.table2) {
     const fs::path f = examples / fmt::format("table2_mix{}.toml", row.mix);
     if (!fs::exists(f)) throw InputError(fmt::format("{}: not found (one scenario per Table 2 mix)", f.string()));
   }
+  return in;
+}
 
+// The shipped variant of the sensitivity study is Table 2's own mix 3: not run twice. So is a
+// sand cut-off that every mix's series already ran.
+bool runs_of_its_own(const Plan& plan, const SensitivityCase& c) {
+  return !c.sets.empty() && std::none_of(plan.table2_cuts_in.begin(), plan.table2_cuts_in.end(),
+                                         [&](double cut) { return std::abs(cut - c.sand_cut_in) < 1e-12; });
+}
+
+// The runs of every case, over all seeds: what the campaign announces and `--dry-run` lists.
+std::vector<std::pair<std::string, std::size_t>> planned_cases(const Plan& plan, const ReproduceInputs& in) {
   const std::size_t seeds = static_cast<std::size_t>(plan.seeds);
-  // The shipped variant of the sensitivity study is Table 2's own mix 3: not run twice.
-  // So is a sand cut-off that every mix's series already ran.
-  const auto in_series = [&](const SensitivityCase& c) {
-    return std::any_of(plan.table2_cuts_in.begin(), plan.table2_cuts_in.end(),
-                       [&](double cut) { return std::abs(cut - c.sand_cut_in) < 1e-12; });
-  };
-  const std::size_t new_variants = static_cast<std::size_t>(
-      std::count_if(plan.sensitivity.begin(), plan.sensitivity.end(),
-                    [&](const SensitivityCase& c) { return !c.sets.empty() && !in_series(c); }));
-  const auto pour_scenario = [&](const PaperExample& ex) {
-    return examples / (fs::path(ex.scenario).stem().string() + "_pour.toml");
-  };
-  const std::size_t poured_examples = static_cast<std::size_t>(
-      std::count_if(paper.begin(), paper.end(), [&](const PaperExample& ex) { return fs::exists(pour_scenario(ex)); }));
-  Campaign campaign(options.threads, options.quiet, log,
-                    seeds * (paper.size() + poured_examples + table2.size() * (1 + plan.table2_cuts_in.size()) +
-                             new_variants),
+  std::vector<std::pair<std::string, std::size_t>> cases;
+  for (const PaperExample& ex : in.paper) cases.emplace_back(ex.title, seeds);
+  for (const PaperExample& ex : in.paper)
+    if (fs::exists(in.pour_scenario(ex))) cases.emplace_back(ex.short_name + " poured and tapped", seeds);
+  for (const Table2Row& row : in.table2) {
+    cases.emplace_back(fmt::format("Table 2 mix {}", row.mix), seeds);
+    for (const double cut : plan.table2_cuts_in)
+      cases.emplace_back(fmt::format("Table 2 mix {}, sand cut at {:g} in", row.mix, cut), seeds);
+  }
+  const auto mix3 = std::find_if(in.table2.begin(), in.table2.end(), [](const Table2Row& r) { return r.mix == 3; });
+  const int sensitivity_mix = mix3 != in.table2.end() ? mix3->mix : in.table2.empty() ? 0 : in.table2.front().mix;
+  for (const SensitivityCase& c : plan.sensitivity)
+    if (runs_of_its_own(plan, c))
+      cases.emplace_back(fmt::format("mix {} sensitivity: {}", sensitivity_mix, c.label), seeds);
+  return cases;
+}
+
+std::size_t total_runs(const std::vector<std::pair<std::string, std::size_t>>& cases) {
+  std::size_t runs = 0;
+  for (const auto& [what, count] : cases) runs += count;
+  return runs;
+}
+
+// Runs every case of the plan: Examples 1 and 2, the Table 2 mixes and the sensitivity variants.
+Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
+  const Plan plan = make_plan(options);
+  const ReproduceInputs inputs = read_inputs(options.examples);
+  const fs::path& examples = inputs.examples;
+  const std::vector<Table2Row>& table2 = inputs.table2;
+  const std::vector<PaperExample>& paper = inputs.paper;
+  const std::size_t seeds = static_cast<std::size_t>(plan.seeds);
+  const auto pour_scenario = [&](const PaperExample& ex) { return inputs.pour_scenario(ex); };
+  Campaign campaign(options.threads, options.quiet, log, total_runs(planned_cases(plan, inputs)),
                     options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
   const fs::path runs_dir = options.out / "runs";
   const std::vector<std::string> no_particle_files = {"output.formats=[]"};
@@ -1366,7 +1400,27 @@ void compose_notes(Document& doc, const Reproduction& rep) {
 
 }  // namespace
 
+ReproducePlan plan_reproduce(const ReproduceOptions& options) {
+  const Plan plan = make_plan(options);
+  const ReproduceInputs inputs = read_inputs(options.examples);
+  ReproducePlan p;
+  p.examples = fs::absolute(options.examples).lexically_normal();
+  p.seeds = plan.seeds;
+  p.cases = planned_cases(plan, inputs);
+  p.runs = total_runs(p.cases);
+  return p;
+}
+
+std::string describe(const ReproducePlan& plan) {
+  std::string text = fmt::format("examples: {}\n", plan.examples.string());
+  for (const auto& [what, runs] : plan.cases) text += fmt::format("  {:3} x {}\n", runs, what);
+  text += fmt::format("runs: {} ({} per case); nothing run or written (--dry-run)\n", plan.runs,
+                      plan.seeds == 1 ? std::string("1 seed") : fmt::format("{} seeds", plan.seeds));
+  return text;
+}
+
 nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
+  if (!options.quiet) fmt::print(log, "aggpack reproduce: scenarios from {}\n", options.examples.string());
   const Reproduction rep = run_cases(options, log);
   FigureSet figures(options.out);
   Document doc;
@@ -1386,6 +1440,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   result["resumed_runs"] = rep.resumed_runs;
   result["wall_clock_s"] = rep.wall_clock_s;
   result["command_line"] = options.command_line;
+  result["examples_dir"] = fs::absolute(options.examples).lexically_normal().string();
   nlohmann::json figure_list = nlohmann::json::array();
   for (const auto& [file, content] : figures.files()) figure_list.push_back(file);
   result["figures"] = figure_list;

@@ -1065,3 +1065,29 @@ TEST(CliEngineersQuantities, VoidsAndBulkDensityStandBesideEveryDensity) {
   EXPECT_NEAR(cpm.at("voids_content_percent").get<double>(), 100.0 * (1.0 - cpm.at("density").get<double>()), 1e-9);
 }
 }  // namespace
+
+// `reproduce --dry-run` (issue 34): the folder it reads and the runs it would make, per case
+// and in all, from the plan the campaign runs; nothing written. The quick plan is the 14 runs
+// of reproduce_quick_and_sweep.
+TEST_F(Cli, ReproduceDryRunListsTheFolderAndTheRunsAndWritesNothing) {
+  const Result quick = run("reproduce --quick --dry-run --examples " + std::string(AGGPACK_EXAMPLES) + " --out " +
+                           (dir_ / "reproduce").string());
+  ASSERT_EQ(quick.exit_code, 0) << quick.output;
+  EXPECT_NE(quick.output.find("examples: " + fs::absolute(AGGPACK_EXAMPLES).lexically_normal().string() + "\n"),
+            std::string::npos)
+      << quick.output;
+  EXPECT_NE(quick.output.find("runs: 14 (1 seed per case)"), std::string::npos) << quick.output;
+  std::istringstream lines(quick.output);
+  std::size_t listed = 0;
+  for (std::string line; std::getline(lines, line);)
+    if (line.find(" x ") != std::string::npos) listed += std::stoul(line);
+  EXPECT_EQ(listed, 14u) << quick.output;
+  EXPECT_FALSE(fs::exists(dir_ / "reproduce"));
+  // Three seeds by default; the whole-grading series adds three cut-offs for every mix.
+  EXPECT_NE(run("reproduce --dry-run").output.find("runs: 60 (3 seeds per case)"), std::string::npos);
+  EXPECT_NE(run("reproduce --dry-run --whole-grading").output.find("runs: 126 "), std::string::npos);
+  // A folder without the paper's tables: exit 2 naming the file.
+  const Result empty = run("reproduce --dry-run --examples " + dir_.string());
+  EXPECT_EQ(empty.exit_code, 2) << empty.output;
+  EXPECT_NE(empty.output.find((dir_ / "fu2003_table2.csv").string()), std::string::npos) << empty.output;
+}

@@ -2,6 +2,8 @@
 #include <filesystem>
 #include <ostream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -19,6 +21,21 @@ struct ReproduceOptions {
   bool quiet = false;
   std::string command_line;                // as typed, for the report
 };
+
+// What `reproduce` would run with these options (`aggpack reproduce --dry-run`): the same
+// count its campaign announces, from the same plan.
+struct ReproducePlan {
+  std::filesystem::path examples;                          // the scenarios' folder, absolute
+  int seeds = 0;                                           // per case
+  std::vector<std::pair<std::string, std::size_t>> cases;  // each case and its runs over the seeds
+  std::size_t runs = 0;                                    // in all
+};
+
+// Reads the paper's tables in `options.examples` and checks that every scenario is there, as
+// reproduce does before its first run (InputError naming the missing file); runs nothing.
+ReproducePlan plan_reproduce(const ReproduceOptions& options);
+// The plan in lines: "examples: DIR", one line per case, "runs: N (...)".
+std::string describe(const ReproducePlan& plan);
 
 // Runs the paper's Examples 1 and 2 and the eight Table 2 mixes (and a sensitivity study of
 // the Table 2 choices the paper does not give) over several seeds, and writes report.md,
