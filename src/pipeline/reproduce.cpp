@@ -877,8 +877,8 @@ void compose_examples(Document& doc, FigureSet& figures, const Reproduction& rep
       const std::string before = figures.add("example2_after_deposition.png",
                                              encode_png(render_spheres(*r.result.report.deposited, frame, view)));
       const std::string after = figures.add("example2_after_dem.png", encode_png(render_spheres(r.result.report.particles, frame, view)));
-      b.emplace_back(Figure{before, "Example 2 after deposition (the paper's Fig. 6a), seed 1: 0.5 in spheres dark "
-                                    "blue, 1 in spheres yellow (colour bar below); the scale bar holds in the picture "
+      b.emplace_back(Figure{before, "Example 2 after deposition (the paper's Fig. 6a), seed 1: 0.5 in spheres purple, "
+                                    "1 in spheres yellow (viridis; colour bar below); the scale bar holds in the picture "
                                     "plane (an orthographic view)."});
       b.emplace_back(Figure{after, "Example 2 after DEM settling (Fig. 6b), seed 1, same view and colours."});
     }

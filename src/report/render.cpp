@@ -181,7 +181,7 @@ Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_p
   if (log_colour && d_lo > 0.0 && d_hi > d_lo) {  // the middle of a log bar is the geometric mean: say so
     const std::string mid = millimetres(std::sqrt(d_lo * d_hi));
     draw_text(out, bar_left + (kBarWidth - text_width(mid, text)) / 2, label_top, mid, text);
-    draw_text(out, bar_left + kBarWidth + kMargin, top, "(log)", text);
+    draw_text(out, bar_left + kBarWidth + kMargin, top, "log", text);
   }
   // Scale bar at the right: a black bar with end ticks, its length below it.
   const double length = scale_bar_length(picture.width(), pixels_per_metre);

@@ -353,10 +353,11 @@ TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
   EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
   // The same tables as report.md (one header rule "| --- |" each): summary, Table 2 errors,
-  // two per example, the protocols, Table 2, sensitivity, notes of three cases.
+  // two per example, the protocols, Table 2 and its voids and bulk densities, sensitivity, notes
+  // of three cases.
   EXPECT_EQ(count_of(html, "<table>"), count_of(slurp(out_ / "report.md"), "\n| --- |"));
-  EXPECT_EQ(count_of(html, "<table>"), 12u);
-  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 12u);
+  EXPECT_EQ(count_of(html, "<table>"), 13u);
+  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 13u);
   EXPECT_NE(html.find("</html>"), std::string::npos);
 }
 

@@ -99,6 +99,23 @@ TEST(Render, ASectionFillsItsPictureToTheBottom) {
   EXPECT_LE(highest, 8 + 20) << picture.height();
 }
 
+// Table 2's picture painted all the sand one colour on a linear scale of 1 to 25 mm: on a log
+// scale the middle of the map is the geometric mean, and the legend says "log".
+TEST(Render, ALogColourScaleSeparatesTheSmallSizes) {
+  EXPECT_DOUBLE_EQ(colour_position(5e-3, 1e-3, 25e-3, true), 0.5);
+  EXPECT_NEAR(colour_position(2e-3, 1e-3, 25e-3, false), 1.0 / 24.0, 1e-12);
+  EXPECT_GT(colour_position(2e-3, 1e-3, 25e-3, true), 0.2);
+  EXPECT_EQ(colour_position(1e-3, 1e-3, 1e-3, true), 0.5);
+  ParticleStore bed;
+  bed.add({0.5, 0.5, 0.5}, 0.001, 1000.0);
+  bed.add({0.2, 0.5, 0.5}, 0.0125, 1000.0);
+  RenderOptions options;
+  options.legend = true;
+  options.log_colour = true;
+  const Image picture = render_spheres(bed, Box{{0, 0, 0}, {1, 1, 1}}, options);  // every label has its glyphs
+  EXPECT_GT(picture.height(), kLegendHeight);
+}
+
 TEST(Render, FramesTheBoxWithItsAspect) {
   RenderOptions options;
   options.width = 500;
