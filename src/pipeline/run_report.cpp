@@ -31,6 +31,99 @@ std::string length_text(double metres, const std::string& written_unit) {
   return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), written_unit);
 }
 
+// The steps' lines of the console summary, in the order the steps ran (a protocol's own
+// order; the stages' default order without one). Each kind's records are taken in turn; the
+// lines that add up several steps (deposition, dynamics) stand at the first step of their kind.
+std::string step_lines(const RunReport& r) {
+  const Scenario& sc = r.scenario;
+  std::string out;
+  auto o = std::back_inserter(out);
+  enum class Line { deposit, pour, settle, tap, hand_over };
+  std::vector<Line> order;
+  if (sc.protocol) {
+    for (const Step& step : sc.protocol->steps)
+      std::visit(
+          [&](const auto& kind) {
+            using Kind = std::decay_t<decltype(kind)>;
+            if constexpr (std::is_same_v<Kind, DepositStep>) order.push_back(Line::deposit);
+            if constexpr (std::is_same_v<Kind, PourStep>) order.insert(order.end(), {Line::pour, Line::settle});
+            if constexpr (std::is_same_v<Kind, SettleStep>) order.push_back(Line::settle);
+            if constexpr (std::is_same_v<Kind, TapStep>) order.push_back(Line::tap);
+            if constexpr (std::is_same_v<Kind, ExportLammpsStep> || std::is_same_v<Kind, ImportLammpsStep>)
+              order.push_back(Line::hand_over);
+          },
+          step.kind);
+  }
+  // The stages' default order, and after it anything a protocol's steps did not account for.
+  order.push_back(Line::deposit);
+  order.insert(order.end(), r.pours.size(), Line::pour);
+  order.push_back(Line::settle);
+  order.insert(order.end(), r.tappings.size(), Line::tap);
+  order.insert(order.end(), r.lammps_exchanges.size(), Line::hand_over);
+  bool deposition_told = false, dynamics_told = false;
+  std::size_t next_pour = 0, next_tap = 0, next_exchange = 0;
+  for (const Line line : order) switch (line) {
+      case Line::deposit:
+        if (r.deposition && !deposition_told) {
+          const DepositionReport& d = *r.deposition;
+          fmt::format_to(o, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, {} ties\n",
+                         d.stats.placed, d.requested, to_string(d.stats.end), d.wall_clock_s,
+                         d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
+                         d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
+          deposition_told = true;
+        }
+        break;
+      case Line::pour:
+        if (next_pour < r.pours.size()) {
+          const PourReport& p = r.pours[next_pour++];
+          fmt::format_to(o, "  pour: {} particles inserted as a gas at solid fraction {:g} in {} batch{}, from {} to {} "
+                            "above the floor\n",
+                         p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es",
+                         length_text(p.lowest_slab_bottom - sc.container.bounds.lo.z, sc.written_length_unit),
+                         length_text(p.highest_slab_top - sc.container.bounds.lo.z, sc.written_length_unit));
+        }
+        break;
+      case Line::settle:
+        if (r.dynamics && !dynamics_told) {
+          const SettlingReport& d = *r.dynamics;
+          const SettlingRun& last = d.runs.back();
+          fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
+                            "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
+                         settle_end_name(last.ended_by), sc.material.contact.friction_model, r.dynamics->simulated_time(),
+                         d.steps(), d.runs.front().time_step, d.wall_clock_s(), 1e-6 * d.particle_steps_per_second(),
+                         last.last.contacts.mean_overlap, last.last.contacts.max_overlap);
+          if (r.analyses.contains("deposition"))
+            fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", r.density_after_deposition(),
+                           r.final.density.mean);
+          dynamics_told = true;
+        }
+        break;
+      case Line::tap:
+        if (next_tap < r.tappings.size()) {
+          const TapReport& t = r.tappings[next_tap++];
+          fmt::format_to(o, "  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
+                         t.taps, t.intensity, t.frequency,
+                         std::isnan(t.density_before) ? std::string("-") : fmt::format("{:.4f}", t.density_before),
+                         t.samples.empty() || std::isnan(t.samples.back().density)
+                             ? std::string("-")
+                             : fmt::format("{:.4f}", t.samples.back().density),
+                         t.simulated_time, t.wall_clock_s);
+        }
+        break;
+      case Line::hand_over:
+        if (next_exchange < r.lammps_exchanges.size()) {
+          const LammpsExchange& x = r.lammps_exchanges[next_exchange++];
+          if (x.direction == "import")
+            fmt::format_to(o, "  import_lammps: {} spheres' positions from {} ({})\n", x.spheres, x.path, x.what);
+          else
+            fmt::format_to(o, "  export_lammps: {} spheres and a deck ({}) in {}; run it there with lmp\n", x.spheres,
+                           x.what, x.path);
+        }
+        break;
+    }
+  return out;
+}
+
 }  // namespace
 
 // Every modelling choice a result depends on, said in the output.
@@ -302,92 +395,7 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
                                                                              : "OUTSIDE at some sieves");
     }
   }
-  // The steps' lines in the order the steps ran (a protocol's own order); each kind's records
-  // are taken in turn, and the lines that add up several steps (deposition, dynamics) stand at
-  // the first step of their kind.
-  enum class Line { deposit, pour, settle, tap, hand_over };
-  std::vector<Line> order;
-  if (sc.protocol) {
-    for (const Step& step : sc.protocol->steps)
-      std::visit(
-          [&](const auto& kind) {
-            using Kind = std::decay_t<decltype(kind)>;
-            if constexpr (std::is_same_v<Kind, DepositStep>) order.push_back(Line::deposit);
-            if constexpr (std::is_same_v<Kind, PourStep>) order.insert(order.end(), {Line::pour, Line::settle});
-            if constexpr (std::is_same_v<Kind, SettleStep>) order.push_back(Line::settle);
-            if constexpr (std::is_same_v<Kind, TapStep>) order.push_back(Line::tap);
-            if constexpr (std::is_same_v<Kind, ExportLammpsStep> || std::is_same_v<Kind, ImportLammpsStep>)
-              order.push_back(Line::hand_over);
-          },
-          step.kind);
-  }
-  // The stages' default order, and after it anything a protocol's steps did not account for.
-  order.push_back(Line::deposit);
-  order.insert(order.end(), pours.size(), Line::pour);
-  order.push_back(Line::settle);
-  order.insert(order.end(), tappings.size(), Line::tap);
-  order.insert(order.end(), lammps_exchanges.size(), Line::hand_over);
-  bool deposition_told = false, dynamics_told = false;
-  std::size_t next_pour = 0, next_tap = 0, next_exchange = 0;
-  for (const Line line : order) switch (line) {
-      case Line::deposit:
-        if (deposition && !deposition_told) {
-          const DepositionReport& d = *deposition;
-          fmt::format_to(o, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, {} ties\n",
-                         d.stats.placed, d.requested, to_string(d.stats.end), d.wall_clock_s,
-                         d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
-                         d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
-          deposition_told = true;
-        }
-        break;
-      case Line::pour:
-        if (next_pour < pours.size()) {
-          const PourReport& p = pours[next_pour++];
-          fmt::format_to(o, "  pour: {} particles inserted as a gas at solid fraction {:g} in {} batch{}, from {} to {} "
-                            "above the floor\n",
-                         p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es",
-                         length_text(p.lowest_slab_bottom - sc.container.bounds.lo.z, sc.written_length_unit),
-                         length_text(p.highest_slab_top - sc.container.bounds.lo.z, sc.written_length_unit));
-        }
-        break;
-      case Line::settle:
-        if (dynamics && !dynamics_told) {
-          const SettlingReport& d = *dynamics;
-          const SettlingRun& last = d.runs.back();
-          fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
-                            "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
-                         settle_end_name(last.ended_by), sc.material.contact.friction_model, dynamics->simulated_time(),
-                         d.steps(), d.runs.front().time_step, d.wall_clock_s(), 1e-6 * d.particle_steps_per_second(),
-                         last.last.contacts.mean_overlap, last.last.contacts.max_overlap);
-          if (analyses.contains("deposition"))
-            fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", density_after_deposition(),
-                           final.density.mean);
-          dynamics_told = true;
-        }
-        break;
-      case Line::tap:
-        if (next_tap < tappings.size()) {
-          const TapReport& t = tappings[next_tap++];
-          fmt::format_to(o, "  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
-                         t.taps, t.intensity, t.frequency,
-                         std::isnan(t.density_before) ? std::string("-") : fmt::format("{:.4f}", t.density_before),
-                         t.samples.empty() || std::isnan(t.samples.back().density)
-                             ? std::string("-")
-                             : fmt::format("{:.4f}", t.samples.back().density),
-                         t.simulated_time, t.wall_clock_s);
-        }
-        break;
-      case Line::hand_over:
-        if (next_exchange < lammps_exchanges.size()) {
-          const LammpsExchange& x = lammps_exchanges[next_exchange++];
-          if (x.direction == "import")
-            fmt::format_to(o, "  import_lammps: {} spheres' positions from {} ({})\n", x.spheres, x.path, x.what);
-          else
-            fmt::format_to(o, "  export_lammps: {} spheres and a deck ({}) in {}; run it there with lmp\n", x.spheres,
-                           x.what, x.path);
-        }
-        break;
-    }
+  out += step_lines(*this);
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {}: density {:.4f}\n", length_text(box.side, sc.written_length_unit), box.density);
   const auto rest = rest_state();
