@@ -178,11 +178,7 @@ Image add_legend(const Image& picture, double d_lo, double d_hi, double pixels_p
   draw_text(out, bar_left, label_top, millimetres(d_lo), text);
   const std::string hi = millimetres(d_hi);
   draw_text(out, bar_left + kBarWidth - text_width(hi, text), label_top, hi, text);
-  if (log_colour && d_lo > 0.0 && d_hi > d_lo) {  // the middle of a log bar is the geometric mean: say so
-    const std::string mid = millimetres(std::sqrt(d_lo * d_hi));
-    draw_text(out, bar_left + (kBarWidth - text_width(mid, text)) / 2, label_top, mid, text);
-    draw_text(out, bar_left + kBarWidth + kMargin, top, "log", text);
-  }
+  if (log_colour) draw_text(out, bar_left + kBarWidth + kMargin, top, "log", text);  // the bar's scale
   // Scale bar at the right: a black bar with end ticks, its length below it.
   const double length = scale_bar_length(picture.width(), pixels_per_metre);
   const int bar_px = static_cast<int>(std::lround(length * pixels_per_metre));
