@@ -151,6 +151,38 @@ TEST_F(Resume, ARunKilledInAnyLoopOfItsProtocolResumesToTheSameBytes) {
   }
 }
 
+// With frames (output.frame_interval), a run killed while pouring or in a tap's rest and
+// resumed (with another thread count) writes the same frames, the same bytes, and the same
+// particles.pvd as the uninterrupted run: the frames before its checkpoint are kept, the later
+// ones written again.
+TEST_F(Resume, ARunWithFramesKilledAndResumedWritesTheSameFrames) {
+  const fs::path scenario =
+      write_scenario("frames", std::string(kPourAndTap) + "[output]\nframe_interval = 0.04\n");
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<std::string> frames;
+  for (const auto& e : fs::directory_iterator(reference / "frames")) frames.push_back(e.path().filename().string());
+  ASSERT_GE(frames.size(), 5u);
+  for (const std::string when : {"while pouring, 550 of 1100", "while tap 2 of 2"}) {
+    SCOPED_TRACE("killed " + when);
+    const fs::path out = dir_ / ("killed_" + std::to_string(when.size()));
+    ASSERT_EQ(run_and_signal_when(scenario, out, when, SIGKILL), -SIGKILL) << "the run ended before " << when;
+    if (when.starts_with("while tap")) {  // the frames of the pour were written before it was killed
+      EXPECT_TRUE(fs::exists(out / "frames" / "frame_00001.vtp"));
+    }
+    const auto resumed = run_cli("resume " + out.string() + " --threads 2");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+    expect_same_run(reference, out);
+    std::size_t written = 0;
+    for (const auto& e : fs::directory_iterator(out / "frames")) written += e.is_regular_file() ? 1 : 0;
+    EXPECT_EQ(written, frames.size());
+    for (const std::string& frame : frames)
+      EXPECT_TRUE(slurp(reference / "frames" / frame) == slurp(out / "frames" / frame)) << frame << " differs";
+    EXPECT_TRUE(slurp(reference / "particles.pvd") == slurp(out / "particles.pvd"));
+  }
+}
+
 // Killed in a later layer (the layers below frozen), resumed, killed again, resumed again.
 TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
   const fs::path scenario = write_scenario("layered", kLayered);
