@@ -254,7 +254,8 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   // decks the run's steps wrote, so that a later run into this folder replaces them all.
   std::vector<std::string> written{kCheckpointFile};
   if (!report.lammps_exchanges.empty()) written.push_back("lammps");
-  if (!report.frames.empty() || std::filesystem::exists(dir / kFramesFolder)) written.push_back(kFramesFolder);
+  // The frames, written while the run went (by this run or, resumed, by the run it continues).
+  if (sc.output.frame_interval && std::filesystem::exists(dir / kFramesFolder)) written.push_back(kFramesFolder);
   const auto write = [&](const std::string& name, const auto& content) {
     write_file_atomically(dir / name, content);
     written.push_back(name);
