@@ -386,11 +386,12 @@ RunLimits read_limits(const TomlSection& s) {
 }
 
 OutputSettings read_output(const TomlSection& s, const std::filesystem::path& scenario_file) {
-  s.allow_only({"directory", "formats", "vtp_encoding", "checkpoint", "checkpoint_every"});
+  s.allow_only({"directory", "formats", "vtp_encoding", "checkpoint", "checkpoint_every", "frame_interval"});
   OutputSettings o;
   o.directory = s.string("directory").value_or("out/" + scenario_file.stem().string());
   o.checkpoint = s.boolean("checkpoint").value_or(o.checkpoint);
   o.checkpoint_every = s.number("checkpoint_every", {0.0, 1e9, false, false}).value_or(o.checkpoint_every);
+  o.frame_interval = s.number("frame_interval", {0.0, 1e9, true, false});
   if (const auto encoding = s.choice("vtp_encoding", {"binary", "ascii"}))
     o.vtp_encoding = *encoding == "ascii" ? VtpEncoding::Ascii : VtpEncoding::ZlibAppended;
   if (const auto formats = s.string_list("formats")) {
@@ -817,6 +818,7 @@ nlohmann::json to_json(const Scenario& sc) {
                  {"vtp_encoding", sc.output.vtp_encoding == VtpEncoding::Ascii ? "ascii" : "binary"},
                  {"checkpoint", sc.output.checkpoint},
                  {"checkpoint_every_s", sc.output.checkpoint_every}};
+  if (sc.output.frame_interval) j["output"]["frame_interval_s"] = *sc.output.frame_interval;
   return j;
 }
 

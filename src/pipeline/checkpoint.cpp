@@ -86,7 +86,7 @@ void write_section(std::ostream& out, const StateWriter& write) {
 // The run's state from step to step (the scenario and the drop sequence are made again).
 template <class Archive>
 void archive_run_state(Archive& ar, RunReport& r, RunContext& c) {
-  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, r.snapshot_times, r.lammps_exchanges, raw(r.supports),
+  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, r.snapshot_times, r.frames, r.next_frame_multiple, r.lammps_exchanges, raw(r.supports),
      r.series, r.wall_clock_s, c.simulated_time, c.deposition_stopped_at);
 }
 }  // namespace
@@ -260,6 +260,13 @@ void check_reports(const RunReport& r, const RunContext& c) {
   for (const auto& [name, analysis] : r.analyses)
     if (!analyses.contains(name)) fail(fmt::format("an analysis \"{}\" the protocol does not make", name));
   if (!std::isfinite(c.simulated_time) || c.simulated_time < 0.0) fail("its simulated time");
+  // The frames written, numbered from 1 in order, at times that do not decrease.
+  for (std::size_t f = 0; f < r.frames.size(); ++f)
+    if (r.frames[f].file != frame_file_name(f + 1) || !std::isfinite(r.frames[f].time) || r.frames[f].time < 0.0 ||
+        (f > 0 && r.frames[f].time < r.frames[f - 1].time))
+      fail(fmt::format("frame {}", f + 1));
+  if (r.next_frame_multiple > (std::uint64_t{1} << 53) || (r.frames.empty() != (r.next_frame_multiple == 0)))
+    fail("the next frame's time");
 }
 }  // namespace
 

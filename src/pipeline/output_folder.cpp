@@ -83,10 +83,10 @@ void check_output_folder_contents(const fs::path& folder, bool overwrite) {
       others.size() > kShown ? ", ..." : ""));
 }
 
-std::vector<std::string> remove_earlier_run(const fs::path& folder) {
+std::vector<std::string> remove_earlier_run(const fs::path& folder, const std::vector<std::string>& keep) {
   std::vector<std::string> removed;
   for (const std::string& name : output_folder_contents(folder).earlier_run) {
-    if (name == kCheckpointFile) continue;
+    if (name == kCheckpointFile || std::find(keep.begin(), keep.end(), name) != keep.end()) continue;
     std::error_code ec;
     fs::remove_all(folder / name, ec);
     if (!ec) removed.push_back(name);

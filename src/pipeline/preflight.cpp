@@ -222,6 +222,48 @@ void check_thread_count(int threads) {
                                  kMaxThreads));
 }
 
+void check_frames(const Scenario& sc) {
+  if (!sc.output.frame_interval) return;
+  const double interval = *sc.output.frame_interval;
+  const std::string where = fmt::format("{}: output.frame_interval", sc.file.string());
+  if (!sc.dynamics)
+    throw InputError(fmt::format("{}: frames are taken at the DEM's samples, and the scenario has no [dynamics] "
+                                 "(no settle, pour or tap step); remove the key or add the DEM",
+                                 where));
+  if (sc.dynamics->engine != DemEngine::Aggpack)
+    throw InputError(fmt::format("{}: frames are taken by aggpack's own DEM, not with dynamics.engine = \"lammps\"; "
+                                 "remove the key (LAMMPS's own dump commands can write frames)",
+                                 where));
+  if (!sc.output.vtp)
+    throw InputError(fmt::format("{}: frames are VTP files, and output.formats has no \"vtp\"; add it or remove the "
+                                 "key",
+                                 where));
+  const double sample_interval = sc.dynamics->quiet.sample_interval;
+  if (!(interval >= sample_interval))
+    throw InputError(fmt::format("{}: {} s is shorter than dynamics.sample_interval ({} s), and frames are taken at "
+                                 "the samples; expected at least {} s",
+                                 where, shown(interval), shown(sample_interval), shown(sample_interval)));
+  // The most simulated time the DEM steps can take: the frames at most one a multiple of the
+  // interval over it, and the first.
+  double budget = 0.0;
+  for (const Step& step : scenario_protocol(sc).steps)
+    budget += std::visit(Overloaded{[&](const SettleStep&) { return sc.dynamics->quiet.max_time; },
+                                    [&](const PourStep&) { return sc.dynamics->quiet.max_time; },
+                                    [&](const TapStep&) {
+                                      const TappingSettings& t = *sc.tapping;
+                                      return static_cast<double>(t.taps) * (0.5 / t.frequency + t.rest_time);
+                                    },
+                                    [](const auto&) { return 0.0; }},
+                         step.kind);
+  const double frames = std::floor(budget / interval) + 1.0;
+  if (!(frames <= kMaxFrames))
+    throw InputError(fmt::format("{}: up to {:.4g} frames of {} s over the DEM's {} s at most (max_time for each "
+                                 "settle or pour step, every tap and rest of each tap step), more than {:g}; expected "
+                                 "a frame_interval of at least {} s",
+                                 where, frames, shown(interval), shown(budget), kMaxFrames,
+                                 shown(budget / (kMaxFrames - 1.0))));
+}
+
 void check_amount(const Scenario& sc) {
   const double count = sc.particles.file ? 0.0 : expected_particle_count(sc.particles);
   const std::string where = fmt::format("{}: particles", sc.file.string());

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <variant>
 
 #include <fmt/format.h>
@@ -25,6 +26,8 @@ namespace aggpack {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+// The folder of the DEM's frames in the output folder (frame_file_name).
+constexpr const char* kFramesFolder = "frames";
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 // What a run starts from, every check before work passed: particles read from a file (with
@@ -39,6 +42,7 @@ struct InitialBed {
 };
 InitialBed initial_bed(const Scenario& sc) {
   check_amount(sc);
+  check_frames(sc);
   check_lammps_available(sc);
   InitialBed bed;
   if (sc.particles.file) {
@@ -144,6 +148,22 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   RunContext context{report, progress, controls.threads, controls.stop, nullptr, nullptr, std::move(radii), 0.0,
                      std::nullopt};
   if (initial.sizes) report.sizes = std::move(initial.sizes);
+  // The frames: at the first sample, then at the first sample at or after each multiple k x
+  // frame_interval of the series' time (within a millionth of the interval, so that a sample
+  // meant to fall on a multiple is not missed by a rounding).
+  SampleObserver take_frames;
+  if (controls.on_frame && sc.output.frame_interval) {
+    const double interval = *sc.output.frame_interval;
+    take_frames = [&report, &controls, interval](double time, const ParticleStore& bed) {
+      constexpr double kSlack = 1e-6;
+      if (time < (static_cast<double>(report.next_frame_multiple) - kSlack) * interval) return;
+      FrameRecord frame{frame_file_name(report.frames.size() + 1), time, bed_fingerprint(bed)};
+      controls.on_frame(frame.file, time, bed, report);
+      report.frames.push_back(std::move(frame));
+      report.next_frame_multiple = static_cast<std::uint64_t>(std::floor(time / interval + kSlack)) + 1;
+    };
+    context.at_sample = &take_frames;
+  }
   std::optional<Checkpointer> checkpointer;
   if (controls.checkpoints) {
     Checkpoint header = controls.checkpoints->header;
@@ -234,6 +254,8 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   // decks the run's steps wrote, so that a later run into this folder replaces them all.
   std::vector<std::string> written{kCheckpointFile};
   if (!report.lammps_exchanges.empty()) written.push_back("lammps");
+  // The frames, written while the run went (by this run or, resumed, by the run it continues).
+  if (sc.output.frame_interval && std::filesystem::exists(dir / kFramesFolder)) written.push_back(kFramesFolder);
   const auto write = [&](const std::string& name, const auto& content) {
     write_file_atomically(dir / name, content);
     written.push_back(name);
@@ -262,21 +284,47 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   if (sc.output.vtp) {
     write("particles.vtp", bed_vtp(report, report.particles, provenance));
-    // The snapshots and the final bed as one series, for ParaView to animate.
+    // The frames of the DEM (written as they were taken), the snapshots and the final bed as
+    // one series, for ParaView to animate, in the order of their times (at one time: the
+    // frames, then the snapshots in the protocol's order, then the final bed). One bed at one
+    // time is listed once: a frame that is a snapshot's bed as the snapshot, and a final bed
+    // that is the last frame's or snapshot's not again (a protocol that ends with a snapshot,
+    // or whose last frame is the final bed).
+    enum class Kind { Frame, Snapshot, Final };
+    struct Entry {
+      PvdFrame frame;
+      std::uint64_t fingerprint;
+      Kind kind;
+    };
+    std::vector<Entry> entries;
+    for (std::size_t f = 0; f < report.frames.size(); ++f)
+      entries.push_back({{report.frames[f].time, report.frames[f].file, fmt::format("frame {}", f + 1)},
+                         report.frames[f].fingerprint, Kind::Frame});
     const std::vector<std::string> snapshots = snapshot_names_in_order(report);
-    if (!snapshots.empty()) {
+    for (const std::string& name : snapshots) {
+      const std::string file = "particles_" + name + ".vtp";
+      const ParticleStore& bed = report.snapshots.at(name);
+      write(file, bed_vtp(report, bed, provenance));
+      entries.push_back(
+          {{report.snapshot_times.at(name), file, "snapshot " + name}, bed_fingerprint(bed), Kind::Snapshot});
+    }
+    if (!entries.empty()) {
+      entries.push_back({{report.simulated_time, "particles.vtp", "the final bed"}, bed_fingerprint(report.particles),
+                         Kind::Final});
+      std::stable_sort(entries.begin(), entries.end(),
+                       [](const Entry& a, const Entry& b) { return a.frame.time < b.frame.time; });
+      const auto same = [](const Entry& a, const Entry& b) {
+        return a.frame.time == b.frame.time && a.fingerprint == b.fingerprint;
+      };
       std::vector<PvdFrame> frames;
-      for (const std::string& name : snapshots) {
-        const std::string file = "particles_" + name + ".vtp";
-        write(file, bed_vtp(report, report.snapshots.at(name), provenance));
-        frames.push_back({report.snapshot_times.at(name), file, "snapshot " + name});
+      for (std::size_t e = 0; e < entries.size(); ++e) {
+        const Entry& entry = entries[e];
+        if (entry.kind == Kind::Frame && e + 1 < entries.size() && entries[e + 1].kind == Kind::Snapshot &&
+            same(entry, entries[e + 1]))
+          continue;
+        if (entry.kind == Kind::Final && e > 0 && same(entry, entries[e - 1])) continue;
+        frames.push_back(entry.frame);
       }
-      // A protocol that ends with a snapshot has that bed as its final one: one frame of it.
-      const ParticleStore& last = report.snapshots.at(snapshots.back());
-      const bool final_is_last_snapshot = frames.back().time == report.simulated_time &&
-                                          last.position == report.particles.position &&
-                                          last.radius == report.particles.radius;
-      if (!final_is_last_snapshot) frames.push_back({report.simulated_time, "particles.vtp", "the final bed"});
       write("particles.pvd", particles_pvd(frames, provenance));
     }
   }
@@ -314,18 +362,32 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   // Where a relative scenario_file lies, for export-lammps RUN_DIR (a resumed run: where it began).
   const std::string working_directory =
       header.working_directory.empty() ? std::filesystem::current_path().string() : header.working_directory;
+  bool began = false;  // the earlier run's files removed, this run's frames may come
   controls.before_work = [&] {
     check_output_directory(sc.output.directory, true);
+    began = true;
     // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
     // manifest names the checkpoint from the start, for a run that is killed.
-    const std::vector<std::string> removed = remove_earlier_run(sc.output.directory);
-    write_manifest(sc.output.directory, {kCheckpointFile});
+    // A resumed run keeps the frames written before its checkpoint (it writes the later ones).
+    const std::vector<std::string> removed =
+        remove_earlier_run(sc.output.directory, resume ? std::vector<std::string>{kFramesFolder}
+                                                       : std::vector<std::string>{});
+    std::vector<std::string> manifest{kCheckpointFile};
+    if (sc.output.frame_interval) manifest.push_back(kFramesFolder);
+    write_manifest(sc.output.directory, manifest);
     if (!removed.empty() && !options.quiet)
       fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", sc.output.directory.string(),
                  fmt::join(removed, ", "));
   };
   controls.stop = options.stop;
   controls.resume_from = resume;
+  // Each frame of the DEM into frames/, as it comes (none is kept in memory).
+  const std::string provenance =
+      fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
+  controls.on_frame = [&](const std::string& file, double /*time*/, const ParticleStore& bed, const RunReport& so_far) {
+    std::filesystem::create_directories(sc.output.directory / kFramesFolder);
+    write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
+  };
   controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
   if (sc.output.checkpoint)
     controls.checkpoints = RunControls::Checkpoints{sc.output.directory, sc.output.checkpoint_every, std::move(header)};
@@ -339,6 +401,7 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
     if (!resume) {
       std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
       std::filesystem::remove(sc.output.directory / kManifestFile, ec);
+      if (began) std::filesystem::remove_all(sc.output.directory / kFramesFolder, ec);
     }
     remove_if_made_empty();
     throw;

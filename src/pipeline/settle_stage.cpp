@@ -104,9 +104,10 @@ class SampleRecorder {
   // `budget` is what the stage can give the bed; `causes` names the stage's own settings that
   // could make it blow up (the time step's are named for every stage).
   SampleRecorder(const Scenario& sc, std::uint32_t layer, TimeSeries& series, Progress& progress, const DemSystem& dem,
-                 const ParticleStore& particles, EnergyBudget budget, std::string causes)
+                 const ParticleStore& particles, EnergyBudget budget, std::string causes,
+                 const SampleObserver* at_sample)
       : sc_(sc), stage_(*sc.dynamics), layer_(layer), series_(series), progress_(progress), forecast_(stage_.quiet),
-        dem_(dem), particles_(particles), budget_(budget), causes_(std::move(causes)) {}
+        dem_(dem), particles_(particles), budget_(budget), causes_(std::move(causes)), at_sample_(at_sample) {}
   // The pour raises the budget's height as its batches come in higher.
   EnergyBudget& budget() { return budget_; }
   // `time` is the series' time of the sample; `phase` names what the DEM is doing.
@@ -115,6 +116,8 @@ class SampleRecorder {
     series_.samples.push_back({time, layer_, s.density, s.translational_per_particle_mgd,
                                s.kinetic_energy.translational, s.kinetic_energy.rotational, s.contacts.mean_overlap,
                                s.contacts.max_overlap, s.contacts.coordination});
+    // The store is the bed at this sample: DemSystem::run() writes it back at its end.
+    if (at_sample_ && *at_sample_) (*at_sample_)(time, particles_);
     forecast_.add(s);
     // The forecast is a fit over the samples so far: only worth it for a line that will show.
     if (!progress_.due()) return;
@@ -144,6 +147,7 @@ class SampleRecorder {
   const ParticleStore& particles_;
   EnergyBudget budget_;
   std::string causes_;
+  const SampleObserver* at_sample_;
 };
 
 // A step's state at a safe point, for a checkpoint: its kind (checked when it is read back),
@@ -281,7 +285,8 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   }
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
   SampleRecorder recorder(sc, layer, series, progress, dem, particles,
-                          {top_above_floor(dem, particles, sc.container), 0.0, 0.0}, std::string());
+                          {top_above_floor(dem, particles, sc.container), 0.0, 0.0}, std::string(),
+                          controls.at_sample);
   const SettleResult result = settle(
       dem, particles, stage.quiet, box_density(sc),
       [&](const SettleSample& s) { recorder(time_offset + s.time, s, "settling"); },
@@ -336,7 +341,8 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   }
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
   SampleRecorder recorder(sc, part, series, progress, dem, particles,
-                          {top_above_floor(dem, particles, sc.container), pour.velocity, 0.0}, std::string(kPourCauses));
+                          {top_above_floor(dem, particles, sc.container), pour.velocity, 0.0}, std::string(kPourCauses),
+                          controls.at_sample);
   const double g = norm(setup.settings.gravity);
   const std::size_t steps_per_sample = stage.quiet.steps_per_sample(setup.settings.time_step);
   const auto top_of_bed = [&] {
@@ -479,7 +485,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   SampleRecorder recorder(sc, 0, series, progress, dem, particles,
                           {top_above_floor(dem, particles, sc.container) + report.amplitude, report.amplitude * omega,
                            report.amplitude},
-                          std::string(kTapCauses));
+                          std::string(kTapCauses), controls.at_sample);
   const double weight = weight_energy(dem, particles);
   const double dt = setup.settings.time_step;
   const std::size_t steps_per_sample = stage.quiet.steps_per_sample(dt);

@@ -754,6 +754,124 @@ TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
   EXPECT_NE(bad.output.find("protocol[1].name: expected letters, digits"), std::string::npos) << bad.output;
 }
 
+// output.frame_interval: a pour and two taps write frames/frame_NNNNN.vtp as the DEM goes, at
+// the first sample and then at the first sample at or after each multiple of the interval (the
+// times of timeseries.csv), each a VTP of the bed then, listed in particles.pvd before the final
+// bed; the same bytes for one and two threads; a later run without frames removes them; bad
+// values are refused before any work.
+TEST_F(Cli, FramesOfAPourAndItsTapsAreWrittenAtTheSamplesForAnAnimation) {
+  const std::string base = "seed = 4\n[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\n"
+                           "count = 200\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n"
+                           "[dynamics]\nmax_time = 0.5\n[analysis]\nbox_sides = [0.02]\n[pour]\nbatches = 2\n"
+                           "[tapping]\ntaps = 2\nintensity = 3\nrest_time = 0.05\nrest_until_quiet = true\n";
+  const double interval = 0.05;
+  const std::string text = base + "[output]\nframe_interval = 0.05\n";
+  run_text("frames1", text, " --threads 1");
+  // The same scenario file (its name is in each VTP's provenance), with two threads.
+  ASSERT_EQ(run("run " + (dir_ / "frames1.toml").string() + " --quiet --threads 2 --out " + (dir_ / "frames2").string())
+                .exit_code,
+            0);
+  const fs::path out = dir_ / "frames1";
+
+  // The frames the rule gives over timeseries.csv's sample times (written to 9 digits).
+  std::vector<double> expected;
+  {
+    std::istringstream csv(slurp(out / "timeseries.csv"));
+    std::string line;
+    std::getline(csv, line);  // the header
+    double next = 0.0;        // the multiple of the interval the next frame waits for
+    while (std::getline(csv, line)) {
+      const double t = std::stod(line.substr(0, line.find(',')));
+      if (t < (next - 1e-6) * interval) continue;
+      expected.push_back(t);
+      next = std::floor(t / interval + 1e-6) + 1.0;
+    }
+  }
+  ASSERT_GE(expected.size(), 10u);  // 0.5 s of pour at most, then two taps of 0.05 s rest at most
+
+  // particles.pvd: the frames in order, then the final bed, at times that increase.
+  const std::string pvd = slurp(out / "particles.pvd");
+  std::vector<std::pair<double, std::string>> listed;  // timestep, file
+  for (std::size_t at = pvd.find("<DataSet "); at != std::string::npos; at = pvd.find("<DataSet ", at + 1)) {
+    const auto attribute = [&](const std::string& name) {
+      const std::size_t from = pvd.find(name + "=\"", at) + name.size() + 2;
+      return pvd.substr(from, pvd.find('"', from) - from);
+    };
+    listed.emplace_back(std::stod(attribute("timestep")), attribute("file"));
+  }
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  ASSERT_FALSE(listed.empty());
+  // The final bed ends the list, unless the last frame was taken at its time (then it is that bed).
+  const bool final_listed = listed.back().second == "particles.vtp";
+  const std::size_t frames = listed.size() - (final_listed ? 1 : 0);
+  ASSERT_EQ(frames, expected.size()) << pvd;
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(out / "frames")) files += e.path().extension() == ".vtp" ? 1 : 0;
+  EXPECT_EQ(files, frames);
+  for (std::size_t f = 0; f < frames; ++f) {
+    EXPECT_EQ(listed[f].second, fmt::format("frames/frame_{:05}.vtp", f + 1));
+    EXPECT_NEAR(listed[f].first, expected[f], 1e-8 * expected[f] + 1e-12) << f;
+    if (f > 0) {
+      EXPECT_GT(listed[f].first, listed[f - 1].first);
+    }
+  }
+  if (final_listed) {
+    EXPECT_GT(listed.back().first, listed[frames - 1].first);
+  }
+  // The last time is the end of the DEM (taps.csv's last row).
+  const std::string taps = slurp(out / "taps.csv");
+  const std::string last_tap = taps.substr(taps.rfind('\n', taps.size() - 2) + 1);
+  EXPECT_NEAR(listed.back().first, std::stod(last_tap.substr(last_tap.find(',') + 1)), 1e-8);
+
+  // Each frame decodes (check_outputs reads every file of the pvd) and holds the spheres in the
+  // bed then: the first batch's 100 while it falls, then all 200, through the taps.
+  const Result checked = aggpack::testing::check_outputs("pvd " + (out / "particles.pvd").string());
+  EXPECT_EQ(checked.exit_code, 0) << checked.output;
+  std::size_t spheres_before = 0;
+  for (std::size_t f = 0; f < frames; ++f) {
+    const std::string vtp = slurp(out / listed[f].second);
+    const std::size_t at = vtp.find("NumberOfPoints=\"") + 16;
+    const std::size_t spheres = std::stoul(vtp.substr(at, vtp.find('"', at) - at));
+    EXPECT_TRUE(spheres == 100 || spheres == 200) << f << ": " << spheres;
+    EXPECT_GE(spheres, spheres_before) << f;
+    spheres_before = spheres;
+    for (const char* array : {"Name=\"radius\"", "Name=\"diameter\"", "Name=\"id\"", "Name=\"velocity\""})
+      EXPECT_NE(vtp.find(array), std::string::npos) << array;
+    EXPECT_NE(vtp.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);  // binary, as particles.vtp
+  }
+  EXPECT_EQ(slurp(out / listed.front().second).find("NumberOfPoints=\"200\""), std::string::npos);
+  EXPECT_NE(slurp(out / listed[frames - 1].second).find("NumberOfPoints=\"200\""), std::string::npos);
+
+  // The same bytes for two threads.
+  EXPECT_TRUE(slurp(out / "particles.pvd") == slurp(dir_ / "frames2" / "particles.pvd"));
+  for (std::size_t f = 0; f < frames; ++f)
+    EXPECT_TRUE(slurp(out / listed[f].second) == slurp(dir_ / "frames2" / listed[f].second)) << listed[f].second;
+  const auto manifest = nlohmann::json::parse(std::ifstream(out / "aggpack-manifest.json"));
+  EXPECT_NE(std::find(manifest["files"].begin(), manifest["files"].end(), "frames"), manifest["files"].end());
+
+  // A later run into the folder without frames removes them.
+  std::ofstream(dir_ / "frames1.toml") << base;
+  ASSERT_EQ(run("run " + (dir_ / "frames1.toml").string() + " --quiet --out " + out.string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(out / "frames"));
+  EXPECT_FALSE(fs::exists(out / "particles.pvd"));
+
+  // Bad values: exit 2, the key named, nothing written.
+  std::string long_run = base;  // 20 s of pour at most and two taps: 20 134 frames of 1 ms
+  long_run.replace(long_run.find("max_time = 0.5"), 14, "max_time = 20");
+  expect_refused({
+      {base + "[output]\nframe_interval = 0\n", "output.frame_interval"},
+      {base + "[output]\nframe_interval = -0.1\n", "output.frame_interval"},
+      {base + "[output]\nframe_interval = \"0.1\"\n", "output.frame_interval"},
+      {base + "[output]\nframe_interval = 0.0001\n",
+       "output.frame_interval: 0.0001 s is shorter than dynamics.sample_interval"},
+      {long_run + "[output]\nframe_interval = 0.001\n", "output.frame_interval: up to 2.013e+04 frames"},
+      {base + "[output]\nframe_interval = 0.05\nformats = [\"csv\"]\n", "output.frame_interval: frames are VTP"},
+      {"[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 200\n[deposition]\n"
+       "[analysis]\nbox_sides = [0.02]\n[output]\nframe_interval = 0.05\n",
+       "output.frame_interval: frames are taken at the DEM's samples"},
+  });
+}
+
 // Protocol errors name the step and the key, exit 2 and write nothing.
 TEST_F(Cli, ProtocolErrorsNameTheStepAndTheKey) {
   const std::string base = "[container]\nside = 0.06\nheight = 0.5\n[particles]\ndiameter = 0.01\ncount = 300\n"

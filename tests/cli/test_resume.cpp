@@ -151,6 +151,44 @@ TEST_F(Resume, ARunKilledInAnyLoopOfItsProtocolResumesToTheSameBytes) {
   }
 }
 
+// With frames (output.frame_interval), a run killed while pouring or in a tap's rest and
+// resumed (with another thread count) writes the same frames, the same bytes, and the same
+// particles.pvd as the uninterrupted run: the frames before its checkpoint are kept, the later
+// ones written again.
+TEST_F(Resume, ARunWithFramesKilledAndResumedWritesTheSameFrames) {
+  // kPourAndTap's protocol with 300 spheres, for speed.
+  const fs::path scenario = write_scenario(
+      "frames",
+      "seed = 4\n[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
+      "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 0.5\n"
+      "[analysis]\nbox_sides = [0.02]\n[pour]\nbatches = 2\n"
+      "[tapping]\ntaps = 2\nintensity = 3\nrest_time = 0.05\nrest_until_quiet = true\n"
+      "[output]\nframe_interval = 0.04\n");
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::vector<std::string> frames;
+  for (const auto& e : fs::directory_iterator(reference / "frames")) frames.push_back(e.path().filename().string());
+  ASSERT_GE(frames.size(), 5u);
+  for (const std::string when : {"while pouring, 150 of 300", "while tap 2 of 2"}) {
+    SCOPED_TRACE("killed " + when);
+    const fs::path out = dir_ / ("killed_" + std::to_string(when.size()));
+    ASSERT_EQ(run_and_signal_when(scenario, out, when, SIGKILL), -SIGKILL) << "the run ended before " << when;
+    if (when.starts_with("while tap")) {  // the frames of the pour were written before it was killed
+      EXPECT_TRUE(fs::exists(out / "frames" / "frame_00001.vtp"));
+    }
+    const auto resumed = run_cli("resume " + out.string() + " --threads 2");
+    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+    expect_same_run(reference, out);
+    std::size_t written = 0;
+    for (const auto& e : fs::directory_iterator(out / "frames")) written += e.is_regular_file() ? 1 : 0;
+    EXPECT_EQ(written, frames.size());
+    for (const std::string& frame : frames)
+      EXPECT_TRUE(slurp(reference / "frames" / frame) == slurp(out / "frames" / frame)) << frame << " differs";
+    EXPECT_TRUE(slurp(reference / "particles.pvd") == slurp(out / "particles.pvd"));
+  }
+}
+
 // Killed in a later layer (the layers below frozen), resumed, killed again, resumed again.
 TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
   const fs::path scenario = write_scenario("layered", kLayered);

@@ -123,6 +123,10 @@ struct OutputSettings {
   // seconds of wall clock (0: at every safe point), for `aggpack resume`.
   bool checkpoint = true;
   double checkpoint_every = 60.0;
+  // Frames of the DEM for an animation (frames/frame_00001.vtp, ... in particles.pvd): at the
+  // first sample, then at the first sample at or after each multiple of this simulated time, s;
+  // none when unset.
+  std::optional<double> frame_interval;
 };
 
 struct Scenario {

@@ -27,8 +27,10 @@ OutputFolderContents output_folder_contents(const std::filesystem::path& folder)
 void check_output_folder_contents(const std::filesystem::path& folder, bool overwrite);
 
 // Removes an earlier run's files from `folder` and returns their names. checkpoint.bin stays:
-// a resumed run reads it, and a new run writes over it (a finished run then removes it).
-std::vector<std::string> remove_earlier_run(const std::filesystem::path& folder);
+// a resumed run reads it, and a new run writes over it (a finished run then removes it); so do
+// the files named in `keep` (a resumed run's frames).
+std::vector<std::string> remove_earlier_run(const std::filesystem::path& folder,
+                                            const std::vector<std::string>& keep = {});
 
 // Writes the manifest: `files` (names relative to `folder`), written atomically.
 void write_manifest(const std::filesystem::path& folder, const std::vector<std::string>& files);

@@ -18,6 +18,13 @@ void check_thread_count(int threads);
 // Before any sizes are drawn: the expected particle count and memory against [limits].
 void check_amount(const Scenario& scenario);
 
+// output.frame_interval against the DEM: frames are taken at aggpack's own DEM's samples (so
+// not more often than dynamics.sample_interval), written as VTP, and at most kMaxFrames of
+// them over the protocol's DEM budget (max_time for each settle or pour step, every tap and
+// rest of each tap step).
+inline constexpr double kMaxFrames = 10000;
+void check_frames(const Scenario& scenario);
+
 // Once the radii are known (generated, or read from the particle file): the spheres against
 // the container, the fill height and the boxes; the time step against the contact law's
 // stability limit; the neighbour grid's cells and the profiles' bins against [limits].

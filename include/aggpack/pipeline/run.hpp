@@ -44,6 +44,15 @@ struct RunControls {
   std::optional<Protocol> protocol;
   // The analysis of the bed at the end (aggpack export-lammps: none, the bed is only a start).
   bool final_analysis = true;
+  // Called with each frame of the DEM as it is taken (output.frame_interval: at the first
+  // sample, then at the first sample at or after each multiple of the interval of the series'
+  // time), in aggpack's own settle, pour and tap steps: `file` is the frame's name relative to
+  // the output folder (frame_file_name), `time` its series time, `bed` the bed then, `report`
+  // the run so far (its scenario and sizes). The run records the frames it has handed on in
+  // RunReport::frames (checkpointed: a resumed run hands on only those after its checkpoint,
+  // the same ones an uninterrupted run would). Unset: no frames are taken.
+  std::function<void(const std::string& file, double time, const ParticleStore& bed, const RunReport& report)>
+      on_frame;
 };
 
 // The library's entry point: runs the scenario's protocol and its final analysis. Writes no

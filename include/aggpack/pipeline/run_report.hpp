@@ -40,6 +40,17 @@ struct LammpsExchange {
   std::size_t spheres = 0;
 };
 
+// A frame of the DEM written for an animation (output.frame_interval, RunControls::on_frame).
+struct FrameRecord {
+  std::string file;               // relative to the output folder: "frames/frame_00001.vtp", ...
+  double time = 0.0;              // s, the series' time of the sample it was taken at
+  std::uint64_t fingerprint = 0;  // of the bed's positions and radii (bed_fingerprint)
+  template <class Archive>
+  void serialize(Archive& ar) {
+    ar(file, time, fingerprint);
+  }
+};
+
 // Everything a run produced, as values: what the steps reported, the final analysis, the
 // beds. summary_json() writes summary.json from it; nothing reads it back from JSON.
 struct RunReport {
@@ -59,6 +70,8 @@ struct RunReport {
   std::optional<ParticleStore> deposited;         // the bed after a single deposition, when DEM then moved it
   std::map<std::string, ParticleStore> snapshots;  // beds copied by snapshot steps, by name
   std::map<std::string, double> snapshot_times;    // s of simulated time at each snapshot step
+  std::vector<FrameRecord> frames;                 // the frames written so far, in order
+  std::uint64_t next_frame_multiple = 0;           // the next frame: at or after this x frame_interval
   double simulated_time = 0.0;                     // s, every DEM step's, when the steps ended
   std::vector<LammpsExchange> lammps_exchanges;   // export_lammps and import_lammps steps, in order
   std::vector<Supports> supports;                 // what each sphere rested on after deposition
@@ -94,5 +107,10 @@ struct RunReport {
   // The terminal's result lines.
   [[nodiscard]] std::string console_summary(const std::filesystem::path& written_to) const;
 };
+
+// A fingerprint of a bed's positions and radii, to tell whether two frames show one bed.
+[[nodiscard]] std::uint64_t bed_fingerprint(const ParticleStore& bed);
+// Frame `number`'s file (from 1), relative to the output folder: "frames/frame_00001.vtp".
+[[nodiscard]] std::string frame_file_name(std::size_t number);
 
 }  // namespace aggpack

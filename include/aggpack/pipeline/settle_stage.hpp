@@ -1,5 +1,6 @@
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -30,12 +31,16 @@ struct TimeSeries {
 
 // What a DEM step takes beyond the scenario: OpenMP threads (0: OpenMP's default; the results
 // do not depend on them); the stop request and the safe point, both met after every sample
-// (null: none); and the step's state from a checkpoint, to continue from (null: start afresh).
+// (null: none); the step's state from a checkpoint, to continue from (null: start afresh);
+// and what to do with the bed at every sample, after it is recorded (the run's frames; null:
+// nothing), given the sample's series time and the bed as it stands.
+using SampleObserver = std::function<void(double time, const ParticleStore& bed)>;
 struct StageControls {
   int threads = 0;
   const StopRequest* stop = nullptr;
   SafePoint* safe_point = nullptr;
   const std::string* resume_state = nullptr;
+  const SampleObserver* at_sample = nullptr;
 };
 
 // What every DEM run of a scenario shares: the contact model and the settings, with the time

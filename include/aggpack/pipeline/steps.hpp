@@ -20,8 +20,9 @@ struct RunContext {
   std::vector<double> radii;                    // the drop sequence, m
   double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
   std::optional<std::uint32_t> deposition_stopped_at;  // the layer whose deposition ended early
+  const SampleObserver* at_sample = nullptr;    // at every DEM sample (the frames); null: nothing
 
-  [[nodiscard]] StageControls stage_controls() const { return {threads, stop, safe_point, resume_state}; }
+  [[nodiscard]] StageControls stage_controls() const { return {threads, stop, safe_point, resume_state, at_sample}; }
 };
 
 // One adapter per step kind, with one signature; each is the only code that knows its kind.
