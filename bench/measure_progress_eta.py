@@ -31,7 +31,7 @@ def main(command):
             clock += float(delay)
             chunk = data[position:position + int(count)].decode(errors="replace")
             position += int(count)
-            for m in re.finditer(r"dynamics: ([0-9.]+) s simulated[^\r]*?(about|at most) ([0-9hmin s]+?) left", chunk):
+            for m in re.finditer(r"dynamics: (?:[a-z ,]+?, )?([0-9.]+) s simulated[^\r]*?(about|at most) ([0-9hmin s]+?) left", chunk):
                 refreshes.append((clock, float(m.group(1)), m.group(2), seconds(m.group(3))))
             if refreshes and stage_end is None and "analysis" in chunk:
                 stage_end = clock

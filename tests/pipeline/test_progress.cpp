@@ -78,14 +78,14 @@ TEST(Progress, EveryLineFitsAnEightyColumnTerminal) {
   for (const std::string& l : refreshes(terminal.str())) EXPECT_LE(characters(l), 79u) << l;
 }
 
-// The time left shown moves a fifth of the way to each new estimate, from the last one
+// The time left shown moves two fifths of the way to each new estimate, from the last one
 // counted down: an estimate 4.5 times too long (a DEM's quiet forecast jumping) moves it by a
 // fraction, and estimates that agree are followed.
 TEST(Progress, TheTimeLeftDoesNotJumpWithOneEstimate) {
   EXPECT_EQ(Progress::smoothed_time_left(std::nullopt, 0.0, 60.0), 60.0);  // the first is shown as it is
   const double after_spike = Progress::smoothed_time_left(60.0, 1.0, 4.5 * 59.0);
-  EXPECT_NEAR(after_spike, 59.0 + 0.2 * (4.5 * 59.0 - 59.0), 1e-9);
-  EXPECT_LT(after_spike, 1.8 * 59.0);
+  EXPECT_NEAR(after_spike, 59.0 + Progress::kTimeLeftWeight * (4.5 * 59.0 - 59.0), 1e-9);
+  EXPECT_LT(after_spike, 2.5 * 59.0);  // not 4.5 times
   // A steady estimate is followed: counted down, it stays on it.
   double shown = 60.0;
   for (int k = 1; k <= 20; ++k) shown = Progress::smoothed_time_left(shown, 1.0, 60.0 - k);
