@@ -386,7 +386,14 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
       fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   controls.on_frame = [&](const std::string& file, double /*time*/, const ParticleStore& bed, const RunReport& so_far) {
     std::filesystem::create_directories(sc.output.directory / kFramesFolder);
-    write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
+    if (!sc.container.periodic) {
+      write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
+      return;
+    }
+    // The DEM lets spheres cross periodic sides; a frame shows them in the box, as the final bed.
+    ParticleStore wrapped = bed;
+    for (Vec3& p : wrapped.position) p = sc.container.wrapped(p);
+    write_file_atomically(sc.output.directory / file, bed_vtp(so_far, wrapped, provenance));
   };
   controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
   if (sc.output.checkpoint)

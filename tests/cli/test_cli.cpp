@@ -759,6 +759,31 @@ TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
 // times of timeseries.csv), each a VTP of the bed then, listed in particles.pvd before the final
 // bed; the same bytes for one and two threads; a later run without frames removes them; bad
 // values are refused before any work.
+// In a periodic container the DEM lets spheres cross the sides; a frame shows them wrapped
+// into the box, as the final bed is (two spheres of this pour were outside it).
+TEST_F(Cli, APeriodicBedsFramesHoldEverySphereInsideTheBox) {
+  const std::string text = "seed = 3\n[container]\nside = 0.04\nheight = 0.3\nsides = \"periodic\"\n[particles]\n"
+                           "diameter = 0.008\ncount = 300\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n"
+                           "[dynamics]\nmax_time = 0.4\n[analysis]\nbox_sides = [0.012]\n[pour]\nvelocity = 2\n"
+                           "[output]\nframe_interval = 0.05\nvtp_encoding = \"ascii\"\n";
+  run_text("periodic_frames", text, " --threads 1");
+  std::size_t frames = 0, points = 0;
+  for (const auto& entry : fs::directory_iterator(dir_ / "periodic_frames" / "frames")) {
+    const std::string vtp = slurp(entry.path());
+    const std::size_t at = vtp.find('>', vtp.find("<DataArray", vtp.find("<Points>"))) + 1;
+    std::istringstream values(vtp.substr(at, vtp.find("</DataArray>", at) - at));
+    for (double x = 0, y = 0, z = 0; values >> x >> y >> z; ++points) {
+      EXPECT_GE(x, 0.0) << entry.path();
+      EXPECT_LT(x, 0.04) << entry.path();
+      EXPECT_GE(y, 0.0) << entry.path();
+      EXPECT_LT(y, 0.04) << entry.path();
+    }
+    ++frames;
+  }
+  EXPECT_GE(frames, 8u);
+  EXPECT_GT(points, 1000u);
+}
+
 TEST_F(Cli, FramesOfAPourAndItsTapsAreWrittenAtTheSamplesForAnAnimation) {
   const std::string base = "seed = 4\n[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\n"
                            "count = 200\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n"
