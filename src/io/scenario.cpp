@@ -88,9 +88,12 @@ std::filesystem::path input_file_at(const TomlSection& s, std::string_view key, 
   if (!std::filesystem::exists(path, exists_error)) {
     std::error_code ec;
     const std::filesystem::path absolute = std::filesystem::absolute(path, ec);
+    const std::string at = (ec ? path : absolute).lexically_normal().string();
+    if (exists_error)  // a folder on the way that cannot be searched, say
+      s.fail(key, fmt::format("{} \"{}\" cannot be looked for at {}: {}", what, given, at, exists_error.message()));
     s.fail(key, fmt::format("{} \"{}\" is not a file: looked for at {} (a relative path is taken from the scenario's "
                             "folder)",
-                            what, given, (ec ? path : absolute).lexically_normal().string()));
+                            what, given, at));
   }
   return path;
 }

@@ -154,11 +154,19 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
   SampleObserver take_frames;
   if (controls.on_frame && sc.output.frame_interval) {
     const double interval = *sc.output.frame_interval;
-    take_frames = [&report, &controls, interval](double time, const ParticleStore& bed) {
+    take_frames = [&report, &controls, &sc, interval](double time, const ParticleStore& bed) {
       constexpr double kSlack = 1e-6;
       if (time < (static_cast<double>(report.next_frame_multiple) - kSlack) * interval) return;
-      FrameRecord frame{frame_file_name(report.frames.size() + 1), time, bed_fingerprint(bed)};
-      controls.on_frame(frame.file, time, bed, report);
+      // The DEM lets spheres cross periodic sides; a frame shows them in the box, as the final
+      // bed and the snapshots do (so that a frame of the final bed is recognised as it).
+      std::optional<ParticleStore> wrapped;
+      if (sc.container.periodic) {
+        wrapped = bed;
+        for (Vec3& p : wrapped->position) p = sc.container.wrapped(p);
+      }
+      const ParticleStore& shown = wrapped ? *wrapped : bed;
+      FrameRecord frame{frame_file_name(report.frames.size() + 1), time, bed_fingerprint(shown)};
+      controls.on_frame(frame.file, time, shown, report);
       report.frames.push_back(std::move(frame));
       report.next_frame_multiple = static_cast<std::uint64_t>(std::floor(time / interval + kSlack)) + 1;
     };
@@ -365,13 +373,19 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   bool began = false;  // the earlier run's files removed, this run's frames may come
   controls.before_work = [&] {
     check_output_directory(sc.output.directory, true);
-    began = true;
     // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
     // manifest names the checkpoint from the start, for a run that is killed.
     // A resumed run keeps the frames written before its checkpoint (it writes the later ones).
     const std::vector<std::string> removed =
         remove_earlier_run(sc.output.directory, resume ? std::vector<std::string>{kFramesFolder}
                                                        : std::vector<std::string>{});
+    // A frames folder no aggpack run wrote (--overwrite leaves it there) is not taken over:
+    // this run would list it as its own, and remove it if it failed.
+    if (sc.output.frame_interval && !resume && std::filesystem::exists(sc.output.directory / kFramesFolder))
+      throw InputError(fmt::format("{}: '{}' is there and no aggpack run wrote it; output.frame_interval writes the "
+                                   "run's frames into it: move it, or give another output folder",
+                                   sc.output.directory.string(), kFramesFolder));
+    began = true;
     std::vector<std::string> manifest{kCheckpointFile};
     if (sc.output.frame_interval) manifest.push_back(kFramesFolder);
     write_manifest(sc.output.directory, manifest);
@@ -386,14 +400,7 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
       fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   controls.on_frame = [&](const std::string& file, double /*time*/, const ParticleStore& bed, const RunReport& so_far) {
     std::filesystem::create_directories(sc.output.directory / kFramesFolder);
-    if (!sc.container.periodic) {
-      write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
-      return;
-    }
-    // The DEM lets spheres cross periodic sides; a frame shows them in the box, as the final bed.
-    ParticleStore wrapped = bed;
-    for (Vec3& p : wrapped.position) p = sc.container.wrapped(p);
-    write_file_atomically(sc.output.directory / file, bed_vtp(so_far, wrapped, provenance));
+    write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
   };
   controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
   if (sc.output.checkpoint)

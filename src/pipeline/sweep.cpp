@@ -165,6 +165,10 @@ SweepPlan plan_sweep(const SweepOptions& options) {
     ScenarioOverrides check;
     check.set = options.sets;
     const Scenario sc = load_scenario(options.scenario, check);
+    if (sc.output.frame_interval)  // its runs write no VTP files (output.formats=[])
+      throw InputError(fmt::format("{}: output.frame_interval: a sweep writes no VTP files, so no frames; remove the "
+                                   "key (aggpack run writes a blend's frames)",
+                                   options.scenario.string()));
     if (!sc.particles.graded || !sc.particles.graded->fine)
       throw InputError(fmt::format("{}: [particles]: a sweep needs a coarse/fine mix (particles.coarse, "
                                    "particles.fine and particles.ca_fa)",
@@ -288,7 +292,7 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
         "each blend simulated at the cut-offs {} of {}; its whole grading is modelled below them by CPM (K {:g}, "
         "beta {:g}); density_mean is at the finest cut-off; the best blend is the one of the densest whole grading",
         nlohmann::json(plan.cuts).dump(), plan.key, m.compaction_index, m.beta)};
-  } else {
+  } else if (top.fine_left_out > 0.0) {
     result["notes"] = {fmt::format(
         "each blend is simulated without what its scenario's cut-offs leave out ({:.0f} % of the sand's volume and "
         "{:.0f} % of the blend's at the densest blend, Fa = {:g} %): the densities are of the simulated part only; "

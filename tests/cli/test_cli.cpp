@@ -759,6 +759,25 @@ TEST_F(Cli, ASnapshotStepWritesTheBedAtItsPoint) {
 // times of timeseries.csv), each a VTP of the bed then, listed in particles.pvd before the final
 // bed; the same bytes for one and two threads; a later run without frames removes them; bad
 // values are refused before any work.
+// A user's own frames/ beside an --overwrite run is not taken over (listed in the manifest,
+// then removed by a failed or a later run): the run is refused, the folder untouched.
+TEST_F(Cli, AFramesFolderNoRunWroteIsNotTakenOver) {
+  const fs::path out = dir_ / "mine";
+  fs::create_directories(out / "frames");
+  std::ofstream(out / "frames" / "my_picture.png") << "mine";
+  std::ofstream(out / "notes.txt") << "mine";
+  const std::string text = "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 100\n"
+                           "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 0.2\n"
+                           "[analysis]\nbox_sides = [0.005]\n[pour]\n[output]\nframe_interval = 0.05\n";
+  std::ofstream(dir_ / "frames_mine.toml") << text;
+  const Result r = run("run " + (dir_ / "frames_mine.toml").string() + " --overwrite --out " + out.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'frames' is there and no aggpack run wrote it"), std::string::npos) << r.output;
+  EXPECT_EQ(slurp(out / "frames" / "my_picture.png"), "mine");
+  EXPECT_EQ(slurp(out / "notes.txt"), "mine");
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
 // In a periodic container the DEM lets spheres cross the sides; a frame shows them wrapped
 // into the box, as the final bed is (two spheres of this pour were outside it).
 TEST_F(Cli, APeriodicBedsFramesHoldEverySphereInsideTheBox) {
@@ -782,6 +801,16 @@ TEST_F(Cli, APeriodicBedsFramesHoldEverySphereInsideTheBox) {
   }
   EXPECT_GE(frames, 8u);
   EXPECT_GT(points, 1000u);
+  // The last frame, at the DEM's end, is the final bed (both wrapped): particles.pvd keeps its
+  // time axis (two entries at one time made it number the frames) and ends at the DEM's end.
+  const std::string pvd = slurp(dir_ / "periodic_frames" / "particles.pvd");
+  std::vector<double> times;
+  for (std::size_t at = pvd.find("timestep=\""); at != std::string::npos; at = pvd.find("timestep=\"", at + 1))
+    times.push_back(std::stod(pvd.substr(at + 10)));
+  ASSERT_FALSE(times.empty()) << pvd;
+  for (std::size_t k = 1; k < times.size(); ++k) EXPECT_LT(times[k - 1], times[k]) << pvd;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "periodic_frames" / "summary.json"));
+  EXPECT_NEAR(times.back(), summary["stages"]["dynamics"]["simulated_time_s"].get<double>(), 1e-9) << pvd;
 }
 
 TEST_F(Cli, FramesOfAPourAndItsTapsAreWrittenAtTheSamplesForAnAnimation) {

@@ -663,6 +663,10 @@ TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
 }
 
 TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
+  const Result frames = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 30,40 --out " +
+                            dir_.string() + " --set output.frame_interval=0.01");
+  EXPECT_EQ(frames.exit_code, 2) << frames.output;
+  EXPECT_NE(frames.output.find("output.frame_interval: a sweep writes no VTP files"), std::string::npos) << frames.output;
   const Result not_mix = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/example1.toml --fa 30,40 --out " + dir_.string());
   EXPECT_EQ(not_mix.exit_code, 2);
   EXPECT_NE(not_mix.output.find("coarse/fine mix"), std::string::npos) << not_mix.output;

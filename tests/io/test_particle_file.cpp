@@ -123,6 +123,53 @@ TEST(ParticleFile, ErrorsNameTheFileAndLine) {
   expect_error("# nothing\n", "no particles");
 }
 
+// The overlap check on its grid finds the same worst pair as a brute-force pass over all
+// pairs, in a walled and in a periodic container (where pairs meet across the sides).
+TEST(ParticleOverlaps, TheWorstPairMatchesBruteForce) {
+  for (const bool periodic : {false, true}) {
+    const Container container = Container::square(0.1, 0.1, periodic);
+    Rng rng = make_rng(7, RngPurpose::Sizes);
+    const auto unit = [](Rng& g) { return g.uniform(); };
+    ParticleStore store;
+    for (int k = 0; k < 400; ++k) {
+      const double r = 0.002 + 0.004 * unit(rng);
+      store.add({0.1 * unit(rng), 0.1 * unit(rng), r + 0.08 * unit(rng)}, r, 2650.0);
+    }
+    double worst = 0.0;
+    for (std::size_t i = 0; i < store.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j) {
+        const Vec3 d = container.minimum_image(store.position[i] - store.position[j]);
+        const double depth = (store.radius[i] + store.radius[j] - std::sqrt(norm2(d))) /
+                             std::min(store.radius[i], store.radius[j]);
+        worst = std::max(worst, depth);
+      }
+    ASSERT_GT(worst, 0.1);  // random spheres do overlap: the comparison means something
+    const PairOverlap found = check_particle_overlaps(store, container, 10.0, false, "random", 1e8);
+    EXPECT_NEAR(found.depth_over_radius, worst, 1e-12) << (periodic ? "periodic" : "walls");
+    // Below the worst depth, the same bed is refused, naming the pair.
+    try {
+      (void)check_particle_overlaps(store, container, 0.5 * worst, false, "random", 1e8);
+      ADD_FAILURE() << "an overlap beyond the tolerance was accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(fmt::format("particles {} and {}", found.i, found.j)), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(ParticleOverlaps, CoincidentSpheresAndHugeGridsAreRefused) {
+  ParticleStore store;
+  store.add({0.05, 0.05, 0.01}, 0.01, 2650.0);
+  store.add({0.05, 0.05, 0.01}, 0.005, 2650.0);
+  const Container box = Container::square(0.1, 0.1, false);
+  EXPECT_THROW((void)check_particle_overlaps(store, box, 1.0, true, "same", 1e8), InputError);
+  ParticleStore far;
+  far.add({0.0, 0.0, 0.01}, 0.01, 2650.0);
+  far.add({1e6, 1e6, 0.01}, 0.01, 2650.0);
+  Container wide = Container::square(1e6 + 1.0, 0.1, false);
+  EXPECT_THROW((void)check_particle_overlaps(far, wide, 0.25, false, "far", 1e8), InputError);
+}
+
 TEST(Vtk, ProvenanceCommentStaysValidXmlWhateverThePath) {
   ParticleStore p;
   p.add({1, 2, 3}, 0.5, 1.0);
