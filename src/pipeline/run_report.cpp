@@ -17,14 +17,7 @@
 namespace aggpack {
 
 std::uint64_t bed_fingerprint(const ParticleStore& bed) {
-  std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a over the bytes
-  const auto add = [&](const void* data, std::size_t bytes) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < bytes; ++i) hash = (hash ^ p[i]) * 0x100000001b3ull;
-  };
-  add(bed.position.data(), bed.position.size() * sizeof(Vec3));
-  add(bed.radius.data(), bed.radius.size() * sizeof(double));
-  return hash;
+  return input_fingerprint(bed, {});  // the positions' and radii's bytes, as a checkpoint's input is told
 }
 
 std::string frame_file_name(std::size_t number) { return fmt::format("frames/frame_{:05}.vtp", number); }
