@@ -10,6 +10,8 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "aggpack/core/text.hpp"
+
 namespace aggpack {
 
 namespace {
@@ -24,12 +26,6 @@ std::string duration_text(double seconds) {
   return fmt::format("{:.0f} h {:02.0f} min", std::floor(seconds / 3600), std::fmod(seconds, 3600) / 60);
 }
 
-// Characters, not bytes: a UTF-8 continuation byte does not take a column.
-std::size_t display_width(const std::string& s) {
-  std::size_t n = 0;
-  for (const unsigned char c : s) n += (c & 0xC0) != 0x80;
-  return n;
-}
 
 std::string truncated(const std::string& s, std::size_t width) {
   if (display_width(s) <= width) return s;

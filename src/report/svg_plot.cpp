@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/core/text.hpp"
 #include "aggpack/core/xml_text.hpp"
 
 namespace aggpack {
@@ -46,19 +47,14 @@ struct Rect {
   }
 };
 
-// Characters, not bytes: "±" takes one.
-std::size_t characters(const std::string& text) {
-  std::size_t n = 0;
-  for (const unsigned char c : text) n += (c & 0xC0) != 0x80;
-  return n;
-}
 
 // `text` in lines of at most `width` characters, broken at spaces (a longer word stands alone).
 std::vector<std::string> wrapped(const std::string& text, std::size_t width) {
   std::vector<std::string> lines(1);
   std::istringstream words(text);
   for (std::string word; words >> word;) {
-    if (!lines.back().empty() && characters(lines.back()) + 1 + characters(word) > width) lines.emplace_back();
+    if (!lines.back().empty() && display_width(lines.back()) + 1 + display_width(word) > width)
+      lines.emplace_back();
     lines.back() += (lines.back().empty() ? "" : " ") + word;
   }
   return lines;
@@ -180,7 +176,7 @@ std::string svg_plot(const Plot& plot) {
   for (const PlotSeries& s : plot.series) {
     label_lines.push_back(s.label.empty() ? std::vector<std::string>{} : wrapped(s.label, max_characters));
     legend_lines += label_lines.back().size();
-    for (const std::string& line : label_lines.back()) longest = std::max(longest, characters(line));
+    for (const std::string& line : label_lines.back()) longest = std::max(longest, display_width(line));
     const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
     colours.push_back(colour);
     const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";

@@ -1,4 +1,5 @@
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -23,5 +24,12 @@ namespace aggpack {
 // anything else (empty, trailing characters, out of range, inf or nan).
 [[nodiscard]] std::optional<double> parse_finite_number(std::string_view text);
 [[nodiscard]] std::optional<std::int64_t> parse_integer(std::string_view text);
+
+// Characters of UTF-8 `text`, as a terminal or a plot shows them ("±" is one, not two bytes).
+[[nodiscard]] inline std::size_t display_width(std::string_view text) {
+  std::size_t n = 0;
+  for (const unsigned char c : text) n += (c & 0xC0) != 0x80;  // continuation bytes take no column
+  return n;
+}
 
 }  // namespace aggpack
