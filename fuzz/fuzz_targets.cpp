@@ -4,11 +4,11 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/scenario.hpp"
-#include "aggpack/pipeline/calibration.hpp"
-#include "aggpack/pipeline/checkpoint.hpp"
-#include "aggpack/pipeline/generate_sizes.hpp"
-#include "aggpack/pipeline/preflight.hpp"
-#include "aggpack/pipeline/run.hpp"
+#include "aggpack/run/calibration_file.hpp"
+#include "aggpack/run/checkpoint.hpp"
+#include "aggpack/run/generate_sizes.hpp"
+#include "aggpack/run/preflight.hpp"
+#include "aggpack/run/run.hpp"
 #include "aggpack/sizes/grading.hpp"
 
 namespace aggpack::fuzz {

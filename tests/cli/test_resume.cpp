@@ -17,7 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "aggpack/pipeline/checkpoint.hpp"
+#include "aggpack/run/checkpoint.hpp"
 #include "run_cli.hpp"
 
 namespace {

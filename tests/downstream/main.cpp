@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "aggpack/core/version.hpp"
-#include "aggpack/pipeline/analyze.hpp"
+#include "aggpack/run/analyze.hpp"
 
 int main() {
   aggpack::ParticleStore lattice;

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "aggpack/pipeline/run.hpp"
+#include "aggpack/run/run.hpp"
 
 namespace aggpack {
 namespace {

@@ -13,8 +13,8 @@ namespace aggpack {
 
 // A run is a protocol: steps run in order by one loop over one particle store. Each kind
 // of step is a value type here, a `run_step(const Kind&, RunContext&)` of its own
-// (pipeline/steps.cpp) and a reader of its [[protocol]] keys (io/scenario.cpp,
-// read_protocol); the loop (pipeline/run.cpp) only visits them and never changes for a new kind.
+// (run/steps.cpp) and a reader of its [[protocol]] keys (io/scenario.cpp,
+// read_protocol); the loop (run/run.cpp) only visits them and never changes for a new kind.
 
 // Drop-and-roll deposition of part `layer` of `layers` equal parts of the drop sequence.
 struct DepositStep {
@@ -42,7 +42,7 @@ struct AnalyseStep {
 struct SnapshotStep {
   std::string name;
 };
-// The DEM steps: what a LAMMPS deck can run (pipeline/lammps_bridge.hpp).
+// The DEM steps: what a LAMMPS deck can run (run/lammps_bridge.hpp).
 using DemStep = std::variant<SettleStep, PourStep, TapStep>;
 // The bed as it is now and a LAMMPS deck of the protocol's next DEM step, written into
 // <output>/lammps/<name>/; the run then goes on with that step itself.

@@ -1,0 +1,491 @@
+#include "aggpack/run/run.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <variant>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <fmt/ranges.h>
+
+#include "aggpack/run/calibration_file.hpp"
+#include "aggpack/analysis/coordination.hpp"
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/particle_file.hpp"
+#include "aggpack/io/vtk.hpp"
+#include "aggpack/run/lammps_bridge.hpp"
+#include "aggpack/run/output_folder.hpp"
+#include "aggpack/run/preflight.hpp"
+#include "aggpack/run/steps.hpp"
+
+namespace aggpack {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+// The folder of the DEM's frames in the output folder (frame_file_name).
+constexpr const char* kFramesFolder = "frames";
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// What a run starts from, every check before work passed: particles read from a file (with
+// their largest overlaps of the container and of each other), or the generated sizes of an
+// empty bed for the deposition and pour stages to fill.
+struct InitialBed {
+  ParticleStore particles;
+  double largest_boundary_overlap = 0.0;
+  PairOverlap largest_pair_overlap;
+  std::string file_format;  // of a particle file: "CSV", "LAMMPS dump, timestep 1000", ...
+  std::optional<GeneratedSizes> sizes;
+};
+InitialBed initial_bed(const Scenario& sc) {
+  check_amount(sc);
+  check_frames(sc);
+  check_lammps_available(sc);
+  InitialBed bed;
+  if (sc.particles.file) {
+    const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
+    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
+                                         max_bytes, sc.particles.file_timestep);
+    bed.particles = std::move(file.particles);
+    bed.file_format = std::move(file.format);
+    if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
+      throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
+                                   sc.particles.file->string(), bed.particles.size(), sc.limits.max_particles));
+    bed.largest_boundary_overlap =
+        fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
+    check_sizes(sc, bed.particles.radius);
+    check_protocol_beds(sc, bed.particles.radius, {});
+    bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
+                                                       sc.particles.soft_contacts, sc.particles.file->string(),
+                                                       sc.limits.max_grid_cells);
+    return bed;
+  }
+  try {
+    bed.sizes = generate_sizes(sc.particles, sc.seed);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
+  }
+  std::vector<double> radii;
+  radii.reserve(bed.sizes->diameters.size());
+  for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
+  check_sizes(sc, radii);
+  check_protocol_beds(sc, {}, radii);
+  return bed;
+}
+
+// Puts a resumed run where its checkpoint was taken: the reports and beds of the steps done
+// (none when it was taken before the first), and the state of the step in progress for that
+// step to take up. Returns the steps done.
+std::size_t restore_checkpoint(const Checkpoint& checkpoint, const Protocol& protocol, RunReport& report,
+                               RunContext& context) {
+  const std::size_t total = protocol.steps.size();
+  if (checkpoint.steps_completed > total)
+    throw DamagedCheckpoint(fmt::format("it has {} steps done of a protocol of {}", checkpoint.steps_completed, total));
+  // A run state from the first step on (none before it); a step state only inside a step of
+  // aggpack's DEM, the only steps with safe points that save one.
+  const bool started = checkpoint.steps_completed > 0 || !checkpoint.step_state.empty();
+  if (started == checkpoint.run_state.empty())
+    throw DamagedCheckpoint(fmt::format("a run state {} steps done", started ? "missing with" : "with no"));
+  if (!checkpoint.step_state.empty()) {
+    const auto in_dem_step = [&] {
+      const StepKind& kind = protocol.steps[checkpoint.steps_completed].kind;
+      return report.scenario.dynamics && report.scenario.dynamics->engine == DemEngine::Aggpack &&
+             (std::holds_alternative<SettleStep>(kind) || std::holds_alternative<PourStep>(kind) ||
+              std::holds_alternative<TapStep>(kind));
+    };
+    const bool dem = checkpoint.steps_completed < total && in_dem_step();
+    if (!dem) throw DamagedCheckpoint(fmt::format("a step state for step {}, not a DEM step", checkpoint.steps_completed + 1));
+  }
+  if (!checkpoint.run_state.empty()) decode_run_state(checkpoint.run_state, report, context);
+  if (!checkpoint.step_state.empty()) context.resume_state = &checkpoint.step_state;
+  report.resumed_from = checkpoint.where;
+  return checkpoint.steps_completed;
+}
+
+}  // namespace
+
+Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
+  Scenario sc = load_scenario(scenario_file, overrides);
+  check_output_directory(sc.output.directory, false);
+  const InitialBed bed = initial_bed(sc);
+  if (sc.deposition || sc.pour) return sc;  // the boxes can only be placed in the bed once made
+  analyse_bed(sc, bed.particles);  // box placement errors surface here
+  return sc;
+}
+
+RunReport run(const Scenario& sc, const RunControls& controls, Progress& progress) {
+  Protocol protocol = controls.protocol.value_or(scenario_protocol(sc));
+  if (controls.stop_after) protocol = stop_after(protocol, *controls.stop_after, sc);
+  check_thread_count(controls.threads);
+  RunReport report;
+  report.scenario = sc;
+  auto t0 = Clock::now();
+  InitialBed initial = initial_bed(sc);
+  report.particles = std::move(initial.particles);
+  report.largest_boundary_overlap = initial.largest_boundary_overlap;
+  report.largest_pair_overlap = initial.largest_pair_overlap.depth_over_radius;
+  report.input_format = initial.file_format;
+  const double prepared_s = seconds_since(t0);  // reading the file, or drawing the sizes
+  report.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
+  if (initial.sizes) report.wall_clock_s["sizes"] = prepared_s;
+
+  std::vector<double> radii;
+  if (initial.sizes)
+    for (const double d : initial.sizes->diameters) radii.push_back(0.5 * d);
+  const std::uint64_t fingerprint = input_fingerprint(report.particles, radii);
+  const Checkpoint* resume = controls.resume_from;
+  if (resume && resume->inputs_fingerprint != fingerprint)
+    throw InputError(fmt::format("{}: the run's starting bed is not the one its checkpoint began from: a particle or "
+                                 "grading file the scenario reads has changed since; run the scenario again",
+                                 sc.file.string()));
+
+  // The calibration the predictions will read at the end, read now: a bad file fails before the work.
+  if (sc.models_calibration) (void)read_calibration(*sc.models_calibration);
+  if (controls.before_work) controls.before_work();
+  RunContext context{report, progress, controls.threads, controls.stop, nullptr, nullptr, std::move(radii), 0.0,
+                     std::nullopt};
+  if (initial.sizes) report.sizes = std::move(initial.sizes);
+  // The frames: at the first sample, then at the first sample at or after each multiple k x
+  // frame_interval of the series' time (within a millionth of the interval, so that a sample
+  // meant to fall on a multiple is not missed by a rounding).
+  SampleObserver take_frames;
+  if (controls.on_frame && sc.output.frame_interval) {
+    const double interval = *sc.output.frame_interval;
+    take_frames = [&report, &controls, &sc, interval](double time, const ParticleStore& bed) {
+      constexpr double kSlack = 1e-6;
+      if (time < (static_cast<double>(report.next_frame_multiple) - kSlack) * interval) return;
+      // The DEM lets spheres cross periodic sides; a frame shows them in the box, as the final
+      // bed and the snapshots do (so that a frame of the final bed is recognised as it).
+      std::optional<ParticleStore> wrapped;
+      if (sc.container.periodic) {
+        wrapped = bed;
+        for (Vec3& p : wrapped->position) p = sc.container.wrapped(p);
+      }
+      const ParticleStore& shown = wrapped ? *wrapped : bed;
+      FrameRecord frame{frame_file_name(report.frames.size() + 1), time, bed_fingerprint(shown)};
+      controls.on_frame(frame.file, time, shown, report);
+      report.frames.push_back(std::move(frame));
+      report.next_frame_multiple = static_cast<std::uint64_t>(std::floor(time / interval + kSlack)) + 1;
+    };
+    context.at_sample = &take_frames;
+  }
+  std::optional<Checkpointer> checkpointer;
+  if (controls.checkpoints) {
+    Checkpoint header = controls.checkpoints->header;
+    header.inputs_fingerprint = fingerprint;
+    checkpointer.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),
+                         controls.stop, [&](std::ostream& out) { encode_run_state(out, report, context); });
+    context.safe_point = &*checkpointer;
+  }
+  std::size_t completed = 0;
+  const std::size_t total = protocol.steps.size();
+  if (resume) completed = restore_checkpoint(*resume, protocol, report, context);
+  else if (checkpointer) checkpointer->write(fmt::format("before step 1 of {}", total), nullptr);  // resume can always start here
+  try {
+    for (; completed < total; ++completed) {
+      if (checkpointer) checkpointer->set_steps_completed(completed);
+      // A step resumed in progress goes on from its own safe point.
+      if (!context.resume_state)
+        at_safe_point(context.safe_point, controls.stop, fmt::format("before step {} of {}", completed + 1, total),
+                      nullptr);
+      std::visit([&](const auto& kind) { run_step(kind, context); }, protocol.steps[completed].kind);
+      context.resume_state = nullptr;
+    }
+    if (checkpointer) checkpointer->set_steps_completed(total);
+    report.simulated_time = context.simulated_time;
+    const bool resumed_with_every_step_done = resume && resume->steps_completed == total;  // that checkpoint stands
+    if (checkpointer && controls.checkpoint_before_final_analysis && !resumed_with_every_step_done)
+      checkpointer->write("before the final analysis", nullptr);
+    at_safe_point(context.safe_point, controls.stop, "before the final analysis", nullptr);
+  } catch (const Interrupted& stop) {
+    progress.clear();
+    report.interrupted = Interruption{stop.signal_number(), stop.where(), completed, total,
+                                      checkpointer ? checkpointer->last_written() : std::nullopt};
+  }
+  if (checkpointer) {
+    report.wall_clock_s["checkpoints"] += checkpointer->seconds_spent();
+    report.checkpoint_error = checkpointer->error();
+  }
+  if (report.interrupted || !controls.final_analysis) return report;
+  report.dynamics_skipped = sc.dynamics && !report.dynamics;
+
+  t0 = Clock::now();
+  progress.start_stage("analysis");
+  progress.update({"virtual boxes"}, 0.0);
+  report.final = analyse_bed(sc, report.particles);
+  progress.clear();
+  report.wall_clock_s["analysis"] = seconds_since(t0);
+  return report;
+}
+
+namespace {
+
+// The snapshot steps' names in the order the protocol takes them.
+std::vector<std::string> snapshot_names_in_order(const RunReport& report) {
+  std::vector<std::string> names;
+  for (const Step& step : scenario_protocol(report.scenario).steps)
+    if (const auto* snapshot = std::get_if<SnapshotStep>(&step.kind))
+      if (report.snapshots.contains(snapshot->name) && report.snapshot_times.contains(snapshot->name))
+        names.push_back(snapshot->name);
+  return names;
+}
+
+// A bed as VTP, with each sphere's contacts and, for generated sizes, the part of the size
+// specification it came from (bed index i is the drop sequence's i: every stage adds spheres
+// in its order, which the radii confirm).
+std::string bed_vtp(const RunReport& report, const ParticleStore& bed, std::string_view provenance) {
+  const Scenario& sc = report.scenario;
+  std::vector<std::int32_t> coordination;
+  coordination.reserve(bed.size());
+  for (const int k : contact_counts(bed, sc.container, sc.analysis.contact_tolerance))
+    coordination.push_back(static_cast<std::int32_t>(k));
+  std::span<const std::int32_t> component;
+  if (report.sizes && bed.size() <= report.sizes->component.size()) {
+    const std::vector<double>& d = report.sizes->diameters;
+    bool same_order = true;
+    for (std::size_t i = 0; i < bed.size() && same_order; ++i) same_order = bed.radius[i] == 0.5 * d[i];
+    if (same_order) component = std::span(report.sizes->component).first(bed.size());
+  }
+  return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component});
+}
+
+}  // namespace
+
+nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far) {
+  const auto t0 = Clock::now();
+  const Scenario& sc = report.scenario;
+  std::filesystem::create_directories(dir);
+  // Every file written is listed in the folder's manifest, with the checkpoint and the LAMMPS
+  // decks the run's steps wrote, so that a later run into this folder replaces them all.
+  std::vector<std::string> written{kCheckpointFile};
+  if (!report.lammps_exchanges.empty()) written.push_back("lammps");
+  // The frames, written while the run went (by this run or, resumed, by the run it continues).
+  if (sc.output.frame_interval && std::filesystem::exists(dir / kFramesFolder)) written.push_back(kFramesFolder);
+  const auto write = [&](const std::string& name, const auto& content) {
+    write_file_atomically(dir / name, content);
+    written.push_back(name);
+  };
+  if (report.interrupted) {  // the bed and the samples as they stood, and what was done
+    write("particles.csv", particles_csv(report.particles));
+    if (!report.series.samples.empty()) write("timeseries.csv", report.series.csv());
+    const double output_seconds = seconds_since(t0);
+    nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
+    write("summary.json", summary.dump(2) + "\n");
+    write_manifest(dir, written);
+    return summary;
+  }
+  if (sc.output.csv) write("particles.csv", particles_csv(report.particles));
+  if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
+  if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());
+  if (!report.tappings.empty()) {
+    std::string taps;  // one header, then every tap step's rows
+    for (const TapReport& t : report.tappings) {
+      const std::string rows = t.csv();
+      taps += taps.empty() ? rows : rows.substr(rows.find('\n') + 1);
+    }
+    write("taps.csv", taps);
+  }
+  for (const auto& [name, bed] : report.snapshots) write("particles_" + name + ".csv", particles_csv(bed));
+  const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
+  if (sc.output.vtp) {
+    write("particles.vtp", bed_vtp(report, report.particles, provenance));
+    // The frames of the DEM (written as they were taken), the snapshots and the final bed as
+    // one series, for ParaView to animate, in the order of their times (at one time: the
+    // frames, then the snapshots in the protocol's order, then the final bed). One bed at one
+    // time is listed once: a frame that is a snapshot's bed as the snapshot, and a final bed
+    // that is the last frame's or snapshot's not again (a protocol that ends with a snapshot,
+    // or whose last frame is the final bed).
+    enum class Kind { Frame, Snapshot, Final };
+    struct Entry {
+      PvdFrame frame;
+      std::uint64_t fingerprint;
+      Kind kind;
+    };
+    std::vector<Entry> entries;
+    for (std::size_t f = 0; f < report.frames.size(); ++f)
+      entries.push_back({{report.frames[f].time, report.frames[f].file, fmt::format("frame {}", f + 1)},
+                         report.frames[f].fingerprint, Kind::Frame});
+    const std::vector<std::string> snapshots = snapshot_names_in_order(report);
+    for (const std::string& name : snapshots) {
+      const std::string file = "particles_" + name + ".vtp";
+      const ParticleStore& bed = report.snapshots.at(name);
+      write(file, bed_vtp(report, bed, provenance));
+      entries.push_back(
+          {{report.snapshot_times.at(name), file, "snapshot " + name}, bed_fingerprint(bed), Kind::Snapshot});
+    }
+    if (!entries.empty()) {
+      entries.push_back({{report.simulated_time, "particles.vtp", "the final bed"}, bed_fingerprint(report.particles),
+                         Kind::Final});
+      std::stable_sort(entries.begin(), entries.end(),
+                       [](const Entry& a, const Entry& b) { return a.frame.time < b.frame.time; });
+      const auto same = [](const Entry& a, const Entry& b) {
+        return a.frame.time == b.frame.time && a.fingerprint == b.fingerprint;
+      };
+      std::vector<PvdFrame> frames;
+      for (std::size_t e = 0; e < entries.size(); ++e) {
+        const Entry& entry = entries[e];
+        if (entry.kind == Kind::Frame && e + 1 < entries.size() && entries[e + 1].kind == Kind::Snapshot &&
+            same(entry, entries[e + 1]))
+          continue;
+        if (entry.kind == Kind::Final && e > 0 && same(entry, entries[e - 1])) continue;
+        frames.push_back(entry.frame);
+      }
+      write("particles.pvd", particles_pvd(frames, provenance));
+    }
+  }
+  const double output_seconds = seconds_since(t0);
+  nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
+  write("summary.json", summary.dump(2) + "\n");
+  write_manifest(dir, written);
+  return summary;
+}
+
+namespace {
+
+bool runs_dem(const Scenario& sc) { return sc.dynamics || sc.pour || sc.tapping; }
+
+// run_scenario's and resume_run's common part: runs `sc` into its output folder, with
+// checkpoints of `header` there unless the scenario turns them off.
+RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoint* resume, const RunOptions& options,
+                          std::ostream& log, Clock::time_point t_start) {
+  Progress silent;
+  Progress& progress = options.progress ? *options.progress : silent;
+  check_output_directory(sc.output.directory, false);
+  // A resumed run's folder is its own; any other must hold nothing but an earlier run's files.
+  if (!resume) check_output_folder_contents(sc.output.directory, options.overwrite);
+  // The folder is made and probed once the input has passed its checks, before any work, not
+  // after hours of it; a run that fails later removes the folder again if it made it empty.
+  const bool existed = std::filesystem::exists(sc.output.directory);
+  const auto remove_if_made_empty = [&] {
+    std::error_code ec;
+    if (!existed && std::filesystem::is_empty(sc.output.directory, ec) && !ec)
+      std::filesystem::remove(sc.output.directory, ec);
+  };
+  RunControls controls;
+  controls.threads = options.threads;
+  controls.stop_after = header.stop_after;
+  // Where a relative scenario_file lies, for export-lammps RUN_DIR (a resumed run: where it began).
+  const std::string working_directory =
+      header.working_directory.empty() ? std::filesystem::current_path().string() : header.working_directory;
+  bool began = false;  // the earlier run's files removed, this run's frames may come
+  controls.before_work = [&] {
+    check_output_directory(sc.output.directory, true);
+    // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
+    // manifest names the checkpoint from the start, for a run that is killed.
+    // A resumed run keeps the frames written before its checkpoint (it writes the later ones).
+    const std::vector<std::string> removed =
+        remove_earlier_run(sc.output.directory, resume ? std::vector<std::string>{kFramesFolder}
+                                                       : std::vector<std::string>{});
+    // A frames folder no aggpack run wrote (--overwrite leaves it there) is not taken over:
+    // this run would list it as its own, and remove it if it failed.
+    if (sc.output.frame_interval && !resume && std::filesystem::exists(sc.output.directory / kFramesFolder))
+      throw InputError(fmt::format("{}: '{}' is there and no aggpack run wrote it; output.frame_interval writes the "
+                                   "run's frames into it: move it, or give another output folder",
+                                   sc.output.directory.string(), kFramesFolder));
+    began = true;
+    std::vector<std::string> manifest{kCheckpointFile};
+    if (sc.output.frame_interval) manifest.push_back(kFramesFolder);
+    write_manifest(sc.output.directory, manifest);
+    if (!removed.empty() && !options.quiet)
+      fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", sc.output.directory.string(),
+                 fmt::join(removed, ", "));
+  };
+  controls.stop = options.stop;
+  controls.resume_from = resume;
+  // Each frame of the DEM into frames/, as it comes (none is kept in memory).
+  const std::string provenance =
+      fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
+  controls.on_frame = [&](const std::string& file, double /*time*/, const ParticleStore& bed, const RunReport& so_far) {
+    std::filesystem::create_directories(sc.output.directory / kFramesFolder);
+    write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
+  };
+  controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
+  if (sc.output.checkpoint)
+    controls.checkpoints = RunControls::Checkpoints{sc.output.directory, sc.output.checkpoint_every, std::move(header)};
+  RunResult result{sc.output.directory, {}, {}, 0.0};
+  try {
+    result.report = run(sc, controls, progress);
+  } catch (...) {
+    // A refused run leaves nothing: not the checkpoint it took on its way (a resumed run's
+    // stays: it is the user's way back to the work done before).
+    std::error_code ec;
+    if (!resume) {
+      std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
+      std::filesystem::remove(sc.output.directory / kManifestFile, ec);
+      if (began) std::filesystem::remove_all(sc.output.directory / kFramesFolder, ec);
+    }
+    remove_if_made_empty();
+    throw;
+  }
+  result.report.working_directory = working_directory;
+  // Outputs only once everything has been computed: bad input leaves no files behind.
+  result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
+  result.wall_clock_s = seconds_since(t_start);
+  if (const auto& stop = result.report.interrupted) {
+    fmt::print(log, "aggpack: interrupted by signal {} {} ({} of {} steps done); the bed as it stood and summary.json "
+                    "(\"interrupted\": true) are in {}\n",
+               stop->signal_number, stop->where, stop->steps_completed, stop->steps_total,
+               result.output_directory.string());
+    if (stop->checkpoint)
+      fmt::print(log, "aggpack: checkpoint taken {}; continue with: aggpack resume {}\n", *stop->checkpoint,
+                 result.output_directory.string());
+    return result;
+  }
+  if (result.report.checkpoint_error && !options.quiet)
+    fmt::print(log, "aggpack: warning: {}\n", *result.report.checkpoint_error);
+  // A finished run's checkpoint would only mislead a later resume (unless a campaign keeps it).
+  std::error_code ec;
+  if (!controls.checkpoint_before_final_analysis) std::filesystem::remove(result.output_directory / kCheckpointFile, ec);
+  if (!options.quiet) fmt::print(log, "{}", result.report.console_summary(result.output_directory));
+  return result;
+}
+
+}  // namespace
+
+RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
+  const auto t_start = Clock::now();
+  const std::string text = read_scenario_text(scenario_file);
+  const Scenario sc = parse_scenario(text, scenario_file, options.overrides);
+  Checkpoint header;
+  header.version = kVersion;
+  header.scenario_file = scenario_file.string();
+  header.working_directory = std::filesystem::current_path().string();
+  header.scenario_text = text;
+  header.overrides = options.overrides;
+  header.stop_after = options.stop_after;
+  return run_into_folder(sc, std::move(header), nullptr, options, log, t_start);
+}
+
+RunResult run_prepared_scenario(Scenario scenario, const RunOptions& options, std::ostream& log) {
+  const auto t_start = Clock::now();
+  scenario.output.checkpoint = false;
+  return run_into_folder(scenario, Checkpoint{}, nullptr, options, log, t_start);
+}
+
+RunResult resume_run(const std::filesystem::path& run_directory, const RunOptions& options, std::ostream& log) {
+  const auto t_start = Clock::now();
+  const Checkpoint checkpoint = read_checkpoint(run_directory);
+  Checkpoint header = checkpoint;
+  header.overrides.output_directory = run_directory;
+  for (const std::string& set : options.overrides.set) {
+    if (!set.starts_with("output.checkpoint"))
+      throw InputError(fmt::format("resume: --set {}: a resumed run keeps its scenario; only output.checkpoint and "
+                                   "output.checkpoint_every may change",
+                                   set));
+    header.overrides.set.push_back(set);
+  }
+  const Scenario sc = parse_scenario(header.scenario_text, resumed_scenario_path(header), header.overrides);
+  if (!options.quiet)
+    fmt::print(log, "aggpack: resuming {} from its checkpoint, taken {} ({} steps done)\n", run_directory.string(),
+               checkpoint.where, checkpoint.steps_completed);
+  try {
+    return run_into_folder(sc, std::move(header), &checkpoint, options, log, t_start);
+  } catch (const DamagedCheckpoint& e) {
+    throw damaged_checkpoint(run_directory / kCheckpointFile, e.what());
+  }
+}
+
+}  // namespace aggpack

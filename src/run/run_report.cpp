@@ -1,0 +1,422 @@
+#include "aggpack/run/run_report.hpp"
+
+#include <cmath>
+#include <limits>
+#include <type_traits>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "aggpack/run/calibration_file.hpp"
+#include "aggpack/analysis/bulk_density.hpp"
+#include "aggpack/core/units.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/run/checkpoint.hpp"
+#include "aggpack/run/grading_report.hpp"
+
+namespace aggpack {
+
+std::uint64_t bed_fingerprint(const ParticleStore& bed) {
+  return input_fingerprint(bed, {});  // the positions' and radii's bytes, as a checkpoint's input is told
+}
+
+std::string frame_file_name(std::size_t number) { return fmt::format("frames/frame_{:05}.vtp", number); }
+
+namespace {
+
+// An analysis as a stage's density and coordination keys.
+void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
+  stage["density"] = to_json(analysis.density);
+  stage["coordination"] = to_json(analysis.coordination);
+}
+
+// A length in metres, and in the unit the scenario is written in beside it ("0.1016 m (4 in)").
+std::string length_text(double metres, const std::string& written_unit) {
+  const auto per_unit = written_unit.empty() ? std::nullopt : metres_per_unit(written_unit);
+  if (!per_unit) return fmt::format("{:.4g} m", metres);
+  return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), written_unit);
+}
+
+// The steps' lines of the console summary, in the order the steps ran (a protocol's own
+// order; the stages' default order without one). Each kind's records are taken in turn; the
+// lines that add up several steps (deposition, dynamics) stand at the first step of their kind.
+std::string step_lines(const RunReport& r) {
+  const Scenario& sc = r.scenario;
+  std::string out;
+  auto o = std::back_inserter(out);
+  enum class Line { deposit, pour, settle, tap, hand_over };
+  std::vector<Line> order;
+  if (sc.protocol) {
+    for (const Step& step : sc.protocol->steps)
+      std::visit(
+          [&](const auto& kind) {
+            using Kind = std::decay_t<decltype(kind)>;
+            if constexpr (std::is_same_v<Kind, DepositStep>) order.push_back(Line::deposit);
+            if constexpr (std::is_same_v<Kind, PourStep>) order.insert(order.end(), {Line::pour, Line::settle});
+            if constexpr (std::is_same_v<Kind, SettleStep>) order.push_back(Line::settle);
+            if constexpr (std::is_same_v<Kind, TapStep>) order.push_back(Line::tap);
+            if constexpr (std::is_same_v<Kind, ExportLammpsStep> || std::is_same_v<Kind, ImportLammpsStep>)
+              order.push_back(Line::hand_over);
+          },
+          step.kind);
+  }
+  // The stages' default order, and after it anything a protocol's steps did not account for.
+  order.push_back(Line::deposit);
+  order.insert(order.end(), r.pours.size(), Line::pour);
+  order.push_back(Line::settle);
+  order.insert(order.end(), r.tappings.size(), Line::tap);
+  order.insert(order.end(), r.lammps_exchanges.size(), Line::hand_over);
+  bool deposition_told = false, dynamics_told = false;
+  std::size_t next_pour = 0, next_tap = 0, next_exchange = 0;
+  for (const Line line : order) switch (line) {
+      case Line::deposit:
+        if (r.deposition && !deposition_told) {
+          const DepositionReport& d = *r.deposition;
+          fmt::format_to(o, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, {} ties\n",
+                         d.stats.placed, d.requested, to_string(d.stats.end), d.wall_clock_s,
+                         d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
+                         d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
+          deposition_told = true;
+        }
+        break;
+      case Line::pour:
+        if (next_pour < r.pours.size()) {
+          const PourReport& p = r.pours[next_pour++];
+          fmt::format_to(o, "  pour: {} particles inserted as a gas at solid fraction {:g} in {} batch{}, from {} to {} "
+                            "above the floor\n",
+                         p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es",
+                         length_text(p.lowest_slab_bottom - sc.container.bounds.lo.z, sc.written_length_unit),
+                         length_text(p.highest_slab_top - sc.container.bounds.lo.z, sc.written_length_unit));
+        }
+        break;
+      case Line::settle:
+        if (r.dynamics && !dynamics_told) {
+          const SettlingReport& d = *r.dynamics;
+          const SettlingRun& last = d.runs.back();
+          fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
+                            "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
+                         settle_end_name(last.ended_by), sc.material.contact.friction_model, r.dynamics->simulated_time(),
+                         d.steps(), d.runs.front().time_step, d.wall_clock_s(), 1e-6 * d.particle_steps_per_second(),
+                         last.last.contacts.mean_overlap, last.last.contacts.max_overlap);
+          if (r.analyses.contains("deposition"))
+            fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", r.density_after_deposition(),
+                           r.final.density.mean);
+          dynamics_told = true;
+        }
+        break;
+      case Line::tap:
+        if (next_tap < r.tappings.size()) {
+          const TapReport& t = r.tappings[next_tap++];
+          fmt::format_to(o, "  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
+                         t.taps, t.intensity, t.frequency,
+                         std::isnan(t.density_before) ? std::string("-") : fmt::format("{:.4f}", t.density_before),
+                         t.samples.empty() || std::isnan(t.samples.back().density)
+                             ? std::string("-")
+                             : fmt::format("{:.4f}", t.samples.back().density),
+                         t.simulated_time, t.wall_clock_s);
+        }
+        break;
+      case Line::hand_over:
+        if (next_exchange < r.lammps_exchanges.size()) {
+          const LammpsExchange& x = r.lammps_exchanges[next_exchange++];
+          if (x.direction == "import")
+            fmt::format_to(o, "  import_lammps: {} spheres' positions from {} ({})\n", x.spheres, x.path, x.what);
+          else
+            fmt::format_to(o, "  export_lammps: {} spheres and a deck ({}) in {}; run it there with lmp\n", x.spheres,
+                           x.what, x.path);
+        }
+        break;
+    }
+  return out;
+}
+
+}  // namespace
+
+// Every modelling choice a result depends on, said in the output.
+std::optional<RunReport::RestState> RunReport::rest_state() const {
+  const bool moved = dynamics || !pours.empty() || !tappings.empty();
+  if (!moved || series.samples.empty() || !scenario.dynamics) return std::nullopt;
+  RestState rest;
+  rest.translational_energy_per_particle_mgd = series.samples.back().translational_per_particle_mgd;
+  rest.quiet_below = scenario.dynamics->quiet.kinetic_fraction;
+  rest.settled = rest.translational_energy_per_particle_mgd <= rest.quiet_below;
+  return rest;
+}
+
+std::vector<std::string> RunReport::modelling_notes() const {
+  const RunReport& r = *this;
+  const Scenario& sc = r.scenario;
+  std::vector<std::string> notes;
+  const bool from_lammps = r.input_format.starts_with("LAMMPS");
+  if (sc.particles.file)
+    notes.push_back("particle positions were read from " + sc.particles.file->string() +
+                    (from_lammps ? " (" + r.input_format + ")" : std::string()) +
+                    (r.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
+  for (const LammpsExchange& x : r.lammps_exchanges)
+    notes.push_back(x.direction == "import"
+                        ? fmt::format("import_lammps: the positions of the bed's {} spheres were read from {} ({}), "
+                                      "their velocities set to zero; the steps after it start from there",
+                                      x.spheres, x.path, x.what)
+                        : fmt::format("export_lammps: the bed of {} spheres and a LAMMPS deck of the next DEM step ({}) "
+                                      "were written into {}; aggpack's own results below do not depend on it",
+                                      x.spheres, x.what, x.path));
+  if (sc.container.periodic) notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
+  if (r.deposition) {
+    notes.push_back(fmt::format(
+        "deposition: kinematic drop-and-roll, a geometric steepest descent without inertia or friction "
+        "(material friction and restitution are not used by this stage); spheres dropped one at a time at "
+        "uniformly random (x, y), in {} order; contact tolerance {:g} x diameter",
+        sc.particles.graded ? name_of(kMixOrderNames, sc.particles.graded->order)
+                            : name_of(kSizeOrderNames, sc.particles.sizes->order),
+        sc.deposition->tolerance));
+    const DepositionReport& d = *r.deposition;
+    if (d.stats.end != DepositionEnd::AllPlaced)
+      notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed", to_string(d.stats.end),
+                                  d.stats.placed, d.requested));
+  }
+  for (const PourReport& p : r.pours)
+    notes.push_back(fmt::format(
+        "pour: {} particles inserted as a random non-overlapping gas at solid fraction {:g} in {} batch{} (slabs of "
+        "the container's footprint from {:.4g} m to {:.4g} m above the floor, {:.3g} m above the bed's top; the next "
+        "batch once the last has had the time to fall its slab's height), released at {:g} m/s downward, then fallen and settled by "
+        "the DEM until quiet: the packing depends on these choices (drop height, fraction, batches) as a poured lab "
+        "sample depends on how it is poured",
+        p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,
+        p.highest_slab_top - sc.container.bounds.lo.z, p.gap, p.velocity));
+  for (const TapReport& t : r.tappings)
+    notes.push_back(fmt::format(
+        "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
+        "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
+        "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
+        "protocol (intensity, frequency, rest) as a lab's tapped density does{}",
+        t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
+        t.rest_until_quiet ? " at most (less once the bed was quiet)" : "",
+        t.lammps_ranks > 0 ? fmt::format("; run by LAMMPS ({} rank{}), the container a moving region of fix "
+                                         "wall/gran/region whose velocity LAMMPS takes from the change of position "
+                                         "over a step (aggpack: the exact derivative)",
+                                         t.lammps_ranks, t.lammps_ranks == 1 ? "" : "s")
+                           : std::string()));
+  if (r.sizes)
+    for (const std::string& note : r.sizes->notes) notes.push_back(note);
+  if (sc.particles.file && r.largest_boundary_overlap > 0.0)
+    notes.push_back(fmt::format("the particle file's spheres overlap the floor or walls by up to {:.3g} of their "
+                                "radius (contacts of a settled bed; accepted up to "
+                                "particles.boundary_overlap_tolerance = {:g})",
+                                r.largest_boundary_overlap, sc.particles.boundary_overlap_tolerance));
+  if (sc.particles.file && r.largest_pair_overlap > 1e-3)
+    notes.push_back(fmt::format("the particle file's spheres overlap each other by up to {:.3g} of the smaller radius "
+                                "({}; accepted up to {}): the volume they share is counted twice in the densities",
+                                r.largest_pair_overlap,
+                                sc.particles.soft_contacts ? "a soft-contact DEM bed, particles.soft_contacts"
+                                                           : "contacts of a settled bed",
+                                sc.particles.soft_contacts ? std::string("one centre inside the other sphere")
+                                                           : fmt::format("particles.overlap_tolerance = {:g}",
+                                                                         sc.particles.overlap_tolerance)));
+  if (sc.dynamics && sc.dynamics->allow_unstable_time_step)
+    notes.push_back(fmt::format("dynamics.allow_unstable_time_step = true: the time step may exceed {:g} of the "
+                                "Rayleigh time, where Hertz contacts are no longer resolved; the settled density "
+                                "may be wrong", TimeStepRule::kStableFraction));
+  if (r.dynamics)
+    for (std::string& note : dynamics_notes(sc, *r.dynamics)) notes.push_back(std::move(note));
+  if (r.dynamics_skipped) notes.push_back("--stop-after deposition: the [dynamics] stage was not run");
+  if (const auto rest = r.rest_state(); rest && !rest->settled)
+    notes.push_back(fmt::format("not settled: the DEM's last sample had a translational kinetic energy of {:.2e} "
+                                "m g d per particle, above the quiet criterion's {:.0e}: the densities are those of a "
+                                "bed still moving; raise dynamics.max_time for a bed at rest",
+                                rest->translational_energy_per_particle_mgd, rest->quiet_below));
+  if (sc.analysis.box_sides.empty())
+    notes.push_back("no analysis.box_sides given: one virtual cube of the largest admissible side was used");
+  notes.push_back("virtual cubes are centred horizontally and vertically between the floor and the free surface, "
+                  "at least one d_max from walls, floor and surface; the free surface is the equivalent height "
+                  "V_solid / (footprint area x median solid fraction of d_max-thick slices)");
+  notes.push_back(fmt::format("coordination counts sphere pairs with centre distance <= (r_i + r_j)(1 + {:g}) "
+                              "for the spheres whose centres lie in the largest box",
+                              sc.analysis.contact_tolerance));
+  return notes;
+}
+
+Predictions RunReport::predictions() const {
+  // A particle file's spheres are the distribution; generated ones, the scenario's target.
+  std::vector<double> diameters;
+  if (scenario.particles.file)
+    for (const double r : particles.radius) diameters.push_back(2.0 * r);
+  const ModelParameters parameters = scenario.models_calibration ? read_calibration(*scenario.models_calibration)
+                                                                 : default_model_parameters(!tappings.empty());
+  return predict_scenario(scenario, parameters, diameters);
+}
+
+double RunReport::density_after_deposition() const {
+  const auto a = analyses.find("deposition");
+  return a != analyses.end() ? a->second.report.density.mean : std::numeric_limits<double>::quiet_NaN();
+}
+
+double RunReport::density_after_dynamics() const {
+  return dynamics ? final.density.mean : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::string RunReport::last_dem_stage() const {
+  // A protocol's own order: its last DEM step of a kind that ran. Without one, the stages'
+  // default order (pour or deposition, settling, tapping).
+  if (scenario.protocol)
+    for (auto step = scenario.protocol->steps.rbegin(); step != scenario.protocol->steps.rend(); ++step) {
+      if (std::holds_alternative<TapStep>(step->kind) && !tappings.empty()) return "tapping";
+      if (std::holds_alternative<PourStep>(step->kind) && !pours.empty()) return "pour";
+      if (std::holds_alternative<SettleStep>(step->kind) && dynamics) return "DEM settling";
+    }
+  return !tappings.empty() ? "tapping" : !pours.empty() ? "pour" : "DEM settling";
+}
+
+nlohmann::json RunReport::summary_json(double output_seconds, double total_seconds) const {
+  const Scenario& sc = scenario;
+  nlohmann::json summary;
+  summary["aggpack_version"] = kVersion;
+  summary["seed"] = sc.seed;
+  summary["scenario_file"] = sc.file.string();
+  if (!working_directory.empty()) summary["working_directory"] = working_directory;
+  // What the file alone does not say (export-lammps RUN_DIR reads the scenario again with them);
+  // output.* assignments choose files and checkpoints, not results, and are left out.
+  std::vector<std::string> overrides;
+  for (const std::string& set : sc.overrides)
+    if (!set.starts_with("output.")) overrides.push_back(set);
+  if (!overrides.empty()) summary["scenario_overrides"] = overrides;
+  summary["scenario"] = to_json(sc);
+  summary["particle_count"] = particles.size();
+  const Box& b = sc.container.bounds;
+  summary["container"] = {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}},
+                          {"periodic", sc.container.periodic}};
+  nlohmann::json stages = nlohmann::json::object();
+  nlohmann::json wall_clock = nlohmann::json::object();
+  for (const auto& [key, seconds] : wall_clock_s) wall_clock[key] = seconds;
+  if (deposition) {
+    stages["deposition"] = to_json(*deposition);
+    wall_clock["deposition"] = deposition->wall_clock_s;
+  }
+  if (!tappings.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const TapReport& t : tappings) all.push_back(to_json(t));
+    stages["tapping"] = tappings.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
+    double seconds = 0.0;
+    for (const TapReport& t : tappings) seconds += t.wall_clock_s;
+    wall_clock["tapping"] = seconds;
+  }
+  if (!pours.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const PourReport& p : pours) all.push_back(to_json(p));
+    stages["pour"] = pours.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
+  }
+  for (const auto& [name, analysis] : analyses) {
+    add_analysis(stages[name], analysis.report);
+    wall_clock["analysis_after_" + name] = analysis.wall_clock_s;
+  }
+  if (dynamics) {
+    stages["dynamics"] = to_json(*dynamics);
+    if (!interrupted) add_analysis(stages["dynamics"], final);
+    wall_clock["dynamics"] = dynamics->wall_clock_s();
+  }
+  summary["stages"] = stages;
+  if (sizes) summary["sizes"] = to_json(sizes->report);
+  if (sc.particles.file)
+    summary["input"] = {{"file", sc.particles.file->string()},
+                        {"largest_boundary_overlap_rel", largest_boundary_overlap},
+                        {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
+  if (sc.particles.file && input_format.starts_with("LAMMPS")) summary["input"]["format"] = input_format;
+  if (sc.particles.file && largest_pair_overlap > 1e-6) {
+    summary["input"]["largest_pair_overlap_rel"] = largest_pair_overlap;
+    summary["input"]["soft_contacts"] = sc.particles.soft_contacts;
+  }
+  if (!lammps_exchanges.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const LammpsExchange& x : lammps_exchanges)
+      all.push_back({{"direction", x.direction}, {"path", x.path}, {"what", x.what}, {"spheres", x.spheres}});
+    summary["lammps_exchanges"] = all;
+  }
+  summary["predictions"] = to_json(predictions());
+  if (const auto rest = rest_state()) {
+    summary["settled"] = rest->settled;
+    summary["final_translational_energy_per_particle_mgd"] = rest->translational_energy_per_particle_mgd;
+    summary["quiet_translational_energy_per_particle_mgd"] = rest->quiet_below;
+  }
+  summary["modelling_notes"] = modelling_notes();
+  if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;
+  if (checkpoint_error) summary["checkpoint_error"] = *checkpoint_error;
+  if (interrupted) {
+    // No final analysis: the bed in particles.csv is where the run stood when it stopped.
+    summary["interrupted"] = true;
+    summary["interruption"] = {{"signal", interrupted->signal_number},
+                               {"stopped", interrupted->where},
+                               {"steps_completed", interrupted->steps_completed},
+                               {"steps_total", interrupted->steps_total},
+                               {"note", "the stages listed are the steps that ended before the stop; particles.csv "
+                                        "and timeseries.csv hold the bed and the samples as they stood"}};
+    summary["interruption"]["checkpoint"] =
+        interrupted->checkpoint
+            ? nlohmann::json{{"file", kCheckpointFile},
+                             {"taken", *interrupted->checkpoint},
+                             {"resume", "aggpack resume <this folder>"}}
+            : nlohmann::json(nullptr);
+  } else {
+    summary.update(to_json(final));
+    // The engineer's quantities beside the packing density (ASTM C29), from material.density.
+    const BulkDensity bulk = bulk_density(final.density.mean, sc.material.density);
+    summary["bulk_density"] = {{"voids_content_percent", bulk.voids_percent},
+                               {"kg_m3", bulk.kg_per_m3},
+                               {"lb_ft3", bulk.lb_per_ft3},
+                               {"particle_density_kg_m3", bulk.particle_density},
+                               {"of", "density.mean"}};
+  }
+  wall_clock["output"] = output_seconds;
+  wall_clock["total"] = total_seconds;
+  summary["wall_clock_s"] = wall_clock;
+  return summary;
+}
+
+std::string RunReport::console_summary(const std::filesystem::path& written_to) const {
+  const Scenario& sc = scenario;
+  std::string out = fmt::format("aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed);
+  auto o = std::back_inserter(out);
+  if (sizes && sc.particles.graded) {
+    const SizesReport& z = sizes->report;
+    const GradingReport& all = z.whole;
+    fmt::format_to(o, "  sizes: {} particles by {} sampling, d {:.3g}-{:.3g} mm, D10/D50/D90 {:.3g}/{:.3g}/{:.3g} mm, "
+                      "fineness modulus {:.2f}\n",
+                   z.count, name_of(kSamplingModeNames, *z.sampling), 1e3 * all.d_min, 1e3 * all.d_max, 1e3 * all.d10,
+                   1e3 * all.d50, 1e3 * all.d90, all.fineness_modulus);
+    if (z.order)
+      fmt::format_to(o, "  mix: Ca/Fa {:.4g} generated for {:.4g} requested ({} order)\n", z.ca_fa_generated,
+                     z.ca_fa_requested, name_of(kMixOrderNames, *z.order));
+    for (const SizesComponent& c : z.components) {
+      fmt::format_to(o, "  {} ({}): {} particles, cut off {:.2f} % below {:.3g} mm and {:.2f} % above {:.3g} mm; "
+                        "largest deviation from the target {:.2f} points\n",
+                     c.key, c.grading, c.generated.count, 100 * c.cut.cut_below, 1e3 * c.cut.d_lo,
+                     100 * c.cut.cut_above, 1e3 * c.cut.d_hi, c.generated.largest_deviation);
+      fmt::format_to(o, "    {:>8} {:>10} {:>9} {:>9}\n", "sieve", "opening mm", "target %", "generated %");
+      for (const GradingReportRow& row : c.generated.rows)
+        fmt::format_to(o, "    {:>8} {:>10.4g} {:>9.2f} {:>9.2f}\n", row.sieve.name, 1e3 * row.sieve.opening,
+                       row.sieve.percent_passing, row.generated);
+      if (const std::string snapped = snapped_sieves_text(c.cut.grading.snapped); !snapped.empty())
+        fmt::format_to(o, "    {}\n", snapped);
+      if (c.band)
+        fmt::format_to(o, "    band {}: {}\n", c.band->name,
+                       check_against_band(c.cut.grading, *c.band).all_inside() ? "inside at every sieve"
+                                                                             : "OUTSIDE at some sieves");
+    }
+  }
+  out += step_lines(*this);
+  for (const auto& box : final.density.boxes)
+    fmt::format_to(o, "  virtual cube {}: density {:.4f}\n", length_text(box.side, sc.written_length_unit), box.density);
+  const auto rest = rest_state();
+  fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} spheres\n", final.density.mean,
+                 final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,
+                 final.coordination.particles_counted);
+  fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n",
+                 describe(bulk_density(final.density.mean, sc.material.density)), sc.material.density);
+  if (rest && !rest->settled)
+    fmt::format_to(o, "  not settled: the DEM ended with a kinetic energy of {:.2e} m g d per particle, above the "
+                      "quiet criterion's {:.0e}; the density is that of a bed still moving (raise dynamics.max_time)\n",
+                   rest->translational_energy_per_particle_mgd, rest->quiet_below);
+  fmt::format_to(o, "{}", describe(predictions()));
+  fmt::format_to(o, "  wrote {}\n", written_to.string());
+  return out;
+}
+
+}  // namespace aggpack
