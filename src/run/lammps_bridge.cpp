@@ -21,6 +21,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/dynamics/pour.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/lammps_data.hpp"
 #include "aggpack/io/particle_file.hpp"
@@ -200,7 +201,8 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   DeckBasis b(sc, smallest_radius(radii, smallest_radius(bed.radius)));
   // The skin is chosen for the smallest sphere still to come, as aggpack's pour does.
   const double gap = pour.gap.value_or(2.0 * r_max);
-  const std::size_t batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
+  const PourSchedule schedule = pour_schedule(pour, radii.size());
+  const std::size_t batches = schedule.batches;
   LammpsDeck out;
   out.step = fmt::format("pour, part {} of {}", step.layer + 1, step.layers);
   out.deck_file = "pour.in";
@@ -213,30 +215,26 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   std::vector<double> fall_after(batches, 0.0);  // s until the next batch comes
   const double dt = b.dt();
   for (std::size_t k = 0; k < batches; ++k) {
-    const std::size_t begin = radii.size() * k / batches, end = radii.size() * (k + 1) / batches;
-    const std::span<const double> batch = radii.subspan(begin, end - begin);
-    double solid = 0.0;
-    for (const double r : batch) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
-    const InsertionRegion slab = insertion_region(sc.container, 0.0, solid, pour.solid_fraction);
-    std::vector<Vec3> at;
+    const std::span<const double> batch = schedule.batch(radii, k);
+    BatchGas gas;
     try {
-      at = random_gas(sc.container, slab, batch, rng);
-    } catch (const InputError& e) {
+      gas = batch_gas(sc.container, 0.0, batch, pour.solid_fraction, rng);
+    } catch (const PourInsertionError& e) {
       throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
     }
-    const double g = b.g;
-    fall_after[k] = g > 0.0 ? (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * slab.top) - pour.velocity) / g : 0.0;
+    const InsertionRegion& slab = gas.slab;
+    fall_after[k] = batch_fall_time(pour.velocity, b.g, slab.top);
     // The highest a slab can reach: every slab above the one before, each a gap higher.
     highest += gap + slab.top;
-    ParticleStore gas;
+    ParticleStore gas_store;
     for (std::size_t j = 0; j < batch.size(); ++j) {
-      gas.add(at[j], batch[j], sc.material.density, step.layer);
-      gas.velocity.back() = {0.0, 0.0, -pour.velocity};
+      gas_store.add(gas.positions[j], batch[j], sc.material.density, step.layer);
+      gas_store.velocity.back() = {0.0, 0.0, -pour.velocity};
     }
     Container slab_box = sc.container;
     slab_box.bounds.lo.z = 0.0;
     out.files.emplace_back(fmt::format("pour_batch_{}.data", k + 1),
-                           lammps_data(gas, slab_box, sc.material.density, std::max(slab.top, 1e-300), {}));
+                           lammps_data(gas_store, slab_box, sc.material.density, std::max(slab.top, 1e-300), {}));
   }
 
   fmt::memory_buffer d;
@@ -597,15 +595,10 @@ PourRun pour_in_lammps(const Scenario& sc, ParticleStore& particles, std::span<c
   take_positions(particles, dump.particles, dump_file.string(), particles.size());
 
   const PourSettings& pour = *sc.pour;
+  const PourSchedule schedule = pour_schedule(pour, radii.size());
   PourRun out;
   PourReport& report = out.pour;
-  report.poured = radii.size();
-  report.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
-  report.solid_fraction = pour.solid_fraction;
-  report.velocity = pour.velocity;
-  const double r_max = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
-  report.gap = pour.gap.value_or(2.0 * r_max);
-  report.lowest_slab_bottom = std::numeric_limits<double>::infinity();
+  report = planned_pour(pour, radii);
   // Each batch's slab: its bottom as the deck printed it, its height as aggpack's.
   const std::vector<std::string> lines = tagged_lines(log, "aggpack-batch: ");
   if (lines.size() != report.batches)
@@ -616,10 +609,8 @@ PourRun pour_in_lammps(const Scenario& sc, ParticleStore& particles, std::span<c
     unsigned long index = 0;
     if (std::sscanf(lines[k].c_str(), "aggpack-batch: %lu bottom %lf", &index, &bottom) != 2)
       throw InputError(fmt::format("{}: malformed line \"{}\"", (folder / LammpsDeck::kLogFile).string(), lines[k]));
-    const std::size_t begin = radii.size() * k / report.batches, end = radii.size() * (k + 1) / report.batches;
-    double solid = 0.0;
-    for (std::size_t j = begin; j < end; ++j) solid += 4.0 / 3.0 * std::numbers::pi * std::pow(radii[j], 3);
-    const InsertionRegion slab = insertion_region(sc.container, bottom, solid, pour.solid_fraction);
+    const InsertionRegion slab =
+        insertion_region(sc.container, bottom, solid_volume(schedule.batch(radii, k)), pour.solid_fraction);
     report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
     report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
   }

@@ -5,14 +5,10 @@
 // compare a resumed run's every output with an uninterrupted one's).
 #include "aggpack/run/run_report.hpp"
 #include "core/archive.hpp"
+#include "dynamics/loop_archive.hpp"
 
 namespace aggpack {
 
-template <class Archive>
-void serialize(Archive& ar, TapReport& t) {
-  ar(t.taps, t.intensity, t.frequency, t.amplitude, t.rest_time, t.rest_until_quiet, t.density_before, t.time_before,
-     raw(t.samples), t.simulated_time, t.steps, t.time_step, t.wall_clock_s, t.lammps_ranks);
-}
 template <class Archive>
 void serialize(Archive& ar, LammpsExchange& x) {
   ar(x.direction, x.path, x.what, x.spheres);
@@ -38,14 +34,6 @@ void serialize(Archive& ar, PackingReport& r) {
   ar(raw_value(r.bed), raw(r.density.boxes), r.density.mean, r.density.sd, r.coordination.mean,
      r.coordination.particles_counted, r.coordination.histogram, r.coordination.relative_tolerance, r.vertical, r.wall,
      r.wall_profile_z_lo, r.wall_profile_z_hi);
-}
-template <class Archive>
-void serialize(Archive& ar, SettleSample& s) {
-  ar(raw_value(s));
-}
-template <class Archive>
-void serialize(Archive& ar, SettleLoop& l) {
-  ar(l.start, l.start_steps, l.window, l.block_steps_left);
 }
 template <class Archive>
 void serialize(Archive& ar, StageAnalysis& a) {

@@ -98,16 +98,6 @@ nlohmann::json to_json(const PourReport& r) {
           {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
 }
 
-std::string TapReport::csv() const {
-  std::string body = "tap,time_s,density,translational_energy_per_particle_mgd\n";
-  const auto density_text = [](double d) { return std::isnan(d) ? std::string() : fmt::format("{:.6f}", d); };
-  fmt::format_to(std::back_inserter(body), "0,{:.9g},{},\n", time_before, density_text(density_before));
-  for (const TapSample& s : samples)
-    fmt::format_to(std::back_inserter(body), "{},{:.9g},{},{:.6g}\n", s.tap, s.time, density_text(s.density),
-                   s.translational_per_particle_mgd);
-  return body;
-}
-
 nlohmann::json to_json(const TapReport& r) {
   const auto or_null = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
   nlohmann::json densities = nlohmann::json::array();

@@ -16,6 +16,8 @@
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/checkpoint.hpp"
 #include "run/report_archive.hpp"
+#include "aggpack/dynamics/pour.hpp"
+#include "aggpack/dynamics/tap.hpp"
 
 namespace aggpack {
 
@@ -203,40 +205,6 @@ std::string where_simulated(std::string_view phase, double simulated) {
   return fmt::format("while {} at {:.4f} s simulated", phase, simulated);
 }
 
-// A pour's loop between samples: the batch falling (or, once all are in, the settling).
-struct PourLoop {
-  std::size_t batch = 0;     // the batch in flight
-  double next = 0.0;         // s, when the next batch comes
-  Rng rng{0, 0};
-  PourReport report;
-  double weight = 0.0;
-  bool settling = false;     // all batches in: the bed falls until quiet
-  SettleLoop settle;
-  double poured_at = 0.0;    // s, when the last batch came
-  std::size_t pour_steps = 0;
-  std::size_t block_steps_left = 0;  // of the sample interval in progress (0: at a sample)
-  template <class Archive>
-  void serialize(Archive& ar) {
-    ar(batch, next, raw_value(rng), raw_value(report), weight, settling, settle, poured_at, pour_steps,
-       block_steps_left);
-  }
-};
-
-// A tapping's loop: inside tap `tap` (its steps not all run yet), or in the rest after it.
-struct TapLoop {
-  std::size_t tap = 1;
-  std::size_t tap_steps_left = 0;    // of the tap in progress (0: in the rest)
-  double rest_end = 0.0;
-  std::size_t rest_steps_left = 0;   // of the rest's sample interval in progress (0: at a sample)
-  std::optional<double> quiet_since;
-  SettleSample last;
-  TapReport report;
-  template <class Archive>
-  void serialize(Archive& ar) {
-    ar(tap, tap_steps_left, rest_end, rest_steps_left, quiet_since, last, report);
-  }
-};
-
 SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scenario& sc, std::uint32_t layer,
                          const SettleResult& result, std::size_t steps, double simulated, Clock::time_point t0,
                          const ParticleStore& particles) {
@@ -303,11 +271,11 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
 
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
                  double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress) try {
-  const PourSettings& pour = *sc.pour;
+  const PourSettings& settings = *sc.pour;
   const DynamicsStage& stage = *sc.dynamics;
-  double r_min = std::numeric_limits<double>::infinity(), r_max = 0.0;
+  double r_min = std::numeric_limits<double>::infinity();
   for (const double r : particles.radius) r_min = std::min(r_min, r);
-  for (const double r : radii) r_min = std::min(r_min, r), r_max = std::max(r_max, r);
+  for (const double r : radii) r_min = std::min(r_min, r);
   DemSetup setup = dem_setup(sc, r_min, controls.threads);
   // The skin is chosen for the smallest sphere still to come, not the smallest in the bed.
   if (!(setup.settings.skin > 0.0)) setup.settings.skin = 0.1 * (2.0 * r_min);
@@ -315,126 +283,50 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   // Resumed, the store holds the batches poured so far: the DEM state is restored over them.
   auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
-  PourLoop loop;
-  PourReport& report = loop.report;
+  PourLoop loop = begin_pour(dem, settings, radii, pour_stream(sc.seed, part));
+  const PourReport planned = loop.report;  // what the scenario makes of this pour
   const bool resumed = controls.resume_state != nullptr;
-  PourReport planned;  // what the scenario makes of this pour
-  planned.poured = radii.size();
-  planned.batches = std::min<std::size_t>(pour.batches, std::max<std::size_t>(1, radii.size()));
-  planned.solid_fraction = pour.solid_fraction;
-  planned.velocity = pour.velocity;
-  planned.gap = pour.gap.value_or(2.0 * r_max);
-  planned.lowest_slab_bottom = std::numeric_limits<double>::infinity();
   if (resumed) {
     t0 = restore_step_state("pour", *controls.resume_state, dem, loop);
     // Restored: the same pour, within its batches, its numbers finite, its random stream live.
-    if (report.poured != planned.poured || report.batches != planned.batches ||
-        report.solid_fraction != planned.solid_fraction || report.velocity != planned.velocity ||
-        report.gap != planned.gap || loop.batch >= report.batches || !std::isfinite(loop.next) ||
-        !std::isfinite(loop.weight) || !std::isfinite(loop.poured_at) || loop.pour_steps > dem.steps() ||
-        loop.rng.stuck())
-      throw DamagedCheckpoint("its pour step: its loop is not this pour's");
+    if (!fits(loop, planned, dem)) throw DamagedCheckpoint("its pour step: its loop is not this pour's");
     if (loop.settling) check_restored(loop.settle, dem, "pour");
-  } else {
-    loop.rng = pour_stream(sc.seed, part);
-    report = planned;
   }
   progress.start_stage(part > 0 ? fmt::format("pour, part {}", part + 1) : "pour");
   SampleRecorder recorder(sc, part, series, progress, dem, particles,
-                          {top_above_floor(dem, particles, sc.container), pour.velocity, 0.0}, std::string(kPourCauses),
-                          controls.at_sample);
-  const double g = norm(setup.settings.gravity);
-  const std::size_t steps_per_sample = stage.quiet.steps_per_sample(setup.settings.time_step);
-  const auto top_of_bed = [&] {
-    double top = sc.container.bounds.lo.z;
-    for (std::size_t i = 0; i < particles.size(); ++i) top = std::max(top, particles.position[i].z + particles.radius[i]);
-    return top;
+                          {top_above_floor(dem, particles, sc.container), settings.velocity, 0.0},
+                          std::string(kPourCauses), controls.at_sample);
+  PourHooks hooks;
+  hooks.on_sample = [&](const SettleSample& s, std::string_view phase) {
+    // The batches come in ever higher: what gravity can give grows with them.
+    recorder.budget().height =
+        std::max(recorder.budget().height, loop.report.highest_slab_top - sc.container.bounds.lo.z);
+    recorder(time_offset + s.time, s, std::string(phase));
   };
-  const auto safe_point = [&](const std::string& where) {
-    at_safe_point(controls.safe_point, controls.stop, where, [&](std::ostream& out) { save_step_state(out, "pour", dem, loop, t0); });
+  hooks.at_safe_point = [&](std::string_view phase) {
+    at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time() - loop.start),
+                  [&](std::ostream& out) { save_step_state(out, "pour", dem, loop, t0); });
   };
-
-  // A resumed pour continues where its batch was falling, or where the bed was settling.
-  bool batch_in = resumed;
-  if (!loop.settling) {
-    for (; loop.batch < report.batches; ++loop.batch) {
-      if (!batch_in) {
-        const std::size_t b = loop.batch;
-        const std::size_t begin = radii.size() * b / report.batches, end = radii.size() * (b + 1) / report.batches;
-        const std::span<const double> batch = radii.subspan(begin, end - begin);
-        double solid = 0.0;
-        for (const double r : batch) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
-        const auto t_insert = Clock::now();
-        const InsertionRegion slab =
-            insertion_region(sc.container, top_of_bed() + report.gap, solid, pour.solid_fraction);
-        std::vector<Vec3> at;
-        try {
-          at = random_gas(sc.container, slab, batch, loop.rng);
-        } catch (const InputError& e) {
-          throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
-        }
-        for (std::size_t k = 0; k < batch.size(); ++k) {
-          particles.add(at[k], batch[k], sc.material.density, part);
-          particles.velocity.back() = {0.0, 0.0, -pour.velocity};
-        }
-        report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
-        report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, slab.bottom);
-        report.highest_slab_top = std::max(report.highest_slab_top, slab.top);
-        recorder.budget().height =
-            std::max(recorder.budget().height, report.highest_slab_top - sc.container.bounds.lo.z);
-        dem.admit_new_particles();
-        loop.weight = weight_energy(dem, particles);
-        // The next batch comes once this one has fallen through its slab's height in free
-        // fall (as LAMMPS's fix pour times its insertions), or at max_time; after the last,
-        // that time is when the pour has reached the bed.
-        const double height = slab.top - slab.bottom;
-        const double fall = (std::sqrt(pour.velocity * pour.velocity + 2.0 * g * height) - pour.velocity) / g;
-        loop.next = dem.time() + fall;
-        if (b + 1 == report.batches) break;
-      }
-      batch_in = false;
-      while (loop.block_steps_left > 0 || dem.time() < std::min(loop.next, stage.quiet.max_time)) {
-        const std::string phase = fmt::format("pouring, {} of {} in", particles.size(), radii.size());
-        if (loop.block_steps_left == 0) loop.block_steps_left = steps_per_sample;
-        run_block(dem, loop.block_steps_left, [&] { safe_point(where_simulated(phase, dem.time())); });
-        const SettleSample s = sample_system(dem, particles, loop.weight, nullptr);  // no density: the bed is still being built
-        recorder(time_offset + s.time, s, phase);
-        safe_point(where_simulated(phase, s.time));
-      }
-    }
-    loop.poured_at = dem.time();
-    loop.pour_steps = dem.steps();
+  hooks.density = box_density(sc);
+  SettleResult result;
+  try {
+    result = pour(dem, particles, sc.container, radii, settings, part, sc.material.density, stage.quiet, loop,
+                  resumed, hooks);
+  } catch (const PourInsertionError& e) {
+    throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
   }
-  QuietCriterion rest = stage.quiet;
-  rest.max_time = std::max(rest.sample_interval, stage.quiet.max_time - loop.poured_at);
-  const double poured_at = loop.poured_at;
-  const SettleResult result = settle(
-      dem, particles, rest, box_density(sc),
-      [&](const SettleSample& s) {
-        SettleSample shifted = s;
-        shifted.time += poured_at;
-        recorder(time_offset + shifted.time, shifted, "settling");
-      },
-      [&](const SettleLoop& settling) {
-        loop.settling = true;
-        loop.settle = settling;
-        safe_point(where_simulated("settling", dem.time()));
-      },
-      loop.settling ? &loop.settle : nullptr);
   dem.finish();
   // Cut by max_time before its last batch has fallen its slab: a gas, not a bed.
-  if (result.end == SettleEnd::MaxTime && dem.time() < loop.next)
+  const double poured_for = dem.time() - loop.start;
+  if (result.end == SettleEnd::MaxTime && poured_for < loop.next)
     throw InputError(fmt::format(
         "{}: dynamics.max_time: the pour ended at {:.4g} s, before its last batch could fall its slab (by {:.4g} s): "
         "its spheres never reached the bed, and its density would be that of a falling gas; expected a max_time "
         "of at least {:.3g} s and the time to settle",
-        sc.file.string(), dem.time(), loop.next, 2.0 * loop.next));
-  SettleResult whole = result;
-  whole.last.time += poured_at;
+        sc.file.string(), poured_for, loop.next, 2.0 * loop.next));
   PourRun out;
-  out.pour = report;
-  out.settling = settling_run(dem, setup, sc, part, whole, loop.pour_steps + result.steps,
-                              poured_at + result.simulated_time, t0, particles);
+  out.pour = loop.report;
+  out.settling = settling_run(dem, setup, sc, part, result, result.steps, result.simulated_time, t0, particles);
   return out;
 } catch (const DemBlowUp& e) {
   throw blow_up_error(sc, particles, fmt::format("while pouring, {}", e.what()), kPourCauses);
@@ -442,99 +334,42 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
 
 TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
                   TimeSeries& series, Progress& progress) try {
-  const TappingSettings& tapping = *sc.tapping;
-  const DynamicsStage& stage = *sc.dynamics;
+  const TappingSettings& settings = *sc.tapping;
   double r_min = std::numeric_limits<double>::infinity();
   for (const double r : particles.radius) r_min = std::min(r_min, r);
   const DemSetup setup = dem_setup(sc, r_min, controls.threads);
-  const double g = norm(setup.settings.gravity);
-  const double omega = 2.0 * std::numbers::pi * tapping.frequency;
   const DensityProbe density = box_density(sc);
 
   auto t0 = Clock::now();
   DemSystem dem(particles, sc.container, setup.model, setup.settings);
-  TapLoop loop;
-  TapReport& report = loop.report;
   const bool resumed = controls.resume_state != nullptr;
+  TapLoop loop;
   if (resumed) {
     t0 = restore_step_state("tap", *controls.resume_state, dem, loop);
     // Restored: the same tapping, in the rest after tap `tap` (the samples of the taps before).
-    const double dt = setup.settings.time_step, until_rest_end = loop.rest_end - dem.time();
-    if (report.taps != tapping.taps || report.intensity != tapping.intensity ||
-        report.frequency != tapping.frequency || report.rest_time != tapping.rest_time ||
-        report.rest_until_quiet != tapping.rest_until_quiet || report.time_step != dt || loop.tap < 1 ||
-        loop.tap > tapping.taps || report.samples.size() != loop.tap - 1 ||
-        // Inside a tap (its steps still to run, at most one tap's), or in the rest after it.
-        !(loop.tap_steps_left > 0 ? static_cast<double>(loop.tap_steps_left) <= 0.5 / tapping.frequency / dt + 2.0
-                                  : until_rest_end >= -dt && until_rest_end <= tapping.rest_time + dt) ||
-        static_cast<double>(loop.rest_steps_left) > tapping.rest_time / dt + 2.0 ||
-        (loop.quiet_since && !std::isfinite(*loop.quiet_since)))
-      throw DamagedCheckpoint("its tap step: its loop is not this tapping's");
+    if (!fits(loop, settings, dem)) throw DamagedCheckpoint("its tap step: its loop is not this tapping's");
   } else {
-    report.taps = tapping.taps;
-    report.intensity = tapping.intensity;
-    report.frequency = tapping.frequency;
-    report.amplitude = tapping.intensity * g / (omega * omega);
-    report.rest_time = tapping.rest_time;
-    report.rest_until_quiet = tapping.rest_until_quiet;
-    report.time_step = setup.settings.time_step;
-    report.density_before = density(particles);
-    report.time_before = time_offset;
+    loop = begin_tapping(dem, settings, density(particles));
   }
   progress.start_stage("tapping");
+  const double amplitude = loop.report.amplitude, omega = 2.0 * std::numbers::pi * settings.frequency;
   SampleRecorder recorder(sc, 0, series, progress, dem, particles,
-                          {top_above_floor(dem, particles, sc.container) + report.amplitude, report.amplitude * omega,
-                           report.amplitude},
+                          {top_above_floor(dem, particles, sc.container) + amplitude, amplitude * omega, amplitude},
                           std::string(kTapCauses), controls.at_sample);
-  const double weight = weight_energy(dem, particles);
-  const double dt = setup.settings.time_step;
-  const std::size_t steps_per_sample = stage.quiet.steps_per_sample(dt);
-  // A sample of the rest (no density: it is measured once per tap), then a safe point.
-  const auto sample = [&](const std::string& phase) {
-    loop.last = sample_system(dem, particles, weight, nullptr);
-    recorder(time_offset + loop.last.time, loop.last, phase);
+  TapHooks hooks;
+  hooks.on_sample = [&](const SettleSample& s, std::string_view phase) {
+    recorder(time_offset + s.time, s, std::string(phase));
   };
-  const auto safe_point = [&](const std::string& phase) {
-    at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time()),
+  hooks.at_safe_point = [&](std::string_view phase) {
+    at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time() - loop.start),
                   [&](std::ostream& out) { save_step_state(out, "tap", dem, loop, t0); });
   };
-  // A resumed tapping continues inside the tap, or in the rest, where it stopped.
-  bool resuming = resumed;
-  for (; loop.tap <= tapping.taps; ++loop.tap) {
-    const std::string phase = fmt::format("tap {} of {}", loop.tap, tapping.taps);
-    if (!resuming) {
-      const ContainerMotion tap{dem.time(), report.amplitude, omega, 0.5};
-      dem.set_container_motion(tap);
-      // The tap runs to the step after its end, so the container is at rest again.
-      loop.tap_steps_left = static_cast<std::size_t>(std::ceil((tap.end() - dem.time()) / dt)) + 1;
-    }
-    if (!resuming || loop.tap_steps_left > 0) {
-      run_block(dem, loop.tap_steps_left, [&] { safe_point(phase); });
-      loop.rest_end = dem.time() + tapping.rest_time;
-      loop.quiet_since.reset();  // the first sample of the current quiet spell
-      sample(phase);
-      safe_point(phase);
-    }
-    resuming = false;
-    while (loop.rest_steps_left > 0 || dem.time() < loop.rest_end - 0.5 * dt) {
-      if (loop.rest_steps_left == 0)
-        loop.rest_steps_left =
-            std::min(steps_per_sample, static_cast<std::size_t>(std::llround((loop.rest_end - dem.time()) / dt)));
-      run_block(dem, loop.rest_steps_left, [&] { safe_point(phase); });
-      sample(phase);
-      if (tapping.rest_until_quiet) {
-        if (loop.last.translational_per_particle_mgd > stage.quiet.kinetic_fraction) loop.quiet_since.reset();
-        else if (!loop.quiet_since) loop.quiet_since = loop.last.time;
-        if (loop.quiet_since && loop.last.time - *loop.quiet_since >= stage.quiet.window) break;
-      }
-      safe_point(phase);
-    }
-    report.samples.push_back(
-        {loop.tap, time_offset + dem.time(), density(particles), loop.last.translational_per_particle_mgd});
-  }
+  hooks.density = density;
+  tap(dem, particles, settings, sc.dynamics->quiet, loop, resumed, hooks);
   dem.finish();
-  report.simulated_time = dem.time();
-  report.steps = dem.steps();
+  TapReport report = loop.report;
+  report.time_before = time_offset;
+  for (TapSample& s : report.samples) s.time = time_offset + s.time;
   report.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
   return report;
 } catch (const DemBlowUp& e) {

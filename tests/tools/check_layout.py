@@ -28,7 +28,7 @@ MODULE_DEPENDENCIES = {
     "spatial": {"core"},
     "deposition": {"core", "spatial"},
     "analysis": {"core", "spatial"},
-    "dynamics": {"core", "spatial"},
+    "dynamics": {"core", "spatial", "deposition"},
     "report": {"core"},
     "io": {"core", "sizes", "deposition", "dynamics"},
     "lammps": {"io", "dynamics"},

@@ -14,6 +14,7 @@
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/dynamics/tap.hpp"
 #include "aggpack/io/protocol.hpp"
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
@@ -90,16 +91,6 @@ struct DynamicsStage {
   bool allow_unstable_time_step = false;  // run a step above TimeStepRule::kStableFraction (noted)
 };
 
-// The tapping step ([tapping]): the container (floor and walls) tapped `taps` times, each tap
-// half a sine period of frequency f and peak acceleration intensity x g, then a rest.
-struct TappingSettings {
-  std::size_t taps = 10;
-  double intensity = 2.0;         // Gamma = A w^2 / g
-  double frequency = 30.0;        // Hz
-  double rest_time = 0.15;        // s after each tap, at most
-  bool rest_until_quiet = false;  // end a rest early once the [dynamics] quiet criterion holds
-};
-
 // [limits]: the bounds that keep any input from exhausting the machine (README, "Limits").
 // Each is checked before any work; a run that needs more is refused with the key to raise.
 struct RunLimits {
@@ -143,7 +134,7 @@ struct Scenario {
   Material material;
   std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)
   std::optional<PourSettings> pour;              // [pour]
-  std::optional<TappingSettings> tapping;        // [tapping]
+  std::optional<TappingSettings> tapping;        // [tapping] (dynamics/tap.hpp)
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   RunLimits limits;

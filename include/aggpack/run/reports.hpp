@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/dynamics/pour.hpp"
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/dynamics/tap.hpp"
 
 namespace aggpack {
 
@@ -24,40 +26,10 @@ struct DepositionReport {
   DepositionReport& operator+=(const DepositionReport& layer);
 };
 
-// A pour step: what was inserted, where, and how long the insertion took.
-struct PourReport {
-  std::size_t poured = 0;
-  std::size_t batches = 0;
-  double solid_fraction = 0.0;          // of each insertion slab
-  double velocity = 0.0;                // m/s downward at insertion
-  double gap = 0.0;                     // m, from the bed's top to a slab's bottom
-  double lowest_slab_bottom = 0.0, highest_slab_top = 0.0;  // m, over the batches
-  double insertion_wall_clock_s = 0.0;  // placing the gas (the DEM is in the settling run)
-};
+// A pour step: what was inserted, where, and how long the insertion took (dynamics/pour.hpp).
 nlohmann::json to_json(const PourReport& report);
 
-// A tapping step: the density after every tap (taps.csv) and what it cost.
-struct TapSample {
-  std::size_t tap = 0;
-  double time = 0.0;     // s of simulated time since the run's DEM began, at the end of the rest
-  double density = 0.0;  // mean over the virtual boxes; NaN when they do not fit
-  double translational_per_particle_mgd = 0.0;  // at the end of the rest
-};
-struct TapReport {
-  std::size_t taps = 0;
-  double intensity = 0.0, frequency = 0.0, amplitude = 0.0;  // Gamma, Hz, m
-  double rest_time = 0.0;                                    // s, at most
-  bool rest_until_quiet = false;
-  double density_before = 0.0;                               // NaN when the boxes do not fit
-  double time_before = 0.0;                                  // s, when the first tap began
-  std::vector<TapSample> samples;
-  double simulated_time = 0.0;  // s
-  std::size_t steps = 0;
-  double time_step = 0.0;
-  double wall_clock_s = 0.0;
-  int lammps_ranks = 0;  // 0: aggpack's DEM ran it; else LAMMPS on that many ranks
-  [[nodiscard]] std::string csv() const;  // taps.csv
-};
+// A tapping step: the density after every tap (taps.csv) and what it cost (dynamics/tap.hpp).
 nlohmann::json to_json(const TapReport& report);
 
 // One settling run (a layer, or the whole bed).
