@@ -117,7 +117,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
     d_sum += 2.0 * grain_[i].radius;
     solid += std::pow(grain_[i].radius, 3);
   }
-  if (!(skin_ > 0.0) && n_ > 0) skin_ = 0.1 * (2.0 * r_min);
+  if (!(skin_ > 0.0) && n_ > 0) skin_ = default_skin(r_min);
   morton_cell_ = n_ > 0 ? d_sum / n_ : 1.0;
   grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
   offset_.resize(std::max<std::size_t>(offset_.size(), first + 1), 0);

@@ -11,7 +11,9 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/version.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/io/atomic_file.hpp"
+#include "aggpack/run/carried_dem.hpp"
 #include "aggpack/run/protocol.hpp"
 #include "aggpack/run/steps.hpp"
 #include "core/checksum.hpp"
@@ -21,7 +23,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 3;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 4;  // raise when what a checkpoint holds changes
 constexpr std::array<const char*, 3> kSections{"header", "run state", "step state"};
 
 template <class Archive>
@@ -200,6 +202,8 @@ std::filesystem::path resumed_scenario_path(const Checkpoint& checkpoint) {
 void encode_run_state(std::ostream& out, const RunReport& report, const RunContext& context) {
   cereal::BinaryOutputArchive ar(out);
   archive_run_state(ar, const_cast<RunReport&>(report), const_cast<RunContext&>(context));
+  // The DEM system the next DEM step continues; inside a step, the step's own state holds it.
+  ar(context.in_step ? CarriedDem().save() : context.dem.save());
 }
 
 namespace {
@@ -274,9 +278,11 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
   // The spheres the run places: the particle file's (in the store until now), or the drop sequence.
   const bool from_file = report.scenario.particles.file.has_value();
   const std::vector<double> radii = from_file ? report.particles.radius : context.radii;
+  std::string carried_dem;
   try {
     CheckedInputArchive ar(state);
     archive_run_state(ar, report, context);
+    ar(carried_dem);
     if (ar.left() > 0) throw cereal::Exception(fmt::format("{} bytes after its end", ar.left()));
   } catch (const cereal::Exception& e) {
     throw DamagedCheckpoint(fmt::format("its run state: {}", e.what()));
@@ -286,6 +292,16 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
   if (report.deposited) check_bed(*report.deposited, "bed after deposition", radii, from_file, density);
   for (const auto& [name, bed] : report.snapshots) check_bed(bed, "snapshot " + name, radii, from_file, density);
   check_reports(report, context);
+  const Scenario& sc = report.scenario;
+  if (!sc.dynamics && carried_dem != CarriedDem().save())
+    throw DamagedCheckpoint("its run state: a DEM system in a run without dynamics");
+  if (!sc.dynamics) return;
+  try {
+    context.dem.restore(carried_dem, report.particles, sc.container, make_contact_model(sc.material.contact),
+                        context.threads);
+  } catch (const InputError& e) {
+    throw DamagedCheckpoint(fmt::format("its run state: {}", e.what()));
+  }
 }
 
 std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vector<double>& radii) {

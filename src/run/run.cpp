@@ -191,7 +191,9 @@ RunReport run(const Scenario& sc, const RunControls& controls, Progress& progres
       if (!context.resume_state)
         at_safe_point(context.safe_point, controls.stop, fmt::format("before step {} of {}", completed + 1, total),
                       nullptr);
+      context.in_step = true;
       std::visit([&](const auto& kind) { run_step(kind, context); }, protocol.steps[completed].kind);
+      context.in_step = false;
       context.resume_state = nullptr;
     }
     if (checkpointer) checkpointer->set_steps_completed(total);

@@ -14,6 +14,7 @@
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/run/analyze.hpp"
+#include "aggpack/run/carried_dem.hpp"
 #include "aggpack/run/checkpoint.hpp"
 #include "run/report_archive.hpp"
 #include "aggpack/dynamics/pour.hpp"
@@ -152,47 +153,77 @@ class SampleRecorder {
   const SampleObserver* at_sample_;
 };
 
-// A step's state at a safe point, for a checkpoint: its kind (checked when it is read back),
-// the DEM's state, its loop's, and the wall clock it has taken so far.
-template <class Loop>
-void save_step_state(std::ostream& out, std::string_view kind, const DemSystem& dem, const Loop& loop,
-                     Clock::time_point t0) {
-  {
-    cereal::BinaryOutputArchive ar(out);
-    const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-    ar(std::string(kind), loop, elapsed);
+// A DEM step's system: the run's carried one when it can go on (StageControls::carried),
+// else a new one; and what the step's checkpoints hold beside its loop: the list builds the
+// system had before the step (a new system's first build is the step's own) and the wall
+// clock the step has taken.
+class StepDem {
+ public:
+  StepDem(const StageControls& controls, ParticleStore& particles, const Container& container,
+          const DemSetup& setup, std::vector<std::uint8_t> frozen = {})
+      : t0_(Clock::now()) {
+    if (controls.carried) {
+      const CarriedDem::ForStep carried =
+          controls.carried->system_for(particles, container, setup.model, setup.settings, std::move(frozen));
+      system_ = &carried.system;
+      builds_before_ = carried.continued ? carried.system.rebuilds() : 0;
+    } else {
+      own_ = std::make_unique<DemSystem>(particles, container, setup.model, setup.settings, std::move(frozen));
+      system_ = own_.get();
+    }
   }
-  dem.save_state(out);
-}
-// Restores what save_step_state() saved into `dem` and `loop`; returns the start time that
-// makes the step's wall clock count what it took before too. DamagedCheckpoint when the bytes
-// do not decode, or not to a state of this step (the loop is checked by the step itself).
-template <class Loop>
-Clock::time_point restore_step_state(std::string_view kind, const std::string& state, DemSystem& dem, Loop& loop) {
-  std::string saved_kind;
-  double elapsed = 0.0;
-  std::size_t dem_state_at = 0;
-  try {
-    CheckedInputArchive ar(state);
-    ar(saved_kind);
-    if (saved_kind != kind)
-      throw DamagedCheckpoint(
-          fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
-    ar(loop, elapsed);
-    dem_state_at = ar.position();
-  } catch (const cereal::Exception& e) {
-    throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
+  [[nodiscard]] DemSystem& system() const { return *system_; }
+  [[nodiscard]] std::size_t builds() const { return system_->rebuilds() - builds_before_; }
+  [[nodiscard]] double seconds() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
+
+  // The step's state at a safe point, for a checkpoint: its kind (checked when it is read
+  // back), its loop, its wall clock and builds so far, and the DEM's state.
+  template <class Loop>
+  void save(std::ostream& out, std::string_view kind, const Loop& loop) const {
+    {
+      cereal::BinaryOutputArchive ar(out);
+      ar(std::string(kind), loop, seconds(), builds_before_);
+    }
+    system_->save_state(out);
   }
-  try {
-    dem.restore_state(std::string_view(state).substr(dem_state_at));
-  } catch (const InputError& e) {
-    throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
+  // Restores what save() saved into the system and `loop`. DamagedCheckpoint when the bytes do
+  // not decode, or not to a state of this step (the loop is checked by the step itself).
+  template <class Loop>
+  void restore(std::string_view kind, const std::string& state, Loop& loop) {
+    std::string saved_kind;
+    double elapsed = 0.0;
+    std::size_t dem_state_at = 0;
+    try {
+      CheckedInputArchive ar(state);
+      ar(saved_kind);
+      if (saved_kind != kind)
+        throw DamagedCheckpoint(
+            fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
+      ar(loop, elapsed, builds_before_);
+      dem_state_at = ar.position();
+    } catch (const cereal::Exception& e) {
+      throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
+    }
+    try {
+      system_->restore_state(std::string_view(state).substr(dem_state_at));
+    } catch (const InputError& e) {
+      throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
+    }
+    // At most a billion seconds: its count of clock ticks must fit the clock.
+    if (!(elapsed >= 0.0 && elapsed <= 1e9))
+      throw DamagedCheckpoint(fmt::format("its {} step: {} s of wall clock", kind, elapsed));
+    if (builds_before_ > system_->rebuilds())
+      throw DamagedCheckpoint(fmt::format("its {} step: more list builds before it than in all", kind));
+    // The step's wall clock counts what it took before the checkpoint too.
+    t0_ = Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(elapsed));
   }
-  // At most a billion seconds: its count of clock ticks must fit the clock.
-  if (!(elapsed >= 0.0 && elapsed <= 1e9))
-    throw DamagedCheckpoint(fmt::format("its {} step: {} s of wall clock", kind, elapsed));
-  return Clock::now() - std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(elapsed));
-}
+
+ private:
+  Clock::time_point t0_;
+  std::unique_ptr<DemSystem> own_;
+  DemSystem* system_ = nullptr;
+  std::size_t builds_before_ = 0;
+};
 
 // A settling loop restored from a checkpoint: it began before the system's time and step now,
 // and has sampled (its quiet window holds the samples so far).
@@ -205,22 +236,23 @@ std::string where_simulated(std::string_view phase, double simulated) {
   return fmt::format("while {} at {:.4f} s simulated", phase, simulated);
 }
 
-SettlingRun settling_run(const DemSystem& dem, const DemSetup& setup, const Scenario& sc, std::uint32_t layer,
-                         const SettleResult& result, std::size_t steps, double simulated, Clock::time_point t0,
-                         const ParticleStore& particles) {
-  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+SettlingRun settling_run(const StepDem& step, const DemSetup& setup, const Scenario& sc, std::uint32_t layer,
+                         const SettleResult& result, const ParticleStore& particles) {
+  const DemSystem& dem = step.system();
+  const std::size_t steps = result.steps;
+  const double seconds = step.seconds();
   SettlingRun run;
   run.layer = layer;
   run.particles_settled = dem.free_count();
   run.particles_frozen = particles.size() - dem.free_count();
   run.ended_by = result.end;
-  run.simulated_time = simulated;
+  run.simulated_time = result.simulated_time;
   run.steps = steps;
   run.time_step = setup.settings.time_step;
   run.rayleigh_time = setup.rayleigh;
   run.time_step_from_scenario = sc.dynamics->time_step.fixed.has_value();
   run.skin = dem.skin();
-  run.neighbour_list_builds = dem.rebuilds();
+  run.neighbour_list_builds = step.builds();
   run.last = result.last;
   run.wall_clock_s = seconds;
   run.particle_steps_per_second =
@@ -244,11 +276,11 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
     if (!frozen[i]) r_min = std::min(r_min, particles.radius[i]);
   const DemSetup setup = dem_setup(sc, r_min, controls.threads);
 
-  auto t0 = Clock::now();
-  DemSystem dem(particles, sc.container, setup.model, setup.settings, std::move(frozen));
+  StepDem step(controls, particles, sc.container, setup, std::move(frozen));
+  DemSystem& dem = step.system();
   std::optional<SettleLoop> resumed;
   if (controls.resume_state) {
-    t0 = restore_step_state("settle", *controls.resume_state, dem, resumed.emplace());
+    step.restore("settle", *controls.resume_state, resumed.emplace());
     check_restored(*resumed, dem, "settle");
   }
   progress.start_stage(layer > 0 || stage.layers > 1 ? fmt::format("dynamics, layer {}", layer + 1) : "dynamics");
@@ -260,11 +292,11 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
       [&](const SettleSample& s) { recorder(time_offset + s.time, s, "settling"); },
       [&](const SettleLoop& loop) {
         at_safe_point(controls.safe_point, controls.stop, where_simulated("settling", dem.time() - loop.start),
-                      [&](std::ostream& out) { save_step_state(out, "settle", dem, loop, t0); });
+                      [&](std::ostream& out) { step.save(out, "settle", loop); });
       },
       resumed ? &*resumed : nullptr);
   dem.finish();
-  return settling_run(dem, setup, sc, layer, result, result.steps, result.simulated_time, t0, particles);
+  return settling_run(step, setup, sc, layer, result, particles);
 } catch (const DemBlowUp& e) {
   throw blow_up_error(sc, particles, fmt::format("while settling, {}", e.what()), std::string_view());
 }
@@ -278,16 +310,16 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   for (const double r : radii) r_min = std::min(r_min, r);
   DemSetup setup = dem_setup(sc, r_min, controls.threads);
   // The skin is chosen for the smallest sphere still to come, not the smallest in the bed.
-  if (!(setup.settings.skin > 0.0)) setup.settings.skin = 0.1 * (2.0 * r_min);
+  if (!(setup.settings.skin > 0.0)) setup.settings.skin = DemSystem::default_skin(r_min);
 
   // Resumed, the store holds the batches poured so far: the DEM state is restored over them.
-  auto t0 = Clock::now();
-  DemSystem dem(particles, sc.container, setup.model, setup.settings);
+  StepDem step(controls, particles, sc.container, setup);
+  DemSystem& dem = step.system();
   PourLoop loop = begin_pour(dem, settings, radii, pour_stream(sc.seed, part));
   const PourReport planned = loop.report;  // what the scenario makes of this pour
   const bool resumed = controls.resume_state != nullptr;
   if (resumed) {
-    t0 = restore_step_state("pour", *controls.resume_state, dem, loop);
+    step.restore("pour", *controls.resume_state, loop);
     // Restored: the same pour, within its batches, its numbers finite, its random stream live.
     if (!fits(loop, planned, dem)) throw DamagedCheckpoint("its pour step: its loop is not this pour's");
     if (loop.settling) check_restored(loop.settle, dem, "pour");
@@ -305,7 +337,7 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   };
   hooks.at_safe_point = [&](std::string_view phase) {
     at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time() - loop.start),
-                  [&](std::ostream& out) { save_step_state(out, "pour", dem, loop, t0); });
+                  [&](std::ostream& out) { step.save(out, "pour", loop); });
   };
   hooks.density = box_density(sc);
   SettleResult result;
@@ -326,7 +358,7 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
         sc.file.string(), poured_for, loop.next, 2.0 * loop.next));
   PourRun out;
   out.pour = loop.report;
-  out.settling = settling_run(dem, setup, sc, part, result, result.steps, result.simulated_time, t0, particles);
+  out.settling = settling_run(step, setup, sc, part, result, particles);
   return out;
 } catch (const DemBlowUp& e) {
   throw blow_up_error(sc, particles, fmt::format("while pouring, {}", e.what()), kPourCauses);
@@ -340,12 +372,12 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   const DemSetup setup = dem_setup(sc, r_min, controls.threads);
   const DensityProbe density = box_density(sc);
 
-  auto t0 = Clock::now();
-  DemSystem dem(particles, sc.container, setup.model, setup.settings);
+  StepDem step(controls, particles, sc.container, setup);
+  DemSystem& dem = step.system();
   const bool resumed = controls.resume_state != nullptr;
   TapLoop loop;
   if (resumed) {
-    t0 = restore_step_state("tap", *controls.resume_state, dem, loop);
+    step.restore("tap", *controls.resume_state, loop);
     // Restored: the same tapping, in the rest after tap `tap` (the samples of the taps before).
     if (!fits(loop, settings, dem)) throw DamagedCheckpoint("its tap step: its loop is not this tapping's");
   } else {
@@ -362,7 +394,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   };
   hooks.at_safe_point = [&](std::string_view phase) {
     at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, dem.time() - loop.start),
-                  [&](std::ostream& out) { save_step_state(out, "tap", dem, loop, t0); });
+                  [&](std::ostream& out) { step.save(out, "tap", loop); });
   };
   hooks.density = density;
   tap(dem, particles, settings, sc.dynamics->quiet, loop, resumed, hooks);
@@ -370,7 +402,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   TapReport report = loop.report;
   report.time_before = time_offset;
   for (TapSample& s : report.samples) s.time = time_offset + s.time;
-  report.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  report.wall_clock_s = step.seconds();
   return report;
 } catch (const DemBlowUp& e) {
   throw blow_up_error(sc, particles, fmt::format("while tapping, {}", e.what()), kTapCauses);

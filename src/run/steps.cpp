@@ -45,6 +45,7 @@ void run_step(const DepositStep& step, RunContext& ctx) {
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
 
   const DepositionSettings& settings = *sc.deposition;
+  ctx.dem.drop();  // the bed grows outside the DEM: the next DEM step starts afresh
   particles.reserve(particles.size() + radii.size());
   DropAndRoll deposition(particles, sc.container, radii, settings, deposition_stream(sc.seed, step.layer));
   const auto t0 = Clock::now();
@@ -144,6 +145,7 @@ void run_step(const ExportLammpsStep& step, RunContext& ctx) {
 
 void run_step(const ImportLammpsStep& step, RunContext& ctx) {
   ParticleStore& bed = ctx.report.particles;
+  ctx.dem.drop();  // the bed comes from elsewhere: the next DEM step starts afresh
   const std::string format = take_positions_from_lammps(bed, step.file, step.timestep, ctx.report.scenario);
   ctx.report.lammps_exchanges.push_back({"import", step.file.string(), format, bed.size()});
 }

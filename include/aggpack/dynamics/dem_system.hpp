@@ -79,6 +79,10 @@ class DemSystem {
   // and their contact history; the neighbour list is rebuilt.
   void admit_new_particles();
 
+  // The skin a system chooses when its settings leave it at 0: 0.1 of the smallest diameter.
+  [[nodiscard]] static double default_skin(double smallest_radius) { return 0.1 * (2.0 * smallest_radius); }
+  [[nodiscard]] std::size_t particle_count() const { return n_; }
+  [[nodiscard]] const DemSettings& settings() const { return settings_; }
   [[nodiscard]] double time() const { return time_; }
   [[nodiscard]] std::size_t steps() const { return steps_; }
   [[nodiscard]] std::size_t rebuilds() const { return rebuilds_; }

@@ -35,12 +35,14 @@ struct TimeSeries {
 // and what to do with the bed at every sample, after it is recorded (the run's frames; null:
 // nothing), given the sample's series time and the bed as it stands.
 using SampleObserver = std::function<void(double time, const ParticleStore& bed)>;
+class CarriedDem;
 struct StageControls {
   int threads = 0;
   const StopRequest* stop = nullptr;
   SafePoint* safe_point = nullptr;
   const std::string* resume_state = nullptr;
   const SampleObserver* at_sample = nullptr;
+  CarriedDem* carried = nullptr;  // the run's DEM system, continued from step to step; null: a new one per step
 };
 
 // What every DEM run of a scenario shares: the contact model and the settings, with the time

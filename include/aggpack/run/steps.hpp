@@ -2,6 +2,7 @@
 #include <optional>
 #include <vector>
 
+#include "aggpack/run/carried_dem.hpp"
 #include "aggpack/run/progress.hpp"
 #include "aggpack/run/protocol.hpp"
 #include "aggpack/run/run_report.hpp"
@@ -22,7 +23,11 @@ struct RunContext {
   std::optional<std::uint32_t> deposition_stopped_at;  // the layer whose deposition ended early
   const SampleObserver* at_sample = nullptr;    // at every DEM sample (the frames); null: nothing
 
-  [[nodiscard]] StageControls stage_controls() const { return {threads, stop, safe_point, resume_state, at_sample}; }
+  CarriedDem dem;                               // the DEM system consecutive DEM steps continue
+  bool in_step = false;                         // inside a step (whose safe points save its DEM state)
+  [[nodiscard]] StageControls stage_controls() {
+    return {threads, stop, safe_point, resume_state, at_sample, &dem};
+  }
 };
 
 // One adapter per step kind, with one signature; each is the only code that knows its kind.
