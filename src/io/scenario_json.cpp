@@ -127,8 +127,8 @@ nlohmann::json analysis_json(const AnalysisSettings& analysis) {
 
 nlohmann::json output_json(const OutputSettings& output) {
   nlohmann::json formats = nlohmann::json::array();
-  if (output.csv) formats.push_back("csv");
-  if (output.vtp) formats.push_back("vtp");
+  for (const auto& [format, name] : kOutputFormatNames)
+    if (format_flag(output, format)) formats.push_back(name);
   nlohmann::json j = {{"directory", output.directory.string()},
                       {"formats", formats},
                       {"vtp_encoding", output.vtp_encoding == VtpEncoding::Ascii ? "ascii" : "binary"},
@@ -169,9 +169,10 @@ nlohmann::json to_json(const Scenario& sc) {
   j["title"] = sc.title;
   j["seed"] = sc.seed;
   j["file"] = sc.file.string();
+  const ContainerSides sides = sc.container.periodic ? ContainerSides::Periodic : ContainerSides::Walls;
   j["container"] = {{"side_m", sc.container.length_x()},
                     {"height_m", sc.container.height()},
-                    {"sides", sc.container.periodic ? "periodic" : "walls"}};
+                    {"sides", name_of(kContainerSidesNames, sides)}};
   j["particles"] = particles_json(sc.particles);
   add_placing_stages(j, sc);
   if (sc.dynamics) j["dynamics"] = dynamics_json(*sc.dynamics, sc.material);

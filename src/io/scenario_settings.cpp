@@ -9,12 +9,21 @@
 
 namespace aggpack {
 
+namespace {
+// The names as a message lists them: "csv" and/or "vtp".
+std::string quoted_names(const std::vector<std::string_view>& names, std::string_view separator) {
+  std::string list;
+  for (const std::string_view name : names) list += fmt::format("{}\"{}\"", list.empty() ? "" : separator, name);
+  return list;
+}
+}  // namespace
+
 Container read_container(const TomlSection& s) {
   s.allow_only({"side", "height", "sides"});
   const double side = s.required(s.length("side"), "side", "a length such as \"12 in\"");
   const double height = s.required(s.length("height"), "height", "a length such as \"24 in\"");
-  const bool periodic = s.choice("sides", {"walls", "periodic"}).value_or("walls") == "periodic";
-  return Container::square(side, height, periodic);
+  const ContainerSides sides = s.choice("sides", kContainerSidesNames).value_or(ContainerSides::Walls);
+  return Container::square(side, height, sides == ContainerSides::Periodic);
 }
 
 AnalysisSettings read_analysis(const TomlSection& s) {
@@ -53,11 +62,12 @@ OutputSettings read_output(const TomlSection& s, const std::filesystem::path& sc
     o.vtp_encoding = *encoding == "ascii" ? VtpEncoding::Ascii : VtpEncoding::ZlibAppended;
   if (const auto formats = s.string_list("formats")) {
     o.csv = o.vtp = false;
-    for (const auto& f : *formats) {
-      if (f == "csv") o.csv = true;
-      else if (f == "vtp") o.vtp = true;
-      else s.fail("formats", fmt::format("unknown format \"{}\"; expected \"csv\" and/or \"vtp\" "
-                                         "(summary.json is always written)", f));
+    for (const auto& name : *formats) {
+      const auto format = value_of(kOutputFormatNames, name);
+      if (!format)
+        s.fail("formats", fmt::format("unknown format \"{}\"; expected {} (summary.json is always written)", name,
+                                      quoted_names(names_of(kOutputFormatNames), " and/or ")));
+      format_flag(o, *format) = true;
     }
   }
   return o;

@@ -4,18 +4,37 @@
 // [particles], scenario_dynamics.cpp the stages' tables ([material], [dynamics], [deposition],
 // [pour], [tapping]), scenario_settings.cpp the plain settings ([container], [analysis],
 // [limits], [output], [models]), scenario_protocol.cpp [[protocol]]; scenario_json.cpp echoes it.
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "aggpack/core/enum_names.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/io/toml_reader.hpp"
 
 namespace aggpack {
 
 inline constexpr NumberRange kFraction{0.0, 1.0, true, false};
+
+// container.sides: the Container keeps it as its `periodic` flag.
+enum class ContainerSides { Walls, Periodic };
+inline constexpr std::array kContainerSidesNames{EnumName<ContainerSides>{ContainerSides::Walls, "walls"},
+                                                 EnumName<ContainerSides>{ContainerSides::Periodic, "periodic"}};
+
+// output.formats: the files of the bed besides summary.json (OutputSettings' csv and vtp flags).
+enum class OutputFormat { Csv, Vtp };
+inline constexpr std::array kOutputFormatNames{EnumName<OutputFormat>{OutputFormat::Csv, "csv"},
+                                               EnumName<OutputFormat>{OutputFormat::Vtp, "vtp"}};
+// The flag of OutputSettings that says whether `format` is written.
+inline bool& format_flag(OutputSettings& o, OutputFormat format) {
+  return format == OutputFormat::Csv ? o.csv : o.vtp;
+}
+inline bool format_flag(const OutputSettings& o, OutputFormat format) {
+  return format == OutputFormat::Csv ? o.csv : o.vtp;
+}
 
 // The input file that `key` names, from the scenario's folder: one that is not there is
 // refused at the key, with the path it was looked for at (absolute) and the path as given.
