@@ -1,0 +1,28 @@
+#pragma once
+// The subcommands of the aggpack command line, in groups. Each group's function adds its
+// subcommands and their options to the app, in the order `aggpack --help` lists them, and
+// returns for each what runs when it is the one given.
+#include <functional>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+// A subcommand, and what runs when the command line gives it (after parsing): the exit code.
+// It may throw aggpack::InputError (exit code 2) or another exception (1).
+struct Subcommand {
+  CLI::App* app;
+  std::function<int()> run;
+};
+
+// --threads of the subcommands that simulate: 0 (all cores) or 1 to kMaxThreads.
+CLI::Range thread_range();
+
+// run, resume and check (run_commands.cpp).
+std::vector<Subcommand> add_run_commands(CLI::App& app);
+// analyze, grading and predict: one bed or one grading, no simulation (bed_commands.cpp).
+std::vector<Subcommand> add_bed_commands(CLI::App& app);
+// calibrate, whole-grading, reproduce and sweep: series of runs (study_commands.cpp). reproduce
+// finds the shipped scenarios from argv[0] and records the command line.
+std::vector<Subcommand> add_study_commands(CLI::App& app, int argc, char** argv);
+// export-lammps and import-lammps (run_commands.cpp).
+std::vector<Subcommand> add_lammps_commands(CLI::App& app);

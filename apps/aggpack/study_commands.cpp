@@ -1,0 +1,205 @@
+// The subcommands that run series of runs: calibrate, whole-grading, reproduce and sweep.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/run/preflight.hpp"
+#include "aggpack/studies/calibration.hpp"
+#include "aggpack/studies/reproduce.hpp"
+#include "aggpack/studies/sweep.hpp"
+#include "aggpack/studies/whole_grading.hpp"
+#include "arguments.hpp"
+#include "commands.hpp"
+#include "examples_dir.hpp"
+
+namespace {
+
+// The folder of a file to write is checked (and made) before the simulations, not after them.
+void check_output_file(const std::string& option, const std::string& target, std::string_view expected) {
+  const std::filesystem::path out = target;
+  if (std::filesystem::is_directory(out))
+    throw aggpack::InputError(fmt::format("{} {}: a folder; expected {}", option, target, expected));
+  aggpack::check_output_directory(out.has_parent_path() ? out.parent_path() : ".", true);
+}
+
+Subcommand add_calibrate(CLI::App& app) {
+  struct Arguments {
+    aggpack::CalibrationOptions calibration;
+    std::string out;
+  };
+  const auto a = std::make_shared<Arguments>();
+  aggpack::CalibrationOptions& calibration = a->calibration;
+  auto* cmd = app.add_subcommand(
+      "calibrate", "CPM's K and beta from simulations of a scenario's protocol: a monosized bed and the scenario's mix");
+  cmd->add_option("scenario", calibration.scenario, "Scenario of two sizes or more (TOML)")->required();
+  cmd->add_option("--out", a->out, "The calibration file to write (JSON)")->required();
+  cmd->add_option("--seeds", calibration.seeds, "Seeds per packing (default 3)")->check(CLI::Range(1, 100));
+  cmd->add_option("--threads", calibration.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
+  cmd->add_option("--set", calibration.overrides.set, "Override a scenario key: key.path=value");
+  cmd->add_flag("--quiet", calibration.quiet, "Print nothing on success");
+  return {cmd, [a] {
+            check_output_file("--out", a->out, "the calibration file's name");
+            const aggpack::Calibration c = aggpack::calibrate(a->calibration, std::cout);
+            aggpack::write_file_atomically(a->out, aggpack::to_json(c).dump(1) + "\n");
+            if (!a->calibration.quiet)
+              fmt::print("aggpack: calibrated CPM from {} ({}; {} seeds): K = {:.3g} ({:.3g} to {:.3g}), beta = {:.4f} "
+                         "({:.4f} to {:.4f}); monosized {:.4f} ± {:.4f}, mix {:.4f} ± {:.4f}; wrote {}\n",
+                         c.scenario, c.protocol, c.seeds, c.compaction_index, c.compaction_low, c.compaction_high,
+                         c.beta, c.beta_low, c.beta_high, c.monosized.mean, c.monosized.standard_error, c.mix.mean,
+                         c.mix.standard_error, a->out);
+            return 0;
+          }};
+}
+
+struct WholeGradingArguments {
+  aggpack::WholeGradingOptions whole;
+  std::string cuts, out, plot;
+};
+
+int whole_grading_command(WholeGradingArguments& a) {
+  a.whole.cut_offs = lengths_argument(a.cuts, "--cut-offs");
+  a.whole.cut_off_texts = list_parts(a.cuts);
+  for (const auto& [option, target] : {std::pair{"--out", a.out}, std::pair{"--plot", a.plot}})
+    if (!target.empty()) check_output_file(option, target, "a file's name");
+  const aggpack::WholeGradingEstimate e = aggpack::estimate_whole_grading(a.whole, std::cout);
+  if (!a.out.empty()) aggpack::write_file_atomically(a.out, aggpack::to_json(e).dump(1) + "\n");
+  if (!a.plot.empty()) {
+    const aggpack::Plot plot = aggpack::whole_grading_plot(e);
+    aggpack::write_file_atomically(a.plot, aggpack::svg_plot(plot));
+    // The figure's data beside it, under the same name (not over a file named .csv itself).
+    std::filesystem::path data = a.plot;
+    if (data.extension() != ".csv") aggpack::write_file_atomically(data.replace_extension(".csv"), aggpack::plot_csv(plot));
+  }
+  fmt::print("{}", aggpack::describe(e));
+  return 0;
+}
+
+Subcommand add_whole_grading(CLI::App& app) {
+  const auto a = std::make_shared<WholeGradingArguments>();
+  aggpack::WholeGradingOptions& whole = a->whole;
+  auto* cmd = app.add_subcommand(
+      "whole-grading", "The whole grading's density: a series of cut-offs simulated, CPM carrying it below them");
+  cmd->add_option("scenario", whole.scenario, "Scenario sampling a grading or a coarse/fine mix (TOML)")->required();
+  cmd->add_option("--cut-offs", a->cuts, "Three or more d_min of the finest grading, e.g. \"0.1in,0.07in,0.04in\"")
+      ->required();
+  cmd->add_option("--seeds", whole.seeds, "Seeds per cut-off (default 3)")->check(CLI::Range(1, 100));
+  cmd->add_option("--calibration", whole.calibration, "CPM's K and beta from a file aggpack calibrate wrote");
+  cmd->add_option("--out", a->out, "Also write the estimate as JSON to this file");
+  cmd->add_option("--plot", a->plot, "Also draw the density against the volume left out to this SVG file");
+  cmd->add_option("--threads", whole.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
+  cmd->add_option("--set", whole.overrides.set, "Override a scenario key: key.path=value");
+  cmd->add_flag("--quiet", whole.quiet, "Print only the estimate");
+  return {cmd, [a] { return whole_grading_command(*a); }};
+}
+
+struct ReproduceArguments {
+  aggpack::ReproduceOptions reproduce;
+  std::string out, examples_dir, seeds;
+  bool dry_run = false;
+  CLI::Option* examples_opt = nullptr;
+  CLI::Option* seeds_opt = nullptr;
+};
+
+int reproduce_command(ReproduceArguments& a, int argc, char** argv) {
+  aggpack::ReproduceOptions& reproduce = a.reproduce;
+  reproduce.out = a.out;
+  if (a.examples_dir.empty())
+    throw aggpack::InputError("reproduce: cannot tell where this aggpack is installed (no /proc/self/exe), so "
+                              "not where its shipped scenarios are: give --examples DIR");
+  if (!*a.examples_opt && !std::filesystem::is_directory(a.examples_dir))
+    throw aggpack::InputError(fmt::format(
+        "reproduce: no shipped scenarios in {}, where an installed aggpack keeps them (share/aggpack/examples "
+        "beside its bin/; cmake --install puts them there): give --examples DIR",
+        a.examples_dir));
+  reproduce.examples = a.examples_dir;
+  if (*a.seeds_opt) reproduce.seeds = count_argument(a.seeds, "--seeds");
+  if (a.dry_run) {
+    fmt::print("{}", aggpack::describe(aggpack::plan_reproduce(reproduce)));
+    return 0;
+  }
+  for (int k = 0; k < argc; ++k) reproduce.command_line += (k ? " " : "") + std::string(k ? argv[k] : "aggpack");
+  aggpack::reproduce(reproduce, std::cout);
+  return 0;
+}
+
+Subcommand add_reproduce(CLI::App& app, int argc, char** argv) {
+  const auto a = std::make_shared<ReproduceArguments>();
+  aggpack::ReproduceOptions& reproduce = a->reproduce;
+  reproduce.examples = default_examples_dir(argc > 0 ? argv[0] : nullptr);
+  a->out = reproduce.out.string();
+  a->examples_dir = reproduce.examples.string();
+  auto* cmd = app.add_subcommand(
+      "reproduce", "Run the paper's Examples 1, 2 and Table 2 over seeds and write report.html and report.md");
+  cmd->add_flag("--quick", reproduce.quick, "One seed, DEM cut at 0.25 s, short pours, three sensitivity rows (about two minutes)");
+  a->seeds_opt = cmd->add_option("--seeds", a->seeds, "Seeds per case (default 3; 1 with --quick)");
+  cmd->add_flag("--settle-table2", reproduce.settle_table2,
+                "Also settle seed 1 of every Table 2 mix by DEM at E/1000 (hours: see BENCHMARKS.md)");
+  cmd->add_flag("--whole-grading", reproduce.whole_grading,
+                "Also run every Table 2 mix with the sand cut at 0.1, 0.07 and 0.02 in, for its whole grading "
+                "(minutes more: BENCHMARKS.md)");
+  cmd->add_flag("--resume", reproduce.resume,
+                "Continue an interrupted reproduce into the same --out: runs it finished or began are taken "
+                "up from their checkpoints, not run again");
+  cmd->add_option("--out", a->out, "Output directory (default out/reproduce)");
+  a->examples_opt =
+      cmd->add_option("--examples", a->examples_dir, "Folder of the shipped scenarios and fu2003_table2.csv")
+          ->capture_default_str();
+  cmd->add_flag("--dry-run", a->dry_run,
+                "Print the scenarios' folder and the runs this reproduce would make; run nothing");
+  cmd->add_option("--threads", reproduce.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
+  cmd->add_flag("--quiet", reproduce.quiet, "Print nothing on success, no progress line");
+  return {cmd, [a, argc, argv] { return reproduce_command(*a, argc, argv); }};
+}
+
+Subcommand add_sweep(CLI::App& app) {
+  struct Arguments {
+    aggpack::SweepOptions sweep;
+    std::string out, fa, seeds, cuts, stop_after;
+  };
+  const auto a = std::make_shared<Arguments>();
+  aggpack::SweepOptions& sweep = a->sweep;
+  a->out = sweep.out.string();
+  auto* cmd = app.add_subcommand("sweep", "Density against sand fraction for a coarse/fine mix: the densest blend");
+  cmd->add_option("scenario", sweep.scenario, "Scenario with a coarse/fine mix (TOML)")->required();
+  cmd->add_option("--fa", a->fa, "Fine aggregate %: FROM:TO:STEP or a list, e.g. 25:45:5 or 29,35,43")->required();
+  auto* seeds_opt = cmd->add_option("--seeds", a->seeds, "Seeds per point (default 3)");
+  cmd->add_option("--out", a->out, "Output directory (default out/sweep)");
+  cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
+  cmd->add_option("--cut-offs", a->cuts,
+                  "Three or more d_min of the fine grading: each blend's whole grading estimated from them");
+  cmd->add_option("--calibration", sweep.calibration, "CPM's K and beta (with --cut-offs) from aggpack calibrate");
+  auto* stop_opt =
+      cmd->add_option("--stop-after", a->stop_after, "Stop each run after this stage (deposition, dynamics)");
+  cmd->add_option("--threads", sweep.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
+  cmd->add_flag("--resume", sweep.resume,
+                "Continue an interrupted sweep into the same --out: runs it finished or began are taken up "
+                "from their checkpoints, not run again");
+  cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
+  return {cmd, [a, seeds_opt, stop_opt] {
+            aggpack::SweepOptions& options = a->sweep;
+            options.out = a->out;
+            if (*seeds_opt) options.seeds = count_argument(a->seeds, "--seeds");
+            options.fa_percent = aggpack::parse_fa_points(a->fa);
+            if (!a->cuts.empty()) {
+              options.cut_offs = lengths_argument(a->cuts, "--cut-offs");
+              options.cut_off_texts = list_parts(a->cuts);
+            }
+            if (*stop_opt) options.stop_after = a->stop_after;
+            aggpack::sweep(options, std::cout);
+            return 0;
+          }};
+}
+
+}  // namespace
+
+// A braced list is evaluated in order: the subcommands are added, and listed, in this order.
+std::vector<Subcommand> add_study_commands(CLI::App& app, int argc, char** argv) {
+  return {add_calibrate(app), add_whole_grading(app), add_reproduce(app, argc, argv), add_sweep(app)};
+}

@@ -1,0 +1,100 @@
+// The stages' tables: [material], [dynamics], [deposition], [pour] and [tapping].
+#include <string_view>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "aggpack/dynamics/contact_law_registry.hpp"
+#include "scenario_tables.hpp"
+
+namespace aggpack {
+
+Material read_material(const TomlSection& s) {
+  s.allow_only({"density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
+                "friction_particle", "friction_wall", "restitution", "rolling_friction"});
+  Material m;
+  ContactParameters& c = m.contact;
+  const NumberRange poisson{-1.0, 0.5, true, true};
+  m.density = s.number("density", kPositive).value_or(m.density);
+  c.youngs_modulus = s.number("youngs_modulus", kPositive).value_or(c.youngs_modulus);
+  c.poisson_ratio = s.number("poisson_ratio", poisson).value_or(c.poisson_ratio);
+  c.wall_youngs_modulus = s.number("wall_youngs_modulus", kPositive).value_or(c.wall_youngs_modulus);
+  c.wall_poisson_ratio = s.number("wall_poisson_ratio", poisson).value_or(c.wall_poisson_ratio);
+  c.friction_particle = s.number("friction_particle", kNonNegative).value_or(c.friction_particle);
+  c.friction_wall = s.number("friction_wall", kNonNegative).value_or(c.friction_wall);
+  c.restitution = s.number("restitution", kFraction).value_or(c.restitution);
+  c.rolling_friction = s.number("rolling_friction", kNonNegative).value_or(c.rolling_friction);
+  return m;
+}
+
+DynamicsStage read_dynamics(const TomlSection& s, Material& material) {
+  s.allow_only({"friction_model", "time_step", "time_step_safety", "max_time", "sample_interval", "quiet_window",
+                "quiet_kinetic_fraction", "density_tolerance", "layers", "skin", "gravity",
+                "allow_unstable_time_step", "engine", "lammps_ranks", "lammps_binary"});
+  DynamicsStage d;
+  d.engine = s.choice("engine", kDemEngineNames).value_or(d.engine);
+  d.lammps_ranks = static_cast<int>(s.integer("lammps_ranks", 1, 4096).value_or(d.lammps_ranks));
+  d.lammps_binary = s.string("lammps_binary").value_or(d.lammps_binary);
+  if (d.engine != DemEngine::Lammps)
+    for (const char* k : {"lammps_ranks", "lammps_binary"})
+      if (s.has(k)) s.fail(k, "applies only with engine = \"lammps\"");
+  std::vector<std::string_view> laws;
+  for (const ContactLawEntry& law : contact_laws()) laws.push_back(law.name);
+  material.contact.friction_model = s.choice("friction_model", laws).value_or(material.contact.friction_model);
+  d.time_step.fixed = s.number("time_step", {0.0, 1.0, true, false});
+  d.time_step.safety = s.number("time_step_safety", {0.0, 1.0, true, false}).value_or(d.time_step.safety);
+  QuietCriterion& q = d.quiet;
+  q.max_time = s.number("max_time", {0.0, 1e4, true, false}).value_or(q.max_time);
+  q.sample_interval = s.number("sample_interval", {0.0, 1e3, true, false}).value_or(q.sample_interval);
+  q.window = s.number("quiet_window", kPositive).value_or(q.window);
+  if (q.window < q.sample_interval)
+    s.fail("quiet_window", fmt::format("{} s is shorter than the sample interval {} s; expected at least one "
+                                       "sample interval", q.window, q.sample_interval));
+  q.kinetic_fraction = s.number("quiet_kinetic_fraction", kPositive).value_or(q.kinetic_fraction);
+  q.density_tolerance = s.number("density_tolerance", kPositive).value_or(q.density_tolerance);
+  d.layers = static_cast<std::size_t>(s.integer("layers", 1, 10'000).value_or(1));
+  d.dem.skin = s.length("skin").value_or(d.dem.skin);
+  d.allow_unstable_time_step = s.boolean("allow_unstable_time_step").value_or(false);
+  d.dem.gravity = {0.0, 0.0, -s.number("gravity", kPositive).value_or(-d.dem.gravity.z)};
+  return d;
+}
+
+DepositionSettings read_deposition(const TomlSection& s, const Container& container) {
+  s.allow_only({"method", "tolerance", "max_events", "max_redrops", "fill_height"});
+  s.choice("method", {"drop_and_roll"});
+  DepositionSettings d;
+  d.tolerance = s.number("tolerance", {0.0, 1e-3, true, false}).value_or(d.tolerance);
+  d.max_events = static_cast<std::size_t>(s.integer("max_events", 10, 1'000'000).value_or(
+      static_cast<std::int64_t>(d.max_events)));
+  d.max_redrops = static_cast<std::size_t>(s.integer("max_redrops", 0, 1'000'000).value_or(
+      static_cast<std::int64_t>(d.max_redrops)));
+  d.fill_height = s.length("fill_height").value_or(container.height());
+  if (d.fill_height > container.height())
+    s.fail("fill_height", fmt::format("{:.6g} m is above the container height ({:.6g} m)", d.fill_height,
+                                      container.height()));
+  return d;
+}
+
+PourSettings read_pour(const TomlSection& s) {
+  s.allow_only({"solid_fraction", "batches", "velocity", "gap"});
+  PourSettings p;
+  p.solid_fraction = s.number("solid_fraction", {0.0, 0.3, true, false}).value_or(p.solid_fraction);
+  p.batches = static_cast<std::size_t>(s.integer("batches", 1, 10000).value_or(1));
+  p.velocity = s.number("velocity", {0.0, 100.0, false, false}).value_or(p.velocity);
+  // No gap is allowed: the gas's spheres lie inside their slab, so none starts in the bed.
+  p.gap = s.length("gap", kNonNegative);
+  return p;
+}
+
+TappingSettings read_tapping(const TomlSection& s) {
+  s.allow_only({"taps", "intensity", "frequency", "rest_time", "rest_until_quiet"});
+  TappingSettings t;
+  t.taps = static_cast<std::size_t>(s.integer("taps", 1, 100000).value_or(static_cast<std::int64_t>(t.taps)));
+  t.intensity = s.number("intensity", {0.0, 100.0, true, false}).value_or(t.intensity);
+  t.frequency = s.number("frequency", {0.0, 10000.0, true, false}).value_or(t.frequency);
+  t.rest_time = s.number("rest_time", {0.0, 100.0, true, false}).value_or(t.rest_time);
+  t.rest_until_quiet = s.boolean("rest_until_quiet").value_or(t.rest_until_quiet);
+  return t;
+}
+
+}  // namespace aggpack

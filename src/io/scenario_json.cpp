@@ -1,0 +1,185 @@
+// The scenario with every value resolved, in SI units, as summary.json echoes it.
+#include <variant>
+
+#include "aggpack/core/overloaded.hpp"
+#include "scenario_tables.hpp"
+
+namespace aggpack {
+
+namespace {
+
+nlohmann::json grading_source_json(const GradingSource& gs) {
+  nlohmann::json out{{"key", gs.key}, {"grading", gs.grading.name}};
+  for (const Sieve& s : gs.grading.sieves)
+    out["sieves"].push_back({{"sieve", s.name}, {"opening_m", s.opening}, {"percent_passing", s.percent_passing}});
+  if (gs.d_min) out["d_min_m"] = *gs.d_min;
+  if (gs.d_max) out["d_max_m"] = *gs.d_max;
+  if (gs.band) out["band"] = gs.band->name;
+  return out;
+}
+
+nlohmann::json particles_json(const ParticleSource& particles) {
+  nlohmann::json p;
+  if (particles.file) {
+    p["from"] = particles.file->string();
+    p["length_unit_m"] = particles.file_length_unit;
+    p["boundary_overlap_tolerance"] = particles.boundary_overlap_tolerance;
+    if (particles.file_timestep) p["timestep"] = *particles.file_timestep;
+  }
+  if (particles.sizes) {
+    const SizeSpec& spec = *particles.sizes;
+    for (const auto& c : spec.classes) {
+      nlohmann::json cj{{"diameter_m", c.diameter}};
+      if (c.count) cj["count"] = *c.count;
+      if (c.volume_fraction) cj["volume_fraction"] = *c.volume_fraction;
+      p["classes"].push_back(cj);
+    }
+    if (spec.total_count) p["count"] = *spec.total_count;
+    if (spec.solid_volume) p["solid_volume_m3"] = *spec.solid_volume;
+    p["order"] = name_of(kSizeOrderNames, spec.order);
+  }
+  if (const auto& g = particles.graded) {
+    p["gradings"] = nlohmann::json::array({grading_source_json(g->main)});  // {x} alone is x itself under clang
+    if (g->fine) {
+      p["gradings"].push_back(grading_source_json(*g->fine));
+      p["ca_fa"] = g->ca_fa;
+    }
+    p["sampling"] = name_of(kSamplingModeNames, g->sampling);
+    p["order"] = name_of(kMixOrderNames, g->order);
+    if (g->amount.count) p["count"] = *g->amount.count;
+    if (g->amount.solid_volume) p["solid_volume_m3"] = *g->amount.solid_volume;
+    if (g->fill_height) {
+      p["fill_height_m"] = *g->fill_height;
+      p["expected_density"] = g->expected_density;
+    }
+  }
+  return p;
+}
+
+// [deposition], [pour] and [tapping], those given.
+void add_placing_stages(nlohmann::json& j, const Scenario& sc) {
+  if (sc.deposition) {
+    const DepositionSettings& d = *sc.deposition;
+    j["deposition"] = {{"method", "drop_and_roll"},
+                       {"tolerance", d.tolerance},
+                       {"max_events", d.max_events},
+                       {"max_redrops", d.max_redrops},
+                       {"fill_height_m", d.fill_height}};
+  }
+  if (sc.pour) {
+    const PourSettings& pour = *sc.pour;
+    j["pour"] = {{"solid_fraction", pour.solid_fraction}, {"batches", pour.batches}, {"velocity_m_s", pour.velocity}};
+    if (pour.gap) j["pour"]["gap_m"] = *pour.gap;
+  }
+  if (sc.tapping) {
+    const TappingSettings& t = *sc.tapping;
+    j["tapping"] = {{"taps", t.taps},
+                    {"intensity", t.intensity},
+                    {"frequency_hz", t.frequency},
+                    {"rest_time_s", t.rest_time},
+                    {"rest_until_quiet", t.rest_until_quiet}};
+  }
+}
+
+nlohmann::json dynamics_json(const DynamicsStage& d, const Material& material) {
+  const QuietCriterion& q = d.quiet;
+  nlohmann::json j = {{"friction_model", material.contact.friction_model},
+                      {"time_step_safety", d.time_step.safety},
+                      {"max_time_s", q.max_time},
+                      {"sample_interval_s", q.sample_interval},
+                      {"quiet_window_s", q.window},
+                      {"quiet_kinetic_fraction", q.kinetic_fraction},
+                      {"density_tolerance", q.density_tolerance},
+                      {"layers", d.layers},
+                      {"gravity_m_s2", -d.dem.gravity.z}};
+  if (d.time_step.fixed) j["time_step_s"] = *d.time_step.fixed;
+  if (d.allow_unstable_time_step) j["allow_unstable_time_step"] = true;
+  if (d.engine == DemEngine::Lammps) {
+    j["engine"] = "lammps";
+    j["lammps_ranks"] = d.lammps_ranks;
+    j["lammps_binary"] = d.lammps_binary;
+  }
+  if (d.dem.skin > 0.0) j["skin_m"] = d.dem.skin;
+  return j;
+}
+
+nlohmann::json material_json(const Material& m) {
+  const ContactParameters& c = m.contact;
+  return {{"density_kg_m3", m.density},
+          {"youngs_modulus_pa", c.youngs_modulus},
+          {"poisson_ratio", c.poisson_ratio},
+          {"wall_youngs_modulus_pa", c.wall_youngs_modulus},
+          {"wall_poisson_ratio", c.wall_poisson_ratio},
+          {"friction_particle", c.friction_particle},
+          {"friction_wall", c.friction_wall},
+          {"restitution", c.restitution},
+          {"rolling_friction", c.rolling_friction}};
+}
+
+nlohmann::json analysis_json(const AnalysisSettings& analysis) {
+  nlohmann::json j = {{"box_sides_m", analysis.box_sides},
+                      {"placement", "centered"},
+                      {"contact_tolerance", analysis.contact_tolerance}};
+  if (analysis.slice_thickness) j["slice_thickness_m"] = *analysis.slice_thickness;
+  if (analysis.shell_thickness) j["shell_thickness_m"] = *analysis.shell_thickness;
+  return j;
+}
+
+nlohmann::json output_json(const OutputSettings& output) {
+  nlohmann::json formats = nlohmann::json::array();
+  for (const auto& [format, name] : kOutputFormatNames)
+    if (format_flag(output, format)) formats.push_back(name);
+  nlohmann::json j = {{"directory", output.directory.string()},
+                      {"formats", formats},
+                      {"vtp_encoding", output.vtp_encoding == VtpEncoding::Ascii ? "ascii" : "binary"},
+                      {"checkpoint", output.checkpoint},
+                      {"checkpoint_every_s", output.checkpoint_every}};
+  if (output.frame_interval) j["frame_interval_s"] = *output.frame_interval;
+  return j;
+}
+
+}  // namespace
+
+nlohmann::json to_json(const Protocol& protocol) {
+  nlohmann::json steps = nlohmann::json::array();
+  for (const Step& step : protocol.steps)
+    std::visit(Overloaded{[&](const DepositStep& d) {
+                            steps.push_back({{"step", "deposit"}, {"layer", d.layer}, {"layers", d.layers}});
+                          },
+                          [&](const PourStep& d) {
+                            steps.push_back({{"step", "pour"}, {"layer", d.layer}, {"layers", d.layers}});
+                          },
+                          [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
+                          [&](const TapStep&) { steps.push_back({{"step", "tap"}}); },
+                          [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); },
+                          [&](const SnapshotStep& snap) { steps.push_back({{"step", "snapshot"}, {"name", snap.name}}); },
+                          [&](const ExportLammpsStep& x) { steps.push_back({{"step", "export_lammps"}, {"name", x.name}}); },
+                          [&](const ImportLammpsStep& x) {
+                            nlohmann::json j{{"step", "import_lammps"}, {"file", x.file.string()}};
+                            if (x.timestep) j["timestep"] = *x.timestep;
+                            steps.push_back(std::move(j));
+                          }},
+               step.kind);
+  return steps;
+}
+
+nlohmann::json to_json(const Scenario& sc) {
+  nlohmann::json j;
+  if (sc.protocol) j["protocol"] = to_json(*sc.protocol);
+  j["title"] = sc.title;
+  j["seed"] = sc.seed;
+  j["file"] = sc.file.string();
+  const ContainerSides sides = sc.container.periodic ? ContainerSides::Periodic : ContainerSides::Walls;
+  j["container"] = {{"side_m", sc.container.length_x()},
+                    {"height_m", sc.container.height()},
+                    {"sides", name_of(kContainerSidesNames, sides)}};
+  j["particles"] = particles_json(sc.particles);
+  add_placing_stages(j, sc);
+  if (sc.dynamics) j["dynamics"] = dynamics_json(*sc.dynamics, sc.material);
+  j["material"] = material_json(sc.material);
+  j["analysis"] = analysis_json(sc.analysis);
+  j["output"] = output_json(sc.output);
+  return j;
+}
+
+}  // namespace aggpack

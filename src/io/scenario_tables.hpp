@@ -1,0 +1,68 @@
+#pragma once
+// The scenario reader's pieces, one reader per TOML table, shared by its files (private to
+// src/io): scenario.cpp reads the file and calls them in order, scenario_particles.cpp reads
+// [particles], scenario_dynamics.cpp the stages' tables ([material], [dynamics], [deposition],
+// [pour], [tapping]), scenario_settings.cpp the plain settings ([container], [analysis],
+// [limits], [output], [models]), scenario_protocol.cpp [[protocol]]; scenario_json.cpp echoes it.
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "aggpack/core/enum_names.hpp"
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/io/toml_reader.hpp"
+
+namespace aggpack {
+
+inline constexpr NumberRange kFraction{0.0, 1.0, true, false};
+
+// container.sides: the Container keeps it as its `periodic` flag.
+enum class ContainerSides { Walls, Periodic };
+inline constexpr std::array kContainerSidesNames{EnumName<ContainerSides>{ContainerSides::Walls, "walls"},
+                                                 EnumName<ContainerSides>{ContainerSides::Periodic, "periodic"}};
+
+// output.formats: the files of the bed besides summary.json (OutputSettings' csv and vtp flags).
+enum class OutputFormat { Csv, Vtp };
+inline constexpr std::array kOutputFormatNames{EnumName<OutputFormat>{OutputFormat::Csv, "csv"},
+                                               EnumName<OutputFormat>{OutputFormat::Vtp, "vtp"}};
+// The flag of OutputSettings that says whether `format` is written.
+inline bool& format_flag(OutputSettings& o, OutputFormat format) {
+  return format == OutputFormat::Csv ? o.csv : o.vtp;
+}
+inline bool format_flag(const OutputSettings& o, OutputFormat format) {
+  return format == OutputFormat::Csv ? o.csv : o.vtp;
+}
+
+// The input file that `key` names, from the scenario's folder: one that is not there is
+// refused at the key, with the path it was looked for at (absolute) and the path as given.
+std::filesystem::path input_file_at(const TomlSection& s, std::string_view key,
+                                    const std::filesystem::path& scenario_dir, const std::string& given,
+                                    std::string_view what);
+
+// scenario_particles.cpp
+ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
+                              const Container& container);
+
+// scenario_dynamics.cpp
+Material read_material(const TomlSection& s);
+// [dynamics]; its friction_model chooses the contact law of `material`.
+DynamicsStage read_dynamics(const TomlSection& s, Material& material);
+DepositionSettings read_deposition(const TomlSection& s, const Container& container);
+PourSettings read_pour(const TomlSection& s);
+TappingSettings read_tapping(const TomlSection& s);
+
+// scenario_settings.cpp
+Container read_container(const TomlSection& s);
+AnalysisSettings read_analysis(const TomlSection& s);
+RunLimits read_limits(const TomlSection& s);
+OutputSettings read_output(const TomlSection& s, const std::filesystem::path& scenario_file);
+// [models]: the calibration file's path (from the scenario's folder), when it gives one.
+std::optional<std::filesystem::path> read_models(const TomlSection& s, const std::filesystem::path& scenario_file);
+
+// scenario_protocol.cpp: [[protocol]], the steps in order, checked against the tables of `sc`.
+Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& entries, const Scenario& sc);
+
+}  // namespace aggpack
