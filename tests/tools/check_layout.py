@@ -49,10 +49,12 @@ def below(module):
 
 
 def blanked(text):
-    """The text with comments, string and character literals replaced by spaces (lines kept)."""
+    """The text with comments, literals and preprocessor lines replaced by spaces (lines kept)."""
     pattern = re.compile(r'//[^\n]*|/\*.*?\*/|R"([^(]*)\(.*?\)\1"|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'',
                          re.S)
-    return pattern.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
+    text = pattern.sub(lambda m: re.sub(r"[^\n]", " ", m.group(0)), text)
+    # Preprocessor lines too: an #include would otherwise join the head of the next brace.
+    return re.sub(r"(?m)^[ \t]*#[^\n]*", lambda m: " " * len(m.group(0)), text)
 
 
 def long_functions(text):
