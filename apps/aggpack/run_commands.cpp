@@ -10,7 +10,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
-#include "aggpack/run/lammps_bridge.hpp"
+#include "aggpack/run/lammps_steps.hpp"
 #include "aggpack/run/preflight.hpp"
 #include "aggpack/run/run.hpp"
 #include "arguments.hpp"

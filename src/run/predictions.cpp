@@ -142,7 +142,7 @@ Predictions predict(const PredictRequest& r) {
   if (sc) {
     if (!sc->particles.file) return predict_scenario(*sc, parameters);
     // The file's spheres are the distribution, as in the run's summary.
-    const auto max_bytes = static_cast<std::uintmax_t>(sc->limits.max_input_file_gib * double(1u << 30));
+    const auto max_bytes = sc->limits.max_input_bytes();
     const PackingFile file = read_packing_file(*sc->particles.file, sc->particles.file_length_unit,
                                                sc->material.density, max_bytes, sc->particles.file_timestep);
     std::vector<double> diameters;

@@ -62,7 +62,7 @@ std::string memory_limit_text(const Scenario& sc) {
 // inside the container and none coincident, as run_step checks when it comes to it.
 void check_import_step(const Scenario& sc, const ImportLammpsStep& import, const std::vector<double>& bed,
                        const std::string& where) {
-  const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
+  const auto max_bytes = sc.limits.max_input_bytes();
   PackingFile read = read_packing_file(import.file, 1.0, sc.material.density, max_bytes, import.timestep);
   if (!read.format.starts_with("LAMMPS"))
     throw InputError(fmt::format("{}: import_lammps.file: {} is a {} file; expected a LAMMPS dump or data file", where,

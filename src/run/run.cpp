@@ -17,10 +17,12 @@
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/vtk.hpp"
-#include "aggpack/run/lammps_bridge.hpp"
+#include "aggpack/lammps/process.hpp"
+#include "aggpack/run/lammps_steps.hpp"
 #include "aggpack/run/output_folder.hpp"
 #include "aggpack/run/preflight.hpp"
 #include "aggpack/run/steps.hpp"
+#include "run/run_session.hpp"
 
 namespace aggpack {
 
@@ -29,81 +31,6 @@ using Clock = std::chrono::steady_clock;
 // The folder of the DEM's frames in the output folder (frame_file_name).
 constexpr const char* kFramesFolder = "frames";
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-// What a run starts from, every check before work passed: particles read from a file (with
-// their largest overlaps of the container and of each other), or the generated sizes of an
-// empty bed for the deposition and pour stages to fill.
-struct InitialBed {
-  ParticleStore particles;
-  double largest_boundary_overlap = 0.0;
-  PairOverlap largest_pair_overlap;
-  std::string file_format;  // of a particle file: "CSV", "LAMMPS dump, timestep 1000", ...
-  std::optional<GeneratedSizes> sizes;
-};
-InitialBed initial_bed(const Scenario& sc) {
-  check_amount(sc);
-  check_frames(sc);
-  check_lammps_available(sc);
-  InitialBed bed;
-  if (sc.particles.file) {
-    const auto max_bytes = static_cast<std::uintmax_t>(sc.limits.max_input_file_gib * double(1u << 30));
-    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
-                                         max_bytes, sc.particles.file_timestep);
-    bed.particles = std::move(file.particles);
-    bed.file_format = std::move(file.format);
-    if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
-      throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
-                                   sc.particles.file->string(), bed.particles.size(), sc.limits.max_particles));
-    bed.largest_boundary_overlap =
-        fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
-    check_sizes(sc, bed.particles.radius);
-    check_protocol_beds(sc, bed.particles.radius, {});
-    bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
-                                                       sc.particles.soft_contacts, sc.particles.file->string(),
-                                                       sc.limits.max_grid_cells);
-    return bed;
-  }
-  try {
-    bed.sizes = generate_sizes(sc.particles, sc.seed);
-  } catch (const InputError& e) {
-    throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
-  }
-  std::vector<double> radii;
-  radii.reserve(bed.sizes->diameters.size());
-  for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
-  check_sizes(sc, radii);
-  check_protocol_beds(sc, {}, radii);
-  return bed;
-}
-
-// Puts a resumed run where its checkpoint was taken: the reports and beds of the steps done
-// (none when it was taken before the first), and the state of the step in progress for that
-// step to take up. Returns the steps done.
-std::size_t restore_checkpoint(const Checkpoint& checkpoint, const Protocol& protocol, RunReport& report,
-                               RunContext& context) {
-  const std::size_t total = protocol.steps.size();
-  if (checkpoint.steps_completed > total)
-    throw DamagedCheckpoint(fmt::format("it has {} steps done of a protocol of {}", checkpoint.steps_completed, total));
-  // A run state from the first step on (none before it); a step state only inside a step of
-  // aggpack's DEM, the only steps with safe points that save one.
-  const bool started = checkpoint.steps_completed > 0 || !checkpoint.step_state.empty();
-  if (started == checkpoint.run_state.empty())
-    throw DamagedCheckpoint(fmt::format("a run state {} steps done", started ? "missing with" : "with no"));
-  if (!checkpoint.step_state.empty()) {
-    const auto in_dem_step = [&] {
-      const StepKind& kind = protocol.steps[checkpoint.steps_completed].kind;
-      return report.scenario.dynamics && report.scenario.dynamics->engine == DemEngine::Aggpack &&
-             (std::holds_alternative<SettleStep>(kind) || std::holds_alternative<PourStep>(kind) ||
-              std::holds_alternative<TapStep>(kind));
-    };
-    const bool dem = checkpoint.steps_completed < total && in_dem_step();
-    if (!dem) throw DamagedCheckpoint(fmt::format("a step state for step {}, not a DEM step", checkpoint.steps_completed + 1));
-  }
-  if (!checkpoint.run_state.empty()) decode_run_state(checkpoint.run_state, report, context);
-  if (!checkpoint.step_state.empty()) context.resume_state = &checkpoint.step_state;
-  report.resumed_from = checkpoint.where;
-  return checkpoint.steps_completed;
-}
 
 }  // namespace
 
@@ -117,110 +44,9 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
 }
 
 RunReport run(const Scenario& sc, const RunControls& controls, Progress& progress) {
-  Protocol protocol = controls.protocol.value_or(scenario_protocol(sc));
-  if (controls.stop_after) protocol = stop_after(protocol, *controls.stop_after, sc);
-  check_thread_count(controls.threads);
-  RunReport report;
-  report.scenario = sc;
-  auto t0 = Clock::now();
-  InitialBed initial = initial_bed(sc);
-  report.particles = std::move(initial.particles);
-  report.largest_boundary_overlap = initial.largest_boundary_overlap;
-  report.largest_pair_overlap = initial.largest_pair_overlap.depth_over_radius;
-  report.input_format = initial.file_format;
-  const double prepared_s = seconds_since(t0);  // reading the file, or drawing the sizes
-  report.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
-  if (initial.sizes) report.wall_clock_s["sizes"] = prepared_s;
-
-  std::vector<double> radii;
-  if (initial.sizes)
-    for (const double d : initial.sizes->diameters) radii.push_back(0.5 * d);
-  const std::uint64_t fingerprint = input_fingerprint(report.particles, radii);
-  const Checkpoint* resume = controls.resume_from;
-  if (resume && resume->inputs_fingerprint != fingerprint)
-    throw InputError(fmt::format("{}: the run's starting bed is not the one its checkpoint began from: a particle or "
-                                 "grading file the scenario reads has changed since; run the scenario again",
-                                 sc.file.string()));
-
-  // The calibration the predictions will read at the end, read now: a bad file fails before the work.
-  if (sc.models_calibration) (void)read_calibration(*sc.models_calibration);
-  if (controls.before_work) controls.before_work();
-  RunContext context{report, progress, controls.threads, controls.stop, nullptr, nullptr, std::move(radii), 0.0,
-                     std::nullopt};
-  if (initial.sizes) report.sizes = std::move(initial.sizes);
-  // The frames: at the first sample, then at the first sample at or after each multiple k x
-  // frame_interval of the series' time (within a millionth of the interval, so that a sample
-  // meant to fall on a multiple is not missed by a rounding).
-  SampleObserver take_frames;
-  if (controls.on_frame && sc.output.frame_interval) {
-    const double interval = *sc.output.frame_interval;
-    take_frames = [&report, &controls, &sc, interval](double time, const ParticleStore& bed) {
-      constexpr double kSlack = 1e-6;
-      if (time < (static_cast<double>(report.next_frame_multiple) - kSlack) * interval) return;
-      // The DEM lets spheres cross periodic sides; a frame shows them in the box, as the final
-      // bed and the snapshots do (so that a frame of the final bed is recognised as it).
-      std::optional<ParticleStore> wrapped;
-      if (sc.container.periodic) {
-        wrapped = bed;
-        for (Vec3& p : wrapped->position) p = sc.container.wrapped(p);
-      }
-      const ParticleStore& shown = wrapped ? *wrapped : bed;
-      FrameRecord frame{frame_file_name(report.frames.size() + 1), time, bed_fingerprint(shown)};
-      controls.on_frame(frame.file, time, shown, report);
-      report.frames.push_back(std::move(frame));
-      report.next_frame_multiple = static_cast<std::uint64_t>(std::floor(time / interval + kSlack)) + 1;
-    };
-    context.at_sample = &take_frames;
-  }
-  std::optional<Checkpointer> checkpointer;
-  if (controls.checkpoints) {
-    Checkpoint header = controls.checkpoints->header;
-    header.inputs_fingerprint = fingerprint;
-    checkpointer.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),
-                         controls.stop, [&](std::ostream& out) { encode_run_state(out, report, context); });
-    context.safe_point = &*checkpointer;
-  }
-  std::size_t completed = 0;
-  const std::size_t total = protocol.steps.size();
-  if (resume) completed = restore_checkpoint(*resume, protocol, report, context);
-  else if (checkpointer) checkpointer->write(fmt::format("before step 1 of {}", total), nullptr);  // resume can always start here
-  try {
-    for (; completed < total; ++completed) {
-      if (checkpointer) checkpointer->set_steps_completed(completed);
-      // A step resumed in progress goes on from its own safe point.
-      if (!context.resume_state)
-        at_safe_point(context.safe_point, controls.stop, fmt::format("before step {} of {}", completed + 1, total),
-                      nullptr);
-      context.in_step = true;
-      std::visit([&](const auto& kind) { run_step(kind, context); }, protocol.steps[completed].kind);
-      context.in_step = false;
-      context.resume_state = nullptr;
-    }
-    if (checkpointer) checkpointer->set_steps_completed(total);
-    report.simulated_time = context.simulated_time;
-    const bool resumed_with_every_step_done = resume && resume->steps_completed == total;  // that checkpoint stands
-    if (checkpointer && controls.checkpoint_before_final_analysis && !resumed_with_every_step_done)
-      checkpointer->write("before the final analysis", nullptr);
-    at_safe_point(context.safe_point, controls.stop, "before the final analysis", nullptr);
-  } catch (const Interrupted& stop) {
-    progress.clear();
-    report.interrupted = Interruption{stop.signal_number(), stop.where(), completed, total,
-                                      checkpointer ? checkpointer->last_written() : std::nullopt};
-  }
-  if (checkpointer) {
-    report.wall_clock_s["checkpoints"] += checkpointer->seconds_spent();
-    report.checkpoint_error = checkpointer->error();
-  }
-  if (report.interrupted || !controls.final_analysis) return report;
-  report.dynamics_skipped = sc.dynamics && !report.dynamics;
-
-  t0 = Clock::now();
-  progress.start_stage("analysis");
-  progress.update({"virtual boxes"}, 0.0);
-  report.final = analyse_bed(sc, report.particles);
-  progress.clear();
-  report.wall_clock_s["analysis"] = seconds_since(t0);
-  return report;
+  RunSession session(sc, controls, progress);  // every check before work, the bed to start from
+  session.run_steps();
+  return session.finish();
 }
 
 namespace {

@@ -38,23 +38,6 @@ std::string TimeSeries::csv() const {
 }
 
 
-DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
-  const DynamicsStage& stage = *sc.dynamics;
-  if (!std::isfinite(r_min))
-    throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle", sc.file.string()));
-  DemSetup setup{[&] {
-                   try {
-                     return make_contact_model(sc.material.contact);
-                   } catch (const InputError& e) {
-                     throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
-                   }
-                 }(),
-                 stage.dem, stable_time_scale(sc.material.contact, r_min, sc.material.density)};
-  setup.settings.time_step = stage.time_step.step(setup.rayleigh);
-  setup.settings.threads = threads;
-  return setup;
-}
-
 namespace {
 
 using Clock = std::chrono::steady_clock;

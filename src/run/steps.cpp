@@ -8,7 +8,7 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/deposition/drop_and_roll.hpp"
-#include "aggpack/run/lammps_bridge.hpp"
+#include "aggpack/run/lammps_steps.hpp"
 
 namespace aggpack {
 

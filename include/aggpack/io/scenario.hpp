@@ -98,6 +98,9 @@ struct RunLimits {
   std::optional<double> max_memory_gib;  // none: 80 % of the machine's physical memory
   double max_grid_cells = 67108864;  // 2^26 cells of the neighbour grid (256 MiB); at most 2^31
   double max_input_file_gib = 2.0;   // largest particle file read
+  [[nodiscard]] std::uintmax_t max_input_bytes() const {
+    return static_cast<std::uintmax_t>(max_input_file_gib * double(1u << 30));
+  }
   double max_profile_bins = 1e6;     // slices and shells of the profiles
 };
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "aggpack/core/particle_store.hpp"
+#include "aggpack/io/dem_setup.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/progress.hpp"
 #include "aggpack/run/safe_point.hpp"
@@ -45,14 +46,6 @@ struct StageControls {
   CarriedDem* carried = nullptr;  // the run's DEM system, continued from step to step; null: a new one per step
 };
 
-// What every DEM run of a scenario shares: the contact model and the settings, with the time
-// step for the smallest free sphere of radius r_min (its Rayleigh time kept for the report).
-struct DemSetup {
-  ContactModel model;
-  DemSettings settings;
-  double rayleigh = 0.0;
-};
-DemSetup dem_setup(const Scenario& sc, double r_min, int threads);
 
 // Settles the bed with the scenario's [dynamics] and [material] (particles whose layer is
 // below `layer` are frozen), appending samples from `time_offset` on, with `threads` OpenMP

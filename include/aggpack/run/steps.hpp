@@ -10,7 +10,7 @@
 namespace aggpack {
 
 // What the steps of one run share: the report they fill in (its particle store is the bed)
-// and the state that passes from step to step.
+// and the state that passes from step to step. Made by RunSession, by member name.
 struct RunContext {
   RunReport& report;
   Progress& progress;
@@ -18,12 +18,11 @@ struct RunContext {
   const StopRequest* stop = nullptr;            // checked at every safe point; null: never
   SafePoint* safe_point = nullptr;              // the run's checkpointer; null: none
   const std::string* resume_state = nullptr;    // the step in progress at a checkpoint, to continue
-  std::vector<double> radii;                    // the drop sequence, m
+  std::vector<double> radii{};                  // the drop sequence, m
   double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
-  std::optional<std::uint32_t> deposition_stopped_at;  // the layer whose deposition ended early
+  std::optional<std::uint32_t> deposition_stopped_at{};  // the layer whose deposition ended early
   const SampleObserver* at_sample = nullptr;    // at every DEM sample (the frames); null: nothing
-
-  CarriedDem dem;                               // the DEM system consecutive DEM steps continue
+  CarriedDem dem{};                             // the DEM system consecutive DEM steps continue
   bool in_step = false;                         // inside a step (whose safe points save its DEM state)
   [[nodiscard]] StageControls stage_controls() {
     return {threads, stop, safe_point, resume_state, at_sample, &dem};

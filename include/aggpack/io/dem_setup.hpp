@@ -1,0 +1,18 @@
+#pragma once
+
+#include "aggpack/dynamics/contact_law.hpp"
+#include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/io/scenario.hpp"
+
+namespace aggpack {
+
+// What every DEM run of a scenario shares: the contact model and the settings, with the time
+// step for the smallest free sphere of radius r_min (its Rayleigh time kept for the report).
+struct DemSetup {
+  ContactModel model;
+  DemSettings settings;
+  double rayleigh = 0.0;
+};
+DemSetup dem_setup(const Scenario& sc, double r_min, int threads);
+
+}  // namespace aggpack

@@ -1,0 +1,352 @@
+#include "aggpack/lammps/deck.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/overloaded.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/deposition/gas_insertion.hpp"
+#include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/dynamics/pour.hpp"
+#include "aggpack/dynamics/tap.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/lammps_data.hpp"
+
+namespace aggpack {
+
+const std::string& LammpsDeck::text(const std::string& name) const {
+  for (const auto& [file, contents] : files)
+    if (file == name) return contents;
+  throw std::out_of_range("LammpsDeck: no file " + name);
+}
+
+double lammps_skin(const DemSetup& setup, double r_min) {
+  return setup.settings.skin > 0.0 ? setup.settings.skin : DemSystem::default_skin(r_min);
+}
+
+namespace {
+
+// What every deck of a scenario shares: the law, the time step, the sampling.
+struct DeckBasis {
+  const Scenario& sc;
+  const ContactLawEntry& law;
+  DemSetup setup;
+  double skin = 0.0;
+  double g = 0.0;
+  std::size_t steps_per_sample = 1;
+  long long quiet_samples = 1;  // consecutive quiet samples that span the quiet window
+
+  DeckBasis(const Scenario& scenario, double r_min)
+      : sc(scenario), law(contact_law(scenario.material.contact.friction_model)), setup(dem_setup(scenario, r_min, 1)) {
+    skin = lammps_skin(setup, r_min);
+    g = norm(sc.dynamics->dem.gravity);
+    const QuietCriterion& quiet = sc.dynamics->quiet;
+    steps_per_sample = quiet.steps_per_sample(setup.settings.time_step);
+    // Quiet once the samples below the threshold span the window: window / interval + 1 of them.
+    quiet_samples = static_cast<long long>(std::ceil(quiet.window / quiet.sample_interval * (1.0 - 1e-9))) + 1;
+  }
+  [[nodiscard]] double dt() const { return setup.settings.time_step; }
+};
+
+using Out = std::back_insert_iterator<fmt::memory_buffer>;
+
+// The comment block every deck opens with: what it is, how to run it, how it differs.
+void deck_comments(Out o, const DeckBasis& b, const std::string& step, const std::string& deck_file,
+                   const std::string& stopping_rule) {
+  const Scenario& sc = b.sc;
+  fmt::format_to(o, "# aggpack {}: the {} step of {}, seed {}, handed to LAMMPS.\n", kVersion, step, sc.file.string(),
+                 sc.seed);
+  fmt::format_to(o, "# Run it unchanged: lmp -in {0}   or   mpirun -np N lmp -in {0}\n", deck_file);
+  fmt::format_to(o, "# Then: aggpack import-lammps {} --scenario <the scenario> --out <folder>\n",
+                 LammpsDeck::kDumpFile);
+  fmt::format_to(o, "# aggpack's law: {}\n", b.law.describe(sc.material.contact));
+  fmt::format_to(o, "# Differences of definition: {}\n", b.law.lammps_differences);
+  fmt::format_to(o, "# Stopping rule: {}\n", stopping_rule);
+}
+
+// The quiet criterion as the deck applies it (without the density condition).
+std::string quiet_rule(const DeckBasis& b, const std::string& limit) {
+  const QuietCriterion& q = b.sc.dynamics->quiet;
+  return fmt::format(
+      "aggpack's quiet criterion without its density condition (usually met long before\n"
+      "# the energy one): translational kinetic energy of the moving spheres / sum(m g d) below {:g} at\n"
+      "# every sample (every {:g} s) over {:g} s, or {}. Samples start after the first\n"
+      "# interval (aggpack's also at 0 s).",
+      q.kinetic_fraction, q.sample_interval, q.window, limit);
+}
+
+// The system: units, the box from bed.data, the law between spheres, integration, gravity,
+// the neighbour list, the time step and the quantities the stopping rules read.
+void deck_system(Out o, const DeckBasis& b) {
+  const Scenario& sc = b.sc;
+  fmt::format_to(o, "units si\natom_style sphere\nboundary {0} {0} fm\nnewton off\ncomm_modify vel yes\nread_data {1}\n",
+                 sc.container.periodic ? "p" : "f", LammpsDeck::kDataFile);
+  fmt::format_to(o, "group mobile type 1\n");
+  fmt::format_to(o, "pair_style granular\npair_coeff * * {}\n", b.law.lammps_keywords(sc.material.contact, false));
+}
+
+void deck_motion(Out o, const DeckBasis& b) {
+  const Vec3 gravity = b.sc.dynamics->dem.gravity;
+  fmt::format_to(o, "fix integrate mobile nve/sphere\n");
+  if (b.g > 0.0)
+    fmt::format_to(o, "fix gravity mobile gravity {:.17g} vector {:.17g} {:.17g} {:.17g}\n", b.g, gravity.x / b.g,
+                   gravity.y / b.g, gravity.z / b.g);
+  fmt::format_to(o, "neighbor {:.17g} bin\nneigh_modify delay 0 every 1 check yes\ntimestep {:.17g}\n", b.skin, b.dt());
+  // The energy per sum(m g d) of the moving spheres (m d without gravity), as aggpack's samples.
+  fmt::format_to(o, "compute radius all property/atom radius\nvariable top_of atom z+c_radius\n"
+                    "compute top all reduce max v_top_of\n");
+  fmt::format_to(o, "variable weight_of atom mass*{:.17g}*2*c_radius\ncompute weight mobile reduce sum v_weight_of\n",
+                 b.g > 0.0 ? b.g : 1.0);
+  fmt::format_to(o, "compute translational mobile ke\nvariable energy equal c_translational/(c_weight+1e-300)\n");
+  // Thermo output at the end of every run keeps the computes current for the checks between runs.
+  fmt::format_to(o, "thermo_style custom step time atoms v_energy c_top\nthermo {}\n", 100 * b.steps_per_sample);
+}
+
+// The container at rest: fix wall/gran planes (the floor only with periodic sides).
+void deck_static_walls(Out o, const DeckBasis& b) {
+  const Container& c = b.sc.container;
+  const std::string wall = b.law.lammps_keywords(b.sc.material.contact, true);
+  if (!c.periodic) {
+    fmt::format_to(o, "fix wall_x mobile wall/gran granular {} xplane {:.17g} {:.17g}\n", wall, c.bounds.lo.x,
+                   c.bounds.hi.x);
+    fmt::format_to(o, "fix wall_y mobile wall/gran granular {} yplane {:.17g} {:.17g}\n", wall, c.bounds.lo.y,
+                   c.bounds.hi.y);
+  }
+  fmt::format_to(o, "fix floor mobile wall/gran granular {} zplane {:.17g} NULL\n", wall, c.bounds.lo.z);
+}
+
+// Samples of `steps_per_sample` steps until the quiet criterion's energy condition holds or
+// the time reaches `max_time` (s, LAMMPS's clock), at labels `name` and `name`_done.
+void deck_quiet_loop(Out o, const DeckBasis& b, const std::string& name, double max_time) {
+  const QuietCriterion& q = b.sc.dynamics->quiet;
+  fmt::format_to(o, "variable quiet_samples equal 0\nlabel {}\nrun {} pre no post no\n", name, b.steps_per_sample);
+  fmt::format_to(o,
+                 "if \"${{energy}} < {:.17g}\" then \"variable quiet_samples equal $(v_quiet_samples+1)\" "
+                 "else \"variable quiet_samples equal 0\"\n",
+                 q.kinetic_fraction);
+  fmt::format_to(o, "if \"${{quiet_samples}} >= {}\" then \"jump SELF {}_done\"\n", b.quiet_samples, name);
+  fmt::format_to(o, "if \"$(time) >= {:.17g}\" then \"jump SELF {}_done\"\n", max_time * (1.0 - 1e-12), name);
+  fmt::format_to(o, "jump SELF {0}\nlabel {0}_done\n", name);
+}
+
+void deck_end(Out o) {
+  fmt::format_to(o, "print \"aggpack-settled: time $(time) energy ${{energy}} quiet_samples ${{quiet_samples}}\"\n");
+  fmt::format_to(o, "write_dump all custom {} id type x y z radius vx vy vz modify format float %.17g sort id\n",
+                 LammpsDeck::kDumpFile);
+}
+
+double smallest_radius(std::span<const double> radii, double r_min = std::numeric_limits<double>::infinity()) {
+  for (const double r : radii) r_min = std::min(r_min, r);
+  return r_min;
+}
+
+LammpsDeck settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32_t layer) {
+  std::vector<std::uint8_t> frozen(bed.size());
+  double r_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < bed.size(); ++i) {
+    frozen[i] = bed.layer[i] < layer ? 1 : 0;
+    if (!frozen[i]) r_min = std::min(r_min, bed.radius[i]);
+  }
+  const DeckBasis b(sc, r_min);
+  LammpsDeck out;
+  out.step = fmt::format("settle, layer {}", layer + 1);
+  out.deck_file = "settle.in";
+  fmt::memory_buffer d;
+  Out o(d);
+  deck_comments(o, b, out.step, out.deck_file,
+                quiet_rule(b, fmt::format("{:g} s simulated", sc.dynamics->quiet.max_time)));
+  if (std::any_of(frozen.begin(), frozen.end(), [](std::uint8_t f) { return f != 0; }))
+    fmt::format_to(o, "# The spheres of the layers below (atom type 2) are held still, as in aggpack.\n");
+  deck_system(o, b);
+  deck_static_walls(o, b);
+  deck_motion(o, b);
+  // One setup, then the samples without LAMMPS's per-run setup (nothing changes between them).
+  fmt::format_to(o, "run 0 post no\n");
+  deck_quiet_loop(o, b, "settle", sc.dynamics->quiet.max_time);
+  deck_end(o);
+  out.files.emplace_back(LammpsDeck::kDataFile,
+                         lammps_data(bed, sc.container, sc.material.density, sc.container.bounds.hi.z, frozen));
+  out.files.emplace_back(out.deck_file, fmt::to_string(d));
+  return out;
+}
+
+// aggpack's pour (pour_bed) as a deck: the same batches of the same random gas, each lifted to
+// the bed's top plus the gap when it comes in, at the same times, then the settling.
+LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
+                     std::span<const double> radii) {
+  const PourSettings& pour = *sc.pour;
+  const QuietCriterion& quiet = sc.dynamics->quiet;
+  const double r_max = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
+  DeckBasis b(sc, smallest_radius(radii, smallest_radius(bed.radius)));
+  // The skin is chosen for the smallest sphere still to come, as aggpack's pour does.
+  const double gap = pour.gap.value_or(2.0 * r_max);
+  const PourSchedule schedule = pour_schedule(pour, radii.size());
+  const std::size_t batches = schedule.batches;
+  LammpsDeck out;
+  out.step = fmt::format("pour, part {} of {}", step.layer + 1, step.layers);
+  out.deck_file = "pour.in";
+
+  // The gas of each batch, from the pour's own random stream, its heights from the slab's bottom.
+  Rng rng = pour_stream(sc.seed, step.layer);
+  double bed_top = sc.container.bounds.lo.z, highest = bed_top;
+  for (std::size_t i = 0; i < bed.size(); ++i) bed_top = std::max(bed_top, bed.position[i].z + bed.radius[i]);
+  highest = bed_top;
+  std::vector<double> fall_after(batches, 0.0);  // s until the next batch comes
+  const double dt = b.dt();
+  for (std::size_t k = 0; k < batches; ++k) {
+    const std::span<const double> batch = schedule.batch(radii, k);
+    BatchGas gas;
+    try {
+      gas = batch_gas(sc.container, 0.0, batch, pour.solid_fraction, rng);
+    } catch (const PourInsertionError& e) {
+      throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
+    }
+    const InsertionRegion& slab = gas.slab;
+    fall_after[k] = batch_fall_time(pour.velocity, b.g, slab.top);
+    // The highest a slab can reach: every slab above the one before, each a gap higher.
+    highest += gap + slab.top;
+    ParticleStore gas_store;
+    for (std::size_t j = 0; j < batch.size(); ++j) {
+      gas_store.add(gas.positions[j], batch[j], sc.material.density, step.layer);
+      gas_store.velocity.back() = {0.0, 0.0, -pour.velocity};
+    }
+    Container slab_box = sc.container;
+    slab_box.bounds.lo.z = 0.0;
+    out.files.emplace_back(fmt::format("pour_batch_{}.data", k + 1),
+                           lammps_data(gas_store, slab_box, sc.material.density, std::max(slab.top, 1e-300), {}));
+  }
+
+  fmt::memory_buffer d;
+  Out o(d);
+  deck_comments(o, b, out.step, out.deck_file,
+                "the pour as aggpack's: each batch comes once the one before has had the time to fall\n"
+                "# its slab's height (or at max_time), then " +
+                    quiet_rule(b, fmt::format("{:g} s simulated in all", quiet.max_time)));
+  fmt::format_to(o, "# Each pour_batch_<k>.data holds batch k's random gas as aggpack draws it, its heights from the\n"
+                    "# bottom of its slab; it is lifted to the bed's top plus the gap ({:.17g} m) as it comes in.\n",
+                 gap);
+  deck_system(o, b);
+  deck_static_walls(o, b);
+  deck_motion(o, b);
+  fmt::format_to(o, "run 0 post no\n");
+  // The batches, at the sample ends where aggpack's pour lets them in.
+  double time = 0.0;
+  const double sample = static_cast<double>(b.steps_per_sample) * dt;
+  const double floor = sc.container.bounds.lo.z;
+  for (std::size_t k = 0; k < batches; ++k) {
+    fmt::format_to(o, "variable slab_bottom equal $((c_top>{0:.17g})*c_top+(c_top<={0:.17g})*{0:.17g}+{1:.17g})\n",
+                   floor, gap);
+    fmt::format_to(o, "print \"aggpack-batch: {} bottom ${{slab_bottom}}\"\n", k + 1);
+    fmt::format_to(o, "read_data pour_batch_{}.data add append shift 0 0 ${{slab_bottom}} group mobile\n", k + 1);
+    if (k + 1 == batches) break;
+    const double next = time + fall_after[k];
+    std::size_t samples = 0;
+    while (time < std::min(next, quiet.max_time)) time += sample, ++samples;
+    // A new batch changes the atoms: the first run after it sets LAMMPS up again.
+    if (samples > 0) fmt::format_to(o, "run {} post no\n", samples * b.steps_per_sample);
+  }
+  const double poured_at = time;
+  fmt::format_to(o, "run 0 post no\n");
+  deck_quiet_loop(o, b, "settle", poured_at + std::max(quiet.sample_interval, quiet.max_time - poured_at));
+  deck_end(o);
+  out.files.insert(out.files.begin(),
+                   {LammpsDeck::kDataFile,
+                    lammps_data(bed, sc.container, sc.material.density,
+                                std::max(sc.container.bounds.hi.z, highest + 2.0 * r_max), {})});
+  out.files.emplace_back(out.deck_file, fmt::to_string(d));
+  return out;
+}
+
+// aggpack's tapping (tap_bed) as a deck: the container a region whose height follows the
+// taps, its walls `fix wall/gran/region` (the walls' velocity enters the contacts, as in
+// aggpack), a dump after every rest.
+LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
+  const TappingSettings& tapping = *sc.tapping;
+  const DeckBasis b(sc, smallest_radius(bed.radius));
+  const QuietCriterion& quiet = sc.dynamics->quiet;
+  const double omega = 2.0 * std::numbers::pi * tapping.frequency;
+  const double amplitude = tapping.intensity * b.g / (omega * omega);
+  const double dt = b.dt();
+  const double half_period = 0.5 * 2.0 * std::numbers::pi / omega;
+  const Container& c = sc.container;
+  LammpsDeck out;
+  out.step = "tap";
+  out.deck_file = "tap.in";
+  fmt::memory_buffer d;
+  Out o(d);
+  deck_comments(o, b, out.step, out.deck_file,
+                fmt::format("{} taps, each half a sine period of {:g} Hz (amplitude {:.6g} m, peak acceleration "
+                            "{:g} g)\n# of the container, then a rest of {:g} s{}; tap_<k>.dump after each rest.",
+                            tapping.taps, tapping.frequency, amplitude, tapping.intensity, tapping.rest_time,
+                            tapping.rest_until_quiet ? ", ended early once quiet (energy condition over the quiet window)"
+                                                     : ""));
+  fmt::format_to(o, "# The container is a region moved by v_lift; LAMMPS takes its velocity from the change of\n"
+                    "# position over a step (aggpack: the exact derivative).\n");
+  deck_system(o, b);
+  const std::string wall = b.law.lammps_keywords(sc.material.contact, true);
+  fmt::format_to(o, "variable lift equal 0\n");
+  if (c.periodic)
+    fmt::format_to(o, "region container plane 0 0 {:.17g} 0 0 1 side in move NULL NULL v_lift units box\n",
+                   c.bounds.lo.z);
+  else
+    fmt::format_to(o, "region container block {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} INF side in open 6 move NULL "
+                      "NULL v_lift units box\n",
+                   c.bounds.lo.x, c.bounds.hi.x, c.bounds.lo.y, c.bounds.hi.y, c.bounds.lo.z);
+  fmt::format_to(o, "fix container mobile wall/gran/region granular {} region container\n", wall);
+  deck_motion(o, b);
+  fmt::format_to(o, "variable quiet_samples equal 0\nvariable tap equal 1\nrun 0 post no\nlabel tap\n");
+  // The tap: to the step after its end, so the container is at rest again (as aggpack's).
+  fmt::format_to(o, "variable start equal $(time)\n");
+  fmt::format_to(o, "variable lift equal \"(time>v_start)*(time<v_start+{0:.17g})*{1:.17g}*sin({2:.17g}*(time-v_start))\"\n",
+                 half_period, amplitude, omega);
+  fmt::format_to(o, "run {} post no\n", static_cast<std::size_t>(std::ceil(half_period / dt)) + 1);
+  // The rest, in samples; the last one shorter when the rest is not a whole number of them.
+  const auto rest_steps = static_cast<std::size_t>(std::llround(tapping.rest_time / dt));
+  const std::size_t full = rest_steps / b.steps_per_sample, last = rest_steps % b.steps_per_sample;
+  fmt::format_to(o, "variable rest_samples equal 0\nvariable quiet_samples equal 0\nlabel rest\n");
+  if (full > 0) {
+    fmt::format_to(o, "run {} pre no post no\nvariable rest_samples equal $(v_rest_samples+1)\n", b.steps_per_sample);
+    if (tapping.rest_until_quiet) {
+      fmt::format_to(o,
+                     "if \"${{energy}} <= {:.17g}\" then \"variable quiet_samples equal $(v_quiet_samples+1)\" "
+                     "else \"variable quiet_samples equal 0\"\n",
+                     quiet.kinetic_fraction);
+      fmt::format_to(o, "if \"${{quiet_samples}} >= {}\" then \"jump SELF rest_done\"\n", b.quiet_samples);
+    }
+    fmt::format_to(o, "if \"${{rest_samples}} < {}\" then \"jump SELF rest\"\n", full);
+  }
+  if (last > 0) fmt::format_to(o, "run {} pre no post no\n", last);
+  fmt::format_to(o, "label rest_done\n");
+  fmt::format_to(o, "print \"aggpack-tap: ${{tap}} time $(time) energy ${{energy}}\"\n");
+  fmt::format_to(o, "write_dump all custom tap_${{tap}}.dump id type x y z radius modify format float %.17g sort id\n");
+  fmt::format_to(o, "variable tap equal $(v_tap+1)\nif \"${{tap}} <= {}\" then \"jump SELF tap\"\n", tapping.taps);
+  deck_end(o);
+  out.files.emplace_back(LammpsDeck::kDataFile, lammps_data(bed, c, sc.material.density, c.bounds.hi.z, {}));
+  out.files.emplace_back(out.deck_file, fmt::to_string(d));
+  return out;
+}
+
+}  // namespace
+
+LammpsDeck lammps_deck(const Scenario& sc, const ParticleStore& bed, const LammpsStep& step,
+                       std::span<const double> pour_radii) {
+  if (!sc.dynamics) throw InputError(fmt::format("{}: a DEM step needs [dynamics]", sc.file.string()));
+  return std::visit(Overloaded{[&](const SettleStep& s) { return settle_deck(sc, bed, s.layer); },
+                               [&](const PourStep& s) { return pour_deck(sc, bed, s, pour_radii); },
+                               [&](const TapStep&) { return tap_deck(sc, bed); }},
+                    step);
+}
+
+void write_lammps_deck(const std::filesystem::path& folder, const LammpsDeck& deck) {
+  std::filesystem::create_directories(folder);
+  for (const auto& [name, contents] : deck.files) write_file_atomically(folder / name, contents);
+}
+
+}  // namespace aggpack

@@ -1,0 +1,210 @@
+#include "run/run_session.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <variant>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/lammps/process.hpp"
+#include "aggpack/run/calibration_file.hpp"
+#include "aggpack/run/output_folder.hpp"
+#include "aggpack/run/preflight.hpp"
+
+namespace aggpack {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// The steps the run takes: the controls', else the scenario's, cut after --stop-after's stage.
+Protocol run_protocol(const Scenario& sc, const RunControls& controls) {
+  Protocol protocol = controls.protocol.value_or(scenario_protocol(sc));
+  if (controls.stop_after) protocol = stop_after(protocol, *controls.stop_after, sc);
+  return protocol;
+}
+
+// The drop sequence's radii (none for a particle file).
+std::vector<double> drop_radii(const InitialBed& bed) {
+  std::vector<double> radii;
+  if (bed.sizes)
+    for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
+  return radii;
+}
+
+// The frames' slack: a sample meant to fall on a multiple of frame_interval is not missed by a rounding.
+constexpr double kFrameSlack = 1e-6;
+}  // namespace
+
+InitialBed initial_bed(const Scenario& sc) {
+  check_amount(sc);
+  check_frames(sc);
+  check_lammps_available(sc);
+  InitialBed bed;
+  if (sc.particles.file) {
+    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
+                                         sc.limits.max_input_bytes(), sc.particles.file_timestep);
+    bed.particles = std::move(file.particles);
+    bed.file_format = std::move(file.format);
+    if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
+      throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
+                                   sc.particles.file->string(), bed.particles.size(), sc.limits.max_particles));
+    bed.largest_boundary_overlap =
+        fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
+    check_sizes(sc, bed.particles.radius);
+    check_protocol_beds(sc, bed.particles.radius, {});
+    bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
+                                                       sc.particles.soft_contacts, sc.particles.file->string(),
+                                                       sc.limits.max_grid_cells);
+    return bed;
+  }
+  try {
+    bed.sizes = generate_sizes(sc.particles, sc.seed);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
+  }
+  std::vector<double> radii;
+  radii.reserve(bed.sizes->diameters.size());
+  for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
+  check_sizes(sc, radii);
+  check_protocol_beds(sc, {}, radii);
+  return bed;
+}
+
+RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress& progress)
+    : scenario_(sc), controls_(controls), progress_(progress), protocol_(run_protocol(sc, controls)),
+      context_{.report = report_, .progress = progress, .threads = controls.threads, .stop = controls.stop} {
+  check_thread_count(controls.threads);
+  report_.scenario = sc;
+  const auto t0 = Clock::now();
+  InitialBed initial = initial_bed(sc);
+  report_.particles = std::move(initial.particles);
+  report_.largest_boundary_overlap = initial.largest_boundary_overlap;
+  report_.largest_pair_overlap = initial.largest_pair_overlap.depth_over_radius;
+  report_.input_format = initial.file_format;
+  const double prepared_s = seconds_since(t0);  // reading the file, or drawing the sizes
+  report_.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
+  if (initial.sizes) report_.wall_clock_s["sizes"] = prepared_s;
+  context_.radii = drop_radii(initial);
+  const std::uint64_t fingerprint = input_fingerprint(report_.particles, context_.radii);
+  const Checkpoint* resume = controls.resume_from;
+  if (resume && resume->inputs_fingerprint != fingerprint)
+    throw InputError(fmt::format("{}: the run's starting bed is not the one its checkpoint began from: a particle or "
+                                 "grading file the scenario reads has changed since; run the scenario again",
+                                 sc.file.string()));
+  // The calibration the predictions will read at the end, read now: a bad file fails before the work.
+  if (sc.models_calibration) (void)read_calibration(*sc.models_calibration);
+  if (controls.before_work) controls.before_work();
+  if (initial.sizes) report_.sizes = std::move(initial.sizes);
+  if (controls.on_frame && sc.output.frame_interval) {
+    frame_taker_ = [this](double time, const ParticleStore& bed) { take_frames(time, bed); };
+    context_.at_sample = &frame_taker_;
+  }
+  if (controls.checkpoints) {
+    Checkpoint header = controls.checkpoints->header;
+    header.inputs_fingerprint = fingerprint;
+    checkpointer_.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),
+                          controls.stop, [this](std::ostream& out) { encode_run_state(out, report_, context_); });
+    context_.safe_point = &*checkpointer_;
+  }
+  if (resume) completed_ = restore(*resume);
+  else if (checkpointer_)  // resume can always start here
+    checkpointer_->write(fmt::format("before step 1 of {}", protocol_.steps.size()), nullptr);
+}
+
+// The frames: at the first sample, then at the first sample at or after each multiple k x
+// frame_interval of the series' time.
+void RunSession::take_frames(double time, const ParticleStore& bed) {
+  const double interval = *scenario_.output.frame_interval;
+  if (time < (static_cast<double>(report_.next_frame_multiple) - kFrameSlack) * interval) return;
+  // The DEM lets spheres cross periodic sides; a frame shows them in the box, as the final
+  // bed and the snapshots do (so that a frame of the final bed is recognised as it).
+  std::optional<ParticleStore> wrapped;
+  if (scenario_.container.periodic) {
+    wrapped = bed;
+    for (Vec3& p : wrapped->position) p = scenario_.container.wrapped(p);
+  }
+  const ParticleStore& shown = wrapped ? *wrapped : bed;
+  FrameRecord frame{frame_file_name(report_.frames.size() + 1), time, bed_fingerprint(shown)};
+  controls_.on_frame(frame.file, time, shown, report_);
+  report_.frames.push_back(std::move(frame));
+  report_.next_frame_multiple = static_cast<std::uint64_t>(std::floor(time / interval + kFrameSlack)) + 1;
+}
+
+void RunSession::run_steps() {
+  const std::size_t total = protocol_.steps.size();
+  try {
+    for (; completed_ < total; ++completed_) {
+      if (checkpointer_) checkpointer_->set_steps_completed(completed_);
+      // A step resumed in progress goes on from its own safe point.
+      if (!context_.resume_state)
+        at_safe_point(context_.safe_point, controls_.stop, fmt::format("before step {} of {}", completed_ + 1, total),
+                      nullptr);
+      context_.in_step = true;
+      std::visit([&](const auto& kind) { run_step(kind, context_); }, protocol_.steps[completed_].kind);
+      context_.in_step = false;
+      context_.resume_state = nullptr;
+    }
+    if (checkpointer_) checkpointer_->set_steps_completed(total);
+    report_.simulated_time = context_.simulated_time;
+    const Checkpoint* resume = controls_.resume_from;
+    const bool resumed_with_every_step_done = resume && resume->steps_completed == total;  // that checkpoint stands
+    if (checkpointer_ && controls_.checkpoint_before_final_analysis && !resumed_with_every_step_done)
+      checkpointer_->write("before the final analysis", nullptr);
+    at_safe_point(context_.safe_point, controls_.stop, "before the final analysis", nullptr);
+  } catch (const Interrupted& stop) {
+    progress_.clear();
+    report_.interrupted = Interruption{stop.signal_number(), stop.where(), completed_, total,
+                                       checkpointer_ ? checkpointer_->last_written() : std::nullopt};
+  }
+  if (checkpointer_) {
+    report_.wall_clock_s["checkpoints"] += checkpointer_->seconds_spent();
+    report_.checkpoint_error = checkpointer_->error();
+  }
+}
+
+RunReport RunSession::finish() {
+  if (report_.interrupted || !controls_.final_analysis) return std::move(report_);
+  report_.dynamics_skipped = scenario_.dynamics && !report_.dynamics;
+  const auto t0 = Clock::now();
+  progress_.start_stage("analysis");
+  progress_.update({"virtual boxes"}, 0.0);
+  report_.final = analyse_bed(scenario_, report_.particles);
+  progress_.clear();
+  report_.wall_clock_s["analysis"] = seconds_since(t0);
+  return std::move(report_);
+}
+
+// Puts a resumed run where its checkpoint was taken: the reports and beds of the steps done
+// (none when it was taken before the first), and the state of the step in progress for that
+// step to take up. Returns the steps done.
+std::size_t RunSession::restore(const Checkpoint& checkpoint) {
+  const Protocol& protocol = protocol_;
+  RunReport& report = report_;
+  RunContext& context = context_;
+  const std::size_t total = protocol.steps.size();
+  if (checkpoint.steps_completed > total)
+    throw DamagedCheckpoint(fmt::format("it has {} steps done of a protocol of {}", checkpoint.steps_completed, total));
+  // A run state from the first step on (none before it); a step state only inside a step of
+  // aggpack's DEM, the only steps with safe points that save one.
+  const bool started = checkpoint.steps_completed > 0 || !checkpoint.step_state.empty();
+  if (started == checkpoint.run_state.empty())
+    throw DamagedCheckpoint(fmt::format("a run state {} steps done", started ? "missing with" : "with no"));
+  if (!checkpoint.step_state.empty()) {
+    const auto in_dem_step = [&] {
+      const StepKind& kind = protocol.steps[checkpoint.steps_completed].kind;
+      return report.scenario.dynamics && report.scenario.dynamics->engine == DemEngine::Aggpack &&
+             (std::holds_alternative<SettleStep>(kind) || std::holds_alternative<PourStep>(kind) ||
+              std::holds_alternative<TapStep>(kind));
+    };
+    const bool dem = checkpoint.steps_completed < total && in_dem_step();
+    if (!dem) throw DamagedCheckpoint(fmt::format("a step state for step {}, not a DEM step", checkpoint.steps_completed + 1));
+  }
+  if (!checkpoint.run_state.empty()) decode_run_state(checkpoint.run_state, report, context);
+  if (!checkpoint.step_state.empty()) context.resume_state = &checkpoint.step_state;
+  report.resumed_from = checkpoint.where;
+  return checkpoint.steps_completed;
+}
+
+}  // namespace aggpack
