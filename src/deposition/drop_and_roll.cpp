@@ -44,6 +44,85 @@ LinearInZ vertical_normal_component(const Obstacle& o, const Vec3& p) {
   const double s = norm(p - o.centre);
   return {1.0 / s, -o.centre.z / s};
 }
+
+// A sphere with the upward vertical in the cone of its contact normals is held when one of
+// them is the floor or there are three; it then rests on them (the floor alone when it is one).
+// False on one sphere or a ridge: an unstable equilibrium.
+bool held_at_rest(const Descent& descent, const std::vector<Obstacle>& contacts, Supports& supports) {
+  bool on_floor = false;
+  for (int i = 0; i < descent.active_count; ++i) on_floor = on_floor || contacts[descent.active[i]].id == kFloor;
+  if (!on_floor && descent.active_count < 3) return false;
+  for (int i = 0; i < descent.active_count; ++i) supports.ids[i] = contacts[descent.active[i]].id;
+  if (on_floor) supports.ids = {kFloor, kNoSupport, kNoSupport};
+  return true;
+}
+
+// The supports the sphere rolls on: positive coefficients (all of them on a tie), spheres
+// first; none when only walls are left (they never hold: the sphere slides down them).
+struct RollingSupports {
+  std::array<const Obstacle*, 2> on{};
+  int count = 0;
+};
+RollingSupports rolling_supports(const Descent& descent, const std::vector<Obstacle>& contacts, bool tie) {
+  RollingSupports rolling;
+  for (int i = 0; i < descent.active_count && rolling.count < 2; ++i)
+    if (descent.alpha[i] > kLeaving || tie) rolling.on[rolling.count++] = &contacts[descent.active[i]];
+  if (rolling.count == 2 && rolling.on[0]->is_plane) std::swap(rolling.on[0], rolling.on[1]);
+  if (rolling.count >= 1 && rolling.on[0]->is_plane) rolling.count = 0;  // walls alone never hold: slide down them
+  return rolling;
+}
+
+// The circle the sphere at p rolls on, over one support (a great circle about it) or two (the
+// circle about their axis), downhill or, on a tie, in a random direction drawn from `rng`; it
+// ends at its lowest point or where a support is left, whichever comes first (obstacles met
+// on the way are not looked for here).
+Arc rolling_arc(const RollingSupports& rolling, const Vec3& p, const Descent& descent, bool tie, Rng& rng) {
+  const int count = rolling.count;
+  const Obstacle& a = *rolling.on[0];
+  Arc arc;
+  std::array<LinearInZ, 2> lift{};  // n.z of each rolling support as a function of height
+  if (count == 1) {
+    arc.centre = a.centre;
+    arc.e1 = normalized(p - a.centre);
+    if (tie) {
+      const double phi = 2.0 * std::numbers::pi * rng.uniform();
+      const Vec3 u{std::cos(phi), std::sin(phi), 0.0};
+      arc.e2 = normalized(u - dot(u, arc.e1) * arc.e1);
+    } else {
+      arc.e2 = normalized(descent.direction - dot(descent.direction, arc.e1) * arc.e1);
+    }
+  } else {
+    const Obstacle& b = *rolling.on[1];
+    const Vec3 axis = b.is_plane ? b.centre : normalized(b.centre - a.centre);
+    arc.centre = a.centre + dot(p - a.centre, axis) * axis;
+    arc.e1 = normalized(p - arc.centre);
+    const Vec3 tangent = normalized(cross(axis, arc.e1));
+    const double along = tie ? (rng.uniform() < 0.5 ? -1.0 : 1.0) : dot(tangent, descent.direction);
+    arc.e2 = along < 0.0 ? -tangent : tangent;
+    lift[1] = vertical_normal_component(b, p);
+  }
+  lift[0] = vertical_normal_component(a, p);
+  arc.radius = norm(p - arc.centre);
+  // A horizontal circle (two supports one above the other) has no lowest point: allow
+  // half a turn; the events on it end the step.
+  const bool level = std::abs(arc.e1.z) + std::abs(arc.e2.z) < 1e-12;
+  arc.end = level ? ArcAngle::at(std::numbers::pi) : arc.lowest();
+  // Leave a support where its coefficient reaches zero; alpha is linear in the height.
+  const double c = count == 2 ? dot(a.normal(p), rolling.on[1]->normal(p)) : 0.0;
+  for (int i = 0; i < count; ++i) {
+    const LinearInZ& own = lift[i];
+    const LinearInZ& other = lift[1 - i];
+    const double slope = own.slope - (count == 2 ? c * other.slope : 0.0);
+    const double intercept = own.intercept - (count == 2 ? c * other.intercept : 0.0);
+    if (slope == 0.0) continue;
+    const double z_leave = -intercept / slope;
+    if (z_leave >= p.z) continue;  // the coefficient grows on the way down
+    if (const auto t = first_entry(arc.centre.z - z_leave, arc.radius * arc.e1.z, arc.radius * arc.e2.z,
+                                   arc.end, 0.0))
+      arc.end = std::min(arc.end, *t);
+  }
+  return arc;
+}
 }  // namespace
 
 std::string_view to_string(DepositionEnd end) { return name_of(kDepositionEndNames, end); }
@@ -195,74 +274,21 @@ DropResult DropAndRoll::drop(double x, double y, double r) {
 
     bool tie = false;
     if (descent.at_rest()) {
-      bool on_floor = false;
-      for (int i = 0; i < descent.active_count; ++i) on_floor = on_floor || contacts_[descent.active[i]].id == kFloor;
-      if (on_floor || descent.active_count >= 3) {
+      if (held_at_rest(descent, contacts_, out.supports)) {
         out.rested = true;
         out.position = p;
-        for (int i = 0; i < descent.active_count; ++i) out.supports.ids[i] = contacts_[descent.active[i]].id;
-        if (on_floor) out.supports.ids = {kFloor, kNoSupport, kNoSupport};
         return out;
       }
       tie = true;  // balanced on one sphere or on a ridge: an unstable equilibrium
       (descent.active_count == 1 ? out.ties_on_top : out.ties_on_ridge) += 1;
     }
 
-    // The supports the sphere rolls on: positive coefficients, spheres first.
-    std::array<const Obstacle*, 2> rolling{};
-    int count = 0;
-    for (int i = 0; i < descent.active_count && count < 2; ++i)
-      if (descent.alpha[i] > kLeaving || tie) rolling[count++] = &contacts_[descent.active[i]];
-    if (count == 2 && rolling[0]->is_plane) std::swap(rolling[0], rolling[1]);
-    if (count >= 1 && rolling[0]->is_plane) count = 0;  // walls alone never hold: slide down them
-
+    const RollingSupports rolling = rolling_supports(descent, contacts_, tie);
     const Vec3 before = p;
-    if (count == 0) {
+    if (rolling.count == 0) {
       fall(p, r, skip);
     } else {
-      const Obstacle& a = *rolling[0];
-      Arc arc;
-      std::array<LinearInZ, 2> lift{};  // n.z of each rolling support as a function of height
-      if (count == 1) {
-        arc.centre = a.centre;
-        arc.e1 = normalized(p - a.centre);
-        if (tie) {
-          const double phi = 2.0 * std::numbers::pi * rng_.uniform();
-          const Vec3 u{std::cos(phi), std::sin(phi), 0.0};
-          arc.e2 = normalized(u - dot(u, arc.e1) * arc.e1);
-        } else {
-          arc.e2 = normalized(descent.direction - dot(descent.direction, arc.e1) * arc.e1);
-        }
-      } else {
-        const Obstacle& b = *rolling[1];
-        const Vec3 axis = b.is_plane ? b.centre : normalized(b.centre - a.centre);
-        arc.centre = a.centre + dot(p - a.centre, axis) * axis;
-        arc.e1 = normalized(p - arc.centre);
-        const Vec3 tangent = normalized(cross(axis, arc.e1));
-        const double along = tie ? (rng_.uniform() < 0.5 ? -1.0 : 1.0) : dot(tangent, descent.direction);
-        arc.e2 = along < 0.0 ? -tangent : tangent;
-        lift[1] = vertical_normal_component(b, p);
-      }
-      lift[0] = vertical_normal_component(a, p);
-      arc.radius = norm(p - arc.centre);
-      // A horizontal circle (two supports one above the other) has no lowest point: allow
-      // half a turn; the events on it end the step.
-      const bool level = std::abs(arc.e1.z) + std::abs(arc.e2.z) < 1e-12;
-      arc.end = level ? ArcAngle::at(std::numbers::pi) : arc.lowest();
-      // Leave a support where its coefficient reaches zero; alpha is linear in the height.
-      const double c = count == 2 ? dot(a.normal(p), rolling[1]->normal(p)) : 0.0;
-      for (int i = 0; i < count; ++i) {
-        const LinearInZ& own = lift[i];
-        const LinearInZ& other = lift[1 - i];
-        const double slope = own.slope - (count == 2 ? c * other.slope : 0.0);
-        const double intercept = own.intercept - (count == 2 ? c * other.intercept : 0.0);
-        if (slope == 0.0) continue;
-        const double z_leave = -intercept / slope;
-        if (z_leave >= p.z) continue;  // the coefficient grows on the way down
-        if (const auto t = first_entry(arc.centre.z - z_leave, arc.radius * arc.e1.z, arc.radius * arc.e2.z,
-                                       arc.end, 0.0))
-          arc.end = std::min(arc.end, *t);
-      }
+      const Arc arc = rolling_arc(rolling, p, descent, tie, rng_);
       p = arc.point(first_event_on_arc(arc, r, skip));
     }
     without_progress = norm(p - before) < kNoProgress * r ? without_progress + 1 : 0;

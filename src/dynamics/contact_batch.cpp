@@ -14,49 +14,103 @@ namespace aggpack::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
 static_assert(HWY_MAX_BYTES / sizeof(double) <= ContactBatch::kGroup, "a vector must fit in a group of contacts");
 
+// The kernel's parts, each one step of the scalar law. They are HWY_INLINE (always inlined
+// into EvaluateHertzMindlin) and inside this per-target namespace, which HWY_BEFORE_NAMESPACE
+// compiles with the target's instruction set. Vectors pass one by one (by value or by
+// reference): a struct of vectors would not compile for the scalable targets (SVE, RVV).
+using D = hn::ScalableTag<double>;
+using V = hn::Vec<D>;
+using C = ContactBatch;
+
+HWY_INLINE V Load(D d, const ContactBatch& b, C::Column col, std::size_t k) {
+  return hn::LoadU(d, b.contact(k) + col * C::kGroup);
+}
+
+HWY_INLINE void Store(D d, V v, ContactBatch& b, C::Column col, std::size_t k) {
+  hn::StoreU(v, d, b.contact(k) + col * C::kGroup);
+}
+
+HWY_INLINE V MaxOf(V a, V b) { return hn::IfThenElse(hn::Lt(a, b), b, a); }  // std::max(a, b)
+
+// Kinematics (evaluate_each): the unit normal n, the overlap, the relative velocity v at the
+// contact point, and the effective radius and mass of the contacts k .. k + lanes.
+HWY_INLINE void Kinematics(D d, const ContactBatch& b, std::size_t k, V ri, V rj, V& nx, V& ny, V& nz, V& overlap,
+                           V& vx, V& vy, V& vz, V& r_eff, V& m_eff) {
+  const V one = hn::Set(d, 1.0);
+  const V dx = Load(d, b, C::kDx, k), dy = Load(d, b, C::kDy, k), dz = Load(d, b, C::kDz, k);
+  const V mi = Load(d, b, C::kMassI, k), mj = Load(d, b, C::kMassJ, k);
+  const V distance = hn::Sqrt(Load(d, b, C::kDistance2, k));
+  const V reach = ri + rj;
+  const V mass_sum = mi + mj;
+  const V reach_mass = reach * mass_sum;
+  const V q = one / (distance * reach_mass);
+  const V scale = reach_mass * q;
+  nx = dx * scale, ny = dy * scale, nz = dz * scale;
+  overlap = reach - distance;
+  const V sx = Load(d, b, C::kSx, k), sy = Load(d, b, C::kSy, k), sz = Load(d, b, C::kSz, k);
+  vx = Load(d, b, C::kVx, k) + (sy * nz - sz * ny);
+  vy = Load(d, b, C::kVy, k) + (sz * nx - sx * nz);
+  vz = Load(d, b, C::kVz, k) + (sx * ny - sy * nx);
+  r_eff = ri * rj * mass_sum * distance * q;
+  m_eff = mi * mj * reach * distance * q;
+}
+
+// Coulomb's cap on the tangential force f (HertzMindlin::evaluate): where |f| exceeds `cap`,
+// f shrinks to it and the spring u becomes the one that gives it. Sliding is rare in a bed at
+// rest: its square root and two divisions (the costliest operations here) are taken only when
+// a lane slides. The lanes that do not slide keep their values either way, so the bits do not
+// depend on it.
+HWY_INLINE void CapAtFriction(D d, V cap, V kt, V eta_t, V tx, V ty, V tz, V& ux, V& uy, V& uz, V& fx, V& fy,
+                              V& fz) {
+  const V ft2 = fx * fx + fy * fy + fz * fz;
+  const auto sliding = hn::Gt(ft2, cap * cap);
+  if (hn::AllFalse(d, sliding)) return;
+  const V shrink = cap / hn::Sqrt(ft2);
+  const V slid_x = fx * shrink, slid_y = fy * shrink, slid_z = fz * shrink;
+  const V inverse = hn::Set(d, -1.0) / kt;
+  ux = hn::IfThenElse(sliding, (slid_x + tx * eta_t) * inverse, ux);
+  uy = hn::IfThenElse(sliding, (slid_y + ty * eta_t) * inverse, uy);
+  uz = hn::IfThenElse(sliding, (slid_z + tz * eta_t) * inverse, uz);
+  fx = hn::IfThenElse(sliding, slid_x, fx);
+  fy = hn::IfThenElse(sliding, slid_y, fy);
+  fz = hn::IfThenElse(sliding, slid_z, fz);
+}
+
+// Rolling resistance (contact_detail::rolling_torque) of the contacts k .. k + lanes.
+HWY_INLINE void RollingTorque(D d, const ContactBatch& b, std::size_t k, V minus_rolling, V regularisation, V r_eff,
+                              V fn, V& rx, V& ry, V& rz) {
+  const V wx = Load(d, b, C::kWx, k), wy = Load(d, b, C::kWy, k), wz = Load(d, b, C::kWz, k);
+  const V spin_scale = MaxOf(hn::Sqrt(wx * wx + wy * wy + wz * wz) * r_eff, regularisation);
+  const V factor = minus_rolling * r_eff * fn * r_eff / spin_scale;
+  rx = wx * factor;
+  ry = wy * factor;
+  rz = wz * factor;
+}
+
 void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
-  using C = ContactBatch;
-  const hn::ScalableTag<double> d;
-  using V = hn::Vec<decltype(d)>;
+  const D d;
   const ContactCoefficients& c = law.c;
-  const V zero = hn::Zero(d), one = hn::Set(d, 1.0), minus_one = hn::Set(d, -1.0);
+  const V zero = hn::Zero(d);
   const V stiffness_factor = hn::Set(d, (4.0 / 3.0) * c.e_star);
   const V shear_factor = hn::Set(d, 8.0 * c.g_star);
   const V damping = hn::Set(d, c.damping), friction = hn::Set(d, c.friction), step = hn::Set(d, dt);
   const V damping_ratio = hn::Set(d, law.tangential_damping_ratio);
   const V minus_rolling = hn::Set(d, -c.rolling), regularisation = hn::Set(d, kFrictionRegularisation);
   const bool rolling = c.rolling != 0.0;
-  const auto max_of = [&](V a, V b2) { return hn::IfThenElse(hn::Lt(a, b2), b2, a); };  // std::max(a, b)
-  const auto load = [&](C::Column col, std::size_t k) { return hn::LoadU(d, b.contact(k) + col * C::kGroup); };
-  const auto store = [&](V v, C::Column col, std::size_t k) { hn::StoreU(v, d, b.contact(k) + col * C::kGroup); };
   const std::size_t lanes = hn::Lanes(d);
   for (std::size_t k = 0; k < b.size; k += lanes) {
-    const V dx = load(C::kDx, k), dy = load(C::kDy, k), dz = load(C::kDz, k);
-    const V ri = load(C::kRadiusI, k), rj = load(C::kRadiusJ, k), mi = load(C::kMassI, k), mj = load(C::kMassJ, k);
-    // Kinematics (evaluate_each).
-    const V distance = hn::Sqrt(load(C::kDistance2, k));
-    const V reach = ri + rj;
-    const V mass_sum = mi + mj;
-    const V reach_mass = reach * mass_sum;
-    const V q = one / (distance * reach_mass);
-    const V scale = reach_mass * q;
-    const V nx = dx * scale, ny = dy * scale, nz = dz * scale;
-    const V overlap = reach - distance;
-    const V sx = load(C::kSx, k), sy = load(C::kSy, k), sz = load(C::kSz, k);
-    const V vx = load(C::kVx, k) + (sy * nz - sz * ny);
-    const V vy = load(C::kVy, k) + (sz * nx - sx * nz);
-    const V vz = load(C::kVz, k) + (sx * ny - sy * nx);
-    const V r_eff = ri * rj * mass_sum * distance * q;
-    const V m_eff = mi * mj * reach * distance * q;
+    const V ri = Load(d, b, C::kRadiusI, k), rj = Load(d, b, C::kRadiusJ, k);
+    V nx, ny, nz, overlap, vx, vy, vz, r_eff, m_eff;
+    Kinematics(d, b, k, ri, rj, nx, ny, nz, overlap, vx, vy, vz, r_eff, m_eff);
     // HertzMindlin::evaluate: normal force.
     const V sqrt_r_overlap = hn::Sqrt(r_eff * overlap);
     const V stiffness = stiffness_factor * sqrt_r_overlap;
     const V approach = vx * nx + vy * ny + vz * nz;
     const V damping_n = damping * hn::Sqrt(m_eff * stiffness);
-    const V fn = max_of(zero, stiffness * overlap + damping_n * approach);
+    const V fn = MaxOf(zero, stiffness * overlap + damping_n * approach);
     const V tx = vx - nx * approach, ty = vy - ny * approach, tz = vz - nz * approach;
     // The spring follows the contact plane, grows with the sliding, and is capped.
-    V ux = load(C::kUx, k), uy = load(C::kUy, k), uz = load(C::kUz, k);
+    V ux = Load(d, b, C::kUx, k), uy = Load(d, b, C::kUy, k), uz = Load(d, b, C::kUz, k);
     const V normal_part = ux * nx + uy * ny + uz * nz;
     ux = ux - nx * normal_part;
     uy = uy - ny * normal_part;
@@ -68,47 +122,24 @@ void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
     const V eta_t = damping_n * damping_ratio;
     const V minus_kt = hn::Neg(kt);
     V fx = ux * minus_kt - tx * eta_t, fy = uy * minus_kt - ty * eta_t, fz = uz * minus_kt - tz * eta_t;
-    const V cap = friction * fn;
-    const V ft2 = fx * fx + fy * fy + fz * fz;
-    const auto sliding = hn::Gt(ft2, cap * cap);
-    // Sliding is rare in a bed at rest: its square root and two divisions (the costliest
-    // operations here) are taken only when a lane slides. The lanes that do not slide keep
-    // their values either way, so the bits do not depend on it.
-    if (!hn::AllFalse(d, sliding)) {
-      const V shrink = cap / hn::Sqrt(ft2);
-      const V slid_x = fx * shrink, slid_y = fy * shrink, slid_z = fz * shrink;
-      const V inverse = minus_one / kt;
-      ux = hn::IfThenElse(sliding, (slid_x + tx * eta_t) * inverse, ux);
-      uy = hn::IfThenElse(sliding, (slid_y + ty * eta_t) * inverse, uy);
-      uz = hn::IfThenElse(sliding, (slid_z + tz * eta_t) * inverse, uz);
-      fx = hn::IfThenElse(sliding, slid_x, fx);
-      fy = hn::IfThenElse(sliding, slid_y, fy);
-      fz = hn::IfThenElse(sliding, slid_z, fz);
-    }
-    // Rolling resistance (contact_detail::rolling_torque), zero when the law has none.
+    CapAtFriction(d, friction * fn, kt, eta_t, tx, ty, tz, ux, uy, uz, fx, fy, fz);
+    // Rolling resistance, zero when the law has none.
     V rx = zero, ry = zero, rz = zero;
-    if (rolling) {
-      const V wx = load(C::kWx, k), wy = load(C::kWy, k), wz = load(C::kWz, k);
-      const V spin_scale = max_of(hn::Sqrt(wx * wx + wy * wy + wz * wz) * r_eff, regularisation);
-      const V factor = minus_rolling * r_eff * fn * r_eff / spin_scale;
-      rx = wx * factor;
-      ry = wy * factor;
-      rz = wz * factor;
-    }
+    if (rolling) RollingTorque(d, b, k, minus_rolling, regularisation, r_eff, fn, rx, ry, rz);
     // Outputs: the spring, the force on i, and both torques (n x F_t is the same for j).
-    store(ux, C::kUx, k);
-    store(uy, C::kUy, k);
-    store(uz, C::kUz, k);
-    store(fx - nx * fn, C::kFx, k);
-    store(fy - ny * fn, C::kFy, k);
-    store(fz - nz * fn, C::kFz, k);
+    Store(d, ux, b, C::kUx, k);
+    Store(d, uy, b, C::kUy, k);
+    Store(d, uz, b, C::kUz, k);
+    Store(d, fx - nx * fn, b, C::kFx, k);
+    Store(d, fy - ny * fn, b, C::kFy, k);
+    Store(d, fz - nz * fn, b, C::kFz, k);
     const V ax = ny * fz - nz * fy, ay = nz * fx - nx * fz, az = nx * fy - ny * fx;
-    store(ax * ri + rx, C::kTix, k);
-    store(ay * ri + ry, C::kTiy, k);
-    store(az * ri + rz, C::kTiz, k);
-    store(ax * rj - rx, C::kTjx, k);
-    store(ay * rj - ry, C::kTjy, k);
-    store(az * rj - rz, C::kTjz, k);
+    Store(d, ax * ri + rx, b, C::kTix, k);
+    Store(d, ay * ri + ry, b, C::kTiy, k);
+    Store(d, az * ri + rz, b, C::kTiz, k);
+    Store(d, ax * rj - rx, b, C::kTjx, k);
+    Store(d, ay * rj - ry, b, C::kTjy, k);
+    Store(d, az * rj - rz, b, C::kTjz, k);
   }
 }
 

@@ -3,8 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <atomic>
-#include <cstring>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -16,36 +14,19 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_batch.hpp"
-#include "aggpack/spatial/multilevel_grid.hpp"
-#include "core/archive.hpp"
+#include "dem_system_internal.hpp"
 
 namespace aggpack {
 namespace {
 
+using dem_internal::kForceBlock;
+using dem_internal::kThreadedFrom;
 constexpr std::size_t kSumBlock = 1024;  // fixed blocks make sums independent of thread count
-// Below this many particles a step is too short to pay for waking threads (and on a busy
-// machine each barrier can cost a scheduler tick). Results do not depend on it.
-constexpr std::uint32_t kThreadedFrom = 1024;
-// Slots per force block. Larger blocks leave fewer pairs to the cross-block slots (48 bytes
-// each); there must still be several blocks per thread to balance the load. Results depend
-// on it (it fixes the summation order), the thread count does not.
-constexpr std::uint32_t kForceBlock = 2048;
 // Contacts gathered before the law is evaluated on them at once (whole rows: a batch may
 // hold more). Enough for the vector kernel's loop to run long; few enough to stay in cache.
 constexpr std::size_t kBatchContacts = 64;
 // How many list entries ahead the gather prefetches the neighbour's record.
 constexpr std::size_t kPrefetchAhead = 6;
-
-// Interleaves the low 21 bits of a, b and c (Morton code).
-std::uint64_t spread_bits(std::uint64_t v) {
-  v &= 0x1FFFFF;
-  v = (v | v << 32) & 0x1F00000000FFFFull;
-  v = (v | v << 16) & 0x1F0000FF0000FFull;
-  v = (v | v << 8) & 0x100F00F00F00F00Full;
-  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
-  v = (v | v << 2) & 0x1249249249249249ull;
-  return v;
-}
 
 }  // namespace
 
@@ -147,38 +128,6 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
   }
 }
 
-std::vector<std::uint32_t> DemSystem::morton_order() const {
-  // Cells of one mean diameter from the container's corner; ties keep the slot order.
-  const Vec3 lo = container_.bounds.lo;
-  const auto cell = [&](double v, double origin) {
-    const double c = std::floor((v - origin) / morton_cell_);
-    return static_cast<std::uint64_t>(std::clamp(c, 0.0, double{0x1FFFFF}));
-  };
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(n_);
-#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n_; ++i) {
-    const Vec3& x = grain_[i].position;
-    keys[i] = {spread_bits(cell(x.x, lo.x)) | spread_bits(cell(x.y, lo.y)) << 1 | spread_bits(cell(x.z, lo.z)) << 2, i};
-  }
-  std::sort(keys.begin(), keys.end());
-  std::vector<std::uint32_t> from(n_);
-  for (std::uint32_t s = 0; s < n_; ++s) from[s] = keys[s].second;
-  return from;
-}
-
-void DemSystem::reorder(const std::vector<std::uint32_t>& from) {
-  const auto permute = [&](auto& values) {
-    std::remove_reference_t<decltype(values)> reordered(values.size());
-    for (std::uint32_t s = 0; s < n_; ++s) reordered[s] = values[from[s]];
-    values.swap(reordered);
-  };
-  permute(grain_);
-  permute(user_index_);
-  permute(frozen_);
-  permute(load_);
-  for (std::uint32_t s = 0; s < n_; ++s) slot_of_[user_index_[s]] = s;
-}
-
 void DemSystem::write_back() {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::uint32_t s = 0; s < n_; ++s) {
@@ -211,130 +160,6 @@ void DemSystem::check_not_blown_up() const {
                                   "{:.4g} m)",
                                   time_, user, g.position.x, g.position.y));
   }
-}
-
-void DemSystem::build_neighbour_list() {
-  ++rebuilds_;
-  // Before the grid is sized by the spheres' extent: a blown-up bed would ask for billions of cells.
-  check_not_blown_up();
-  const std::uint32_t n = n_;
-  if (container_.periodic)
-    for (Grain& g : grain_) g.position = container_.wrapped(g.position);
-  // The old list names the slots before the reorder: new slot s was old slot from[s].
-  const std::vector<std::uint32_t> from = morton_order();
-  reorder(from);
-  MultilevelGrid grid(container_, p_.radius, grid_bed_volume_);
-  grid.reserve(n);
-  for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, grain_[i].position, grain_[i].radius);
-  const std::uint32_t wall_count = container_.plane_count();
-
-  // Calls add(owner, entry) for every pair found from slot i: a neighbour within the skin,
-  // unless both are frozen, in the row of the lower slot (its owner); then every wall within
-  // the skin of a free slot i. The grid visits a pair of grains of two sizes once, from the
-  // smaller (see for_each_near_larger), and a pair of one size from both: the higher slot
-  // skips it. The exact test is symmetric in i and j (the reach's sum commutes, the minimum
-  // image of -d is -d's), so the pairs are those of a search from every owner.
-  const auto for_each_pair = [&](std::uint32_t i, auto&& add) {
-    const Vec3& xi = grain_[i].position;
-    const double ri = grain_[i].radius;
-    grid.for_each_near_larger(xi, ri, ri + skin_, [&](std::uint32_t j, bool same_level) {
-      if (j == i || (same_level && j < i) || (frozen_[i] && frozen_[j])) return;
-      const double reach = ri + grain_[j].radius + skin_;
-      if (norm2(separation(xi, grain_[j].position)) < reach * reach) add(std::min(i, j), std::max(i, j));
-    });
-    if (frozen_[i]) return;
-    for (std::uint32_t w = 0; w < wall_count; ++w) {
-      Vec3 towards;
-      if (container_.plane_distance(w, xi, towards) < ri + skin_) add(i, n + w);
-    }
-  };
-  // The grid is searched once: each thread keeps the pairs it finds, (owner, entry). A pair
-  // found from i may belong to another thread's row: counts and places are claimed
-  // atomically; each row is sorted afterwards, so the list does not depend on who came first.
-  const auto claim = [](std::uint32_t& counter) {
-    return std::atomic_ref<std::uint32_t>(counter).fetch_add(1, std::memory_order_relaxed);
-  };
-  using Pair = std::pair<std::uint32_t, std::uint32_t>;
-  const std::size_t workers = threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1;
-  std::vector<std::vector<Pair>> pairs_found(workers);
-  std::vector<std::uint32_t> offset(n + 1, 0);
-#pragma omp parallel if (threaded_) num_threads(threads_)
-  {
-    std::vector<Pair>& mine = pairs_found[static_cast<std::size_t>(omp_get_thread_num())];
-    mine.reserve(other_.size() / workers + other_.size() / (8 * workers));  // the last list's size, and some
-#pragma omp for schedule(dynamic, 512)
-    for (std::uint32_t i = 0; i < n; ++i)
-      for_each_pair(i, [&](std::uint32_t owner, std::uint32_t entry) {
-        mine.emplace_back(owner, entry);
-        claim(offset[owner + 1]);
-      });
-  }
-  for (std::uint32_t i = 0; i < n; ++i) offset[i + 1] += offset[i];
-  std::vector<std::uint32_t> other(offset[n]);
-  {
-    std::vector<std::uint32_t> next_free(offset.begin(), offset.end() - 1);
-#pragma omp parallel for schedule(static, 1) if (threaded_) num_threads(threads_)
-    for (std::size_t t = 0; t < workers; ++t) {
-      for (const auto& [owner, entry] : pairs_found[t]) other[claim(next_free[owner])] = entry;
-      std::vector<Pair>().swap(pairs_found[t]);
-    }
-  }
-  std::vector<Vec3> spring(offset[n]);
-#pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto row = other.begin() + offset[i], row_end = other.begin() + offset[i + 1];
-    std::sort(row, row_end);
-    // Carry each contact's tangential history over from the old list, where the pair sat in
-    // the row of its lower old slot (as seen from there: the sign flips if the order did).
-    // Grains admitted since that list (old slots from listed_count_ on) have no history; the
-    // walls' entries were numbered after the old count.
-    const std::uint32_t oi = from[i];
-    if (oi >= listed_count_) continue;
-    for (std::uint32_t k = offset[i]; k < offset[i + 1]; ++k) {
-      const std::uint32_t j = other[k];
-      const std::uint32_t oj = j < n ? from[j] : listed_count_ + (j - n);
-      if (j < n && oj >= listed_count_) continue;
-      const std::uint32_t owner = std::min(oi, oj), partner = std::max(oi, oj);
-      const auto first = other_.begin() + offset_[owner], last = other_.begin() + offset_[owner + 1];
-      const auto found = std::lower_bound(first, last, partner);
-      if (found == last || *found != partner) continue;
-      const Vec3& old = spring_[static_cast<std::size_t>(found - other_.begin())];
-      spring[k] = owner == oi ? old : -old;
-    }
-  }
-  offset_.swap(offset);
-  other_.swap(other);
-  spring_.swap(spring);
-  index_cross_block_entries();
-  listed_position_.resize(n);
-  for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
-  listed_count_ = n;
-  listed_offset_ = container_offset();
-}
-
-void DemSystem::index_cross_block_entries() {
-  const std::uint32_t n = n_;
-  cross_begin_.resize(n);
-  slot_base_.resize(n);
-  reverse_offset_.assign(std::size_t{n} + 1, 0);
-  std::vector<std::uint32_t> cross_end(n);  // where the row's walls begin
-  std::uint32_t slots = 0;
-  for (std::uint32_t i = 0; i < n; ++i) {
-    const auto row = other_.begin() + offset_[i], row_end = other_.begin() + offset_[i + 1];
-    const std::uint32_t block_end = std::min(n, (i / kForceBlock + 1) * kForceBlock);
-    cross_begin_[i] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, block_end) - other_.begin());
-    cross_end[i] = static_cast<std::uint32_t>(std::lower_bound(row, row_end, n) - other_.begin());
-    slot_base_[i] = slots;
-    slots += cross_end[i] - cross_begin_[i];
-    for (std::uint32_t k = cross_begin_[i]; k < cross_end[i]; ++k) ++reverse_offset_[other_[k] + 1];
-  }
-  for (std::uint32_t j = 0; j < n; ++j) reverse_offset_[j + 1] += reverse_offset_[j];
-  reverse_.resize(slots);
-  std::vector<std::uint32_t> filled(reverse_offset_.begin(), reverse_offset_.end() - 1);
-  for (std::uint32_t i = 0; i < n; ++i)
-    for (std::uint32_t k = cross_begin_[i], slot = slot_base_[i]; k < cross_end[i]; ++k, ++slot)
-      reverse_[filled[other_[k]]++] = slot;
-  cross_.assign(slots, {});
 }
 
 std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t first_row, std::uint32_t block_end,
@@ -662,119 +487,6 @@ std::size_t DemSystem::memory_bytes() const {
 void DemSystem::finish() {
   if (container_.periodic)
     for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
-}
-
-namespace {
-constexpr std::uint32_t kStateFormat = 2;  // raise when the members below change
-}  // namespace
-
-// The members in one list for saving and restoring. Not saved: the model and the settings
-// (the scenario's), the thread count and the per-thread batches (they do not change results),
-// and what follows from the list (its cross-block slots: index_cross_block_entries()).
-template <class Archive, class System>
-void DemSystem::archive_state(Archive& ar, System& s) {
-  ar(raw_value(s.container_), s.skin_, s.grid_bed_volume_, s.morton_cell_, s.n_, s.listed_count_, s.free_count_);
-  ar(raw(s.grain_), raw(s.user_index_), raw(s.slot_of_), raw(s.frozen_), raw(s.load_), raw(s.listed_position_));
-  ar(raw(s.offset_), raw(s.other_), raw(s.spring_));
-  ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
-     s.rebuilds_);
-}
-
-void DemSystem::save_state(std::ostream& out) const {
-  cereal::BinaryOutputArchive ar(out);
-  ar(kStateFormat, static_cast<std::uint64_t>(p_.size()));
-  archive_state(ar, *this);
-}
-
-void DemSystem::restore_state(std::string_view bytes) {
-  // What the system was made with (the scenario's container and settings, the store's
-  // particles): the restored state must agree with it.
-  MadeWith made{container_, skin_, grid_bed_volume_, morton_cell_, rest_floor_, rest_top_,
-                std::vector<std::uint8_t>(n_)};
-  for (std::uint32_t s = 0; s < n_; ++s) made.frozen_by_index[user_index_[s]] = frozen_[s];
-  try {
-    CheckedInputArchive ar(bytes);
-    std::uint32_t format = 0;
-    std::uint64_t particles = 0;
-    ar(format, particles);
-    if (format != kStateFormat || particles != p_.size())
-      throw InputError(fmt::format("the DEM state is of format {} for {} particles; this system is of format {} "
-                                   "with {}", format, particles, kStateFormat, p_.size()));
-    archive_state(ar, *this);
-    if (ar.left() > 0) throw InputError(fmt::format("the DEM state has {} bytes after its end", ar.left()));
-  } catch (const cereal::Exception& e) {
-    throw InputError(fmt::format("the DEM state is truncated or damaged ({})", e.what()));
-  }
-  check_restored(made);
-  index_cross_block_entries();
-  threaded_ = n_ >= kThreadedFrom;
-  batches_.assign(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1, ContactBatch{});
-}
-
-void DemSystem::check_restored(const MadeWith& made) const {
-  const auto fail = [](std::string_view what) {
-    throw InputError(fmt::format("the DEM state does not fit its run: {}", what));
-  };
-  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
-  const std::uint32_t n = n_;
-  // The container: the scenario's, moved up or down by its motion only. Its flag is read as a
-  // byte first: any other value than 0 or 1 in a bool is undefined behaviour.
-  unsigned char periodic = 0;
-  std::memcpy(&periodic, &container_.periodic, 1);
-  const Box &box = container_.bounds, &made_box = made.container.bounds;
-  if (periodic != (made.container.periodic ? 1 : 0) || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
-      box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
-      rest_top_ != made.rest_top)
-    fail("its container is not the scenario's");
-  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
-      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_))
-    fail("the container's motion");
-  // Time is counted in steps; the container stands where its motion has it then.
-  if (time_ != static_cast<double>(steps_) * settings_.time_step || force_time_ != time_)
-    fail(fmt::format("its time, {} s, is not its {} steps of {} s", time_, steps_, settings_.time_step));
-  const double offset = motion_.offset(time_);
-  if (box.lo.z != rest_floor_ + offset || box.hi.z != rest_top_ + offset) fail("the container's height");
-  // The sizes the system chose from the store's radii (summed in another order: nearly equal).
-  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(b); };
-  if (skin_ != made.skin || !near(grid_bed_volume_, made.bed_volume) || !near(morton_cell_, made.morton_cell))
-    fail("its skin or grid sizes are not those of its particles");
-
-  // The records: one per particle, each slot a particle of the store, the inverse table its
-  // inverse, and each record the store's particle (the store is written back at every safe point).
-  if (listed_count_ != n || grain_.size() != n || user_index_.size() != n || slot_of_.size() != n ||
-      frozen_.size() != n || load_.size() != n || listed_position_.size() != n)
-    fail("its tables are not one entry per particle");
-  std::size_t free = 0;
-  for (std::uint32_t s = 0; s < n; ++s) {
-    const std::uint32_t i = user_index_[s];
-    if (i >= n || slot_of_[i] != s) fail(fmt::format("slot {} names particle {}, not a permutation", s, i));
-    if (frozen_[s] != made.frozen_by_index[i]) fail(fmt::format("particle {} is frozen where the run has it free, or the reverse", i));
-    free += frozen_[s] ? 0 : 1;
-    const Grain& g = grain_[s];
-    const double inverse_inertia = frozen_[s] ? 0.0 : 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
-    if (!finite(g.position) || !(g.position == p_.position[i] || g.position == made.container.wrapped(p_.position[i])) ||
-        !(g.velocity == p_.velocity[i]) || !(g.angular_velocity == p_.angular_velocity[i]) ||
-        g.radius != p_.radius[i] || g.mass != p_.mass[i] || g.inverse_inertia != inverse_inertia)
-      fail(fmt::format("the record of particle {} is not the particle", i));
-    if (!finite(listed_position_[s]) || !finite(load_[s].force) || !finite(load_[s].torque))
-      fail(fmt::format("the forces or the listed position of particle {}", i));
-  }
-  if (free != free_count_) fail("its count of free particles");
-
-  // The half neighbour list: rows of ascending entries, each a later slot or a wall.
-  const std::uint32_t walls = container_.plane_count();
-  if (offset_.size() != std::size_t{n} + 1 || offset_[0] != 0 || offset_[n] != other_.size() ||
-      spring_.size() != other_.size())
-    fail("its neighbour list's rows");
-  for (std::uint32_t i = 0; i < n; ++i) {
-    if (offset_[i + 1] < offset_[i]) fail(fmt::format("its neighbour list's row {}", i));
-    for (std::uint32_t k = offset_[i]; k < offset_[i + 1]; ++k) {
-      const std::uint32_t j = other_[k];
-      const bool both_frozen = j < n ? frozen_[i] && frozen_[j] : frozen_[i] != 0;
-      if (j <= i || j >= n + walls || (k > offset_[i] && j < other_[k - 1]) || both_frozen || !finite(spring_[k]))
-        fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
-    }
-  }
 }
 
 }  // namespace aggpack

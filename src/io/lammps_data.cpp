@@ -130,6 +130,106 @@ bool is_lammps_data(std::string_view text) {
   return false;
 }
 
+namespace {
+
+// A dump's "ITEM: BOX BOUNDS" line and the three lines of bounds after it.
+Box read_box_bounds(Lines& lines, double length_unit) {
+  const std::string_view bounds = trim(lines.require("ITEM: BOX BOUNDS"));
+  if (!bounds.starts_with("ITEM: BOX BOUNDS")) lines.fail("expected \"ITEM: BOX BOUNDS\"");
+  if (bounds.find("xy") != std::string_view::npos)
+    lines.fail("a triclinic box (xy xz yz): aggpack's containers are rectangular");
+  Box box;
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::vector<std::string> lo_hi = split_words(lines.require("the box bounds"));
+    if (lo_hi.size() != 2) lines.fail("expected two numbers, the box's low and high bound");
+    const double lo = number_field(lines, lo_hi, 0, "low bound") * length_unit;
+    const double hi = number_field(lines, lo_hi, 1, "high bound") * length_unit;
+    (axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z) = lo;
+    (axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z) = hi;
+  }
+  return box;
+}
+
+// Where a snapshot's rows hold what the reader takes, from its "ITEM: ATOMS" line.
+struct DumpColumns {
+  std::vector<std::string> names;
+  std::optional<std::size_t> id, radius, diameter;
+  std::optional<std::size_t> pos[3];
+  bool scaled = false;  // xs ys zs: fractions of the box
+};
+DumpColumns read_atoms_header(Lines& lines) {
+  const std::string_view atoms = trim(lines.require("ITEM: ATOMS"));
+  if (!atoms.starts_with("ITEM: ATOMS")) lines.fail("expected \"ITEM: ATOMS\" and the column names");
+  DumpColumns c;
+  c.names = split_words(atoms.substr(11));
+  const std::vector<std::string>& columns = c.names;
+  const auto column = [&](std::initializer_list<std::string_view> names) -> std::optional<std::size_t> {
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      for (const std::string_view n : names)
+        if (columns[k] == n) return k;
+    return std::nullopt;
+  };
+  c.id = column({"id"});
+  c.radius = column({"radius"}), c.diameter = column({"diameter"});
+  // The position: the three columns of one kind; a kind's value is its own (a scaled one is a
+  // fraction of the box), so columns of different kinds are refused, not read as one.
+  constexpr std::array<std::array<std::string_view, 3>, 3> kinds{{{"x", "y", "z"}, {"xu", "yu", "zu"}, {"xs", "ys", "zs"}}};
+  for (std::size_t kind = 0; kind < kinds.size() && !c.pos[0]; ++kind) {
+    const auto x = column({kinds[kind][0]}), y = column({kinds[kind][1]}), z = column({kinds[kind][2]});
+    if (!x || !y || !z) continue;
+    c.pos[0] = x, c.pos[1] = y, c.pos[2] = z;
+    c.scaled = kind == 2;
+  }
+  if (!c.pos[0]) {
+    std::vector<std::string> found;
+    for (const std::string& name : columns)
+      for (const auto& kind : kinds)
+        if (std::find(kind.begin(), kind.end(), name) != kind.end()) found.push_back(name);
+    if (!found.empty())
+      lines.fail(fmt::format("the position columns \"{}\" are of different kinds: expected all three of one, x y z, "
+                             "xu yu zu or xs ys zs (scaled by the box)",
+                             fmt::join(found, " ")));
+  }
+  if (!c.pos[0] || !(c.radius || c.diameter))
+    lines.fail(fmt::format("the ATOMS columns \"{}\" need x y z (or xu yu zu, xs ys zs) and radius or diameter "
+                           "(for example: dump 1 all custom 1000 bed.dump id type x y z radius)",
+                           fmt::join(columns, " ")));
+  return c;
+}
+
+// Atom row k (from 0) of a snapshot, its fields split: position, radius and id (k + 1
+// when the dump has no ids).
+AtomRow read_atom_row(const Lines& lines, const std::vector<std::string>& f, const DumpColumns& c, const Box& box,
+                      double length_unit, std::int64_t k) {
+  const std::vector<std::string>& columns = c.names;
+  if (f.size() != columns.size())
+    lines.fail(fmt::format("expected {} fields, as ITEM: ATOMS names, got {}", columns.size(), f.size()));
+  Vec3 p;
+  for (int axis = 0; axis < 3; ++axis) {
+    double v = number_field(lines, f, *c.pos[axis], columns[*c.pos[axis]]);
+    if (c.scaled) {
+      const double lo = axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z;
+      const double hi = axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z;
+      v = lo + v * (hi - lo);
+    } else {
+      v *= length_unit;
+    }
+    (axis == 0 ? p.x : axis == 1 ? p.y : p.z) = v;
+  }
+  const double size = number_field(lines, f, c.radius ? *c.radius : *c.diameter, c.radius ? "radius" : "diameter");
+  const double r = (c.radius ? size : 0.5 * size) * length_unit;
+  if (!(r > 0.0)) lines.fail(fmt::format("the {} must be positive", c.radius ? "radius" : "diameter"));
+  std::int64_t atom_id = k + 1;
+  if (c.id) {
+    const auto v = parse_integer(f[*c.id]);
+    if (!v) lines.fail(fmt::format("the id \"{}\" is not an integer", f[*c.id]));
+    atom_id = *v;
+  }
+  return {atom_id, p, r};
+}
+
+}  // namespace
+
 LammpsBed parse_lammps_dump(std::string_view text, const std::string& name, double length_unit, double density,
                             std::optional<std::int64_t> timestep) {
   Lines lines(text, name);
@@ -151,86 +251,14 @@ LammpsBed parse_lammps_dump(std::string_view text, const std::string& name, doub
     // Each row is at least 8 bytes: a count the text cannot hold is refused before memory.
     if (static_cast<std::uint64_t>(*count) > text.size() / 8 + 1)
       lines.fail(fmt::format("{} atoms cannot fit in a file of {} bytes", *count, text.size()));
-    const std::string_view bounds = trim(lines.require("ITEM: BOX BOUNDS"));
-    if (!bounds.starts_with("ITEM: BOX BOUNDS")) lines.fail("expected \"ITEM: BOX BOUNDS\"");
-    if (bounds.find("xy") != std::string_view::npos)
-      lines.fail("a triclinic box (xy xz yz): aggpack's containers are rectangular");
-    Box box;
-    for (int axis = 0; axis < 3; ++axis) {
-      const std::vector<std::string> lo_hi = split_words(lines.require("the box bounds"));
-      if (lo_hi.size() != 2) lines.fail("expected two numbers, the box's low and high bound");
-      const double lo = number_field(lines, lo_hi, 0, "low bound") * length_unit;
-      const double hi = number_field(lines, lo_hi, 1, "high bound") * length_unit;
-      (axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z) = lo;
-      (axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z) = hi;
-    }
-    const std::string_view atoms = trim(lines.require("ITEM: ATOMS"));
-    if (!atoms.starts_with("ITEM: ATOMS")) lines.fail("expected \"ITEM: ATOMS\" and the column names");
-    const std::vector<std::string> columns = split_words(atoms.substr(11));
-    const auto column = [&](std::initializer_list<std::string_view> names) -> std::optional<std::size_t> {
-      for (std::size_t k = 0; k < columns.size(); ++k)
-        for (const std::string_view n : names)
-          if (columns[k] == n) return k;
-      return std::nullopt;
-    };
-    const auto id = column({"id"});
-    const auto radius = column({"radius"}), diameter = column({"diameter"});
-    // The position: the three columns of one kind; a kind's value is its own (a scaled one is a
-    // fraction of the box), so columns of different kinds are refused, not read as one.
-    constexpr std::array<std::array<std::string_view, 3>, 3> kinds{{{"x", "y", "z"}, {"xu", "yu", "zu"}, {"xs", "ys", "zs"}}};
-    std::optional<std::size_t> pos[3];
-    bool scaled = false;
-    for (std::size_t kind = 0; kind < kinds.size() && !pos[0]; ++kind) {
-      const auto x = column({kinds[kind][0]}), y = column({kinds[kind][1]}), z = column({kinds[kind][2]});
-      if (!x || !y || !z) continue;
-      pos[0] = x, pos[1] = y, pos[2] = z;
-      scaled = kind == 2;
-    }
-    if (!pos[0]) {
-      std::vector<std::string> found;
-      for (const std::string& c : columns)
-        for (const auto& kind : kinds)
-          if (std::find(kind.begin(), kind.end(), c) != kind.end()) found.push_back(c);
-      if (!found.empty())
-        lines.fail(fmt::format("the position columns \"{}\" are of different kinds: expected all three of one, x y z, "
-                               "xu yu zu or xs ys zs (scaled by the box)",
-                               fmt::join(found, " ")));
-    }
-    if (!pos[0] || !(radius || diameter))
-      lines.fail(fmt::format("the ATOMS columns \"{}\" need x y z (or xu yu zu, xs ys zs) and radius or diameter "
-                             "(for example: dump 1 all custom 1000 bed.dump id type x y z radius)",
-                             fmt::join(columns, " ")));
+    const Box box = read_box_bounds(lines, length_unit);
+    const DumpColumns columns = read_atoms_header(lines);
     const bool wanted = !timestep || *timestep == *step;
     std::vector<AtomRow> rows;
     if (wanted) rows.reserve(static_cast<std::size_t>(*count));
     for (std::int64_t k = 0; k < *count; ++k) {
       const std::string_view row = lines.require(fmt::format("atom row {} of {}", k + 1, *count));
-      if (!wanted) continue;
-      const std::vector<std::string> f = split_words(row);
-      if (f.size() != columns.size())
-        lines.fail(fmt::format("expected {} fields, as ITEM: ATOMS names, got {}", columns.size(), f.size()));
-      Vec3 p;
-      for (int axis = 0; axis < 3; ++axis) {
-        double v = number_field(lines, f, *pos[axis], columns[*pos[axis]]);
-        if (scaled) {
-          const double lo = axis == 0 ? box.lo.x : axis == 1 ? box.lo.y : box.lo.z;
-          const double hi = axis == 0 ? box.hi.x : axis == 1 ? box.hi.y : box.hi.z;
-          v = lo + v * (hi - lo);
-        } else {
-          v *= length_unit;
-        }
-        (axis == 0 ? p.x : axis == 1 ? p.y : p.z) = v;
-      }
-      const double size = number_field(lines, f, radius ? *radius : *diameter, radius ? "radius" : "diameter");
-      const double r = (radius ? size : 0.5 * size) * length_unit;
-      if (!(r > 0.0)) lines.fail(fmt::format("the {} must be positive", radius ? "radius" : "diameter"));
-      std::int64_t atom_id = k + 1;
-      if (id) {
-        const auto v = parse_integer(f[*id]);
-        if (!v) lines.fail(fmt::format("the id \"{}\" is not an integer", f[*id]));
-        atom_id = *v;
-      }
-      rows.push_back({atom_id, p, r});
+      if (wanted) rows.push_back(read_atom_row(lines, split_words(row), columns, box, length_unit, k));
     }
     if (!wanted) continue;
     LammpsBed bed;

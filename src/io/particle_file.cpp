@@ -79,6 +79,77 @@ std::optional<Columns> columns_from_header(const std::vector<std::string>& names
   }
   return c;
 }
+
+// What a file's rows hold: where x, y, z and the size are, and how many fields a row may
+// have. A CSV row needs at least the named columns (others are ignored); a whitespace row has
+// exactly four numbers, or exactly as many fields as its header names.
+struct RowLayout {
+  Columns columns;
+  std::size_t min_fields = 4, max_fields = 4;
+  bool has_header = false;
+};
+
+// The layout that a header line (its fields, split) sets; throws when it does not name each
+// of the columns once.
+RowLayout layout_from_header(const std::vector<std::string>& fields, bool csv, const std::string& line,
+                             const std::string& name, std::size_t line_no) {
+  if (const auto twice = repeated_column(fields))
+    throw InputError(fmt::format("{}:{}: the header names the column \"{}\" twice; expected each of x, y, z "
+                                 "and r (or radius, d, diameter) once",
+                                 name, line_no, *twice));
+  const auto header = columns_from_header(fields);
+  if (!header)
+    throw InputError(fmt::format(
+        "{}:{}: a {} particle file needs a header naming the columns x, y, z and r (or radius, d, "
+        "diameter){}; got \"{}\"",
+        name, line_no, csv ? "CSV" : "whitespace-separated",
+        csv ? "" : ", or rows of exactly four numbers x y z r", line));
+  RowLayout layout;
+  layout.columns = *header;
+  layout.has_header = true;
+  if (csv) {
+    layout.min_fields = *std::max_element(layout.columns.index.begin(), layout.columns.index.end()) + 1;
+    layout.max_fields = std::numeric_limits<std::size_t>::max();
+  } else {
+    layout.min_fields = layout.max_fields = fields.size();
+  }
+  return layout;
+}
+
+// Throws when a row of `count` fields does not fit the layout.
+void check_field_count(std::size_t count, const RowLayout& layout, bool csv, const std::string& name,
+                       std::size_t line_no) {
+  if (count >= layout.min_fields && count <= layout.max_fields) return;
+  if (csv)
+    throw InputError(fmt::format("{}:{}: expected {} comma-separated fields per row, got {}", name,
+                                 line_no, layout.min_fields, count));
+  if (!layout.has_header)
+    throw InputError(fmt::format(
+        "{}:{}: expected exactly 4 numbers per row (x y z r), got {}{}", name, line_no, count,
+        count > 4 ? "; a file with more columns (a LAMMPS dump body: id type x y z radius) needs a "
+                    "header line naming them, e.g. \"id type x y z radius\""
+                  : ""));
+  throw InputError(fmt::format("{}:{}: expected {} fields per row, as the header names, got {}", name,
+                               line_no, layout.min_fields, count));
+}
+
+// Adds the particle of a data row (its fields, split) to the store.
+void add_particle(ParticleStore& store, const std::vector<std::string>& fields, const Columns& columns,
+                  double length_unit, double density, const std::string& name, std::size_t line_no) {
+  double v[4];
+  for (std::size_t k = 0; k < 4; ++k) {
+    const auto value = to_number(fields[columns.index[k]]);
+    if (!value)
+      throw InputError(fmt::format("{}:{}: field {} (\"{}\") is not a number", name, line_no,
+                                   columns.index[k] + 1, fields[columns.index[k]]));
+    v[k] = *value * length_unit;
+  }
+  const double r = columns.size_is_diameter ? 0.5 * v[3] : v[3];
+  if (!(r > 0.0))
+    throw InputError(fmt::format("{}:{}: the {} must be positive, got {}", name, line_no,
+                                 columns.size_is_diameter ? "diameter" : "radius", fields[columns.index[3]]));
+  store.add({v[0], v[1], v[2]}, r, density);
+}
 }  // namespace
 
 PackingFile read_packing_file(const std::filesystem::path& file, double length_unit, double density,
@@ -112,12 +183,8 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
   std::string line;
   std::size_t line_no = 0;
   std::size_t line_start = 0;
-  Columns columns;
+  RowLayout layout;
   std::optional<bool> csv;
-  // A CSV row needs at least the named columns (others are ignored); a whitespace row has
-  // exactly four numbers, or exactly as many fields as its header names.
-  std::size_t min_fields = 4, max_fields = 4;
-  bool has_header = false;
   while (line_start < text.size()) {
     const std::size_t end = std::min(text.find('\n', line_start), text.size());
     line.assign(text.substr(line_start, end - line_start));
@@ -128,59 +195,18 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
       throw InputError(fmt::format("{}:{}: a NUL byte: this is not a text file", name, line_no));
     if (is_blank_or_comment(line)) continue;
     if (!csv) {
+      // The first row: a header unless it is a whitespace-separated row of numbers.
       csv = line.find(',') != std::string::npos;
       const auto fields = split(line, *csv);
       const bool numeric = std::all_of(fields.begin(), fields.end(), [](const std::string& f) { return to_number(f); });
       if (*csv || !numeric) {
-        if (const auto twice = repeated_column(fields))
-          throw InputError(fmt::format("{}:{}: the header names the column \"{}\" twice; expected each of x, y, z "
-                                       "and r (or radius, d, diameter) once",
-                                       name, line_no, *twice));
-        const auto header = columns_from_header(fields);
-        if (!header)
-          throw InputError(fmt::format(
-              "{}:{}: a {} particle file needs a header naming the columns x, y, z and r (or radius, d, "
-              "diameter){}; got \"{}\"",
-              name, line_no, *csv ? "CSV" : "whitespace-separated",
-              *csv ? "" : ", or rows of exactly four numbers x y z r", line));
-        columns = *header;
-        has_header = true;
-        if (*csv) {
-          min_fields = *std::max_element(columns.index.begin(), columns.index.end()) + 1;
-          max_fields = std::numeric_limits<std::size_t>::max();
-        } else {
-          min_fields = max_fields = fields.size();
-        }
+        layout = layout_from_header(fields, *csv, line, name, line_no);
         continue;
       }
     }
     const auto fields = split(line, *csv);
-    if (fields.size() < min_fields || fields.size() > max_fields) {
-      if (*csv)
-        throw InputError(fmt::format("{}:{}: expected {} comma-separated fields per row, got {}", name,
-                                     line_no, min_fields, fields.size()));
-      if (!has_header)
-        throw InputError(fmt::format(
-            "{}:{}: expected exactly 4 numbers per row (x y z r), got {}{}", name, line_no, fields.size(),
-            fields.size() > 4 ? "; a file with more columns (a LAMMPS dump body: id type x y z radius) needs a "
-                                "header line naming them, e.g. \"id type x y z radius\""
-                              : ""));
-      throw InputError(fmt::format("{}:{}: expected {} fields per row, as the header names, got {}", name,
-                                   line_no, min_fields, fields.size()));
-    }
-    double v[4];
-    for (std::size_t k = 0; k < 4; ++k) {
-      const auto value = to_number(fields[columns.index[k]]);
-      if (!value)
-        throw InputError(fmt::format("{}:{}: field {} (\"{}\") is not a number", name, line_no,
-                                     columns.index[k] + 1, fields[columns.index[k]]));
-      v[k] = *value * length_unit;
-    }
-    const double r = columns.size_is_diameter ? 0.5 * v[3] : v[3];
-    if (!(r > 0.0))
-      throw InputError(fmt::format("{}:{}: the {} must be positive, got {}", name, line_no,
-                                   columns.size_is_diameter ? "diameter" : "radius", fields[columns.index[3]]));
-    store.add({v[0], v[1], v[2]}, r, density);
+    check_field_count(fields.size(), layout, *csv, name, line_no);
+    add_particle(store, fields, layout.columns, length_unit, density, name, line_no);
   }
   if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", name));
   file.format = csv.value_or(false) ? "CSV" : "whitespace-separated text";

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -124,122 +125,148 @@ std::pair<Axis, Axis> plot_axes(const Plot& plot) {
   return {x, y};
 }
 
-std::string svg_plot(const Plot& plot) {
-  // Named, not bound: lambdas below capture them (clang before 16 cannot capture bindings).
-  const auto axes = plot_axes(plot);
-  const auto& x_axis = axes.first;
-  const auto& y_axis = axes.second;
-  const double w = kWidth - kLeft - kRight, h = kHeight - kTop - kBottom;
-  const auto px = [&](double x) {
+namespace {
+
+// The plot area (inside the margins) and where a data point falls on it, in pixels.
+struct PlotArea {
+  PlotArea(Axis x, Axis y) : x_axis(std::move(x)), y_axis(std::move(y)) {}
+  Axis x_axis, y_axis;
+  double w = kWidth - kLeft - kRight, h = kHeight - kTop - kBottom;
+
+  [[nodiscard]] double px(double x) const {
     const double t = x_axis.log ? std::log10(x / x_axis.lo) / std::log10(x_axis.hi / x_axis.lo)
                                 : (x - x_axis.lo) / (x_axis.hi - x_axis.lo);
     return kLeft + t * w;
-  };
-  const auto py = [&](double y) { return kTop + (1.0 - (y - y_axis.lo) / (y_axis.hi - y_axis.lo)) * h; };
-  const auto inside = [&](double x, double y) {
+  }
+  [[nodiscard]] double py(double y) const { return kTop + (1.0 - (y - y_axis.lo) / (y_axis.hi - y_axis.lo)) * h; }
+  [[nodiscard]] bool inside(double x, double y) const {
     return std::isfinite(x) && std::isfinite(y) && (!x_axis.log || x > 0) && x >= x_axis.lo - 1e-12 &&
            x <= x_axis.hi + 1e-12 && y >= y_axis.lo - 1e-12 && y <= y_axis.hi + 1e-12;
-  };
+  }
+};
 
-  // The body; the root element, whose height depends on where the legend goes, comes last.
+// The title, the grid lines with their tick labels, the frame and the axis labels.
+std::string frame_svg(const Plot& plot, const PlotArea& a) {
   std::string svg = fmt::format("<text x=\"{}\" y=\"22\" text-anchor=\"middle\" font-size=\"14\">{}</text>\n",
-                                kLeft + w / 2, xml_escape(plot.title));
-  for (const double t : x_axis.ticks)
+                                kLeft + a.w / 2, xml_escape(plot.title));
+  for (const double t : a.x_axis.ticks)
     svg += fmt::format("<line x1=\"{0:.2f}\" y1=\"{1}\" x2=\"{0:.2f}\" y2=\"{2}\" stroke=\"#ddd\"/>"
                        "<text x=\"{0:.2f}\" y=\"{3}\" text-anchor=\"middle\">{4}</text>\n",
-                       px(t), kTop, kTop + h, kTop + h + 16, tick_label(t, x_axis));
-  for (const double t : y_axis.ticks)
+                       a.px(t), kTop, kTop + a.h, kTop + a.h + 16, tick_label(t, a.x_axis));
+  for (const double t : a.y_axis.ticks)
     svg += fmt::format("<line x1=\"{0}\" y1=\"{1:.2f}\" x2=\"{2}\" y2=\"{1:.2f}\" stroke=\"#ddd\"/>"
                        "<text x=\"{3}\" y=\"{4:.2f}\" text-anchor=\"end\">{5}</text>\n",
-                       kLeft, py(t), kLeft + w, kLeft - 6, py(t) + 4, tick_label(t, y_axis));
+                       kLeft, a.py(t), kLeft + a.w, kLeft - 6, a.py(t) + 4, tick_label(t, a.y_axis));
   svg += fmt::format("<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" fill=\"none\" stroke=\"black\"/>\n", kLeft,
-                     kTop, w, h);
-  svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", kLeft + w / 2, kHeight - 12,
+                     kTop, a.w, a.h);
+  svg += fmt::format("<text x=\"{}\" y=\"{}\" text-anchor=\"middle\">{}</text>\n", kLeft + a.w / 2, kHeight - 12,
                      xml_escape(plot.x_label));
   svg += fmt::format("<text transform=\"translate(16 {}) rotate(-90)\" text-anchor=\"middle\">{}</text>\n",
-                     kTop + h / 2, xml_escape(plot.y_label));
+                     kTop + a.h / 2, xml_escape(plot.y_label));
+  return svg;
+}
 
-  // The series first, remembering every pixel they mark: the legend goes where it hides none.
-  std::vector<std::pair<double, double>> marked;  // pixels of points, error bars and lines
-  const auto mark_segment = [&](double x0, double y0, double x1, double y1) {
-    const int steps = std::max(1, static_cast<int>(std::hypot(x1 - x0, y1 - y0) / 3.0));
-    for (int k = 0; k <= steps; ++k)
-      marked.emplace_back(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps);
-  };
-  // Each label in lines that keep the legend inside the plot area (a long one ran past the
-  // plot and covered the y axis): its width at about 6.6 px per character at 12 px.
-  constexpr double kPixelsPerCharacter = 6.6, kLegendPadding = 44;
-  const auto max_characters = static_cast<std::size_t>((w - 12 - kLegendPadding) / kPixelsPerCharacter);
-  std::vector<std::vector<std::string>> label_lines;
-  std::size_t next_colour = 0, legend_lines = 0, longest = 0;
+// Pixels of the points, error bars and lines drawn: the legend goes where it hides none.
+using Marked = std::vector<std::pair<double, double>>;
+
+void mark_segment(Marked& marked, double x0, double y0, double x1, double y1) {
+  const int steps = std::max(1, static_cast<int>(std::hypot(x1 - x0, y1 - y0) / 3.0));
+  for (int k = 0; k <= steps; ++k) marked.emplace_back(x0 + (x1 - x0) * k / steps, y0 + (y1 - y0) * k / steps);
+}
+
+// Each series' colour: its own, else the palette's next.
+std::vector<std::string> series_colours(const Plot& plot) {
   std::vector<std::string> colours;
-  for (const PlotSeries& s : plot.series) {
-    label_lines.push_back(s.label.empty() ? std::vector<std::string>{} : wrapped(s.label, max_characters));
-    legend_lines += label_lines.back().size();
-    for (const std::string& line : label_lines.back()) longest = std::max(longest, display_width(line));
-    const std::string colour = s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour;
-    colours.push_back(colour);
-    const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
-    svg += fmt::format("<g class=\"series\" data-label=\"{}\">\n", xml_escape(s.label));
-    if (s.mark != Mark::Points) {
-      std::string points;
-      std::optional<std::pair<double, double>> previous;
-      for (std::size_t i = 0; i < s.x.size(); ++i) {
-        if (!inside(s.x[i], s.y[i])) continue;
-        const double x = px(s.x[i]), y = py(s.y[i]);
-        points += fmt::format("{:.2f},{:.2f} ", x, y);
-        if (previous) mark_segment(previous->first, previous->second, x, y);
-        marked.emplace_back(x, y);
-        previous = {x, y};
-      }
-      svg += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.8\"{} points=\"{}\"/>\n", colour,
-                         dash, points);
-    }
-    for (std::size_t i = 0; i < s.x.size(); ++i) {
-      if (!inside(s.x[i], s.y[i])) continue;
-      if (i < s.y_error.size() && s.y_error[i] > 0) {
-        const double lo = std::max(y_axis.lo, s.y[i] - s.y_error[i]), hi = std::min(y_axis.hi, s.y[i] + s.y_error[i]);
-        svg += fmt::format("<path d=\"M{0:.2f} {1:.2f}V{2:.2f}M{3:.2f} {1:.2f}h8M{3:.2f} {2:.2f}h8\" stroke=\"{4}\"/>\n",
-                           px(s.x[i]), py(lo), py(hi), px(s.x[i]) - 4, colour);
-        mark_segment(px(s.x[i]) - 4, py(lo), px(s.x[i]) + 4, py(hi));
-      }
-      if (s.mark != Mark::Line) {
-        svg += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3.5\" fill=\"{}\"/>\n", px(s.x[i]), py(s.y[i]),
-                           colour);
-        marked.emplace_back(px(s.x[i]), py(s.y[i]));
-      }
-    }
-    svg += "</g>\n";
-  }
+  std::size_t next_colour = 0;
+  for (const PlotSeries& s : plot.series)
+    colours.push_back(s.colour.empty() ? kPalette[next_colour++ % kPalette.size()] : s.colour);
+  return colours;
+}
 
-  // The legend: a white box sized to its labels (about 6.6 px per character at 12 px), in the
-  // first corner of the plot area where it covers nothing drawn, else below the plot.
-  const double legend_w = kLegendPadding + kPixelsPerCharacter * static_cast<double>(longest),
-               legend_h = 8 + 16 * static_cast<double>(legend_lines);
-  const double left = kLeft + 6, right = kLeft + w - legend_w - 6, top = kTop + 6, bottom = kTop + h - legend_h - 6;
+// One series as an SVG group (its line, error bars and points), remembering the pixels it marks.
+std::string series_svg(const PlotSeries& s, const std::string& colour, const PlotArea& a, Marked& marked) {
+  const std::string dash = s.dashed ? " stroke-dasharray=\"6 4\"" : "";
+  std::string svg = fmt::format("<g class=\"series\" data-label=\"{}\">\n", xml_escape(s.label));
+  if (s.mark != Mark::Points) {
+    std::string points;
+    std::optional<std::pair<double, double>> previous;
+    for (std::size_t i = 0; i < s.x.size(); ++i) {
+      if (!a.inside(s.x[i], s.y[i])) continue;
+      const double x = a.px(s.x[i]), y = a.py(s.y[i]);
+      points += fmt::format("{:.2f},{:.2f} ", x, y);
+      if (previous) mark_segment(marked, previous->first, previous->second, x, y);
+      marked.emplace_back(x, y);
+      previous = {x, y};
+    }
+    svg += fmt::format("<polyline fill=\"none\" stroke=\"{}\" stroke-width=\"1.8\"{} points=\"{}\"/>\n", colour,
+                       dash, points);
+  }
+  for (std::size_t i = 0; i < s.x.size(); ++i) {
+    if (!a.inside(s.x[i], s.y[i])) continue;
+    if (i < s.y_error.size() && s.y_error[i] > 0) {
+      const double lo = std::max(a.y_axis.lo, s.y[i] - s.y_error[i]), hi = std::min(a.y_axis.hi, s.y[i] + s.y_error[i]);
+      svg += fmt::format("<path d=\"M{0:.2f} {1:.2f}V{2:.2f}M{3:.2f} {1:.2f}h8M{3:.2f} {2:.2f}h8\" stroke=\"{4}\"/>\n",
+                         a.px(s.x[i]), a.py(lo), a.py(hi), a.px(s.x[i]) - 4, colour);
+      mark_segment(marked, a.px(s.x[i]) - 4, a.py(lo), a.px(s.x[i]) + 4, a.py(hi));
+    }
+    if (s.mark != Mark::Line) {
+      svg += fmt::format("<circle cx=\"{:.2f}\" cy=\"{:.2f}\" r=\"3.5\" fill=\"{}\"/>\n", a.px(s.x[i]), a.py(s.y[i]),
+                         colour);
+      marked.emplace_back(a.px(s.x[i]), a.py(s.y[i]));
+    }
+  }
+  return svg + "</g>\n";
+}
+
+// The legend's labels, each in lines that keep the legend inside the plot area (a long one
+// ran past the plot and covered the y axis): its width at about 6.6 px per character at 12 px.
+constexpr double kPixelsPerCharacter = 6.6, kLegendPadding = 44;
+struct LegendLabels {
+  std::vector<std::vector<std::string>> lines;  // per series, none for an unlabelled one
+  std::size_t line_count = 0, longest = 0;      // longest: in characters
+};
+LegendLabels legend_labels(const Plot& plot, const PlotArea& a) {
+  const auto max_characters = static_cast<std::size_t>((a.w - 12 - kLegendPadding) / kPixelsPerCharacter);
+  LegendLabels labels;
+  for (const PlotSeries& s : plot.series) {
+    labels.lines.push_back(s.label.empty() ? std::vector<std::string>{} : wrapped(s.label, max_characters));
+    labels.line_count += labels.lines.back().size();
+    for (const std::string& line : labels.lines.back()) labels.longest = std::max(labels.longest, display_width(line));
+  }
+  return labels;
+}
+
+// The legend's box, sized to its labels: in the first corner of the plot area where it covers
+// nothing drawn, else below the plot, where the picture grows to `height` to hold it.
+Rect legend_box(const Plot& plot, const PlotArea& a, const LegendLabels& labels, const Marked& marked,
+                double& height) {
+  const double legend_w = kLegendPadding + kPixelsPerCharacter * static_cast<double>(labels.longest),
+               legend_h = 8 + 16 * static_cast<double>(labels.line_count);
+  const double left = kLeft + 6, right = kLeft + a.w - legend_w - 6, top = kTop + 6,
+               bottom = kTop + a.h - legend_h - 6;
   std::vector<Rect> corners = {{right, top, legend_w, legend_h}, {left, top, legend_w, legend_h},
                                {right, bottom, legend_w, legend_h}, {left, bottom, legend_w, legend_h}};
   if (plot.legend_at_bottom) std::rotate(corners.begin(), corners.begin() + 2, corners.end());
   constexpr double kClearance = 4.0;  // px: the radius of a point, and a little air
-  std::optional<Rect> place;
   for (const Rect& corner : corners)
     if (std::none_of(marked.begin(), marked.end(),
-                     [&](const auto& m) { return corner.contains(m.first, m.second, kClearance); })) {
-      place = corner;
-      break;
-    }
-  double height = kHeight;
-  if (!place) {  // outside: below the x-axis label, the picture grows to hold it
-    place = Rect{kLeft, kHeight - 4, legend_w, legend_h};
-    height = kHeight + legend_h + 4;
-  }
+                     [&](const auto& m) { return corner.contains(m.first, m.second, kClearance); }))
+      return corner;
+  // Outside: below the x-axis label.
+  height = kHeight + legend_h + 4;
+  return Rect{kLeft, kHeight - 4, legend_w, legend_h};
+}
+
+// The legend in its box: each labelled series' mark and its label's lines.
+std::string legend_svg(const Plot& plot, const std::vector<std::string>& colours, const LegendLabels& labels,
+                       const Rect& place) {
   std::string legend;
-  if (legend_lines > 0)
+  if (labels.line_count > 0)
     legend = fmt::format("<rect class=\"legend\" x=\"{:.1f}\" y=\"{:.1f}\" width=\"{:.1f}\" height=\"{:.1f}\" "
                          "fill=\"white\" fill-opacity=\"0.9\" stroke=\"#999\"/>\n",
-                         place->x, place->y, place->w, place->h);
-  const double legend_x = place->x;
-  double legend_y = place->y + 14;
+                         place.x, place.y, place.w, place.h);
+  const double legend_x = place.x;
+  double legend_y = place.y + 14;
   for (std::size_t k = 0; k < plot.series.size(); ++k) {
     const PlotSeries& s = plot.series[k];
     if (s.label.empty()) continue;
@@ -251,17 +278,34 @@ std::string svg_plot(const Plot& plot) {
       legend += fmt::format("<line x1=\"{0:.1f}\" y1=\"{1:.1f}\" x2=\"{2:.1f}\" y2=\"{1:.1f}\" stroke=\"{3}\" "
                             "stroke-width=\"2\"{4}/>",
                             legend_x + 8, legend_y, legend_x + 30, colour, dash);
-    for (const std::string& line : label_lines[k]) {
+    for (const std::string& line : labels.lines[k]) {
       legend += fmt::format("<text x=\"{:.1f}\" y=\"{:.1f}\">{}</text>\n", legend_x + 36, legend_y + 4, xml_escape(line));
       legend_y += 16;
     }
   }
-  svg += legend;
+  return legend;
+}
+
+}  // namespace
+
+std::string svg_plot(const Plot& plot) {
+  auto [x_axis, y_axis] = plot_axes(plot);
+  const PlotArea area(std::move(x_axis), std::move(y_axis));
+  // The body; the root element, whose height depends on where the legend goes, comes last.
+  std::string svg = frame_svg(plot, area);
+  // The series first, remembering every pixel they mark: the legend goes where it hides none.
+  const std::vector<std::string> colours = series_colours(plot);
+  Marked marked;
+  for (std::size_t k = 0; k < plot.series.size(); ++k) svg += series_svg(plot.series[k], colours[k], area, marked);
+  const LegendLabels labels = legend_labels(plot, area);
+  double height = kHeight;
+  const Rect place = legend_box(plot, area, labels, marked, height);
+  svg += legend_svg(plot, colours, labels, place);
   return fmt::format(
              "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{0}\" height=\"{1}\" viewBox=\"0 0 {0} {1}\" "
              "font-family=\"sans-serif\" font-size=\"12\" data-x-range=\"{2:.9g} {3:.9g}\" "
              "data-y-range=\"{4:.9g} {5:.9g}\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n",
-             kWidth, height, x_axis.lo, x_axis.hi, y_axis.lo, y_axis.hi) +
+             kWidth, height, area.x_axis.lo, area.x_axis.hi, area.y_axis.lo, area.y_axis.hi) +
          svg + "</svg>\n";
 }
 

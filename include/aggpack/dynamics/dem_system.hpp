@@ -149,6 +149,15 @@ class DemSystem {
   // Sorts the records along the Morton curve, then rebuilds the lists (carrying the
   // contact history over).
   void build_neighbour_list();
+  // The new list's rows in CSR form (offset, other), each row's entries in no fixed order:
+  // every pair within the skin (not both frozen) in the row of its lower slot, and every wall
+  // within the skin of a free slot.
+  void find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::uint32_t>& other) const;
+  // Sorts each row of the new list and returns its springs: each contact's tangential history
+  // taken from the old list (offset_, other_, spring_), whose slots were from[new slot].
+  [[nodiscard]] std::vector<Vec3> sort_rows_and_carry_springs(const std::vector<std::uint32_t>& from,
+                                                              const std::vector<std::uint32_t>& offset,
+                                                              std::vector<std::uint32_t>& other) const;
   void check_not_blown_up() const;  // throws DemBlowUp
   [[nodiscard]] std::vector<std::uint32_t> morton_order() const;
   // Slot s takes what slot from[s] held (records, flags, forces); the lists are not touched.

@@ -1,0 +1,131 @@
+// DemSystem's state for a checkpoint: saved, restored, and checked against the run it
+// is restored into.
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/dynamics/dem_system.hpp"
+#include "core/archive.hpp"
+#include "dem_system_internal.hpp"
+
+namespace aggpack {
+
+namespace {
+using dem_internal::kThreadedFrom;
+constexpr std::uint32_t kStateFormat = 2;  // raise when the members below change
+}  // namespace
+
+// The members in one list for saving and restoring. Not saved: the model and the settings
+// (the scenario's), the thread count and the per-thread batches (they do not change results),
+// and what follows from the list (its cross-block slots: index_cross_block_entries()).
+template <class Archive, class System>
+void DemSystem::archive_state(Archive& ar, System& s) {
+  ar(raw_value(s.container_), s.skin_, s.grid_bed_volume_, s.morton_cell_, s.n_, s.listed_count_, s.free_count_);
+  ar(raw(s.grain_), raw(s.user_index_), raw(s.slot_of_), raw(s.frozen_), raw(s.load_), raw(s.listed_position_));
+  ar(raw(s.offset_), raw(s.other_), raw(s.spring_));
+  ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
+     s.rebuilds_);
+}
+
+void DemSystem::save_state(std::ostream& out) const {
+  cereal::BinaryOutputArchive ar(out);
+  ar(kStateFormat, static_cast<std::uint64_t>(p_.size()));
+  archive_state(ar, *this);
+}
+
+void DemSystem::restore_state(std::string_view bytes) {
+  // What the system was made with (the scenario's container and settings, the store's
+  // particles): the restored state must agree with it.
+  MadeWith made{container_, skin_, grid_bed_volume_, morton_cell_, rest_floor_, rest_top_,
+                std::vector<std::uint8_t>(n_)};
+  for (std::uint32_t s = 0; s < n_; ++s) made.frozen_by_index[user_index_[s]] = frozen_[s];
+  try {
+    CheckedInputArchive ar(bytes);
+    std::uint32_t format = 0;
+    std::uint64_t particles = 0;
+    ar(format, particles);
+    if (format != kStateFormat || particles != p_.size())
+      throw InputError(fmt::format("the DEM state is of format {} for {} particles; this system is of format {} "
+                                   "with {}", format, particles, kStateFormat, p_.size()));
+    archive_state(ar, *this);
+    if (ar.left() > 0) throw InputError(fmt::format("the DEM state has {} bytes after its end", ar.left()));
+  } catch (const cereal::Exception& e) {
+    throw InputError(fmt::format("the DEM state is truncated or damaged ({})", e.what()));
+  }
+  check_restored(made);
+  index_cross_block_entries();
+  threaded_ = n_ >= kThreadedFrom;
+  batches_.assign(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1, ContactBatch{});
+}
+
+void DemSystem::check_restored(const MadeWith& made) const {
+  const auto fail = [](std::string_view what) {
+    throw InputError(fmt::format("the DEM state does not fit its run: {}", what));
+  };
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const std::uint32_t n = n_;
+  // The container: the scenario's, moved up or down by its motion only. Its flag is read as a
+  // byte first: any other value than 0 or 1 in a bool is undefined behaviour.
+  unsigned char periodic = 0;
+  std::memcpy(&periodic, &container_.periodic, 1);
+  const Box &box = container_.bounds, &made_box = made.container.bounds;
+  if (periodic != (made.container.periodic ? 1 : 0) || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
+      box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
+      rest_top_ != made.rest_top)
+    fail("its container is not the scenario's");
+  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
+      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_))
+    fail("the container's motion");
+  // Time is counted in steps; the container stands where its motion has it then.
+  if (time_ != static_cast<double>(steps_) * settings_.time_step || force_time_ != time_)
+    fail(fmt::format("its time, {} s, is not its {} steps of {} s", time_, steps_, settings_.time_step));
+  const double offset = motion_.offset(time_);
+  if (box.lo.z != rest_floor_ + offset || box.hi.z != rest_top_ + offset) fail("the container's height");
+  // The sizes the system chose from the store's radii (summed in another order: nearly equal).
+  const auto near = [](double a, double b) { return std::abs(a - b) <= 1e-9 * std::abs(b); };
+  if (skin_ != made.skin || !near(grid_bed_volume_, made.bed_volume) || !near(morton_cell_, made.morton_cell))
+    fail("its skin or grid sizes are not those of its particles");
+
+  // The records: one per particle, each slot a particle of the store, the inverse table its
+  // inverse, and each record the store's particle (the store is written back at every safe point).
+  if (listed_count_ != n || grain_.size() != n || user_index_.size() != n || slot_of_.size() != n ||
+      frozen_.size() != n || load_.size() != n || listed_position_.size() != n)
+    fail("its tables are not one entry per particle");
+  std::size_t free = 0;
+  for (std::uint32_t s = 0; s < n; ++s) {
+    const std::uint32_t i = user_index_[s];
+    if (i >= n || slot_of_[i] != s) fail(fmt::format("slot {} names particle {}, not a permutation", s, i));
+    if (frozen_[s] != made.frozen_by_index[i]) fail(fmt::format("particle {} is frozen where the run has it free, or the reverse", i));
+    free += frozen_[s] ? 0 : 1;
+    const Grain& g = grain_[s];
+    const double inverse_inertia = frozen_[s] ? 0.0 : 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
+    if (!finite(g.position) || !(g.position == p_.position[i] || g.position == made.container.wrapped(p_.position[i])) ||
+        !(g.velocity == p_.velocity[i]) || !(g.angular_velocity == p_.angular_velocity[i]) ||
+        g.radius != p_.radius[i] || g.mass != p_.mass[i] || g.inverse_inertia != inverse_inertia)
+      fail(fmt::format("the record of particle {} is not the particle", i));
+    if (!finite(listed_position_[s]) || !finite(load_[s].force) || !finite(load_[s].torque))
+      fail(fmt::format("the forces or the listed position of particle {}", i));
+  }
+  if (free != free_count_) fail("its count of free particles");
+
+  // The half neighbour list: rows of ascending entries, each a later slot or a wall.
+  const std::uint32_t walls = container_.plane_count();
+  if (offset_.size() != std::size_t{n} + 1 || offset_[0] != 0 || offset_[n] != other_.size() ||
+      spring_.size() != other_.size())
+    fail("its neighbour list's rows");
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (offset_[i + 1] < offset_[i]) fail(fmt::format("its neighbour list's row {}", i));
+    for (std::uint32_t k = offset_[i]; k < offset_[i + 1]; ++k) {
+      const std::uint32_t j = other_[k];
+      const bool both_frozen = j < n ? frozen_[i] && frozen_[j] : frozen_[i] != 0;
+      if (j <= i || j >= n + walls || (k > offset_[i] && j < other_[k - 1]) || both_frozen || !finite(spring_[k]))
+        fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
+    }
+  }
+}
+
+}  // namespace aggpack
