@@ -37,94 +37,103 @@ std::string length_text(double metres, const std::string& written_unit) {
   return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), written_unit);
 }
 
-// The steps' lines of the console summary, in the order the steps ran (a protocol's own
-// order; the stages' default order without one). Each kind's records are taken in turn; the
-// lines that add up several steps (deposition, dynamics) stand at the first step of their kind.
-std::string step_lines(const RunReport& r) {
-  const Scenario& sc = r.scenario;
-  std::string out;
-  auto o = std::back_inserter(out);
-  enum class Line { deposit, pour, settle, tap, hand_over };
-  std::vector<Line> order;
-  if (sc.protocol) {
-    for (const Step& step : sc.protocol->steps)
+// The kinds of the console summary's step lines.
+enum class StepLine { deposit, pour, settle, tap, hand_over };
+
+// The step lines in the order the steps ran (a protocol's own order; the stages' default
+// order without one, and after it anything a protocol's steps did not account for).
+std::vector<StepLine> step_line_order(const RunReport& r) {
+  std::vector<StepLine> order;
+  if (r.scenario.protocol) {
+    for (const Step& step : r.scenario.protocol->steps)
       std::visit(
           [&](const auto& kind) {
             using Kind = std::decay_t<decltype(kind)>;
-            if constexpr (std::is_same_v<Kind, DepositStep>) order.push_back(Line::deposit);
-            if constexpr (std::is_same_v<Kind, PourStep>) order.insert(order.end(), {Line::pour, Line::settle});
-            if constexpr (std::is_same_v<Kind, SettleStep>) order.push_back(Line::settle);
-            if constexpr (std::is_same_v<Kind, TapStep>) order.push_back(Line::tap);
+            if constexpr (std::is_same_v<Kind, DepositStep>) order.push_back(StepLine::deposit);
+            if constexpr (std::is_same_v<Kind, PourStep>) order.insert(order.end(), {StepLine::pour, StepLine::settle});
+            if constexpr (std::is_same_v<Kind, SettleStep>) order.push_back(StepLine::settle);
+            if constexpr (std::is_same_v<Kind, TapStep>) order.push_back(StepLine::tap);
             if constexpr (std::is_same_v<Kind, ExportLammpsStep> || std::is_same_v<Kind, ImportLammpsStep>)
-              order.push_back(Line::hand_over);
+              order.push_back(StepLine::hand_over);
           },
           step.kind);
   }
-  // The stages' default order, and after it anything a protocol's steps did not account for.
-  order.push_back(Line::deposit);
-  order.insert(order.end(), r.pours.size(), Line::pour);
-  order.push_back(Line::settle);
-  order.insert(order.end(), r.tappings.size(), Line::tap);
-  order.insert(order.end(), r.lammps_exchanges.size(), Line::hand_over);
+  order.push_back(StepLine::deposit);
+  order.insert(order.end(), r.pours.size(), StepLine::pour);
+  order.push_back(StepLine::settle);
+  order.insert(order.end(), r.tappings.size(), StepLine::tap);
+  order.insert(order.end(), r.lammps_exchanges.size(), StepLine::hand_over);
+  return order;
+}
+
+std::string deposition_line(const DepositionReport& d) {
+  return fmt::format("  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, {} ties\n",
+                     d.stats.placed, d.requested, to_string(d.stats.end), d.wall_clock_s,
+                     d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
+                     d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
+}
+
+std::string pour_line(const PourReport& p, const Scenario& sc) {
+  return fmt::format("  pour: {} particles inserted as a gas at solid fraction {:g} in {} batch{}, from {} to {} above "
+                     "the floor\n",
+                     p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es",
+                     length_text(p.lowest_slab_bottom - sc.container.bounds.lo.z, sc.written_length_unit),
+                     length_text(p.highest_slab_top - sc.container.bounds.lo.z, sc.written_length_unit));
+}
+
+// Every settling run of the run in one line, and the density it added to a deposited bed.
+std::string dynamics_lines(const RunReport& r) {
+  const SettlingReport& d = *r.dynamics;
+  const SettlingRun& last = d.runs.back();
+  std::string out = fmt::format("  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
+                                "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
+                                settle_end_name(last.ended_by), r.scenario.material.contact.friction_model,
+                                d.simulated_time(), d.steps(), d.runs.front().time_step, d.wall_clock_s(),
+                                1e-6 * d.particle_steps_per_second(), last.last.contacts.mean_overlap,
+                                last.last.contacts.max_overlap);
+  if (r.analyses.contains("deposition"))
+    out += fmt::format("  density after deposition {:.4f}, after dynamics {:.4f}\n", r.density_after_deposition(),
+                       r.final.density.mean);
+  return out;
+}
+
+std::string tapping_line(const TapReport& t) {
+  const auto density_text = [](double d) { return std::isnan(d) ? std::string("-") : fmt::format("{:.4f}", d); };
+  return fmt::format("  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
+                     t.taps, t.intensity, t.frequency, density_text(t.density_before),
+                     density_text(t.samples.empty() ? std::nan("") : t.samples.back().density), t.simulated_time,
+                     t.wall_clock_s);
+}
+
+std::string hand_over_line(const LammpsExchange& x) {
+  if (x.direction == "import")
+    return fmt::format("  import_lammps: {} spheres' positions from {} ({})\n", x.spheres, x.path, x.what);
+  return fmt::format("  export_lammps: {} spheres and a deck ({}) in {}; run it there with lmp\n", x.spheres, x.what,
+                     x.path);
+}
+
+// The steps' lines of the console summary, in the order the steps ran. Each kind's records
+// are taken in turn; the lines that add up several steps (deposition, dynamics) stand at the
+// first step of their kind.
+std::string step_lines(const RunReport& r) {
+  std::string out;
   bool deposition_told = false, dynamics_told = false;
   std::size_t next_pour = 0, next_tap = 0, next_exchange = 0;
-  for (const Line line : order) switch (line) {
-      case Line::deposit:
-        if (r.deposition && !deposition_told) {
-          const DepositionReport& d = *r.deposition;
-          fmt::format_to(o, "  deposition: {} of {} placed ({}), {:.3g} s, {:.3g} events per particle, {} redrops, {} ties\n",
-                         d.stats.placed, d.requested, to_string(d.stats.end), d.wall_clock_s,
-                         d.stats.placed ? static_cast<double>(d.stats.events) / static_cast<double>(d.stats.placed) : 0.0,
-                         d.stats.redrops, d.stats.ties_on_top + d.stats.ties_on_ridge);
-          deposition_told = true;
-        }
+  for (const StepLine line : step_line_order(r)) switch (line) {
+      case StepLine::deposit:
+        if (r.deposition && !deposition_told) out += deposition_line(*r.deposition), deposition_told = true;
         break;
-      case Line::pour:
-        if (next_pour < r.pours.size()) {
-          const PourReport& p = r.pours[next_pour++];
-          fmt::format_to(o, "  pour: {} particles inserted as a gas at solid fraction {:g} in {} batch{}, from {} to {} "
-                            "above the floor\n",
-                         p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es",
-                         length_text(p.lowest_slab_bottom - sc.container.bounds.lo.z, sc.written_length_unit),
-                         length_text(p.highest_slab_top - sc.container.bounds.lo.z, sc.written_length_unit));
-        }
+      case StepLine::pour:
+        if (next_pour < r.pours.size()) out += pour_line(r.pours[next_pour++], r.scenario);
         break;
-      case Line::settle:
-        if (r.dynamics && !dynamics_told) {
-          const SettlingReport& d = *r.dynamics;
-          const SettlingRun& last = d.runs.back();
-          fmt::format_to(o, "  dynamics: {} ({}), {:.3g} s simulated in {} steps of {:.3g} s, {:.3g} s wall, "
-                            "{:.3g} million particle-steps/s; overlap mean {:.2e}, max {:.2e}\n",
-                         settle_end_name(last.ended_by), sc.material.contact.friction_model, r.dynamics->simulated_time(),
-                         d.steps(), d.runs.front().time_step, d.wall_clock_s(), 1e-6 * d.particle_steps_per_second(),
-                         last.last.contacts.mean_overlap, last.last.contacts.max_overlap);
-          if (r.analyses.contains("deposition"))
-            fmt::format_to(o, "  density after deposition {:.4f}, after dynamics {:.4f}\n", r.density_after_deposition(),
-                           r.final.density.mean);
-          dynamics_told = true;
-        }
+      case StepLine::settle:
+        if (r.dynamics && !dynamics_told) out += dynamics_lines(r), dynamics_told = true;
         break;
-      case Line::tap:
-        if (next_tap < r.tappings.size()) {
-          const TapReport& t = r.tappings[next_tap++];
-          fmt::format_to(o, "  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
-                         t.taps, t.intensity, t.frequency,
-                         std::isnan(t.density_before) ? std::string("-") : fmt::format("{:.4f}", t.density_before),
-                         t.samples.empty() || std::isnan(t.samples.back().density)
-                             ? std::string("-")
-                             : fmt::format("{:.4f}", t.samples.back().density),
-                         t.simulated_time, t.wall_clock_s);
-        }
+      case StepLine::tap:
+        if (next_tap < r.tappings.size()) out += tapping_line(r.tappings[next_tap++]);
         break;
-      case Line::hand_over:
-        if (next_exchange < r.lammps_exchanges.size()) {
-          const LammpsExchange& x = r.lammps_exchanges[next_exchange++];
-          if (x.direction == "import")
-            fmt::format_to(o, "  import_lammps: {} spheres' positions from {} ({})\n", x.spheres, x.path, x.what);
-          else
-            fmt::format_to(o, "  export_lammps: {} spheres and a deck ({}) in {}; run it there with lmp\n", x.spheres,
-                           x.what, x.path);
-        }
+      case StepLine::hand_over:
+        if (next_exchange < r.lammps_exchanges.size()) out += hand_over_line(r.lammps_exchanges[next_exchange++]);
         break;
     }
   return out;
@@ -142,6 +151,59 @@ std::optional<RunReport::RestState> RunReport::rest_state() const {
   rest.settled = rest.translational_energy_per_particle_mgd <= rest.quiet_below;
   return rest;
 }
+
+namespace {
+
+// What a pour step's numbers depend on.
+std::string pour_note(const PourReport& p, const Scenario& sc) {
+  return fmt::format(
+        "pour: {} particles inserted as a random non-overlapping gas at solid fraction {:g} in {} batch{} (slabs of "
+        "the container's footprint from {:.4g} m to {:.4g} m above the floor, {:.3g} m above the bed's top; the next "
+        "batch once the last has had the time to fall its slab's height), released at {:g} m/s downward, then fallen and settled by "
+        "the DEM until quiet: the packing depends on these choices (drop height, fraction, batches) as a poured lab "
+        "sample depends on how it is poured",
+        p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,
+        p.highest_slab_top - sc.container.bounds.lo.z, p.gap, p.velocity);
+}
+
+// What a tapping step's numbers depend on.
+std::string tapping_note(const TapReport& t) {
+  return fmt::format(
+        "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
+        "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
+        "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
+        "protocol (intensity, frequency, rest) as a lab's tapped density does{}",
+        t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
+        t.rest_until_quiet ? " at most (less once the bed was quiet)" : "",
+        t.lammps_ranks > 0 ? fmt::format("; run by LAMMPS ({} rank{}), the container a moving region of fix "
+                                         "wall/gran/region whose velocity LAMMPS takes from the change of position "
+                                         "over a step (aggpack: the exact derivative)",
+                                         t.lammps_ranks, t.lammps_ranks == 1 ? "" : "s")
+                           : std::string());
+}
+
+// How far a particle file's spheres overlap the container and each other, where they do.
+std::vector<std::string> particle_file_notes(const RunReport& r) {
+  const Scenario& sc = r.scenario;
+  std::vector<std::string> notes;
+  if (sc.particles.file && r.largest_boundary_overlap > 0.0)
+    notes.push_back(fmt::format("the particle file's spheres overlap the floor or walls by up to {:.3g} of their "
+                                "radius (contacts of a settled bed; accepted up to "
+                                "particles.boundary_overlap_tolerance = {:g})",
+                                r.largest_boundary_overlap, sc.particles.boundary_overlap_tolerance));
+  if (sc.particles.file && r.largest_pair_overlap > 1e-3)
+    notes.push_back(fmt::format("the particle file's spheres overlap each other by up to {:.3g} of the smaller radius "
+                                "({}; accepted up to {}): the volume they share is counted twice in the densities",
+                                r.largest_pair_overlap,
+                                sc.particles.soft_contacts ? "a soft-contact DEM bed, particles.soft_contacts"
+                                                           : "contacts of a settled bed",
+                                sc.particles.soft_contacts ? std::string("one centre inside the other sphere")
+                                                           : fmt::format("particles.overlap_tolerance = {:g}",
+                                                                         sc.particles.overlap_tolerance)));
+  return notes;
+}
+
+}  // namespace
 
 std::vector<std::string> RunReport::modelling_notes() const {
   const RunReport& r = *this;
@@ -174,44 +236,11 @@ std::vector<std::string> RunReport::modelling_notes() const {
       notes.push_back(fmt::format("deposition ended early ({}): {} of {} particles were placed", to_string(d.stats.end),
                                   d.stats.placed, d.requested));
   }
-  for (const PourReport& p : r.pours)
-    notes.push_back(fmt::format(
-        "pour: {} particles inserted as a random non-overlapping gas at solid fraction {:g} in {} batch{} (slabs of "
-        "the container's footprint from {:.4g} m to {:.4g} m above the floor, {:.3g} m above the bed's top; the next "
-        "batch once the last has had the time to fall its slab's height), released at {:g} m/s downward, then fallen and settled by "
-        "the DEM until quiet: the packing depends on these choices (drop height, fraction, batches) as a poured lab "
-        "sample depends on how it is poured",
-        p.poured, p.solid_fraction, p.batches, p.batches == 1 ? "" : "es", p.lowest_slab_bottom - sc.container.bounds.lo.z,
-        p.highest_slab_top - sc.container.bounds.lo.z, p.gap, p.velocity));
-  for (const TapReport& t : r.tappings)
-    notes.push_back(fmt::format(
-        "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
-        "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
-        "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
-        "protocol (intensity, frequency, rest) as a lab's tapped density does{}",
-        t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
-        t.rest_until_quiet ? " at most (less once the bed was quiet)" : "",
-        t.lammps_ranks > 0 ? fmt::format("; run by LAMMPS ({} rank{}), the container a moving region of fix "
-                                         "wall/gran/region whose velocity LAMMPS takes from the change of position "
-                                         "over a step (aggpack: the exact derivative)",
-                                         t.lammps_ranks, t.lammps_ranks == 1 ? "" : "s")
-                           : std::string()));
+  for (const PourReport& p : r.pours) notes.push_back(pour_note(p, sc));
+  for (const TapReport& t : r.tappings) notes.push_back(tapping_note(t));
   if (r.sizes)
     for (const std::string& note : r.sizes->notes) notes.push_back(note);
-  if (sc.particles.file && r.largest_boundary_overlap > 0.0)
-    notes.push_back(fmt::format("the particle file's spheres overlap the floor or walls by up to {:.3g} of their "
-                                "radius (contacts of a settled bed; accepted up to "
-                                "particles.boundary_overlap_tolerance = {:g})",
-                                r.largest_boundary_overlap, sc.particles.boundary_overlap_tolerance));
-  if (sc.particles.file && r.largest_pair_overlap > 1e-3)
-    notes.push_back(fmt::format("the particle file's spheres overlap each other by up to {:.3g} of the smaller radius "
-                                "({}; accepted up to {}): the volume they share is counted twice in the densities",
-                                r.largest_pair_overlap,
-                                sc.particles.soft_contacts ? "a soft-contact DEM bed, particles.soft_contacts"
-                                                           : "contacts of a settled bed",
-                                sc.particles.soft_contacts ? std::string("one centre inside the other sphere")
-                                                           : fmt::format("particles.overlap_tolerance = {:g}",
-                                                                         sc.particles.overlap_tolerance)));
+  for (std::string& note : particle_file_notes(r)) notes.push_back(std::move(note));
   if (sc.dynamics && sc.dynamics->allow_unstable_time_step)
     notes.push_back(fmt::format("dynamics.allow_unstable_time_step = true: the time step may exceed {:g} of the "
                                 "Rayleigh time, where Hertz contacts are no longer resolved; the settled density "
@@ -266,6 +295,72 @@ std::string RunReport::last_dem_stage() const {
   return !tappings.empty() ? "tapping" : !pours.empty() ? "pour" : "DEM settling";
 }
 
+namespace {
+
+// Each stage's report (summary.json's "stages"), its wall clock added to `wall_clock`.
+nlohmann::json stages_json(const RunReport& r, nlohmann::json& wall_clock) {
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [key, seconds] : r.wall_clock_s) wall_clock[key] = seconds;
+  if (r.deposition) {
+    stages["deposition"] = to_json(*r.deposition);
+    wall_clock["deposition"] = r.deposition->wall_clock_s;
+  }
+  if (!r.tappings.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const TapReport& t : r.tappings) all.push_back(to_json(t));
+    stages["tapping"] = r.tappings.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
+    double seconds = 0.0;
+    for (const TapReport& t : r.tappings) seconds += t.wall_clock_s;
+    wall_clock["tapping"] = seconds;
+  }
+  if (!r.pours.empty()) {
+    nlohmann::json all = nlohmann::json::array();
+    for (const PourReport& p : r.pours) all.push_back(to_json(p));
+    stages["pour"] = r.pours.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
+  }
+  for (const auto& [name, analysis] : r.analyses) {
+    add_analysis(stages[name], analysis.report);
+    wall_clock["analysis_after_" + name] = analysis.wall_clock_s;
+  }
+  if (r.dynamics) {
+    stages["dynamics"] = to_json(*r.dynamics);
+    if (!r.interrupted) add_analysis(stages["dynamics"], r.final);
+    wall_clock["dynamics"] = r.dynamics->wall_clock_s();
+  }
+  return stages;
+}
+
+// Where a particle file's bed came from, and how far its spheres overlap.
+nlohmann::json input_json(const RunReport& r) {
+  const Scenario& sc = r.scenario;
+  nlohmann::json input = {{"file", sc.particles.file->string()},
+                          {"largest_boundary_overlap_rel", r.largest_boundary_overlap},
+                          {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
+  if (r.input_format.starts_with("LAMMPS")) input["format"] = r.input_format;
+  if (r.largest_pair_overlap > 1e-6) {
+    input["largest_pair_overlap_rel"] = r.largest_pair_overlap;
+    input["soft_contacts"] = sc.particles.soft_contacts;
+  }
+  return input;
+}
+
+// Where an interrupted run stopped and how to continue it.
+nlohmann::json interruption_json(const Interruption& stop) {
+  nlohmann::json j = {{"signal", stop.signal_number},
+                      {"stopped", stop.where},
+                      {"steps_completed", stop.steps_completed},
+                      {"steps_total", stop.steps_total},
+                      {"note", "the stages listed are the steps that ended before the stop; particles.csv "
+                               "and timeseries.csv hold the bed and the samples as they stood"}};
+  j["checkpoint"] = stop.checkpoint ? nlohmann::json{{"file", kCheckpointFile},
+                                                     {"taken", *stop.checkpoint},
+                                                     {"resume", "aggpack resume <this folder>"}}
+                                    : nlohmann::json(nullptr);
+  return j;
+}
+
+}  // namespace
+
 nlohmann::json RunReport::summary_json(double output_seconds, double total_seconds) const {
   const Scenario& sc = scenario;
   nlohmann::json summary;
@@ -284,46 +379,10 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   const Box& b = sc.container.bounds;
   summary["container"] = {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}},
                           {"periodic", sc.container.periodic}};
-  nlohmann::json stages = nlohmann::json::object();
   nlohmann::json wall_clock = nlohmann::json::object();
-  for (const auto& [key, seconds] : wall_clock_s) wall_clock[key] = seconds;
-  if (deposition) {
-    stages["deposition"] = to_json(*deposition);
-    wall_clock["deposition"] = deposition->wall_clock_s;
-  }
-  if (!tappings.empty()) {
-    nlohmann::json all = nlohmann::json::array();
-    for (const TapReport& t : tappings) all.push_back(to_json(t));
-    stages["tapping"] = tappings.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
-    double seconds = 0.0;
-    for (const TapReport& t : tappings) seconds += t.wall_clock_s;
-    wall_clock["tapping"] = seconds;
-  }
-  if (!pours.empty()) {
-    nlohmann::json all = nlohmann::json::array();
-    for (const PourReport& p : pours) all.push_back(to_json(p));
-    stages["pour"] = pours.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
-  }
-  for (const auto& [name, analysis] : analyses) {
-    add_analysis(stages[name], analysis.report);
-    wall_clock["analysis_after_" + name] = analysis.wall_clock_s;
-  }
-  if (dynamics) {
-    stages["dynamics"] = to_json(*dynamics);
-    if (!interrupted) add_analysis(stages["dynamics"], final);
-    wall_clock["dynamics"] = dynamics->wall_clock_s();
-  }
-  summary["stages"] = stages;
+  summary["stages"] = stages_json(*this, wall_clock);
   if (sizes) summary["sizes"] = to_json(sizes->report);
-  if (sc.particles.file)
-    summary["input"] = {{"file", sc.particles.file->string()},
-                        {"largest_boundary_overlap_rel", largest_boundary_overlap},
-                        {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
-  if (sc.particles.file && input_format.starts_with("LAMMPS")) summary["input"]["format"] = input_format;
-  if (sc.particles.file && largest_pair_overlap > 1e-6) {
-    summary["input"]["largest_pair_overlap_rel"] = largest_pair_overlap;
-    summary["input"]["soft_contacts"] = sc.particles.soft_contacts;
-  }
+  if (sc.particles.file) summary["input"] = input_json(*this);
   if (!lammps_exchanges.empty()) {
     nlohmann::json all = nlohmann::json::array();
     for (const LammpsExchange& x : lammps_exchanges)
@@ -342,18 +401,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   if (interrupted) {
     // No final analysis: the bed in particles.csv is where the run stood when it stopped.
     summary["interrupted"] = true;
-    summary["interruption"] = {{"signal", interrupted->signal_number},
-                               {"stopped", interrupted->where},
-                               {"steps_completed", interrupted->steps_completed},
-                               {"steps_total", interrupted->steps_total},
-                               {"note", "the stages listed are the steps that ended before the stop; particles.csv "
-                                        "and timeseries.csv hold the bed and the samples as they stood"}};
-    summary["interruption"]["checkpoint"] =
-        interrupted->checkpoint
-            ? nlohmann::json{{"file", kCheckpointFile},
-                             {"taken", *interrupted->checkpoint},
-                             {"resume", "aggpack resume <this folder>"}}
-            : nlohmann::json(nullptr);
+    summary["interruption"] = interruption_json(*interrupted);
   } else {
     summary.update(to_json(final));
     // The engineer's quantities beside the packing density (ASTM C29), from material.density.
