@@ -92,23 +92,19 @@ Calibration calibrate(const CalibrationOptions& options, std::ostream& log) {
 
   const Protocol protocol = scenario_protocol(sc);
   std::vector<double> mono_densities, mix_densities;
-  Progress progress;
+  const std::string mono_text =
+      fmt::format("monosized (d = {:.4g} m, {} spheres)", d, spec.classes[0].count.value_or(0));
+  Campaign campaign(options.threads, options.quiet, log, 2 * static_cast<std::size_t>(options.seeds));
   for (int seed = 1; seed <= options.seeds; ++seed) {
     for (const Scenario* s : std::array<const Scenario*, 2>{&mono, &sc}) {
-      Scenario run_sc = *s;
-      run_sc.seed = static_cast<std::uint64_t>(seed);
-      RunControls controls;
-      controls.threads = options.threads;
-      const RunReport report = run(run_sc, controls, progress);
-      const double density = report.final.density.mean;
-      (s == &mono ? mono_densities : mix_densities).push_back(density);
-      if (!options.quiet)
-        fmt::print(log, "  calibrate: seed {} {}: density {:.4f}\n", seed,
-                   s == &mono ? fmt::format("monosized (d = {:.4g} m, {} spheres)", d, spec.classes[0].count.value_or(0))
-                              : std::string("the scenario's mix"),
-                   density);
+      const std::string what = s == &mono ? mono_text : std::string("the scenario's mix");
+      const CaseRun c = campaign.run(what, *s, static_cast<std::uint64_t>(seed), [&](const CaseRun& r) {
+        return fmt::format("  calibrate: seed {} {}: density {:.4f}", seed, what, r.result.report.final.density.mean);
+      });
+      (s == &mono ? mono_densities : mix_densities).push_back(c.result.report.final.density.mean);
     }
   }
+  campaign.clear_progress();
   Calibration c;
   c.scenario = sc.file.string();
   c.protocol = fmt::format("{}", fmt::join(protocol.stage_names(), ", "));

@@ -66,6 +66,39 @@ double Campaign::seconds() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
+void Campaign::announce(const std::string& label, std::uint64_t seed) {
+  std::optional<double> left_in_all;  // s, from the pace of the runs so far
+  if (done_ > 0) left_in_all = seconds() / static_cast<double>(done_) * static_cast<double>(planned_ - done_);
+  progress_.set_run(fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed), left_in_all);
+}
+
+void Campaign::print_line(const std::string& line) {
+  if (!log_) return;
+  progress_.clear();
+  fmt::print(*log_, "{}\n", line);
+  log_->flush();
+}
+
+namespace {
+// The densities a run is judged by, and its size, kept apart from its report (the bed may be dropped).
+void measure(CaseRun& c) {
+  c.particle_count = c.result.report.particles.size();
+  c.after_deposition = c.result.report.density_after_deposition();
+  c.after_dynamics = c.result.report.density_after_dynamics();
+}
+}  // namespace
+
+std::string Campaign::result_line(const std::string& label, std::uint64_t seed, const CaseRun& c, bool resumed) {
+  return fmt::format(
+      "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s{})", label, seed, c.final_density(),
+      std::isnan(c.after_dynamics) ? std::string(" after deposition")
+      : std::isnan(c.after_deposition)
+          ? fmt::format(" after {}", c.result.report.last_dem_stage())  // poured: never deposited
+          : fmt::format(" after {}, {:.4f} after deposition", c.result.report.last_dem_stage(), c.after_deposition),
+      c.result.report.particles.size(), c.result.wall_clock_s,
+      resumed ? fmt::format(", resumed from its checkpoint taken {}", *c.result.report.resumed_from) : "");
+}
+
 CaseRun Campaign::run(const std::string& label, const std::filesystem::path& scenario,
                       const std::vector<std::string>& sets, std::uint64_t seed, const std::filesystem::path& out_dir,
                       const std::optional<std::string>& stop_after) {
@@ -77,21 +110,15 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   options.stop_after = stop_after;
   options.quiet = true;
   options.progress = &progress_;
-  {
-    std::optional<double> left_in_all;  // s, from the pace of the runs so far
-    if (done_ > 0) left_in_all = seconds() / static_cast<double>(done_) * static_cast<double>(planned_ - done_);
-    progress_.set_run(fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed), left_in_all);
-  }
+  announce(label, seed);
   options.keep_dem_checkpoint = checkpoints_ != Checkpoints::removed;
   bool resume = false;
   if (checkpoints_ == Checkpoints::kept_and_resumed && std::filesystem::exists(out_dir / kCheckpointFile)) {
     const std::optional<std::string> why_not = why_not_resumable(scenario, sets, seed, out_dir, stop_after);
     resume = !why_not;
-    if (why_not && log_) {
-      progress_.clear();
-      fmt::print(*log_, "{} seed {}: run again, not resumed: the checkpoint in {} cannot continue it ({})\n", label,
-                 seed, out_dir.string(), *why_not);
-    }
+    if (why_not)
+      print_line(fmt::format("{} seed {}: run again, not resumed: the checkpoint in {} cannot continue it ({})", label,
+                             seed, out_dir.string(), *why_not));
   }
   std::ostringstream discard;
   RunOptions resumed = options;  // the checkpoint holds the scenario, its overrides and the stop
@@ -101,21 +128,23 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   ++done_;
   if (resume) ++resumed_;
   if (options.keep_dem_checkpoint && std::filesystem::exists(out_dir / kCheckpointFile)) kept_.push_back(out_dir);
-  c.particle_count = c.result.report.particles.size();
-  c.after_deposition = c.result.report.density_after_deposition();
-  c.after_dynamics = c.result.report.density_after_dynamics();
-  if (log_) {
-    progress_.clear();
-    fmt::print(*log_, "{} seed {}: density {:.4f}{} ({} particles, {:.1f} s{})\n", label, seed,
-               c.final_density(),
-               std::isnan(c.after_dynamics) ? std::string(" after deposition")
-               : std::isnan(c.after_deposition)
-                   ? fmt::format(" after {}", c.result.report.last_dem_stage())  // poured: never deposited
-                   : fmt::format(" after {}, {:.4f} after deposition", c.result.report.last_dem_stage(), c.after_deposition),
-               c.result.report.particles.size(), c.result.wall_clock_s,
-               resume ? fmt::format(", resumed from its checkpoint taken {}", *c.result.report.resumed_from) : "");
-    log_->flush();
-  }
+  measure(c);
+  print_line(result_line(label, seed, c, resume));
+  return c;
+}
+
+CaseRun Campaign::run(const std::string& label, Scenario scenario, std::uint64_t seed, const ResultLine& line) {
+  announce(label, seed);
+  scenario.seed = seed;
+  RunControls controls;
+  controls.threads = threads_;
+  const auto start = std::chrono::steady_clock::now();
+  CaseRun c;
+  c.result.report = aggpack::run(scenario, controls, progress_);
+  c.result.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ++done_;
+  measure(c);
+  print_line(line ? line(c) : result_line(label, seed, c, false));
   return c;
 }
 

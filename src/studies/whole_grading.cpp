@@ -166,25 +166,23 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
   for (const double cut : cuts)
     scenarios.push_back(load_scenario(
         options.scenario, with_cut_off(options.overrides, key, cut, options.cut_offs, options.cut_off_texts)));
-  Progress progress;
+  Campaign campaign(options.threads, options.quiet, log, cuts.size() * static_cast<std::size_t>(options.seeds));
   std::vector<CutOffPoint> points;
   for (std::size_t k = 0; k < cuts.size(); ++k) {
     std::vector<double> density;
     std::size_t spheres = 0;
+    const std::string at_cut = fmt::format("{} = {:.4g} m", key, cuts[k]);
     for (int seed = 1; seed <= options.seeds; ++seed) {
-      Scenario sc = scenarios[k];
-      sc.seed = static_cast<std::uint64_t>(seed);
-      RunControls controls;
-      controls.threads = options.threads;
-      const RunReport report = run(sc, controls, progress);
-      if (seed == 1) spheres = report.particles.size();
-      density.push_back(report.final.density.mean);
-      if (!options.quiet)
-        fmt::print(log, "  whole-grading: {} = {:.4g} m, seed {}: {} spheres, density {:.4f}\n", key, cuts[k], seed,
-                   report.particles.size(), density.back());
+      const CaseRun c = campaign.run(at_cut, scenarios[k], static_cast<std::uint64_t>(seed), [&](const CaseRun& r) {
+        return fmt::format("  whole-grading: {}, seed {}: {} spheres, density {:.4f}", at_cut, seed,
+                           r.result.report.particles.size(), r.result.report.final.density.mean);
+      });
+      if (seed == 1) spheres = c.result.report.particles.size();
+      density.push_back(c.result.report.final.density.mean);
     }
     points.push_back(cut_off_point(scenarios[k], parameters, cuts[k], std::move(density), spheres));
   }
+  campaign.clear_progress();
   return fit_whole_grading(whole, parameters, std::move(points));
 }
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <ostream>
@@ -31,7 +32,8 @@ struct CaseRun {
 };
 
 // Runs many scenario runs in a row, numbering them for the progress line (on stderr when it
-// is a terminal and not quiet) and timing the whole. Unless quiet, prints one line per run.
+// is a terminal and not quiet) and timing the whole: the one series runner of reproduce, sweep,
+// whole-grading and calibrate. Unless quiet, prints one line per run.
 //
 // A resumable campaign (reproduce, sweep: hours) can be killed and continued. Each run with a
 // DEM stage leaves its checkpoint, taken before its final analysis, in its folder until the
@@ -46,6 +48,12 @@ class Campaign {
   CaseRun run(const std::string& label, const std::filesystem::path& scenario, const std::vector<std::string>& sets,
               std::uint64_t seed, const std::filesystem::path& out_dir,
               const std::optional<std::string>& stop_after = std::nullopt);
+  // The line a run in memory prints on the campaign's log; unset: the standard line, as of a run into a folder.
+  using ResultLine = std::function<std::string(const CaseRun&)>;
+  // A run of a scenario already loaded (whole-grading, calibrate), with `seed`: numbered and timed
+  // as the others, but in memory only (no folder, no file, no checkpoint; the result's summary is
+  // empty).
+  CaseRun run(const std::string& label, Scenario scenario, std::uint64_t seed, const ResultLine& line = {});
   [[nodiscard]] std::size_t runs_done() const { return done_; }
   [[nodiscard]] std::size_t runs_resumed() const { return resumed_; }  // continued from a checkpoint
   [[nodiscard]] double seconds() const;
@@ -60,6 +68,13 @@ class Campaign {
                                                                     std::uint64_t seed,
                                                                     const std::filesystem::path& out_dir,
                                                                     const std::optional<std::string>& stop_after);
+  // The progress line's "[k/N] label seed S", with the time the runs left will take at the pace so far.
+  void announce(const std::string& label, std::uint64_t seed);
+  // A run's line: its densities, size and wall time (and whether it continued from its checkpoint).
+  [[nodiscard]] static std::string result_line(const std::string& label, std::uint64_t seed, const CaseRun& c,
+                                               bool resumed);
+  // A line on the log, clear of the progress line (none when quiet).
+  void print_line(const std::string& line);
   int threads_;
   std::ostream* log_;  // null when quiet
   Progress progress_;
