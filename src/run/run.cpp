@@ -4,6 +4,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <variant>
 
 #include <fmt/format.h>
@@ -80,6 +81,53 @@ std::string bed_vtp(const RunReport& report, const ParticleStore& bed, std::stri
   return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component});
 }
 
+// The frames of the DEM (written as they were taken), the snapshots and the final bed as one
+// series, for ParaView to animate (particles.pvd), each snapshot's bed written as VTP.
+void write_vtp_series(const RunReport& report, const std::string& provenance,
+                      const std::function<void(const std::string&, const std::string&)>& write) {
+  // In the order of their times (at one time: the frames, then the snapshots in the protocol's
+  // order, then the final bed). One bed at one time is listed once: a frame that is a
+  // snapshot's bed as the snapshot, and a final bed that is the last frame's or snapshot's not
+  // again (a protocol that ends with a snapshot, or whose last frame is the final bed).
+  enum class Kind { Frame, Snapshot, Final };
+  struct Entry {
+    PvdFrame frame;
+    std::uint64_t fingerprint;
+    Kind kind;
+  };
+  std::vector<Entry> entries;
+  for (std::size_t f = 0; f < report.frames.size(); ++f)
+    entries.push_back({{report.frames[f].time, report.frames[f].file, fmt::format("frame {}", f + 1)},
+                       report.frames[f].fingerprint, Kind::Frame});
+  const std::vector<std::string> snapshots = snapshot_names_in_order(report);
+  for (const std::string& name : snapshots) {
+    const std::string file = "particles_" + name + ".vtp";
+    const ParticleStore& bed = report.snapshots.at(name);
+    write(file, bed_vtp(report, bed, provenance));
+    entries.push_back(
+        {{report.snapshot_times.at(name), file, "snapshot " + name}, bed_fingerprint(bed), Kind::Snapshot});
+  }
+  if (!entries.empty()) {
+    entries.push_back({{report.simulated_time, "particles.vtp", "the final bed"}, bed_fingerprint(report.particles),
+                       Kind::Final});
+    std::stable_sort(entries.begin(), entries.end(),
+                     [](const Entry& a, const Entry& b) { return a.frame.time < b.frame.time; });
+    const auto same = [](const Entry& a, const Entry& b) {
+      return a.frame.time == b.frame.time && a.fingerprint == b.fingerprint;
+    };
+    std::vector<PvdFrame> frames;
+    for (std::size_t e = 0; e < entries.size(); ++e) {
+      const Entry& entry = entries[e];
+      if (entry.kind == Kind::Frame && e + 1 < entries.size() && entries[e + 1].kind == Kind::Snapshot &&
+          same(entry, entries[e + 1]))
+        continue;
+      if (entry.kind == Kind::Final && e > 0 && same(entry, entries[e - 1])) continue;
+      frames.push_back(entry.frame);
+    }
+    write("particles.pvd", particles_pvd(frames, provenance));
+  }
+}
+
 }  // namespace
 
 nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far) {
@@ -92,7 +140,7 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   if (!report.lammps_exchanges.empty()) written.push_back("lammps");
   // The frames, written while the run went (by this run or, resumed, by the run it continues).
   if (sc.output.frame_interval && std::filesystem::exists(dir / kFramesFolder)) written.push_back(kFramesFolder);
-  const auto write = [&](const std::string& name, const auto& content) {
+  const auto write = [&](const std::string& name, const std::string& content) {
     write_file_atomically(dir / name, content);
     written.push_back(name);
   };
@@ -120,49 +168,7 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   if (sc.output.vtp) {
     write("particles.vtp", bed_vtp(report, report.particles, provenance));
-    // The frames of the DEM (written as they were taken), the snapshots and the final bed as
-    // one series, for ParaView to animate, in the order of their times (at one time: the
-    // frames, then the snapshots in the protocol's order, then the final bed). One bed at one
-    // time is listed once: a frame that is a snapshot's bed as the snapshot, and a final bed
-    // that is the last frame's or snapshot's not again (a protocol that ends with a snapshot,
-    // or whose last frame is the final bed).
-    enum class Kind { Frame, Snapshot, Final };
-    struct Entry {
-      PvdFrame frame;
-      std::uint64_t fingerprint;
-      Kind kind;
-    };
-    std::vector<Entry> entries;
-    for (std::size_t f = 0; f < report.frames.size(); ++f)
-      entries.push_back({{report.frames[f].time, report.frames[f].file, fmt::format("frame {}", f + 1)},
-                         report.frames[f].fingerprint, Kind::Frame});
-    const std::vector<std::string> snapshots = snapshot_names_in_order(report);
-    for (const std::string& name : snapshots) {
-      const std::string file = "particles_" + name + ".vtp";
-      const ParticleStore& bed = report.snapshots.at(name);
-      write(file, bed_vtp(report, bed, provenance));
-      entries.push_back(
-          {{report.snapshot_times.at(name), file, "snapshot " + name}, bed_fingerprint(bed), Kind::Snapshot});
-    }
-    if (!entries.empty()) {
-      entries.push_back({{report.simulated_time, "particles.vtp", "the final bed"}, bed_fingerprint(report.particles),
-                         Kind::Final});
-      std::stable_sort(entries.begin(), entries.end(),
-                       [](const Entry& a, const Entry& b) { return a.frame.time < b.frame.time; });
-      const auto same = [](const Entry& a, const Entry& b) {
-        return a.frame.time == b.frame.time && a.fingerprint == b.fingerprint;
-      };
-      std::vector<PvdFrame> frames;
-      for (std::size_t e = 0; e < entries.size(); ++e) {
-        const Entry& entry = entries[e];
-        if (entry.kind == Kind::Frame && e + 1 < entries.size() && entries[e + 1].kind == Kind::Snapshot &&
-            same(entry, entries[e + 1]))
-          continue;
-        if (entry.kind == Kind::Final && e > 0 && same(entry, entries[e - 1])) continue;
-        frames.push_back(entry.frame);
-      }
-      write("particles.pvd", particles_pvd(frames, provenance));
-    }
+    write_vtp_series(report, provenance, write);
   }
   const double output_seconds = seconds_since(t0);
   nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
@@ -174,6 +180,30 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
 namespace {
 
 bool runs_dem(const Scenario& sc) { return sc.dynamics || sc.pour || sc.tapping; }
+
+// The output folder made ready for the run, once the input has passed its checks: an earlier
+// run's outputs removed (a resumed run keeps the frames written before its checkpoint), a
+// frames folder no aggpack run wrote refused, and the manifest started with the checkpoint.
+void take_over_folder(const Scenario& sc, bool resumed, const RunOptions& options, std::ostream& log) {
+  check_output_directory(sc.output.directory, true);
+  // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
+  // manifest names the checkpoint from the start, for a run that is killed.
+  const std::vector<std::string> removed =
+      remove_earlier_run(sc.output.directory, resumed ? std::vector<std::string>{kFramesFolder}
+                                                      : std::vector<std::string>{});
+  // A frames folder no aggpack run wrote (--overwrite leaves it there) is not taken over:
+  // this run would list it as its own, and remove it if it failed.
+  if (sc.output.frame_interval && !resumed && std::filesystem::exists(sc.output.directory / kFramesFolder))
+    throw InputError(fmt::format("{}: '{}' is there and no aggpack run wrote it; output.frame_interval writes the "
+                                 "run's frames into it: move it, or give another output folder",
+                                 sc.output.directory.string(), kFramesFolder));
+  std::vector<std::string> manifest{kCheckpointFile};
+  if (sc.output.frame_interval) manifest.push_back(kFramesFolder);
+  write_manifest(sc.output.directory, manifest);
+  if (!removed.empty() && !options.quiet)
+    fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", sc.output.directory.string(),
+               fmt::join(removed, ", "));
+}
 
 // run_scenario's and resume_run's common part: runs `sc` into its output folder, with
 // checkpoints of `header` there unless the scenario turns them off.
@@ -200,26 +230,8 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
       header.working_directory.empty() ? std::filesystem::current_path().string() : header.working_directory;
   bool began = false;  // the earlier run's files removed, this run's frames may come
   controls.before_work = [&] {
-    check_output_directory(sc.output.directory, true);
-    // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
-    // manifest names the checkpoint from the start, for a run that is killed.
-    // A resumed run keeps the frames written before its checkpoint (it writes the later ones).
-    const std::vector<std::string> removed =
-        remove_earlier_run(sc.output.directory, resume ? std::vector<std::string>{kFramesFolder}
-                                                       : std::vector<std::string>{});
-    // A frames folder no aggpack run wrote (--overwrite leaves it there) is not taken over:
-    // this run would list it as its own, and remove it if it failed.
-    if (sc.output.frame_interval && !resume && std::filesystem::exists(sc.output.directory / kFramesFolder))
-      throw InputError(fmt::format("{}: '{}' is there and no aggpack run wrote it; output.frame_interval writes the "
-                                   "run's frames into it: move it, or give another output folder",
-                                   sc.output.directory.string(), kFramesFolder));
+    take_over_folder(sc, resume != nullptr, options, log);
     began = true;
-    std::vector<std::string> manifest{kCheckpointFile};
-    if (sc.output.frame_interval) manifest.push_back(kFramesFolder);
-    write_manifest(sc.output.directory, manifest);
-    if (!removed.empty() && !options.quiet)
-      fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", sc.output.directory.string(),
-                 fmt::join(removed, ", "));
   };
   controls.stop = options.stop;
   controls.resume_from = resume;
