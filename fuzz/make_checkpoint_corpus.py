@@ -44,6 +44,9 @@ SCENARIOS = {
                        + COMMON.format(max_time=2, extra_dynamics=""),
     "pour": "seed = 4\n[container]\nside = 0.04\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 40\n"
             "[pour]\nbatches = 2\n" + COMMON.format(max_time=2, extra_dynamics=""),
+    "pour_tap": "seed = 7\n[container]\nside = 0.04\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 40\n"
+                "[pour]\nbatches = 2\n[tapping]\ntaps = 2\nintensity = 3\nrest_time = 0.05\n"
+                + COMMON.format(max_time=0.5, extra_dynamics="").replace("quiet_kinetic_fraction = 1e-30\n", ""),
     "tap": "seed = 6\n[container]\nside = 0.04\nheight = 0.2\n[particles]\ndiameter = 0.01\ncount = 40\n"
            "[deposition]\n[tapping]\ntaps = 3\nintensity = 3\nrest_time = 0.5\n"
            + COMMON.format(max_time=0.05, extra_dynamics="").replace("quiet_kinetic_fraction = 1e-30\n", ""),
@@ -59,6 +62,8 @@ TARGETS = {
     "pour_while_pouring": ("pour", b"while pouring,"),
     "pour_while_settling": ("pour", b"while settling at"),
     "tap_while_tap_2": ("tap", b"while tap 2 of"),
+    # Between a pour and its taps: the run state holds the DEM system the taps continue.
+    "pour_tap_before_step_3": ("pour_tap", b"before step 3 of"),
 }
 
 

@@ -25,7 +25,7 @@ void serialize(Archive& ar, PourLoop& l) {
 template <class Archive>
 void serialize(Archive& ar, TapReport& t) {
   ar(t.taps, t.intensity, t.frequency, t.amplitude, t.rest_time, t.rest_until_quiet, t.density_before, t.time_before,
-     raw(t.samples), t.simulated_time, t.steps, t.time_step, t.wall_clock_s, t.lammps_ranks);
+     raw(t.samples), t.simulated_time, t.steps, t.time_step, t.wall_clock_s, t.lammps_ranks, t.continues_dem_system);
 }
 template <class Archive>
 void serialize(Archive& ar, TapLoop& l) {

@@ -248,7 +248,8 @@ void check_reports(const RunReport& r, const RunContext& c) {
     fail("the deposition's report");
   if (r.dynamics)
     for (const SettlingRun& run : r.dynamics->runs)
-      if (!is_named(kSettleEndNames, run.ended_by) || !is_flag(run.time_step_from_scenario))
+      if (!is_named(kSettleEndNames, run.ended_by) || !is_flag(run.time_step_from_scenario) ||
+          !is_flag(run.continues_dem_system))
         fail("a settling run's report");
   if (r.supports.size() > r.particles.size()) fail("more supports than particles");
   std::set<std::string> snapshots, analyses;

@@ -114,6 +114,7 @@ nlohmann::json to_json(const TapReport& r) {
           {"steps", r.steps},
           {"time_step_s", r.time_step},
           {"wall_clock_s", r.wall_clock_s}};
+  if (r.continues_dem_system) j["continues_dem_system"] = true;
   if (r.lammps_ranks > 0) {
     j["engine"] = "lammps";
     j["lammps_ranks"] = r.lammps_ranks;
@@ -150,6 +151,7 @@ nlohmann::json to_json(const SettlingRun& r) {
   j["particle_steps_per_second"] = r.particle_steps_per_second;
   j["threads"] = r.threads;
   j["memory_bytes_per_particle"] = r.memory_bytes_per_particle;
+  if (r.continues_dem_system) j["continues_dem_system"] = true;
   if (r.lammps_ranks > 0) {
     j["engine"] = "lammps";
     j["lammps_ranks"] = r.lammps_ranks;

@@ -238,11 +238,12 @@ std::vector<std::string> RunReport::modelling_notes() const {
   }
   for (const PourReport& p : r.pours) notes.push_back(pour_note(p, sc));
   for (const TapReport& t : r.tappings) notes.push_back(tapping_note(t));
-  const std::size_t dem_steps = (r.dynamics ? r.dynamics->runs.size() : 0) + r.tappings.size();
-  if (dem_steps > 1 && sc.dynamics && sc.dynamics->engine == DemEngine::Aggpack)
-    notes.push_back("dynamics: consecutive DEM steps (a pour, its taps, a settling) continue one DEM system, contact "
-                    "history and all, as LAMMPS keeps one system through an input deck; a deposition or an import "
-                    "between two of them starts a new one");
+  const auto continues = [](const auto& step) { return step.continues_dem_system; };
+  if (std::any_of(r.tappings.begin(), r.tappings.end(), continues) ||
+      (r.dynamics && std::any_of(r.dynamics->runs.begin(), r.dynamics->runs.end(), continues)))
+    notes.push_back("dynamics: consecutive DEM steps (a pour, its taps, a settling) continued one DEM system, contact "
+                    "history and all, as LAMMPS keeps one system through an input deck (continues_dem_system in "
+                    "their stages); a deposition or an import between two of them starts a new one");
   if (r.sizes)
     for (const std::string& note : r.sizes->notes) notes.push_back(note);
   for (std::string& note : particle_file_notes(r)) notes.push_back(std::move(note));

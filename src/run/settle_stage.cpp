@@ -149,6 +149,7 @@ class StepDem {
       const CarriedDem::ForStep carried =
           controls.carried->system_for(particles, container, setup.model, setup.settings, std::move(frozen));
       system_ = &carried.system;
+      continued_ = carried.continued;
       builds_before_ = carried.continued ? carried.system.rebuilds() : 0;
     } else {
       own_ = std::make_unique<DemSystem>(particles, container, setup.model, setup.settings, std::move(frozen));
@@ -157,6 +158,7 @@ class StepDem {
   }
   [[nodiscard]] DemSystem& system() const { return *system_; }
   [[nodiscard]] std::size_t builds() const { return system_->rebuilds() - builds_before_; }
+  [[nodiscard]] bool continued() const { return continued_; }
   [[nodiscard]] double seconds() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
 
   // The step's state at a safe point, for a checkpoint: its kind (checked when it is read
@@ -165,7 +167,7 @@ class StepDem {
   void save(std::ostream& out, std::string_view kind, const Loop& loop) const {
     {
       cereal::BinaryOutputArchive ar(out);
-      ar(std::string(kind), loop, seconds(), builds_before_);
+      ar(std::string(kind), loop, seconds(), builds_before_, continued_);
     }
     system_->save_state(out);
   }
@@ -182,7 +184,7 @@ class StepDem {
       if (saved_kind != kind)
         throw DamagedCheckpoint(
             fmt::format("the checkpoint holds a {} step where the protocol has a {} step", saved_kind, kind));
-      ar(loop, elapsed, builds_before_);
+      ar(loop, elapsed, builds_before_, continued_);
       dem_state_at = ar.position();
     } catch (const cereal::Exception& e) {
       throw DamagedCheckpoint(fmt::format("its {} step: {}", kind, e.what()));
@@ -206,6 +208,7 @@ class StepDem {
   std::unique_ptr<DemSystem> own_;
   DemSystem* system_ = nullptr;
   std::size_t builds_before_ = 0;
+  bool continued_ = false;  // the system went on from the step before (a resumed step: it did then)
 };
 
 // A settling loop restored from a checkpoint: it began before the system's time and step now,
@@ -236,6 +239,7 @@ SettlingRun settling_run(const StepDem& step, const DemSetup& setup, const Scena
   run.time_step_from_scenario = sc.dynamics->time_step.fixed.has_value();
   run.skin = dem.skin();
   run.neighbour_list_builds = step.builds();
+  run.continues_dem_system = step.continued();
   run.last = result.last;
   run.wall_clock_s = seconds;
   run.particle_steps_per_second =
@@ -386,6 +390,7 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   report.time_before = time_offset;
   for (TapSample& s : report.samples) s.time = time_offset + s.time;
   report.wall_clock_s = step.seconds();
+  report.continues_dem_system = step.continued();
   return report;
 } catch (const DemBlowUp& e) {
   throw blow_up_error(sc, particles, fmt::format("while tapping, {}", e.what()), kTapCauses);

@@ -43,6 +43,7 @@ struct TapReport {
   double time_step = 0.0;
   double wall_clock_s = 0.0;
   int lammps_ranks = 0;  // 0: aggpack's DEM ran it; else LAMMPS on that many ranks
+  bool continues_dem_system = false;  // the caller's: the DEM system of the step before went on
   [[nodiscard]] std::string csv() const;  // taps.csv
 };
 

@@ -49,6 +49,7 @@ struct SettlingRun {
   int threads = 1;
   double memory_bytes_per_particle = 0.0;
   int lammps_ranks = 0;  // 0: aggpack's DEM ran it; else LAMMPS on that many ranks
+  bool continues_dem_system = false;  // the DEM system of the step before, contact history and all
 };
 
 // Every settling run of a dynamics stage, in order.
