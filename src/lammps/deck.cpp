@@ -177,6 +177,72 @@ LammpsDeck settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32
   return out;
 }
 
+// The pour's batches as pour_batch_<k>.data files (the gas drawn from the pour's own random
+// stream, its heights from the slab's bottom), with what the deck needs to let them in.
+struct PourBatches {
+  std::vector<std::pair<std::string, std::string>> files;  // pour_batch_<k>.data, in order
+  std::vector<double> fall_after;                          // s until the next batch comes
+  double highest = 0.0;  // the highest a slab can reach: every slab above the one before, each a gap higher
+};
+
+PourBatches pour_batches(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
+                         std::span<const double> radii, const PourSchedule& schedule, double gap, double g) {
+  const PourSettings& pour = *sc.pour;
+  const std::size_t batches = schedule.batches;
+  PourBatches out;
+  Rng rng = pour_stream(sc.seed, step.layer);
+  double bed_top = sc.container.bounds.lo.z;
+  for (std::size_t i = 0; i < bed.size(); ++i) bed_top = std::max(bed_top, bed.position[i].z + bed.radius[i]);
+  out.highest = bed_top;
+  out.fall_after.assign(batches, 0.0);
+  for (std::size_t k = 0; k < batches; ++k) {
+    const std::span<const double> batch = schedule.batch(radii, k);
+    BatchGas gas;
+    try {
+      gas = batch_gas(sc.container, 0.0, batch, pour.solid_fraction, rng);
+    } catch (const PourInsertionError& e) {
+      throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
+    }
+    const InsertionRegion& slab = gas.slab;
+    out.fall_after[k] = batch_fall_time(pour.velocity, g, slab.top);
+    out.highest += gap + slab.top;
+    ParticleStore gas_store;
+    for (std::size_t j = 0; j < batch.size(); ++j) {
+      gas_store.add(gas.positions[j], batch[j], sc.material.density, step.layer);
+      gas_store.velocity.back() = {0.0, 0.0, -pour.velocity};
+    }
+    Container slab_box = sc.container;
+    slab_box.bounds.lo.z = 0.0;
+    out.files.emplace_back(fmt::format("pour_batch_{}.data", k + 1),
+                           lammps_data(gas_store, slab_box, sc.material.density, std::max(slab.top, 1e-300), {}));
+  }
+  return out;
+}
+
+// The batches, at the sample ends where aggpack's pour lets them in: each read in at the
+// bed's top plus the gap, then the runs until the next one. Returns the time the last came in.
+double deck_pour_batches(Out o, const DeckBasis& b, const std::vector<double>& fall_after, double gap) {
+  const Scenario& sc = b.sc;
+  const QuietCriterion& quiet = sc.dynamics->quiet;
+  const std::size_t batches = fall_after.size();
+  double time = 0.0;
+  const double sample = static_cast<double>(b.steps_per_sample) * b.dt();
+  const double floor = sc.container.bounds.lo.z;
+  for (std::size_t k = 0; k < batches; ++k) {
+    fmt::format_to(o, "variable slab_bottom equal $((c_top>{0:.17g})*c_top+(c_top<={0:.17g})*{0:.17g}+{1:.17g})\n",
+                   floor, gap);
+    fmt::format_to(o, "print \"aggpack-batch: {} bottom ${{slab_bottom}}\"\n", k + 1);
+    fmt::format_to(o, "read_data pour_batch_{}.data add append shift 0 0 ${{slab_bottom}} group mobile\n", k + 1);
+    if (k + 1 == batches) break;
+    const double next = time + fall_after[k];
+    std::size_t samples = 0;
+    while (time < std::min(next, quiet.max_time)) time += sample, ++samples;
+    // A new batch changes the atoms: the first run after it sets LAMMPS up again.
+    if (samples > 0) fmt::format_to(o, "run {} post no\n", samples * b.steps_per_sample);
+  }
+  return time;
+}
+
 // aggpack's pour (pour_bed) as a deck: the same batches of the same random gas, each lifted to
 // the bed's top plus the gap when it comes in, at the same times, then the settling.
 LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
@@ -188,40 +254,11 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   // The skin is chosen for the smallest sphere still to come, as aggpack's pour does.
   const double gap = pour.gap.value_or(2.0 * r_max);
   const PourSchedule schedule = pour_schedule(pour, radii.size());
-  const std::size_t batches = schedule.batches;
   LammpsDeck out;
   out.step = fmt::format("pour, part {} of {}", step.layer + 1, step.layers);
   out.deck_file = "pour.in";
-
-  // The gas of each batch, from the pour's own random stream, its heights from the slab's bottom.
-  Rng rng = pour_stream(sc.seed, step.layer);
-  double bed_top = sc.container.bounds.lo.z, highest = bed_top;
-  for (std::size_t i = 0; i < bed.size(); ++i) bed_top = std::max(bed_top, bed.position[i].z + bed.radius[i]);
-  highest = bed_top;
-  std::vector<double> fall_after(batches, 0.0);  // s until the next batch comes
-  const double dt = b.dt();
-  for (std::size_t k = 0; k < batches; ++k) {
-    const std::span<const double> batch = schedule.batch(radii, k);
-    BatchGas gas;
-    try {
-      gas = batch_gas(sc.container, 0.0, batch, pour.solid_fraction, rng);
-    } catch (const PourInsertionError& e) {
-      throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
-    }
-    const InsertionRegion& slab = gas.slab;
-    fall_after[k] = batch_fall_time(pour.velocity, b.g, slab.top);
-    // The highest a slab can reach: every slab above the one before, each a gap higher.
-    highest += gap + slab.top;
-    ParticleStore gas_store;
-    for (std::size_t j = 0; j < batch.size(); ++j) {
-      gas_store.add(gas.positions[j], batch[j], sc.material.density, step.layer);
-      gas_store.velocity.back() = {0.0, 0.0, -pour.velocity};
-    }
-    Container slab_box = sc.container;
-    slab_box.bounds.lo.z = 0.0;
-    out.files.emplace_back(fmt::format("pour_batch_{}.data", k + 1),
-                           lammps_data(gas_store, slab_box, sc.material.density, std::max(slab.top, 1e-300), {}));
-  }
+  PourBatches batches = pour_batches(sc, bed, step, radii, schedule, gap, b.g);
+  out.files = std::move(batches.files);
 
   fmt::memory_buffer d;
   Out o(d);
@@ -236,30 +273,14 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   deck_static_walls(o, b);
   deck_motion(o, b);
   fmt::format_to(o, "run 0 post no\n");
-  // The batches, at the sample ends where aggpack's pour lets them in.
-  double time = 0.0;
-  const double sample = static_cast<double>(b.steps_per_sample) * dt;
-  const double floor = sc.container.bounds.lo.z;
-  for (std::size_t k = 0; k < batches; ++k) {
-    fmt::format_to(o, "variable slab_bottom equal $((c_top>{0:.17g})*c_top+(c_top<={0:.17g})*{0:.17g}+{1:.17g})\n",
-                   floor, gap);
-    fmt::format_to(o, "print \"aggpack-batch: {} bottom ${{slab_bottom}}\"\n", k + 1);
-    fmt::format_to(o, "read_data pour_batch_{}.data add append shift 0 0 ${{slab_bottom}} group mobile\n", k + 1);
-    if (k + 1 == batches) break;
-    const double next = time + fall_after[k];
-    std::size_t samples = 0;
-    while (time < std::min(next, quiet.max_time)) time += sample, ++samples;
-    // A new batch changes the atoms: the first run after it sets LAMMPS up again.
-    if (samples > 0) fmt::format_to(o, "run {} post no\n", samples * b.steps_per_sample);
-  }
-  const double poured_at = time;
+  const double poured_at = deck_pour_batches(o, b, batches.fall_after, gap);
   fmt::format_to(o, "run 0 post no\n");
   deck_quiet_loop(o, b, "settle", poured_at + std::max(quiet.sample_interval, quiet.max_time - poured_at));
   deck_end(o);
   out.files.insert(out.files.begin(),
                    {LammpsDeck::kDataFile,
                     lammps_data(bed, sc.container, sc.material.density,
-                                std::max(sc.container.bounds.hi.z, highest + 2.0 * r_max), {})});
+                                std::max(sc.container.bounds.hi.z, batches.highest + 2.0 * r_max), {})});
   out.files.emplace_back(out.deck_file, fmt::to_string(d));
   return out;
 }

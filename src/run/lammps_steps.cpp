@@ -283,116 +283,167 @@ std::string take_positions_from_lammps(ParticleStore& particles, const std::file
   return read.format;
 }
 
-std::string export_lammps(const std::filesystem::path& scenario_or_run, const ScenarioOverrides& overrides,
-                          const std::filesystem::path& out, bool tap, std::ostream& log) {
-  check_output_directory(out, false);
+namespace {
+
+// What an export writes and reports: the deck, where its bed comes from, its spheres and those
+// still to pour.
+struct ExportedDeck {
   LammpsDeck deck;
   std::string source;
   std::size_t spheres = 0, poured = 0;
-  if (std::filesystem::is_directory(scenario_or_run)) {
-    // A finished run: its scenario (with the overrides it ran with) and its final bed.
-    const std::filesystem::path summary_file = scenario_or_run / "summary.json";
-    const std::filesystem::path bed_file = scenario_or_run / "particles.csv";
-    for (const auto& f : {summary_file, bed_file})
-      if (!std::filesystem::exists(f))
-        throw InputError(fmt::format("{}: a run's folder holds {}; this one has none (is it the output folder of a "
-                                     "finished aggpack run?)",
-                                     scenario_or_run.string(), f.filename().string()));
-    std::filesystem::path scenario_file;
-    std::optional<std::string> stopped;  // where an interrupted run stopped: its bed is not a final one
-    ScenarioOverrides recorded = overrides;
-    try {
-      const auto summary =
-          nlohmann::json::parse(read_input_text(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
-      scenario_file = summary.value("scenario_file", std::string());
-      // A relative path is the run's: from the folder it was started in, not this one.
-      const std::filesystem::path started_in = summary.value("working_directory", std::string());
-      if (!scenario_file.empty() && !started_in.empty()) scenario_file = started_in / scenario_file;
-      if (summary.value("interrupted", false))
-        stopped = summary.at("interruption").value("stopped", std::string("at an unrecorded point"));
-      if (!recorded.seed && summary.contains("seed")) recorded.seed = recorded_seed(summary.at("seed"), summary_file);
-      // The run's own overrides first, in their order; the command's --set after them win.
-      if (summary.contains("scenario_overrides")) {
-        const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
-        recorded.set.insert(recorded.set.begin(), run_sets.begin(), run_sets.end());
-      }
-    } catch (const nlohmann::json::exception& e) {
-      throw InputError(fmt::format("{}: not a summary.json aggpack wrote: {}", summary_file.string(), e.what()));
+};
+
+// What a finished run's summary.json says of how it ran: its scenario file (as a path from
+// here), where it stopped if it was interrupted, and its overrides under the command's.
+struct RecordedRun {
+  std::filesystem::path scenario_file;
+  std::optional<std::string> stopped;  // where an interrupted run stopped: its bed is not a final one
+  ScenarioOverrides overrides;
+};
+
+RecordedRun read_recorded_run(const std::filesystem::path& summary_file, const ScenarioOverrides& overrides) {
+  RecordedRun recorded;
+  recorded.overrides = overrides;
+  try {
+    const auto summary =
+        nlohmann::json::parse(read_input_text(summary_file, "the run's summary", kDefaultMaxInputFileBytes));
+    recorded.scenario_file = summary.value("scenario_file", std::string());
+    // A relative path is the run's: from the folder it was started in, not this one.
+    const std::filesystem::path started_in = summary.value("working_directory", std::string());
+    if (!recorded.scenario_file.empty() && !started_in.empty())
+      recorded.scenario_file = started_in / recorded.scenario_file;
+    if (summary.value("interrupted", false))
+      recorded.stopped = summary.at("interruption").value("stopped", std::string("at an unrecorded point"));
+    if (!recorded.overrides.seed && summary.contains("seed"))
+      recorded.overrides.seed = recorded_seed(summary.at("seed"), summary_file);
+    // The run's own overrides first, in their order; the command's --set after them win.
+    if (summary.contains("scenario_overrides")) {
+      const auto run_sets = summary.at("scenario_overrides").get<std::vector<std::string>>();
+      recorded.overrides.set.insert(recorded.overrides.set.begin(), run_sets.begin(), run_sets.end());
     }
-    if (scenario_file.empty() || !std::filesystem::exists(scenario_file))
-      throw InputError(fmt::format("{}: its scenario_file \"{}\" is gone; export the bed with "
-                                   "export-lammps SCENARIO, or run the scenario again",
-                                   summary_file.string(), scenario_file.string()));
-    const Scenario sc = load_scenario(scenario_file, recorded);
-    if (!sc.dynamics)
-      throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "
-                                   "stopping rule from there",
-                                   scenario_file.string()));
-    if (tap && !sc.tapping)
-      throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps",
-                                   scenario_file.string()));
-    ParticleStore bed = read_packing_file(bed_file, 1.0, sc.material.density, sc.limits.max_input_bytes()).particles;
-    for (auto& l : bed.layer) l = 0;
-    deck = lammps_deck(sc, bed, tap ? LammpsStep{TapStep{}} : LammpsStep{SettleStep{0}});
-    if (stopped) {
-      // particles.csv is the bed mid-step (a settle, a pour, a tap): say so wherever it goes.
-      const std::string bed_was =
-          fmt::format("the bed of the interrupted run in {}, as it stood {}", scenario_or_run.string(), *stopped);
-      add_note(deck, "Not a final bed: " + bed_was);
-      source = bed_was + ", not a final bed";
-    } else {
-      source = fmt::format("the final bed of the run in {}", scenario_or_run.string());
-    }
-    spheres = bed.size();
-  } else {
-    if (tap)
-      throw InputError(fmt::format("{}: --tap applies to a run's folder; for a scenario the step exported is its "
-                                   "first DEM step (a tap step when that comes first)",
-                                   scenario_or_run.string()));
-    const Scenario sc = load_scenario(scenario_or_run, overrides);
-    const Protocol protocol = scenario_protocol(sc);
-    std::size_t k = 0;
-    const auto is_dem = [](const Step& s) {
-      return std::holds_alternative<SettleStep>(s.kind) || std::holds_alternative<PourStep>(s.kind) ||
-             std::holds_alternative<TapStep>(s.kind);
-    };
-    while (k < protocol.steps.size() && !is_dem(protocol.steps[k])) ++k;
-    if (k == protocol.steps.size())
-      throw InputError(fmt::format("{}: the protocol has no DEM step to export (a settle, pour or tap step)",
-                                   sc.file.string()));
-    RunControls controls;
-    // The steps before it, but the scenario's own exports (they would write into its output folder).
-    controls.protocol.emplace();
-    for (std::size_t j = 0; j < k; ++j)
-      if (!std::holds_alternative<ExportLammpsStep>(protocol.steps[j].kind))
-        controls.protocol->steps.push_back(protocol.steps[j]);
-    controls.final_analysis = false;
-    Progress silent;
-    const RunReport report = run(sc, controls, silent);
-    const StepKind& kind = protocol.steps[k].kind;
-    std::span<const double> pour_radii;
-    std::vector<double> radii;
-    LammpsStep step;
-    if (const auto* p = std::get_if<PourStep>(&kind)) {
-      for (const double d : generate_sizes(sc.particles, sc.seed).diameters) radii.push_back(0.5 * d);
-      const std::size_t begin = radii.size() * p->layer / p->layers, end = radii.size() * (p->layer + 1) / p->layers;
-      pour_radii = std::span<const double>(radii).subspan(begin, end - begin);
-      step = *p;
-    } else if (const auto* s = std::get_if<SettleStep>(&kind)) {
-      step = *s;
-    } else {
-      step = TapStep{};
-    }
-    deck = lammps_deck(sc, report.particles, step, pour_radii);
-    poured = pour_radii.size();
-    source = fmt::format("step {} of {} of {}", k + 1, protocol.steps.size(), sc.file.string());
-    spheres = report.particles.size();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: not a summary.json aggpack wrote: {}", summary_file.string(), e.what()));
   }
+  return recorded;
+}
+
+// A finished run: its scenario (with the overrides it ran with) and its final bed, for a
+// settle step or, with --tap, a tap step.
+ExportedDeck export_run_folder(const std::filesystem::path& folder, const ScenarioOverrides& overrides, bool tap) {
+  const std::filesystem::path summary_file = folder / "summary.json";
+  const std::filesystem::path bed_file = folder / "particles.csv";
+  for (const auto& f : {summary_file, bed_file})
+    if (!std::filesystem::exists(f))
+      throw InputError(fmt::format("{}: a run's folder holds {}; this one has none (is it the output folder of a "
+                                   "finished aggpack run?)",
+                                   folder.string(), f.filename().string()));
+  const RecordedRun recorded = read_recorded_run(summary_file, overrides);
+  const std::filesystem::path& scenario_file = recorded.scenario_file;
+  if (scenario_file.empty() || !std::filesystem::exists(scenario_file))
+    throw InputError(fmt::format("{}: its scenario_file \"{}\" is gone; export the bed with "
+                                 "export-lammps SCENARIO, or run the scenario again",
+                                 summary_file.string(), scenario_file.string()));
+  const Scenario sc = load_scenario(scenario_file, recorded.overrides);
+  if (!sc.dynamics)
+    throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "
+                                 "stopping rule from there",
+                                 scenario_file.string()));
+  if (tap && !sc.tapping)
+    throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps",
+                                 scenario_file.string()));
+  ParticleStore bed = read_packing_file(bed_file, 1.0, sc.material.density, sc.limits.max_input_bytes()).particles;
+  for (auto& l : bed.layer) l = 0;
+  ExportedDeck exported;
+  exported.deck = lammps_deck(sc, bed, tap ? LammpsStep{TapStep{}} : LammpsStep{SettleStep{0}});
+  if (recorded.stopped) {
+    // particles.csv is the bed mid-step (a settle, a pour, a tap): say so wherever it goes.
+    const std::string bed_was =
+        fmt::format("the bed of the interrupted run in {}, as it stood {}", folder.string(), *recorded.stopped);
+    add_note(exported.deck, "Not a final bed: " + bed_was);
+    exported.source = bed_was + ", not a final bed";
+  } else {
+    exported.source = fmt::format("the final bed of the run in {}", folder.string());
+  }
+  exported.spheres = bed.size();
+  return exported;
+}
+
+// The index of the protocol's first DEM step (a settle, pour or tap step): the one a
+// scenario's export hands to LAMMPS.
+std::size_t first_dem_step(const Scenario& sc, const Protocol& protocol) {
+  std::size_t k = 0;
+  const auto is_dem = [](const Step& s) {
+    return std::holds_alternative<SettleStep>(s.kind) || std::holds_alternative<PourStep>(s.kind) ||
+           std::holds_alternative<TapStep>(s.kind);
+  };
+  while (k < protocol.steps.size() && !is_dem(protocol.steps[k])) ++k;
+  if (k == protocol.steps.size())
+    throw InputError(fmt::format("{}: the protocol has no DEM step to export (a settle, pour or tap step)",
+                                 sc.file.string()));
+  return k;
+}
+
+// The bed as it stands before step k: the steps before it run here, but the scenario's own
+// exports (they would write into its output folder), and no final analysis.
+RunReport run_steps_before(const Scenario& sc, const Protocol& protocol, std::size_t k) {
+  RunControls controls;
+  controls.protocol.emplace();
+  for (std::size_t j = 0; j < k; ++j)
+    if (!std::holds_alternative<ExportLammpsStep>(protocol.steps[j].kind))
+      controls.protocol->steps.push_back(protocol.steps[j]);
+  controls.final_analysis = false;
+  Progress silent;
+  return run(sc, controls, silent);
+}
+
+// A scenario: its first DEM step, on the bed the steps before it leave.
+ExportedDeck export_scenario_step(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides,
+                                  bool tap) {
+  if (tap)
+    throw InputError(fmt::format("{}: --tap applies to a run's folder; for a scenario the step exported is its "
+                                 "first DEM step (a tap step when that comes first)",
+                                 scenario_file.string()));
+  const Scenario sc = load_scenario(scenario_file, overrides);
+  const Protocol protocol = scenario_protocol(sc);
+  const std::size_t k = first_dem_step(sc, protocol);
+  const RunReport report = run_steps_before(sc, protocol, k);
+  const StepKind& kind = protocol.steps[k].kind;
+  std::span<const double> pour_radii;
+  std::vector<double> radii;
+  LammpsStep step;
+  if (const auto* p = std::get_if<PourStep>(&kind)) {
+    // The part of the scenario's sizes this pour step lets in.
+    for (const double d : generate_sizes(sc.particles, sc.seed).diameters) radii.push_back(0.5 * d);
+    const std::size_t begin = radii.size() * p->layer / p->layers, end = radii.size() * (p->layer + 1) / p->layers;
+    pour_radii = std::span<const double>(radii).subspan(begin, end - begin);
+    step = *p;
+  } else if (const auto* s = std::get_if<SettleStep>(&kind)) {
+    step = *s;
+  } else {
+    step = TapStep{};
+  }
+  ExportedDeck exported;
+  exported.deck = lammps_deck(sc, report.particles, step, pour_radii);
+  exported.poured = pour_radii.size();
+  exported.source = fmt::format("step {} of {} of {}", k + 1, protocol.steps.size(), sc.file.string());
+  exported.spheres = report.particles.size();
+  return exported;
+}
+
+}  // namespace
+
+std::string export_lammps(const std::filesystem::path& scenario_or_run, const ScenarioOverrides& overrides,
+                          const std::filesystem::path& out, bool tap, std::ostream& log) {
+  check_output_directory(out, false);
+  const ExportedDeck exported = std::filesystem::is_directory(scenario_or_run)
+                                    ? export_run_folder(scenario_or_run, overrides, tap)
+                                    : export_scenario_step(scenario_or_run, overrides, tap);
+  const LammpsDeck& deck = exported.deck;
   check_output_directory(out, true);
   write_lammps_deck(out, deck);
   fmt::print(log, "aggpack: exported {} ({}): {} spheres in {}{}, the deck in {}; run it with: cd {} && lmp -in {}\n",
-             source, deck.step, spheres, (out / LammpsDeck::kDataFile).string(),
-             poured > 0 ? fmt::format(" and {} to pour in pour_batch_*.data", poured) : std::string(),
+             exported.source, deck.step, exported.spheres, (out / LammpsDeck::kDataFile).string(),
+             exported.poured > 0 ? fmt::format(" and {} to pour in pour_batch_*.data", exported.poured) : std::string(),
              (out / deck.deck_file).string(), out.string(), deck.deck_file);
   return deck.step;
 }

@@ -214,6 +214,191 @@ double dem_samples(const Scenario& sc, const Step& step, double time_step) {
                                [](const auto&) { return 0.0; }},
                     step.kind);
 }
+
+// Some particles, and a generated bed within limits.max_particles (a file's: by its memory, below).
+void check_particle_count(const Scenario& sc, std::span<const double> radii) {
+  const std::string file = sc.file.string();
+  if (radii.empty()) throw InputError(fmt::format("{}: particles: the scenario makes no particles", file));
+  if (!sc.particles.file && !(sc.limits.max_particles >= static_cast<double>(radii.size())))
+    throw InputError(fmt::format("{}: particles: {} particles, more than limits.max_particles = {:.3g}", file,
+                                 radii.size(), sc.limits.max_particles));
+}
+
+// A bed placed here (deposition, pour): a container taller than d_max; fill heights of at least d_max.
+void check_heights(const Scenario& sc, double d_max) {
+  const std::string file = sc.file.string();
+  const Container& c = sc.container;
+  if ((sc.deposition || sc.pour) && d_max >= c.height())
+    throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) is not below container.height "
+                                 "({:.6g} m); expected a container taller than its largest particle",
+                                 file, d_max, c.height()));
+  if (sc.deposition && sc.deposition->fill_height < d_max)
+    throw InputError(fmt::format("{}: deposition.fill_height: {:.6g} m is below the largest diameter ({:.6g} m); "
+                                 "expected at least one diameter (the bed would hold no particle)",
+                                 file, sc.deposition->fill_height, d_max));
+  if (sc.particles.graded && sc.particles.graded->fill_height && *sc.particles.graded->fill_height < d_max)
+    throw InputError(fmt::format("{}: particles.fill_height: {:.6g} m is below the largest diameter ({:.6g} m); "
+                                 "expected at least one diameter", file, *sc.particles.graded->fill_height, d_max));
+}
+
+// The contact search's reach, in the smallest sphere's diameters: the cells it scans grow as its cube.
+void check_contact_reach(const Scenario& sc, double r_min, double d_max) {
+  const double reach = contact_reach_diameters(sc.analysis.contact_tolerance, r_min, 0.5 * d_max);
+  if (!(reach <= kMaxContactReachDiameters))
+    throw InputError(fmt::format(
+        "{}: analysis.contact_tolerance: {} makes the smallest sphere (radius {} m) look for contacts {} of its "
+        "diameters away, beside spheres up to {} m across: the neighbour search would scan some {:.3g} cells for "
+        "each; expected at most {:g} diameters, a contact_tolerance of at most {}",
+        sc.file.string(), shown(sc.analysis.contact_tolerance), shown(r_min), shown(reach), shown(d_max),
+        std::pow(2.0 * reach + 3.0, 3.0), kMaxContactReachDiameters,
+        shown(sc.analysis.contact_tolerance * kMaxContactReachDiameters / reach)));
+}
+
+// The virtual cubes of the analysis: not too many, and each able to fit in the container.
+void check_box_sides(const Scenario& sc, double d_max) {
+  const std::string file = sc.file.string();
+  const Container& c = sc.container;
+  // A virtual cube keeps one d_max from the walls: a side beyond that can never be placed.
+  const double width = std::min(c.length_x(), c.length_y());
+  const double horizontal = c.periodic ? width : width - 2.0 * d_max;
+  const double vertical = c.height() - 2.0 * d_max;
+  if (sc.analysis.box_sides.size() > kMaxAnalysisBoxes)
+    throw InputError(fmt::format("{}: analysis.box_sides: {} sides; expected at most {} (each cube is a pass over every "
+                                 "sphere, at each analysis and each density check of the DEM)",
+                                 file, sc.analysis.box_sides.size(), kMaxAnalysisBoxes));
+  for (const double side : sc.analysis.box_sides)
+    if (side > std::min(horizontal, vertical))
+      throw InputError(fmt::format(
+          "{}: analysis.box_sides: a cube of side {:.6g} m cannot fit in the container ({:.6g} x {:.6g} x {:.6g} m) "
+          "with one d_max ({:.6g} m) kept from the walls, the floor and the surface; the largest admissible side "
+          "is {:.6g} m",
+          file, side, c.length_x(), c.length_y(), c.height(), d_max, std::max(0.0, std::min(horizontal, vertical))));
+}
+
+// The time step against the contact law's stability limit.
+void check_time_step(const Scenario& sc, double r_min) {
+  const DynamicsStage& d = *sc.dynamics;
+  const double scale = stable_time_scale(sc.material.contact, r_min, sc.material.density);
+  const double step = d.time_step.step(scale);
+  if (!d.allow_unstable_time_step && step > TimeStepRule::kStableFraction * scale)
+    throw InputError(fmt::format(
+        "{}: dynamics.{}: the time step {:.4g} s is {:.3g} times the Rayleigh time of the smallest sphere "
+        "({:.4g} s, radius {:.4g} m); Hertz contacts are resolved only up to {:g} of it (at 0.75 a bed already "
+        "settles 5 % too dense); expected at most {:.4g} s, or set dynamics.allow_unstable_time_step = "
+        "true to run it anyway (noted in the output)",
+        sc.file.string(), d.time_step.fixed ? "time_step" : "time_step_safety", step, step / scale, scale, r_min,
+        TimeStepRule::kStableFraction, TimeStepRule::kStableFraction * scale));
+}
+
+// The neighbour grid, sized as the stages size it.
+void check_grid_cells(const Scenario& sc, std::span<const double> radii, double solid, double r_min) {
+  const Container& c = sc.container;
+  const double cells = MultilevelGrid::cells_needed(c, radii, std::max(solid / 0.6, 1e-300), c.height());
+  if (!(cells <= sc.limits.max_grid_cells))
+    throw InputError(fmt::format("{}: container: the neighbour grid would need {:.3g} cells (a {:.4g} x {:.4g} x "
+                                 "{:.4g} m container, spheres from {:.4g} m in radius), more than "
+                                 "limits.max_grid_cells = {:.3g}; expected a container nearer the size of its "
+                                 "bed, or raise the limit (at most 2^31)",
+                                 sc.file.string(), cells, c.length_x(), c.length_y(), c.height(), r_min,
+                                 sc.limits.max_grid_cells));
+}
+
+// The profiles' bin thicknesses (default d_max / 4), and the slices and shells across the container.
+struct ProfileBins { double slice, shell, slices, shells; };
+
+ProfileBins profile_bins(const Scenario& sc, double d_max) {
+  const Container& c = sc.container;
+  const double slice = sc.analysis.slice_thickness.value_or(0.25 * d_max);
+  const double shell = sc.analysis.shell_thickness.value_or(0.25 * d_max);
+  return {slice, shell, c.height() / slice, 0.5 * std::min(c.length_x(), c.length_y()) / shell};
+}
+
+// Their count, and the sphere-bin volumes each profile sums.
+void check_profiles(const Scenario& sc, std::span<const double> radii, const ProfileBins& p) {
+  const double bins = std::max(p.slices, p.shells);
+  if (!(bins <= sc.limits.max_profile_bins))
+    throw InputError(fmt::format("{}: analysis.{}: the profiles would need {:.3g} bins across the container, more "
+                                 "than limits.max_profile_bins = {:.3g}; expected a thicker slice (default "
+                                 "d_max / 4)",
+                                 sc.file.string(), p.slices >= p.shells ? "slice_thickness" : "shell_thickness",
+                                 bins, sc.limits.max_profile_bins));
+  // Each sphere adds its volume to every slice (shell) it reaches: the bins above bound the
+  // profiles' memory, not this work, which grows as the spheres' count times d / thickness.
+  double diameters = 0.0;
+  for (const double r : radii) diameters += 2.0 * r;
+  const double d_mean = diameters / static_cast<double>(radii.size());
+  const bool by_slice = p.slice <= p.shell;
+  const double thinnest = std::min(p.slice, p.shell);
+  if (!(d_mean / thinnest <= kMaxProfileBinsPerSphere))
+    throw InputError(fmt::format(
+        "{}: analysis.{}: {} m cuts each sphere (mean diameter {} m) into {} {} on average, {:.3g} sphere-{} "
+        "volumes for every profile; expected at least d_mean / {:g} = {} m (default d_max / 4)",
+        sc.file.string(), by_slice ? "slice_thickness" : "shell_thickness", shown(thinnest), shown(d_mean),
+        shown(d_mean / thinnest), by_slice ? "slices" : "shells", diameters / thinnest, by_slice ? "slice" : "shell",
+        kMaxProfileBinsPerSphere, shown(d_mean / kMaxProfileBinsPerSphere)));
+}
+
+// The memory of the bed (a particle file's is known only now) and of what the run keeps until it
+// ends: a copy of the bed for each snapshot step, the profiles of each analysis, the DEM's samples.
+void check_run_memory(const Scenario& sc, std::span<const double> radii, const ProfileBins& p, double time_step) {
+  const std::string file = sc.file.string();
+  const double n = static_cast<double>(radii.size());
+  const double bed_bytes = n * bytes_per_particle(sc);
+  const double limit = memory_limit_bytes(sc.limits);
+  if (bed_bytes > limit)
+    throw InputError(fmt::format("{}: {}: {} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), more than "
+                                 "{}; expected a smaller bed, or a larger limits.max_memory_gib",
+                                 file, sc.particles.file ? "particles.from" : "particles", radii.size(),
+                                 bed_bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
+                                 memory_limit_text(sc)));
+  std::size_t snapshots = 0, analyses = 1;  // and the run's final analysis
+  double samples = 0.0;                     // of the DEM steps, at most
+  const Protocol protocol = scenario_protocol(sc);
+  for (const Step& step : protocol.steps) {
+    snapshots += std::holds_alternative<SnapshotStep>(step.kind) ? 1 : 0;
+    analyses += std::holds_alternative<AnalyseStep>(step.kind) ? 1 : 0;
+    if (sc.dynamics) samples += dem_samples(sc, step, time_step);
+  }
+  const double kept = static_cast<double>(snapshots) * n * kBytesPerSnapshotParticle +
+                      static_cast<double>(analyses) * (p.slices + p.shells) * kBytesPerProfileBin;
+  if (bed_bytes + kept > limit)
+    throw InputError(fmt::format(
+        "{}: protocol: {} snapshot step{} (a copy of the {} particles each) and {} analys{} (profiles of {:.3g} bins "
+        "each) keep an estimated {:.3g} GiB until the run ends, with the bed's {:.3g} GiB more than {}; expected fewer "
+        "snapshot or analyse steps, a thicker analysis.slice_thickness or shell_thickness, or a larger "
+        "limits.max_memory_gib",
+        file, snapshots, snapshots == 1 ? "" : "s", radii.size(), analyses, analyses == 1 ? "is" : "es",
+        p.slices + p.shells, kept / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
+  if (sc.dynamics && bed_bytes + kept + samples * kBytesPerSample > limit) {
+    const QuietCriterion& q = sc.dynamics->quiet;
+    throw InputError(fmt::format(
+        "{}: dynamics.sample_interval: the DEM steps would keep up to {:.3g} samples for timeseries.csv (a sample "
+        "every {} s, up to max_time = {} s for each settle or pour step), an estimated {:.3g} GiB, with the bed's "
+        "{:.3g} GiB more than {}; expected a longer sample_interval or a shorter max_time",
+        file, samples, shown(std::max(q.sample_interval, time_step)), shown(q.max_time),
+        samples * kBytesPerSample / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
+  }
+}
+
+// A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
+// if even that leaves no room for a virtual cube, the run would fail after all its work.
+void check_room_for_cubes(const Scenario& sc, std::span<const double> radii, double solid, double d_max) {
+  const Container& c = sc.container;
+  double deepest = std::min(c.height(), solid / (0.5 * c.length_x() * c.length_y()));
+  if (sc.deposition) deepest = std::min(deepest, sc.deposition->fill_height);
+  const double room = deepest - 2.0 * d_max;
+  const double needed = sc.analysis.box_sides.empty()
+                            ? 0.0
+                            : *std::min_element(sc.analysis.box_sides.begin(), sc.analysis.box_sides.end());
+  if (room <= needed)
+    throw InputError(fmt::format(
+        "{}: particles: the bed will be at most {:.4g} m deep ({} particles, {:.4g} m^3 of solid at a solid "
+        "fraction of 0.5), which leaves no room for a virtual cube{} one d_max ({:.4g} m) from the floor and the "
+        "free surface; expected more particles (count, solid_volume or fill_height) or smaller analysis.box_sides",
+        sc.file.string(), deepest, radii.size(), solid,
+        needed > 0.0 ? fmt::format(" of side {:.4g} m", needed) : std::string(), d_max));
+}
+
 }  // namespace
 
 void check_thread_count(int threads) {
@@ -280,68 +465,16 @@ void check_amount(const Scenario& sc) {
                                  memory_limit_text(sc)));
 }
 
+// The checks run in this order, the cheapest and most basic first: the first that fails is
+// the message the user sees.
 void check_sizes(const Scenario& sc, std::span<const double> radii) {
-  const std::string file = sc.file.string();
-  if (radii.empty()) throw InputError(fmt::format("{}: particles: the scenario makes no particles", file));
-  if (!sc.particles.file && !(sc.limits.max_particles >= static_cast<double>(radii.size())))
-    throw InputError(fmt::format("{}: particles: {} particles, more than limits.max_particles = {:.3g}", file,
-                                 radii.size(), sc.limits.max_particles));
+  check_particle_count(sc, radii);
   const auto [r_lo, r_hi] = std::minmax_element(radii.begin(), radii.end());
   const double d_max = 2.0 * *r_hi, r_min = *r_lo;
-  const Container& c = sc.container;
-  const bool placed_here = sc.deposition || sc.pour;
-  if (placed_here && d_max >= c.height())
-    throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) is not below container.height "
-                                 "({:.6g} m); expected a container taller than its largest particle",
-                                 file, d_max, c.height()));
-  if (sc.deposition && sc.deposition->fill_height < d_max)
-    throw InputError(fmt::format("{}: deposition.fill_height: {:.6g} m is below the largest diameter ({:.6g} m); "
-                                 "expected at least one diameter (the bed would hold no particle)",
-                                 file, sc.deposition->fill_height, d_max));
-  if (sc.particles.graded && sc.particles.graded->fill_height && *sc.particles.graded->fill_height < d_max)
-    throw InputError(fmt::format("{}: particles.fill_height: {:.6g} m is below the largest diameter ({:.6g} m); "
-                                 "expected at least one diameter", file, *sc.particles.graded->fill_height, d_max));
-  const double reach = contact_reach_diameters(sc.analysis.contact_tolerance, r_min, 0.5 * d_max);
-  if (!(reach <= kMaxContactReachDiameters))
-    throw InputError(fmt::format(
-        "{}: analysis.contact_tolerance: {} makes the smallest sphere (radius {} m) look for contacts {} of its "
-        "diameters away, beside spheres up to {} m across: the neighbour search would scan some {:.3g} cells for "
-        "each; expected at most {:g} diameters, a contact_tolerance of at most {}",
-        file, shown(sc.analysis.contact_tolerance), shown(r_min), shown(reach), shown(d_max),
-        std::pow(2.0 * reach + 3.0, 3.0), kMaxContactReachDiameters,
-        shown(sc.analysis.contact_tolerance * kMaxContactReachDiameters / reach)));
-  // A virtual cube keeps one d_max from the walls: a side beyond that can never be placed.
-  const double width = std::min(c.length_x(), c.length_y());
-  const double horizontal = c.periodic ? width : width - 2.0 * d_max;
-  const double vertical = c.height() - 2.0 * d_max;
-  if (sc.analysis.box_sides.size() > kMaxAnalysisBoxes)
-    throw InputError(fmt::format("{}: analysis.box_sides: {} sides; expected at most {} (each cube is a pass over every "
-                                 "sphere, at each analysis and each density check of the DEM)",
-                                 file, sc.analysis.box_sides.size(), kMaxAnalysisBoxes));
-  for (const double side : sc.analysis.box_sides)
-    if (side > std::min(horizontal, vertical))
-      throw InputError(fmt::format(
-          "{}: analysis.box_sides: a cube of side {:.6g} m cannot fit in the container ({:.6g} x {:.6g} x {:.6g} m) "
-          "with one d_max ({:.6g} m) kept from the walls, the floor and the surface; the largest admissible side "
-          "is {:.6g} m",
-          file, side, c.length_x(), c.length_y(), c.height(), d_max, std::max(0.0, std::min(horizontal, vertical))));
-
-  // The time step against the contact law's stability limit.
-  if (sc.dynamics) {
-    const DynamicsStage& d = *sc.dynamics;
-    const double scale = stable_time_scale(sc.material.contact, r_min, sc.material.density);
-    const double step = d.time_step.step(scale);
-    if (!d.allow_unstable_time_step && step > TimeStepRule::kStableFraction * scale)
-      throw InputError(fmt::format(
-          "{}: dynamics.{}: the time step {:.4g} s is {:.3g} times the Rayleigh time of the smallest sphere "
-          "({:.4g} s, radius {:.4g} m); Hertz contacts are resolved only up to {:g} of it (at 0.75 a bed already "
-          "settles 5 % too dense); expected at most {:.4g} s, or set dynamics.allow_unstable_time_step = "
-          "true to run it anyway (noted in the output)",
-          file, d.time_step.fixed ? "time_step" : "time_step_safety", step, step / scale, scale, r_min,
-          TimeStepRule::kStableFraction, TimeStepRule::kStableFraction * scale));
-  }
-
-  // The neighbour grid, sized as the stages size it.
+  check_heights(sc, d_max);
+  check_contact_reach(sc, r_min, d_max);
+  check_box_sides(sc, d_max);
+  if (sc.dynamics) check_time_step(sc, r_min);
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
   const double time_step =
@@ -351,95 +484,11 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
     if (sc.pour) check_pour(sc, radii, solid, time_step);
     check_sampling(sc, time_step);
   }
-  const double cells = MultilevelGrid::cells_needed(c, radii, std::max(solid / 0.6, 1e-300), c.height());
-  if (!(cells <= sc.limits.max_grid_cells))
-    throw InputError(fmt::format("{}: container: the neighbour grid would need {:.3g} cells (a {:.4g} x {:.4g} x "
-                                 "{:.4g} m container, spheres from {:.4g} m in radius), more than "
-                                 "limits.max_grid_cells = {:.3g}; expected a container nearer the size of its "
-                                 "bed, or raise the limit (at most 2^31)",
-                                 file, cells, c.length_x(), c.length_y(), c.height(), r_min,
-                                 sc.limits.max_grid_cells));
-  const double slice = sc.analysis.slice_thickness.value_or(0.25 * d_max);
-  const double shell = sc.analysis.shell_thickness.value_or(0.25 * d_max);
-  const double slices = c.height() / slice, shells = 0.5 * width / shell;
-  const double bins = std::max(slices, shells);
-  if (!(bins <= sc.limits.max_profile_bins))
-    throw InputError(fmt::format("{}: analysis.{}: the profiles would need {:.3g} bins across the container, more "
-                                 "than limits.max_profile_bins = {:.3g}; expected a thicker slice (default "
-                                 "d_max / 4)",
-                                 file, slices >= shells ? "slice_thickness" : "shell_thickness",
-                                 bins, sc.limits.max_profile_bins));
-  // Each sphere adds its volume to every slice (shell) it reaches: the bins above bound the
-  // profiles' memory, not this work, which grows as the spheres' count times d / thickness.
-  double diameters = 0.0;
-  for (const double r : radii) diameters += 2.0 * r;
-  const double d_mean = diameters / static_cast<double>(radii.size());
-  const bool by_slice = slice <= shell;
-  const double thinnest = std::min(slice, shell);
-  if (!(d_mean / thinnest <= kMaxProfileBinsPerSphere))
-    throw InputError(fmt::format(
-        "{}: analysis.{}: {} m cuts each sphere (mean diameter {} m) into {} {} on average, {:.3g} sphere-{} "
-        "volumes for every profile; expected at least d_mean / {:g} = {} m (default d_max / 4)",
-        file, by_slice ? "slice_thickness" : "shell_thickness", shown(thinnest), shown(d_mean),
-        shown(d_mean / thinnest), by_slice ? "slices" : "shells", diameters / thinnest, by_slice ? "slice" : "shell",
-        kMaxProfileBinsPerSphere, shown(d_mean / kMaxProfileBinsPerSphere)));
-
-  // The memory of the bed (a particle file's is known only now) and of what the protocol keeps
-  // until the run ends: a copy of the bed for each snapshot step, the profiles of each analysis.
-  const double n = static_cast<double>(radii.size());
-  const double bed_bytes = n * bytes_per_particle(sc);
-  const double limit = memory_limit_bytes(sc.limits);
-  if (bed_bytes > limit)
-    throw InputError(fmt::format("{}: {}: {} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), more than "
-                                 "{}; expected a smaller bed, or a larger limits.max_memory_gib",
-                                 file, sc.particles.file ? "particles.from" : "particles", radii.size(),
-                                 bed_bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
-                                 memory_limit_text(sc)));
-  std::size_t snapshots = 0, analyses = 1;  // and the run's final analysis
-  double samples = 0.0;                     // of the DEM steps, at most
-  const Protocol protocol = scenario_protocol(sc);
-  for (const Step& step : protocol.steps) {
-    snapshots += std::holds_alternative<SnapshotStep>(step.kind) ? 1 : 0;
-    analyses += std::holds_alternative<AnalyseStep>(step.kind) ? 1 : 0;
-    if (sc.dynamics) samples += dem_samples(sc, step, time_step);
-  }
-  const double kept = static_cast<double>(snapshots) * n * kBytesPerSnapshotParticle +
-                      static_cast<double>(analyses) * (slices + shells) * kBytesPerProfileBin;
-  if (bed_bytes + kept > limit)
-    throw InputError(fmt::format(
-        "{}: protocol: {} snapshot step{} (a copy of the {} particles each) and {} analys{} (profiles of {:.3g} bins "
-        "each) keep an estimated {:.3g} GiB until the run ends, with the bed's {:.3g} GiB more than {}; expected fewer "
-        "snapshot or analyse steps, a thicker analysis.slice_thickness or shell_thickness, or a larger "
-        "limits.max_memory_gib",
-        file, snapshots, snapshots == 1 ? "" : "s", radii.size(), analyses, analyses == 1 ? "is" : "es",
-        slices + shells, kept / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
-  if (sc.dynamics && bed_bytes + kept + samples * kBytesPerSample > limit) {
-    const QuietCriterion& q = sc.dynamics->quiet;
-    throw InputError(fmt::format(
-        "{}: dynamics.sample_interval: the DEM steps would keep up to {:.3g} samples for timeseries.csv (a sample "
-        "every {} s, up to max_time = {} s for each settle or pour step), an estimated {:.3g} GiB, with the bed's "
-        "{:.3g} GiB more than {}; expected a longer sample_interval or a shorter max_time",
-        file, samples, shown(std::max(q.sample_interval, time_step)), shown(q.max_time),
-        samples * kBytesPerSample / kGiB, bed_bytes / kGiB, memory_limit_text(sc)));
-  }
-
-  // A generated bed can be no deeper than its solid volume at a loose solid fraction of 0.5:
-  // if even that leaves no room for a virtual cube, the run would fail after all its work.
-  if (placed_here) {
-    double deepest = std::min(c.height(), solid / (0.5 * c.length_x() * c.length_y()));
-    if (sc.deposition) deepest = std::min(deepest, sc.deposition->fill_height);
-    const double room = deepest - 2.0 * d_max;
-    const double needed = sc.analysis.box_sides.empty()
-                              ? 0.0
-                              : *std::min_element(sc.analysis.box_sides.begin(), sc.analysis.box_sides.end());
-    if (room <= needed)
-      throw InputError(fmt::format(
-          "{}: particles: the bed will be at most {:.4g} m deep ({} particles, {:.4g} m^3 of solid at a solid "
-          "fraction of 0.5), which leaves no room for a virtual cube{} one d_max ({:.4g} m) from the floor and the "
-          "free surface; expected more particles (count, solid_volume or fill_height) or smaller analysis.box_sides",
-          file, deepest, radii.size(), solid,
-          needed > 0.0 ? fmt::format(" of side {:.4g} m", needed) : std::string(), d_max));
-  }
+  check_grid_cells(sc, radii, solid, r_min);
+  const ProfileBins bins = profile_bins(sc, d_max);
+  check_profiles(sc, radii, bins);
+  check_run_memory(sc, radii, bins, time_step);
+  if (sc.deposition || sc.pour) check_room_for_cubes(sc, radii, solid, d_max);
 }
 
 // Particles from a file must lie in the container; periodic sides wrap x and y. A bed
