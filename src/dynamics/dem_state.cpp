@@ -103,7 +103,12 @@ void DemSystem::check_restored(const MadeWith& made) const {
     free += frozen_[s] ? 0 : 1;
     const Grain& g = grain_[s];
     const double inverse_inertia = frozen_[s] ? 0.0 : 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
-    if (!finite(g.position) || !(g.position == p_.position[i] || g.position == made.container.wrapped(p_.position[i])) ||
+    // The store holds the grain's position, or it wrapped into a periodic box (by finish(), at
+    // the end of a step: a state saved between steps), or the grain's wrap of it.
+    const Vec3& stored = p_.position[i];
+    const bool same_place = g.position == stored || g.position == made.container.wrapped(stored) ||
+                            made.container.wrapped(g.position) == stored;
+    if (!finite(g.position) || !same_place ||
         !(g.velocity == p_.velocity[i]) || !(g.angular_velocity == p_.angular_velocity[i]) ||
         g.radius != p_.radius[i] || g.mass != p_.mass[i] || g.inverse_inertia != inverse_inertia)
       fail(fmt::format("the record of particle {} is not the particle", i));

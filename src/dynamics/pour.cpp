@@ -62,7 +62,7 @@ bool fits(const PourLoop& loop, const PourReport& planned, const DemSystem& syst
          r.velocity == planned.velocity && r.gap == planned.gap && loop.batch < r.batches &&
          loop.start >= 0.0 && loop.start <= system.time() && loop.start_steps <= system.steps() &&
          std::isfinite(loop.next) && std::isfinite(loop.weight) && std::isfinite(loop.poured_at) &&
-         loop.start_steps + loop.pour_steps <= system.steps() && !loop.rng.stuck();
+         loop.pour_steps <= system.steps() - loop.start_steps && !loop.rng.stuck();
 }
 
 namespace {

@@ -197,7 +197,6 @@ SettleResult settle(DemSystem& system, const ParticleStore& particles, const Qui
   }
   result.simulated_time = system.time() - start;
   result.steps = system.steps() - loop.start_steps;
-  result.rebuilds = system.rebuilds();
   result.last = window.back();
   return result;
 }

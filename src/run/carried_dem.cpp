@@ -58,9 +58,9 @@ std::string CarriedDem::save() const {
 }
 
 void CarriedDem::restore(std::string_view bytes, ParticleStore& particles, const Container& container,
-                         const ContactModel& model, int threads) {
+                         const SetupFor& setup_for) {
   system_.reset();
-  DemSettings made;
+  DemSettings saved;
   std::vector<std::uint8_t> frozen;
   std::size_t state_at = 0;
   try {
@@ -71,16 +71,30 @@ void CarriedDem::restore(std::string_view bytes, ParticleStore& particles, const
       if (ar.left() > 0) throw InputError("bytes after an empty DEM state");
       return;
     }
-    ar(raw_value(made.gravity), made.time_step, made.skin, frozen);
+    ar(raw_value(saved.gravity), saved.time_step, saved.skin, frozen);
     state_at = ar.position();
   } catch (const cereal::Exception& e) {
     throw InputError(fmt::format("the carried DEM state: {}", e.what()));
   }
-  if (frozen.size() != particles.size() || !(made.time_step > 0.0) || !(made.skin > 0.0))
-    throw InputError("the carried DEM state does not fit the bed");
-  made.threads = threads;
-  system_ = std::make_unique<DemSystem>(particles, container, model, made, std::move(frozen));
-  system_->restore_state(bytes.substr(state_at));
+  if (frozen.size() != particles.size()) throw InputError("the carried DEM state does not fit the bed");
+  for (const std::uint8_t f : frozen)
+    if (f > 1) throw InputError("the carried DEM state's frozen flags");
+  // The settings a step of this scenario makes, never the bytes' own: a skin or a time step
+  // from damaged bytes would size the neighbour grid and the lists beyond any bound.
+  DemSetup setup = setup_for(frozen);
+  double r_min = std::numeric_limits<double>::infinity();
+  for (const double r : particles.radius) r_min = std::min(r_min, r);
+  const double skin = setup.settings.skin > 0.0 ? setup.settings.skin : DemSystem::default_skin(r_min);
+  if (!(saved.gravity == setup.settings.gravity) || saved.time_step != setup.settings.time_step || saved.skin != skin)
+    throw InputError("the carried DEM state's settings are not the scenario's");
+  setup.settings.skin = skin;
+  try {
+    system_ = std::make_unique<DemSystem>(particles, container, setup.model, setup.settings, std::move(frozen));
+    system_->restore_state(bytes.substr(state_at));
+  } catch (...) {
+    system_.reset();  // nothing half-restored is carried on
+    throw;
+  }
 }
 
 }  // namespace aggpack

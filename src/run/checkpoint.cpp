@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <set>
 
 #include <fmt/format.h>
@@ -11,7 +12,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/version.hpp"
-#include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/io/dem_setup.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/run/carried_dem.hpp"
 #include "aggpack/run/protocol.hpp"
@@ -298,8 +299,15 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
     throw DamagedCheckpoint("its run state: a DEM system in a run without dynamics");
   if (!sc.dynamics) return;
   try {
-    context.dem.restore(carried_dem, report.particles, sc.container, make_contact_model(sc.material.contact),
-                        context.threads);
+    // What a DEM step of this scenario makes for these frozen particles (its time step from the
+    // smallest free sphere).
+    const auto setup_for = [&](const std::vector<std::uint8_t>& frozen) {
+      double r_min = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < report.particles.size(); ++i)
+        if (frozen.empty() || frozen[i] == 0) r_min = std::min(r_min, report.particles.radius[i]);
+      return dem_setup(sc, r_min, context.threads);
+    };
+    context.dem.restore(carried_dem, report.particles, sc.container, setup_for);
   } catch (const InputError& e) {
     throw DamagedCheckpoint(fmt::format("its run state: {}", e.what()));
   }

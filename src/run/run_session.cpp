@@ -165,6 +165,7 @@ void RunSession::run_steps() {
 }
 
 RunReport RunSession::finish() {
+  context_.dem.drop();  // the steps are done: the analysis needs the bed, not the DEM's memory
   if (report_.interrupted || !controls_.final_analysis) return std::move(report_);
   report_.dynamics_skipped = scenario_.dynamics && !report_.dynamics;
   const auto t0 = Clock::now();

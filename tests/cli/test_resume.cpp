@@ -191,6 +191,29 @@ TEST_F(Resume, ARunWithFramesKilledAndResumedWritesTheSameFrames) {
   }
 }
 
+// With periodic sides, killed between a settling and the taps that continue its DEM system:
+// the checkpoint's carried system has its spheres where the DEM has them, the bed wrapped into
+// the box; resumed, it continues to the same bytes.
+TEST_F(Resume, APeriodicRunKilledBetweenTwoDemStepsResumesToTheSameBytes) {
+  const fs::path scenario = write_scenario(
+      "periodic",
+      "seed = 8\n[container]\nside = 0.05\nheight = 0.2\nsides = \"periodic\"\n[particles]\ndiameter = 0.01\n"
+      "count = 300\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n"
+      "[dynamics]\nmax_time = 0.1\n[tapping]\ntaps = 1\nintensity = 3\nrest_time = 0.03\n"
+      "[analysis]\nbox_sides = [0.02]\n[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"settle\"\n"
+      "[[protocol]]\nstep = \"tap\"\n");
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(reference / "summary.json"));
+  EXPECT_TRUE(summary.at("stages").at("tapping").value("continues_dem_system", false));
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "before step 3 of 3", SIGKILL), -SIGKILL);
+  const auto resumed = run_cli("resume " + out.string() + " --threads 2");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expect_same_run(reference, out);
+}
+
 // Killed in a later layer (the layers below frozen), resumed, killed again, resumed again.
 TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
   const fs::path scenario = write_scenario("layered", kLayered);

@@ -46,7 +46,6 @@ struct SettleResult {
   SettleEnd end = SettleEnd::MaxTime;
   double simulated_time = 0.0;  // s
   std::size_t steps = 0;
-  std::size_t rebuilds = 0;     // neighbour-list builds
   SettleSample last;
 };
 

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -11,6 +12,7 @@
 #include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/io/dem_setup.hpp"
 
 namespace aggpack {
 
@@ -38,8 +40,12 @@ class CarriedDem {
   // `particles` (the bed as the checkpoint holds it). DamagedCheckpoint-worthy InputError when
   // the bytes do not fit.
   [[nodiscard]] std::string save() const;
+  // `setup_for` gives the model and settings a step would make a system with, for the
+  // frozen flags the state holds (by particle; empty: none): the state's own settings must
+  // be those, its skin that settings' or the default for the bed's smallest sphere.
+  using SetupFor = std::function<DemSetup(const std::vector<std::uint8_t>& frozen)>;
   void restore(std::string_view bytes, ParticleStore& particles, const Container& container,
-               const ContactModel& model, int threads);
+               const SetupFor& setup_for);
 
  private:
   std::unique_ptr<DemSystem> system_;
