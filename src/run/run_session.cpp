@@ -147,6 +147,8 @@ void RunSession::run_steps() {
       context_.resume_state = nullptr;
     }
     if (checkpointer_) checkpointer_->set_steps_completed(total);
+    // No step is left to continue the DEM: its memory goes, and no checkpoint from here holds it.
+    context_.dem.drop();
     report_.simulated_time = context_.simulated_time;
     const Checkpoint* resume = controls_.resume_from;
     const bool resumed_with_every_step_done = resume && resume->steps_completed == total;  // that checkpoint stands
@@ -165,7 +167,6 @@ void RunSession::run_steps() {
 }
 
 RunReport RunSession::finish() {
-  context_.dem.drop();  // the steps are done: the analysis needs the bed, not the DEM's memory
   if (report_.interrupted || !controls_.final_analysis) return std::move(report_);
   report_.dynamics_skipped = scenario_.dynamics && !report_.dynamics;
   const auto t0 = Clock::now();

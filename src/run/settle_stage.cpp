@@ -11,14 +11,13 @@
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
-#include "aggpack/deposition/gas_insertion.hpp"
+#include "aggpack/dynamics/pour.hpp"
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/dynamics/tap.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/carried_dem.hpp"
 #include "aggpack/run/checkpoint.hpp"
 #include "run/report_archive.hpp"
-#include "aggpack/dynamics/pour.hpp"
-#include "aggpack/dynamics/tap.hpp"
 
 namespace aggpack {
 
