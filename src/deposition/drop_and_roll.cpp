@@ -7,7 +7,6 @@
 namespace aggpack {
 
 namespace {
-constexpr Vec3 kUp{0.0, 0.0, 1.0};
 // Consecutive events that move the sphere by less than this (relative to r) mean it is
 // caught between contacts the tolerance cannot separate: redrop it.
 constexpr double kNoProgress = 1e-12;

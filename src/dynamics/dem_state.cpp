@@ -123,7 +123,9 @@ void DemSystem::check_restored(const MadeWith& made) const {
       spring_.size() != other_.size())
     fail("its neighbour list's rows");
   for (std::uint32_t i = 0; i < n; ++i) {
-    if (offset_[i + 1] < offset_[i]) fail(fmt::format("its neighbour list's row {}", i));
+    // Each row within the entries (a later row's offset may not be read before it is checked).
+    if (offset_[i + 1] < offset_[i] || offset_[i + 1] > other_.size())
+      fail(fmt::format("its neighbour list's row {}", i));
     for (std::uint32_t k = offset_[i]; k < offset_[i + 1]; ++k) {
       const std::uint32_t j = other_[k];
       const bool both_frozen = j < n ? frozen_[i] && frozen_[j] : frozen_[i] != 0;
