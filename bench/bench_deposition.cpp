@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
   bed.reserve(count);
   const auto t0 = std::chrono::steady_clock::now();
   aggpack::DropAndRoll deposition(bed, container, radii, aggpack::DepositionSettings{}, aggpack::Rng(seed, 2));
-  deposition.deposit(radii, 2650.0);
+  deposition.deposit(radii, aggpack::SphereMaterials::all_of(2650.0));
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto& st = deposition.stats();
   const long rss = peak_rss_kib();

@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
   } else {
     bed.reserve(count);
     aggpack::DropAndRoll deposition(bed, container, radii, aggpack::DepositionSettings{}, aggpack::Rng(1, 2));
-    deposition.deposit(radii, density);
+    deposition.deposit(radii, aggpack::SphereMaterials::all_of(density));
     const auto settle_start = std::chrono::steady_clock::now();
     aggpack::DemSystem settling(bed, container, model, settings);
     aggpack::QuietCriterion quiet;
@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     if (!bed_file.empty()) {
       double top = 0.0;
       for (std::size_t i = 0; i < bed.size(); ++i) top = std::max(top, bed.position[i].z + bed.radius[i]);
-      fmt::output_file(bed_file).print("{}", aggpack::lammps_data(bed, container, density, top + 0.1));
+      fmt::output_file(bed_file).print("{}", aggpack::lammps_data(bed, container, std::vector<double>{density}, top + 0.1));
     }
   }
   for (std::size_t i = 0; i < bed.size(); ++i) bed.velocity[i] = bed.angular_velocity[i] = {};

@@ -116,7 +116,8 @@ auto raw_value(T& value) {
 
 template <class Archive>
 void serialize(Archive& ar, ParticleStore& p) {
-  ar(raw(p.position), raw(p.velocity), raw(p.angular_velocity), raw(p.radius), raw(p.mass), raw(p.layer));
+  ar(raw(p.position), raw(p.velocity), raw(p.angular_velocity), raw(p.radius), raw(p.mass), raw(p.layer),
+     raw(p.material));
 }
 
 }  // namespace aggpack

@@ -144,11 +144,12 @@ DropAndRoll::DropAndRoll(ParticleStore& bed, const Container& container, std::sp
     grid_.insert(static_cast<std::uint32_t>(i), bed.position[i], bed.radius[i]);
 }
 
-std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, std::uint32_t layer,
+std::size_t DropAndRoll::deposit(std::span<const double> radii, const SphereMaterials& materials, std::uint32_t layer,
                                  const DepositionObserver& observer) {
   const Box& b = container_.bounds;
   std::size_t placed = 0;
-  for (const double r : radii) {
+  for (std::size_t k = 0; k < radii.size(); ++k) {
+    const double r = radii[k];
     ++stats_.requested;
     bool rested = false;
     for (std::size_t attempt = 0; attempt <= settings_.max_redrops && !rested; ++attempt) {
@@ -167,7 +168,7 @@ std::size_t DropAndRoll::deposit(std::span<const double> radii, double density, 
         return placed;
       }
       const Vec3 p = container_.wrapped(result.position);
-      const std::size_t id = bed_.add(p, r, density, layer);
+      const std::size_t id = bed_.add(p, r, materials.density_of(k), layer, materials.material(k));
       grid_.insert(static_cast<std::uint32_t>(id), p, r);
       supports_.push_back(result.supports);
       ++placed;

@@ -79,14 +79,15 @@ double top_of_bed(const ParticleStore& particles, const Container& container) {
 // Puts batch `loop.batch` in as a gas above the bed and times the next one.
 void insert_batch(DemSystem& system, ParticleStore& particles, const Container& container,
                   std::span<const double> radii, const PourSettings& settings, std::uint32_t part,
-                  double particle_density, PourLoop& loop) {
+                  const SphereMaterials& materials, PourLoop& loop) {
   PourReport& report = loop.report;
   const std::span<const double> batch = pour_schedule(settings, radii.size()).batch(radii, loop.batch);
   const auto t_insert = Clock::now();
   const BatchGas gas =
       batch_gas(container, top_of_bed(particles, container) + report.gap, batch, settings.solid_fraction, loop.rng);
+  const auto first = static_cast<std::size_t>(batch.data() - radii.data());  // of the batch in the pour's spheres
   for (std::size_t k = 0; k < batch.size(); ++k) {
-    particles.add(gas.positions[k], batch[k], particle_density, part);
+    particles.add(gas.positions[k], batch[k], materials.density_of(first + k), part, materials.material(first + k));
     particles.velocity.back() = {0.0, 0.0, -settings.velocity};
   }
   report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
@@ -102,7 +103,7 @@ void insert_batch(DemSystem& system, ParticleStore& particles, const Container& 
 }  // namespace
 
 SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& container, std::span<const double> radii,
-                  const PourSettings& settings, std::uint32_t part, double particle_density,
+                  const PourSettings& settings, std::uint32_t part, const SphereMaterials& materials,
                   const QuietCriterion& quiet, PourLoop& loop, bool resumed, const PourHooks& hooks) {
   const std::size_t steps_per_sample = quiet.steps_per_sample(system.time_step());
   const auto since_start = [&] { return system.time() - loop.start; };
@@ -111,7 +112,7 @@ SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& 
   if (!loop.settling) {
     for (; loop.batch < loop.report.batches; ++loop.batch) {
       if (!batch_in) {
-        insert_batch(system, particles, container, radii, settings, part, particle_density, loop);
+        insert_batch(system, particles, container, radii, settings, part, materials, loop);
         if (loop.batch + 1 == loop.report.batches) break;
       }
       batch_in = false;

@@ -17,8 +17,8 @@
 
 namespace aggpack {
 
-std::string lammps_data(const ParticleStore& particles, const Container& container, double density, double z_top,
-                        std::span<const std::uint8_t> frozen) {
+std::string lammps_data(const ParticleStore& particles, const Container& container, std::span<const double> densities,
+                        double z_top, std::span<const std::uint8_t> frozen) {
   const Box& b = container.bounds;
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (particles.position[i].z + particles.radius[i] > z_top)
@@ -27,14 +27,16 @@ std::string lammps_data(const ParticleStore& particles, const Container& contain
   auto o = std::back_inserter(out);
   const bool any_frozen = std::any_of(frozen.begin(), frozen.end(), [](std::uint8_t f) { return f != 0; });
   fmt::format_to(o, "aggpack bed for LAMMPS (atom_style sphere, SI units)\n\n{} atoms\n{} atom types\n\n",
-                 particles.size(), any_frozen ? 2 : 1);
+                 particles.size(), densities.size() > 1 || any_frozen ? 2 * densities.size() : 1);
   fmt::format_to(o, "{:.17g} {:.17g} xlo xhi\n{:.17g} {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n\nAtoms # sphere\n\n",
                  b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z, z_top);
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Vec3& p = particles.position[i];
-    const int type = !frozen.empty() && frozen[i] ? 2 : 1;
+    const std::size_t material = particles.material.empty() ? 0 : particles.material[i];
+    if (material >= densities.size()) throw std::invalid_argument("lammps_data: a sphere of an unknown material");
+    const std::size_t type = material + 1 + (!frozen.empty() && frozen[i] ? densities.size() : 0);
     fmt::format_to(o, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, type, 2.0 * particles.radius[i],
-                   density, p.x, p.y, p.z);
+                   densities[material], p.x, p.y, p.z);
   }
   const auto moving = [&](std::size_t i) {
     return i < particles.velocity.size() && (particles.velocity[i] != Vec3{} || particles.angular_velocity[i] != Vec3{});

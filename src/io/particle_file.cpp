@@ -213,12 +213,22 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
   return file;
 }
 
-std::string particles_csv(const ParticleStore& particles) {
+std::string particles_csv(const ParticleStore& particles, std::span<const std::string> material_names) {
   fmt::memory_buffer out;
-  fmt::format_to(std::back_inserter(out), "id,x,y,z,r\n");
+  const auto o = std::back_inserter(out);
+  if (material_names.empty()) {
+    fmt::format_to(o, "id,x,y,z,r\n");
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      const Vec3& p = particles.position[i];
+      fmt::format_to(o, "{},{},{},{},{}\n", i + 1, p.x, p.y, p.z, particles.radius[i]);
+    }
+    return fmt::to_string(out);
+  }
+  fmt::format_to(o, "id,x,y,z,r,material\n");
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Vec3& p = particles.position[i];
-    fmt::format_to(std::back_inserter(out), "{},{},{},{},{}\n", i + 1, p.x, p.y, p.z, particles.radius[i]);
+    fmt::format_to(o, "{},{},{},{},{},{}\n", i + 1, p.x, p.y, p.z, particles.radius[i],
+                   material_names[particles.material.at(i)]);
   }
   return fmt::to_string(out);
 }

@@ -201,8 +201,8 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   }
 
   const TomlSection s(root, "", origin);
-  s.allow_only({"title", "seed", "container", "particles", "material", "analysis", "output", "deposition", "pour",
-                "tapping", "dynamics", "protocol", "limits", "models"});
+  s.allow_only({"title", "seed", "container", "particles", "material", "materials", "material_pairs", "analysis",
+                "output", "deposition", "pour", "tapping", "dynamics", "protocol", "limits", "models"});
 
   Scenario sc;
   sc.file = file;
@@ -213,10 +213,16 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   sc.container = read_container(container);
   sc.written_length_unit = container.written_unit("side").value_or("");
   if (sc.written_length_unit == "m") sc.written_length_unit.clear();
-  sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
-                                file.parent_path(), sc.container);
   if (const auto m = s.table("material")) sc.material = read_material(*m);
+  if (const auto m = s.table("materials")) sc.materials = read_named_materials(*m, sc.material);
+  std::vector<std::string> material_names;
+  for (std::size_t k = 0; k < material_count(sc); ++k) material_names.push_back(material_name(sc, k));
+  if (const auto pairs = s.table_array("material_pairs")) sc.material_pairs = read_material_pairs(*pairs, material_names);
+  sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
+                                file.parent_path(), sc.container, material_names);
   read_stages(s, sc);
+  // One contact law for the run: [dynamics] chose it for [material].
+  for (NamedMaterial& m : sc.materials) m.material.contact.friction_model = sc.material.contact.friction_model;
   if (const auto a = s.table("analysis")) sc.analysis = read_analysis(*a);
   if (const auto l = s.table("limits")) sc.limits = read_limits(*l);
   if (const auto m = s.table("models")) sc.models_calibration = read_models(*m, file);

@@ -9,10 +9,10 @@
 
 namespace aggpack {
 
-Material read_material(const TomlSection& s) {
+Material read_material(const TomlSection& s, Material base) {
   s.allow_only({"density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
                 "friction_particle", "friction_wall", "restitution", "rolling_friction"});
-  Material m;
+  Material m = std::move(base);
   ContactParameters& c = m.contact;
   const NumberRange poisson{-1.0, 0.5, true, true};
   m.density = s.number("density", kPositive).value_or(m.density);

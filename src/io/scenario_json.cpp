@@ -116,6 +116,27 @@ nlohmann::json material_json(const Material& m) {
           {"rolling_friction", c.rolling_friction}};
 }
 
+// A run of several materials: each named one (its index, 1 on: 0 is [material], "default"),
+// the pairs given their own coefficients, and the material of each component of [particles].
+void add_materials(nlohmann::json& j, const Scenario& sc) {
+  for (std::size_t k = 1; k < material_count(sc); ++k) {
+    nlohmann::json m = material_json(material_of(sc, k));
+    m.erase("wall_youngs_modulus_pa");
+    m.erase("wall_poisson_ratio");
+    m["index"] = k;
+    j["materials"][material_name(sc, k)] = std::move(m);
+  }
+  for (const MaterialPairCoefficients& p : sc.material_pairs) {
+    nlohmann::json pair = {{"materials", {material_name(sc, p.first), material_name(sc, p.second)}}};
+    if (p.friction) pair["friction"] = *p.friction;
+    if (p.restitution) pair["restitution"] = *p.restitution;
+    if (p.rolling_friction) pair["rolling_friction"] = *p.rolling_friction;
+    j["material_pairs"].push_back(std::move(pair));
+  }
+  nlohmann::json& components = j["particles"]["component_materials"] = nlohmann::json::array();
+  for (const std::uint8_t m : sc.particles.component_material) components.push_back(material_name(sc, m));
+}
+
 nlohmann::json analysis_json(const AnalysisSettings& analysis) {
   nlohmann::json j = {{"box_sides_m", analysis.box_sides},
                       {"placement", "centered"},
@@ -177,6 +198,7 @@ nlohmann::json to_json(const Scenario& sc) {
   add_placing_stages(j, sc);
   if (sc.dynamics) j["dynamics"] = dynamics_json(*sc.dynamics, sc.material);
   j["material"] = material_json(sc.material);
+  if (!sc.materials.empty()) add_materials(j, sc);
   j["analysis"] = analysis_json(sc.analysis);
   j["output"] = output_json(sc.output);
   return j;

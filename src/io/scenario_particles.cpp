@@ -1,6 +1,7 @@
 // [particles]: sizes by class, sampled from gradings (a coarse/fine mix), or positions from a file.
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -13,8 +14,14 @@
 namespace aggpack {
 
 namespace {
+
+// The material a component's table names (`material`), as its index; 0 ([material]) by default.
+std::uint8_t component_material(const TomlSection& s, std::span<const std::string> names) {
+  return s.has("material") ? material_index(s, "material", names) : 0;
+}
+
 SizeClass read_size_class(const TomlSection& s) {
-  s.allow_only({"diameter", "count", "volume_fraction"});
+  s.allow_only({"diameter", "count", "volume_fraction", "material"});
   SizeClass c;
   c.diameter = s.required(s.length("diameter", kPositive, kLargestBareGrain), "diameter", "a length such as \"0.5 in\"");
   if (const auto n = s.integer("count", 1, 1'000'000'000)) c.count = static_cast<std::size_t>(*n);
@@ -25,9 +32,29 @@ SizeClass read_size_class(const TomlSection& s) {
   return c;
 }
 
+// [[particles.classes]] into `spec`; returns each class's material.
+std::vector<std::uint8_t> read_classes(const std::vector<TomlSection>& classes, SizeSpec& spec,
+                                       std::span<const std::string> material_names) {
+  std::vector<std::uint8_t> materials;
+  for (const auto& c : classes) {
+    spec.classes.push_back(read_size_class(c));
+    materials.push_back(component_material(c, material_names));
+    // A diameter is one size: two classes of it cannot be of two materials.
+    for (std::size_t k = 0; k + 1 < spec.classes.size(); ++k)
+      if (spec.classes[k].diameter == spec.classes.back().diameter && materials[k] != materials.back())
+        c.fail("material", "another size class of the same diameter is of another material: make them one class "
+                           "per material with different diameters, or one material");
+  }
+  const bool by_fraction = spec.classes.front().volume_fraction.has_value();
+  for (std::size_t i = 0; i < spec.classes.size(); ++i)
+    if (spec.classes[i].volume_fraction.has_value() != by_fraction)
+      classes[i].fail("diameter", "size classes must all give a count or all give a volume_fraction");
+  return materials;
+}
+
 GradingSource read_grading_source(const TomlSection& s, const std::filesystem::path& scenario_dir) {
   s.allow_only({"name", "file", "length_unit", "percent_column", "sieves", "law", "law_d_max", "q", "law_d_min",
-                "d_min", "d_max", "band"});
+                "d_min", "d_max", "band", "material"});
   GradingSource g;
   g.key = s.path();
   const int ways = int(s.has("name")) + int(s.has("file")) + int(s.has("sieves")) + int(s.has("law"));
@@ -99,17 +126,23 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
 }
 
 GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& scenario_dir,
-                            const Container& container) {
+                            const Container& container, std::span<const std::string> material_names,
+                            std::vector<std::uint8_t>& component_materials) {
   GradedParticles p;
   const bool mix = s.has("coarse") || s.has("fine");
   if (mix) {
     if (s.has("grading")) s.fail("grading", "give either 'grading' or a 'coarse' and 'fine' mix, not both");
-    p.main = read_grading_source(s.required(s.table("coarse"), "coarse", "a [particles.coarse] table"), scenario_dir);
-    p.fine = read_grading_source(s.required(s.table("fine"), "fine", "a [particles.fine] table"), scenario_dir);
+    const TomlSection coarse = s.required(s.table("coarse"), "coarse", "a [particles.coarse] table");
+    const TomlSection fine = s.required(s.table("fine"), "fine", "a [particles.fine] table");
+    p.main = read_grading_source(coarse, scenario_dir);
+    p.fine = read_grading_source(fine, scenario_dir);
     p.ca_fa = s.required(s.number("ca_fa", kPositive), "ca_fa", "the coarse/fine volume ratio, such as 1.52");
+    component_materials = {component_material(coarse, material_names), component_material(fine, material_names)};
   } else {
     if (s.has("ca_fa")) s.fail("ca_fa", "applies only to a coarse/fine mix");
-    p.main = read_grading_source(*s.table("grading"), scenario_dir);
+    const TomlSection grading = *s.table("grading");
+    p.main = read_grading_source(grading, scenario_dir);
+    component_materials = {component_material(grading, material_names)};
   }
   p.sampling = s.choice("sampling", kSamplingModeNames).value_or(SamplingMode::Mass);
   p.order = s.choice("order", kMixOrderNames).value_or(mix ? MixOrder::Interleaved : MixOrder::Shuffled);
@@ -136,10 +169,10 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
 }  // namespace
 
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
-                              const Container& container) {
+                              const Container& container, std::span<const std::string> material_names) {
   s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
                 "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance",
-                "overlap_tolerance", "soft_contacts", "timestep"});
+                "overlap_tolerance", "soft_contacts", "timestep", "material"});
   ParticleSource source;
   const bool graded = s.has("grading") || s.has("coarse") || s.has("fine");
   const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from")) + int(graded);
@@ -148,9 +181,16 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
            "give exactly one of 'diameter' (monosized, with 'count'), 'classes' (a list of size classes), "
            "'grading' (a sieve grading), 'coarse' and 'fine' (a mix) or 'from' (a particle file)");
   if (graded) {
-    source.graded = read_graded(s, scenario_dir, container);
+    if (s.has("material"))
+      s.fail("material", "a grading's material is given in its own table ([particles.grading], [particles.coarse], "
+                         "[particles.fine])");
+    source.graded = read_graded(s, scenario_dir, container, material_names, source.component_material);
     return source;
   }
+  if (s.has("classes") && s.has("material"))
+    s.fail("material", "each size class names its own material ([[particles.classes]] material = \"...\")");
+  // A monosized bed or a particle file: one material for all.
+  source.component_material = {component_material(s, material_names)};
   for (auto k : {"sampling", "fill_height", "expected_density", "ca_fa"})
     if (s.has(k)) s.fail(k, "applies only to particles sampled from a grading");
   if (const auto file = s.string("from")) {
@@ -180,11 +220,8 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   } else {
     const auto classes = *s.table_array("classes");
     if (classes.empty()) s.fail("classes", "expected at least one size class");
-    for (const auto& c : classes) spec.classes.push_back(read_size_class(c));
+    source.component_material = read_classes(classes, spec, material_names);
     const bool by_fraction = spec.classes.front().volume_fraction.has_value();
-    for (std::size_t i = 0; i < spec.classes.size(); ++i)
-      if (spec.classes[i].volume_fraction.has_value() != by_fraction)
-        classes[i].fail("diameter", "size classes must all give a count or all give a volume_fraction");
     if (by_fraction) {
       double sum = 0.0;
       for (const auto& c : spec.classes) sum += *c.volume_fraction;

@@ -7,6 +7,7 @@
 #include <array>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -42,12 +43,19 @@ std::filesystem::path input_file_at(const TomlSection& s, std::string_view key,
                                     const std::filesystem::path& scenario_dir, const std::string& given,
                                     std::string_view what);
 
-// scenario_particles.cpp
+// scenario_particles.cpp; `material_names` are the run's materials, in index order.
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
-                              const Container& container);
+                              const Container& container, std::span<const std::string> material_names);
 
-// scenario_dynamics.cpp
-Material read_material(const TomlSection& s);
+// scenario_materials.cpp: [materials] (each NAME's keys over `base`, [material]), a component's
+// `key` naming one of `names` (as its index), [[material_pairs]].
+std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const Material& base);
+std::uint8_t material_index(const TomlSection& s, std::string_view key, std::span<const std::string> names);
+std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<TomlSection>& entries,
+                                                          std::span<const std::string> names);
+
+// scenario_dynamics.cpp: [material] (or a [materials.NAME] table), its keys over `base`.
+Material read_material(const TomlSection& s, Material base = {});
 // [dynamics]; its friction_model chooses the contact law of `material`.
 DynamicsStage read_dynamics(const TomlSection& s, Material& material);
 DepositionSettings read_deposition(const TomlSection& s, const Container& container);

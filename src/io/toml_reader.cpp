@@ -246,6 +246,12 @@ std::optional<std::vector<std::string>> TomlSection::string_list(std::string_vie
   return out;
 }
 
+std::vector<std::string> TomlSection::keys() const {
+  std::vector<std::string> names;
+  for (const auto& [key, value] : *table_) names.emplace_back(key.str());
+  return names;
+}
+
 std::optional<TomlSection> TomlSection::table(std::string_view key) const {
   const toml::node* n = node(key);
   if (!n) return std::nullopt;

@@ -37,6 +37,7 @@ namespace {
 struct DeckBasis {
   const Scenario& sc;
   const ContactLawEntry& law;
+  std::vector<double> densities;  // kg/m^3, per material (atom types m + 1, frozen M + m + 1)
   DemSetup setup;
   double skin = 0.0;
   double g = 0.0;
@@ -44,7 +45,8 @@ struct DeckBasis {
   long long quiet_samples = 1;  // consecutive quiet samples that span the quiet window
 
   DeckBasis(const Scenario& scenario, double r_min)
-      : sc(scenario), law(contact_law(scenario.material.contact.friction_model)), setup(dem_setup(scenario, r_min, 1)) {
+      : sc(scenario), law(contact_law(scenario.material.contact.friction_model)),
+        densities(material_densities(scenario)), setup(dem_setup(scenario, r_min, 1)) {
     skin = lammps_skin(setup, r_min);
     g = norm(sc.dynamics->dem.gravity);
     const QuietCriterion& quiet = sc.dynamics->quiet;
@@ -172,7 +174,7 @@ LammpsDeck settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32
   deck_quiet_loop(o, b, "settle", sc.dynamics->quiet.max_time);
   deck_end(o);
   out.files.emplace_back(LammpsDeck::kDataFile,
-                         lammps_data(bed, sc.container, sc.material.density, sc.container.bounds.hi.z, frozen));
+                         lammps_data(bed, sc.container, b.densities, sc.container.bounds.hi.z, frozen));
   out.files.emplace_back(out.deck_file, fmt::to_string(d));
   return out;
 }
@@ -185,8 +187,12 @@ struct PourBatches {
   double highest = 0.0;  // the highest a slab can reach: every slab above the one before, each a gap higher
 };
 
-PourBatches pour_batches(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
-                         std::span<const double> radii, const PourSchedule& schedule, double gap, double g) {
+PourBatches pour_batches(const DeckBasis& b, const ParticleStore& bed, const PourStep& step,
+                         std::span<const double> radii, std::span<const std::uint8_t> materials,
+                         const PourSchedule& schedule, double gap) {
+  const Scenario& sc = b.sc;
+  const SphereMaterials of{materials, b.densities};
+  const double g = b.g;
   const PourSettings& pour = *sc.pour;
   const std::size_t batches = schedule.batches;
   PourBatches out;
@@ -207,14 +213,15 @@ PourBatches pour_batches(const Scenario& sc, const ParticleStore& bed, const Pou
     out.fall_after[k] = batch_fall_time(pour.velocity, g, slab.top);
     out.highest += gap + slab.top;
     ParticleStore gas_store;
+    const auto first = static_cast<std::size_t>(batch.data() - radii.data());  // of the batch in the pour
     for (std::size_t j = 0; j < batch.size(); ++j) {
-      gas_store.add(gas.positions[j], batch[j], sc.material.density, step.layer);
+      gas_store.add(gas.positions[j], batch[j], of.density_of(first + j), step.layer, of.material(first + j));
       gas_store.velocity.back() = {0.0, 0.0, -pour.velocity};
     }
     Container slab_box = sc.container;
     slab_box.bounds.lo.z = 0.0;
     out.files.emplace_back(fmt::format("pour_batch_{}.data", k + 1),
-                           lammps_data(gas_store, slab_box, sc.material.density, std::max(slab.top, 1e-300), {}));
+                           lammps_data(gas_store, slab_box, b.densities, std::max(slab.top, 1e-300), {}));
   }
   return out;
 }
@@ -246,7 +253,7 @@ double deck_pour_batches(Out o, const DeckBasis& b, const std::vector<double>& f
 // aggpack's pour (pour_bed) as a deck: the same batches of the same random gas, each lifted to
 // the bed's top plus the gap when it comes in, at the same times, then the settling.
 LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
-                     std::span<const double> radii) {
+                     std::span<const double> radii, std::span<const std::uint8_t> materials) {
   const PourSettings& pour = *sc.pour;
   const QuietCriterion& quiet = sc.dynamics->quiet;
   const double r_max = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
@@ -257,7 +264,7 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   LammpsDeck out;
   out.step = fmt::format("pour, part {} of {}", step.layer + 1, step.layers);
   out.deck_file = "pour.in";
-  PourBatches batches = pour_batches(sc, bed, step, radii, schedule, gap, b.g);
+  PourBatches batches = pour_batches(b, bed, step, radii, materials, schedule, gap);
   out.files = std::move(batches.files);
 
   fmt::memory_buffer d;
@@ -279,7 +286,7 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   deck_end(o);
   out.files.insert(out.files.begin(),
                    {LammpsDeck::kDataFile,
-                    lammps_data(bed, sc.container, sc.material.density,
+                    lammps_data(bed, sc.container, b.densities,
                                 std::max(sc.container.bounds.hi.z, batches.highest + 2.0 * r_max), {})});
   out.files.emplace_back(out.deck_file, fmt::to_string(d));
   return out;
@@ -349,7 +356,7 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
   fmt::format_to(o, "write_dump all custom tap_${{tap}}.dump id type x y z radius modify format float %.17g sort id\n");
   fmt::format_to(o, "variable tap equal $(v_tap+1)\nif \"${{tap}} <= {}\" then \"jump SELF tap\"\n", tapping.taps);
   deck_end(o);
-  out.files.emplace_back(LammpsDeck::kDataFile, lammps_data(bed, c, sc.material.density, c.bounds.hi.z, {}));
+  out.files.emplace_back(LammpsDeck::kDataFile, lammps_data(bed, c, b.densities, c.bounds.hi.z, {}));
   out.files.emplace_back(out.deck_file, fmt::to_string(d));
   return out;
 }
@@ -357,10 +364,10 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
 }  // namespace
 
 LammpsDeck lammps_deck(const Scenario& sc, const ParticleStore& bed, const LammpsStep& step,
-                       std::span<const double> pour_radii) {
+                       std::span<const double> pour_radii, std::span<const std::uint8_t> pour_materials) {
   if (!sc.dynamics) throw InputError(fmt::format("{}: a DEM step needs [dynamics]", sc.file.string()));
   return std::visit(Overloaded{[&](const SettleStep& s) { return settle_deck(sc, bed, s.layer); },
-                               [&](const PourStep& s) { return pour_deck(sc, bed, s, pour_radii); },
+                               [&](const PourStep& s) { return pour_deck(sc, bed, s, pour_radii, pour_materials); },
                                [&](const TapStep&) { return tap_deck(sc, bed); }},
                     step);
 }

@@ -24,7 +24,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 4;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 5;  // raise when what a checkpoint holds changes
 constexpr std::array<const char*, 3> kSections{"header", "run state", "step state"};
 
 template <class Archive>
@@ -227,15 +227,16 @@ bool is_named(const std::array<EnumName<E>, N>& names, E value) {
 // its order (`radii`: the drop sequence, of which it holds the first ones, or the particle
 // file's, all of them), each of its mass, at a finite place with a finite motion.
 void check_bed(const ParticleStore& bed, std::string_view what, const std::vector<double>& radii, bool all,
-               double density) {
+               const SphereMaterials& materials) {
   const std::size_t n = bed.radius.size();
   if (bed.position.size() != n || bed.velocity.size() != n || bed.angular_velocity.size() != n ||
-      bed.mass.size() != n || bed.layer.size() != n)
+      bed.mass.size() != n || bed.layer.size() != n || bed.material.size() != n)
     throw DamagedCheckpoint(fmt::format("its {} has arrays of different lengths", what));
   if (n > radii.size() || (all && n != radii.size()))
     throw DamagedCheckpoint(fmt::format("its {} holds {} particles; the run has {}", what, n, radii.size()));
   for (std::size_t i = 0; i < n; ++i)
-    if (bed.radius[i] != radii[i] || bed.mass[i] != ParticleStore::sphere_mass(radii[i], density) || !finite(bed.position[i]) ||
+    if (bed.radius[i] != radii[i] || bed.material[i] != materials.material(i) ||
+        bed.mass[i] != ParticleStore::sphere_mass(radii[i], materials.density_of(i)) || !finite(bed.position[i]) ||
         !finite(bed.velocity[i]) || !finite(bed.angular_velocity[i]))
       throw DamagedCheckpoint(fmt::format("its {}: particle {} is not one of the run's", what, i));
 }
@@ -289,10 +290,14 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
   } catch (const cereal::Exception& e) {
     throw DamagedCheckpoint(fmt::format("its run state: {}", e.what()));
   }
-  const double density = report.scenario.material.density;
-  check_bed(report.particles, "bed", radii, from_file, density);
-  if (report.deposited) check_bed(*report.deposited, "bed after deposition", radii, from_file, density);
-  for (const auto& [name, bed] : report.snapshots) check_bed(bed, "snapshot " + name, radii, from_file, density);
+  // Each sphere of its material: the particle file's all of one, the drop sequence's by component.
+  const std::vector<double> densities = material_densities(report.scenario);
+  const std::vector<std::uint8_t> file_materials(
+      from_file ? radii.size() : 0, report.scenario.particles.material_of_component(0));
+  const SphereMaterials materials{from_file ? file_materials : context.sphere_materials, densities};
+  check_bed(report.particles, "bed", radii, from_file, materials);
+  if (report.deposited) check_bed(*report.deposited, "bed after deposition", radii, from_file, materials);
+  for (const auto& [name, bed] : report.snapshots) check_bed(bed, "snapshot " + name, radii, from_file, materials);
   check_reports(report, context);
   const Scenario& sc = report.scenario;
   if (!sc.dynamics && carried_dem != CarriedDem().save())

@@ -161,4 +161,13 @@ GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) 
   return out;
 }
 
+std::vector<std::uint8_t> sphere_materials(const ParticleSource& source, const GeneratedSizes& sizes) {
+  const std::vector<std::uint8_t>& of_component = source.component_material;
+  if (std::all_of(of_component.begin(), of_component.end(), [](std::uint8_t m) { return m == 0; })) return {};
+  std::vector<std::uint8_t> materials;
+  materials.reserve(sizes.component.size());
+  for (const std::int32_t c : sizes.component) materials.push_back(of_component.at(static_cast<std::size_t>(c)));
+  return materials;
+}
+
 }  // namespace aggpack

@@ -192,15 +192,16 @@ SettlingRun settle_in_lammps(const Scenario& sc, ParticleStore& particles, std::
 }
 
 PourRun pour_in_lammps(const Scenario& sc, ParticleStore& particles, std::span<const double> radii,
-                       const PourStep& step, double time_offset, TimeSeries& series, Progress& progress) {
+                       const SphereMaterials& materials, const PourStep& step, double time_offset, TimeSeries& series, Progress& progress) {
   const auto t0 = Clock::now();
   const std::filesystem::path folder = lammps_folder(sc, fmt::format("pour_part_{}", step.layer + 1));
-  const LammpsDeck deck = lammps_deck(sc, particles, step, radii);
+  const LammpsDeck deck = lammps_deck(sc, particles, step, radii, materials.of);
   const std::string log = run_lammps(sc, folder, deck, progress);
   const std::filesystem::path dump_file = folder / LammpsDeck::kDumpFile;
   const LammpsBed dump = read_lammps_dump(dump_file, sc);
   // The poured spheres come after the bed's, in the order aggpack inserts them.
-  for (const double r : radii) particles.add({}, r, sc.material.density, step.layer);
+  for (std::size_t k = 0; k < radii.size(); ++k)
+    particles.add({}, radii[k], materials.density_of(k), step.layer, materials.material(k));
   take_positions(particles, dump.particles, dump_file.string(), particles.size());
 
   const PourSettings& pour = *sc.pour;
@@ -409,13 +410,18 @@ ExportedDeck export_scenario_step(const std::filesystem::path& scenario_file, co
   const RunReport report = run_steps_before(sc, protocol, k);
   const StepKind& kind = protocol.steps[k].kind;
   std::span<const double> pour_radii;
+  std::span<const std::uint8_t> pour_materials;
   std::vector<double> radii;
+  std::vector<std::uint8_t> materials;
   LammpsStep step;
   if (const auto* p = std::get_if<PourStep>(&kind)) {
     // The part of the scenario's sizes this pour step lets in.
-    for (const double d : generate_sizes(sc.particles, sc.seed).diameters) radii.push_back(0.5 * d);
+    const GeneratedSizes sizes = generate_sizes(sc.particles, sc.seed);
+    for (const double d : sizes.diameters) radii.push_back(0.5 * d);
+    materials = sphere_materials(sc.particles, sizes);
     const std::size_t begin = radii.size() * p->layer / p->layers, end = radii.size() * (p->layer + 1) / p->layers;
     pour_radii = std::span<const double>(radii).subspan(begin, end - begin);
+    if (!materials.empty()) pour_materials = std::span<const std::uint8_t>(materials).subspan(begin, end - begin);
     step = *p;
   } else if (const auto* s = std::get_if<SettleStep>(&kind)) {
     step = *s;
@@ -423,7 +429,7 @@ ExportedDeck export_scenario_step(const std::filesystem::path& scenario_file, co
     step = TapStep{};
   }
   ExportedDeck exported;
-  exported.deck = lammps_deck(sc, report.particles, step, pour_radii);
+  exported.deck = lammps_deck(sc, report.particles, step, pour_radii, pour_materials);
   exported.poured = pour_radii.size();
   exported.source = fmt::format("step {} of {} of {}", k + 1, protocol.steps.size(), sc.file.string());
   exported.spheres = report.particles.size();

@@ -78,7 +78,9 @@ std::string bed_vtp(const RunReport& report, const ParticleStore& bed, std::stri
     for (std::size_t i = 0; i < bed.size() && same_order; ++i) same_order = bed.radius[i] == 0.5 * d[i];
     if (same_order) component = std::span(report.sizes->component).first(bed.size());
   }
-  return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component});
+  std::vector<std::int32_t> material;  // a run of several materials only
+  if (material_count(sc) > 1) material.assign(bed.material.begin(), bed.material.end());
+  return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component, material});
 }
 
 // The frames of the DEM (written as they were taken), the snapshots and the final bed as one
@@ -144,8 +146,12 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     write_file_atomically(dir / name, content);
     written.push_back(name);
   };
+  // A run of several materials names each sphere's in particles.csv.
+  std::vector<std::string> material_names;
+  if (material_count(sc) > 1)
+    for (std::size_t k = 0; k < material_count(sc); ++k) material_names.push_back(material_name(sc, k));
   if (report.interrupted) {  // the bed and the samples as they stood, and what was done
-    write("particles.csv", particles_csv(report.particles));
+    write("particles.csv", particles_csv(report.particles, material_names));
     if (!report.series.samples.empty()) write("timeseries.csv", report.series.csv());
     const double output_seconds = seconds_since(t0);
     nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
@@ -153,7 +159,7 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     write_manifest(dir, written);
     return summary;
   }
-  if (sc.output.csv) write("particles.csv", particles_csv(report.particles));
+  if (sc.output.csv) write("particles.csv", particles_csv(report.particles, material_names));
   if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
   if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());
   if (!report.tappings.empty()) {
@@ -164,7 +170,7 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     }
     write("taps.csv", taps);
   }
-  for (const auto& [name, bed] : report.snapshots) write("particles_" + name + ".csv", particles_csv(bed));
+  for (const auto& [name, bed] : report.snapshots) write("particles_" + name + ".csv", particles_csv(bed, material_names));
   const std::string provenance = fmt::format("aggpack {}, scenario {}, seed {}", kVersion, sc.file.string(), sc.seed);
   if (sc.output.vtp) {
     write("particles.vtp", bed_vtp(report, report.particles, provenance));

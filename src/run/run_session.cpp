@@ -43,9 +43,13 @@ InitialBed initial_bed(const Scenario& sc) {
   check_lammps_available(sc);
   InitialBed bed;
   if (sc.particles.file) {
-    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit, sc.material.density,
-                                         sc.limits.max_input_bytes(), sc.particles.file_timestep);
+    // A particle file is one component, all of one material.
+    const std::uint8_t material = sc.particles.material_of_component(0);
+    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit,
+                                         material_of(sc, material).density, sc.limits.max_input_bytes(),
+                                         sc.particles.file_timestep);
     bed.particles = std::move(file.particles);
+    std::fill(bed.particles.material.begin(), bed.particles.material.end(), material);
     bed.file_format = std::move(file.format);
     if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
       throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
@@ -87,6 +91,8 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   report_.wall_clock_s["input"] = initial.sizes ? 0.0 : prepared_s;
   if (initial.sizes) report_.wall_clock_s["sizes"] = prepared_s;
   context_.radii = drop_radii(initial);
+  if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
+  context_.material_densities = material_densities(sc);
   const std::uint64_t fingerprint = input_fingerprint(report_.particles, context_.radii);
   const Checkpoint* resume = controls.resume_from;
   if (resume && resume->inputs_fingerprint != fingerprint)

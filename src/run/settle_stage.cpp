@@ -287,7 +287,8 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
   throw blow_up_error(sc, particles, fmt::format("while settling, {}", e.what()), std::string_view());
 }
 
-PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii, std::uint32_t part,
+PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii,
+                 const SphereMaterials& materials, std::uint32_t part,
                  double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress) try {
   const PourSettings& settings = *sc.pour;
   const DynamicsStage& stage = *sc.dynamics;
@@ -328,8 +329,7 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   hooks.density = box_density(sc);
   SettleResult result;
   try {
-    result = pour(dem, particles, sc.container, radii, settings, part, sc.material.density, stage.quiet, loop,
-                  resumed, hooks);
+    result = pour(dem, particles, sc.container, radii, settings, part, materials, stage.quiet, loop, resumed, hooks);
   } catch (const PourInsertionError& e) {
     throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
   }

@@ -56,7 +56,7 @@ void run_step(const DepositStep& step, RunContext& ctx) {
     ctx.progress.update({fmt::format("{} of {} particles placed", placed, radii.size())},
                         static_cast<double>(placed) / static_cast<double>(radii.size()));
   }};
-  deposition.deposit(radii, sc.material.density, step.layer, observer);
+  deposition.deposit(radii, ctx.materials(begin, end), step.layer, observer);
   DepositionReport layer;
   layer.requested = radii.size();
   layer.stats = deposition.stats();
@@ -81,9 +81,10 @@ void run_step(const PourStep& step, RunContext& ctx) {
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
   const PourRun run =
       r.scenario.dynamics->engine == DemEngine::Lammps
-          ? pour_in_lammps(r.scenario, r.particles, radii, step, ctx.simulated_time, r.series, ctx.progress)
-          : pour_bed(r.scenario, r.particles, radii, step.layer, ctx.simulated_time, ctx.stage_controls(), r.series,
-                     ctx.progress);
+          ? pour_in_lammps(r.scenario, r.particles, radii, ctx.materials(begin, end), step, ctx.simulated_time,
+                           r.series, ctx.progress)
+          : pour_bed(r.scenario, r.particles, radii, ctx.materials(begin, end), step.layer, ctx.simulated_time,
+                     ctx.stage_controls(), r.series, ctx.progress);
   ctx.simulated_time += run.settling.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
   r.dynamics->runs.push_back(run.settling);
@@ -132,12 +133,14 @@ void run_step(const SnapshotStep& step, RunContext& ctx) {
 void run_step(const ExportLammpsStep& step, RunContext& ctx) {
   const Scenario& sc = ctx.report.scenario;
   std::span<const double> pour_radii;
+  SphereMaterials pour_materials;
   if (const auto* pour = std::get_if<PourStep>(&step.next)) {
     const std::size_t n = ctx.radii.size();
     const std::size_t begin = n * pour->layer / pour->layers, end = n * (pour->layer + 1) / pour->layers;
     pour_radii = std::span<const double>(ctx.radii.data() + begin, end - begin);
+    pour_materials = ctx.materials(begin, end);
   }
-  const LammpsDeck deck = lammps_deck(sc, ctx.report.particles, step.next, pour_radii);
+  const LammpsDeck deck = lammps_deck(sc, ctx.report.particles, step.next, pour_radii, pour_materials.of);
   const std::filesystem::path folder = sc.output.directory / "lammps" / step.name;
   write_lammps_deck(folder, deck);
   ctx.report.lammps_exchanges.push_back({"export", folder.string(), deck.step, ctx.report.particles.size()});

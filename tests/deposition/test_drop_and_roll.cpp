@@ -254,7 +254,7 @@ ParticleStore build_bed(const BedCase& c, std::uint64_t seed, DepositionStats* s
   ParticleStore bed;
   const Container container = Container::square(c.side, 100.0, c.periodic);
   DropAndRoll deposition(bed, container, c.radii, DepositionSettings{}, Rng(seed, 2));
-  deposition.deposit(c.radii, kDensity);
+  deposition.deposit(c.radii, SphereMaterials::all_of(kDensity));
   if (stats) *stats = deposition.stats();
   return bed;
 }
@@ -305,10 +305,10 @@ TEST(DropAndRollBeds, ResumesOnTopOfAnExistingBed) {
   ParticleStore bed;
   {
     DropAndRoll first(bed, container, std::span(radii).first(1500), DepositionSettings{}, Rng(3, 2));
-    EXPECT_EQ(first.deposit(std::span(radii).first(1500), kDensity, 0), 1500u);
+    EXPECT_EQ(first.deposit(std::span(radii).first(1500), SphereMaterials::all_of(kDensity), 0), 1500u);
   }
   DropAndRoll second(bed, container, std::span(radii).last(1500), DepositionSettings{}, Rng(3, 102));
-  EXPECT_EQ(second.deposit(std::span(radii).last(1500), kDensity, 1), 1500u);
+  EXPECT_EQ(second.deposit(std::span(radii).last(1500), SphereMaterials::all_of(kDensity), 1), 1500u);
   ASSERT_EQ(bed.size(), 3000u);
   EXPECT_EQ(bed.layer[2999], 1u);
   const BedReport report = check_bed(bed, container, 1e-9);
@@ -323,7 +323,7 @@ TEST(DropAndRollBeds, StopsAtTheFillHeight) {
   DepositionSettings settings;
   settings.fill_height = 4.0;
   DropAndRoll deposition(bed, container, radii, settings, Rng(1, 2));
-  const std::size_t placed = deposition.deposit(radii, kDensity);
+  const std::size_t placed = deposition.deposit(radii, SphereMaterials::all_of(kDensity));
   EXPECT_LT(placed, 5000u);
   EXPECT_EQ(deposition.stats().end, DepositionEnd::FillHeight);
   for (std::size_t i = 0; i < bed.size(); ++i) ASSERT_LE(bed.position[i].z + 0.5, 4.0 + 1e-9);
@@ -345,9 +345,9 @@ TEST(DropAndRoll, TheObserverSeesEveryNthPlacementAndChangesNothing) {
   ParticleStore watched, plain;
   std::vector<std::size_t> seen;
   DropAndRoll a(watched, container, radii, DepositionSettings{}, Rng(7, 2));
-  a.deposit(radii, 2650.0, 0, {10, [&](std::size_t placed) { seen.push_back(placed); }});
+  a.deposit(radii, SphereMaterials::all_of(2650.0), 0, {10, [&](std::size_t placed) { seen.push_back(placed); }});
   DropAndRoll b(plain, container, radii, DepositionSettings{}, Rng(7, 2));
-  b.deposit(radii, 2650.0);
+  b.deposit(radii, SphereMaterials::all_of(2650.0));
   EXPECT_EQ(seen, (std::vector<std::size_t>{10, 20, 30, 40, 50, 60, 70, 80, 90}));
   ASSERT_EQ(watched.size(), plain.size());
   for (std::size_t i = 0; i < plain.size(); ++i) EXPECT_EQ(watched.position[i], plain.position[i]);

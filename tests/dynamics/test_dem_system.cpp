@@ -442,7 +442,7 @@ ParticleStore deposited_bed(std::size_t count, bool periodic, std::uint64_t seed
   ParticleStore bed;
   const Container box = Container::square(0.06, 1.0, periodic);
   DropAndRoll deposition(bed, box, radii, DepositionSettings{}, Rng(seed, 2));
-  deposition.deposit(radii, kDensity);
+  deposition.deposit(radii, SphereMaterials::all_of(kDensity));
   return bed;
 }
 
@@ -475,7 +475,7 @@ TEST(DemSystem, SameBytesForOneAndTwoThreads) {
   for (double& r : radii) r = sizes.uniform(0.002, 0.003);
   ParticleStore deposited;
   DropAndRoll deposition(deposited, box, radii, DepositionSettings{}, Rng(8, 2));
-  deposition.deposit(radii, kDensity);
+  deposition.deposit(radii, SphereMaterials::all_of(kDensity));
   const auto run = [&](int threads) {
     ParticleStore bed = deposited;
     DemSettings settings;
@@ -519,7 +519,7 @@ TEST(DemSystem, ARestoredStateContinuesBitForBit) {
   for (double& r : radii) r = sizes.uniform(0.002, 0.003);
   ParticleStore deposited;
   DropAndRoll deposition(deposited, box, radii, DepositionSettings{}, Rng(9, 2));
-  deposition.deposit(radii, kDensity);
+  deposition.deposit(radii, SphereMaterials::all_of(kDensity));
   DemSettings settings;
   settings.time_step = 1e-5;
   settings.skin = 5e-5;  // rebuilt during the run
@@ -615,7 +615,7 @@ TEST(DemSystem, ADamagedStateIsRefusedOrRunsNeverReadsOutOfRange) {
   for (double& r : radii) r = sizes.uniform(0.002, 0.003);
   ParticleStore store;
   DropAndRoll deposition(store, box, radii, DepositionSettings{}, Rng(10, 2));
-  deposition.deposit(radii, kDensity);
+  deposition.deposit(radii, SphereMaterials::all_of(kDensity));
   DemSettings settings;
   settings.time_step = 1e-5;
   settings.threads = 1;

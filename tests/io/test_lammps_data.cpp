@@ -17,7 +17,7 @@ TEST(LammpsData, RoundTripsTheBedExactly) {
   bed.add({0.1, 1.0 / 3.0, 0.0127}, 0.0127, 1.0);
   bed.add({2.0 / 7.0, 0.2, 0.05}, 0.00635, 1.0);
   const Container container{{{0, 0, 0}, {0.3, 0.4, 1.0}}, false};
-  const std::string text = lammps_data(bed, container, 2650.0, 0.5);
+  const std::string text = lammps_data(bed, container, std::vector<double>{2650.0}, 0.5);
   std::istringstream in(text);
   std::string line;
   std::getline(in, line);  // title
@@ -48,7 +48,7 @@ TEST(LammpsData, RoundTripsTheBedExactly) {
     EXPECT_EQ(y, bed.position[i].y);
     EXPECT_EQ(z, bed.position[i].z);
   }
-  EXPECT_THROW(lammps_data(bed, container, 2650.0, 0.05), std::invalid_argument);  // below a sphere's top
+  EXPECT_THROW(lammps_data(bed, container, std::vector<double>{2650.0}, 0.05), std::invalid_argument);  // below a sphere's top
 }
 
 // What aggpack writes, its reader takes back bit for bit: ids, types and velocities included.
@@ -59,7 +59,7 @@ TEST(LammpsData, TheReaderTakesBackWhatTheWriterWrote) {
   bed.velocity[1] = {0.1, -0.2, 1.0 / 3.0};
   const Container container{{{0, 0, 0}, {0.3, 0.4, 1.0}}, false};
   const std::vector<std::uint8_t> frozen{1, 0};
-  const std::string text = lammps_data(bed, container, 2650.0, 0.5, frozen);
+  const std::string text = lammps_data(bed, container, std::vector<double>{2650.0}, 0.5, frozen);
   EXPECT_NE(text.find("2 atom types"), std::string::npos);
   EXPECT_NE(text.find("\nVelocities\n"), std::string::npos);
   ASSERT_TRUE(is_lammps_data(text));

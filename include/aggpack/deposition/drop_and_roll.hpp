@@ -76,9 +76,10 @@ class DropAndRoll {
   DropAndRoll(ParticleStore& bed, const Container& container, std::span<const double> radii_to_come,
               const DepositionSettings& settings, Rng rng);
 
-  // Drops spheres of the given radii one by one at uniformly random (x, y) and adds each to
-  // the bed where it comes to rest. Stops early at the fill height; returns how many it placed.
-  std::size_t deposit(std::span<const double> radii, double density, std::uint32_t layer = 0,
+  // Drops spheres of the given radii (of `materials`, one per radius) one by one at uniformly
+  // random (x, y) and adds each to the bed where it comes to rest. Stops early at the fill
+  // height; returns how many it placed.
+  std::size_t deposit(std::span<const double> radii, const SphereMaterials& materials, std::uint32_t layer = 0,
                       const DepositionObserver& observer = {});
 
   // One drop of a sphere of radius r at (x, y), without adding it to the bed.

@@ -98,13 +98,13 @@ struct PourHooks {
 };
 
 // Pours `radii` onto the bed of `system` in `container` at rest (the spheres join `particles` as free particles of
-// layer `part`, of density `particle_density`), then settles the bed until `quiet` holds or its
+// layer `part`, of `materials`, one per radius), then settles the bed until `quiet` holds or its
 // max_time (counted from the pour's start) is reached. `loop` is begin_pour's or a restored
 // one (`resumed`): the pour continues where it stood, bit for bit. The result's times are
 // since the pour began, its steps the whole pour's; `loop.next` tells whether the last batch
 // had the time to fall its slab before max_time (the caller decides what a cut pour means).
 SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& container, std::span<const double> radii,
-                  const PourSettings& settings, std::uint32_t part, double particle_density,
+                  const PourSettings& settings, std::uint32_t part, const SphereMaterials& materials,
                   const QuietCriterion& quiet, PourLoop& loop, bool resumed, const PourHooks& hooks);
 
 }  // namespace aggpack

@@ -14,8 +14,11 @@ namespace aggpack {
 // y z; SI units), every number with the 17 digits that keep contacts exact, and a Velocities
 // section (v and omega) when a sphere moves. The box is the container's footprint, from its
 // floor to `z_top` (m), which must clear the highest sphere. Ids count from 1 in store order.
-// Atom type 1; type 2 for the spheres flagged in `frozen` (a deck holds them still).
-std::string lammps_data(const ParticleStore& particles, const Container& container, double density, double z_top,
+// Atom type m + 1 for a sphere of material m (of `densities`, kg/m^3, one per material); M + m + 1
+// for the spheres flagged in `frozen` (a deck holds them still), 2M types in all (one material
+// and nothing frozen: type 1 alone).
+std::string lammps_data(const ParticleStore& particles, const Container& container, std::span<const double> densities,
+                        double z_top,
                         std::span<const std::uint8_t> frozen = {});
 
 // What a LAMMPS file gave: the spheres (in the order of their atom ids: id k is store index

@@ -43,8 +43,9 @@ ParticleStore parse_particle_text(std::string_view text, const std::string& name
 
 // "id,x,y,z,r" in metres, one row per particle in store order, full double precision. Ids
 // run 1..N in store order: the numbering of particles.vtp and of the LAMMPS files (one
-// numbering across the bridge; LAMMPS has no atom 0).
-std::string particles_csv(const ParticleStore& particles);
+// numbering across the bridge; LAMMPS has no atom 0). Given the names of the run's materials
+// (a run of several), a last column "material" names each sphere's.
+std::string particles_csv(const ParticleStore& particles, std::span<const std::string> material_names = {});
 
 // "id,support_1_kind,support_1_id,...,support_3_id": what each sphere (id 1..N) came to rest
 // on in the deposition stage. A kind is sphere, floor, wall_x_low, wall_x_high, wall_y_low,

@@ -13,6 +13,7 @@
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/dynamics/materials.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/dynamics/tap.hpp"
 #include "aggpack/io/protocol.hpp"
@@ -56,6 +57,13 @@ struct ParticleSource {
   // it the file is refused unless it comes from a soft-contact DEM (soft_contacts).
   double overlap_tolerance = 0.25;
   bool soft_contacts = false;
+  // The material of each component (a size class, as listed; a mix's coarse, then fine; one
+  // grading), as an index of the run's materials (material_count). Empty: all [material].
+  std::vector<std::uint8_t> component_material;
+  // Component c's material (a particle file is one component: 0).
+  [[nodiscard]] std::uint8_t material_of_component(std::size_t c) const {
+    return component_material.empty() ? 0 : component_material.at(c);
+  }
 };
 
 // [material]: the spheres' density and the contact law's parameters (dynamics.friction_model
@@ -63,6 +71,13 @@ struct ParticleSource {
 struct Material {
   double density = 2650.0;  // kg/m^3
   ContactParameters contact;
+};
+
+// [materials.NAME]: a material of its own for the components that name it (`material =
+// "NAME"`): any key of [material] but the walls' and the law's, the rest from [material].
+struct NamedMaterial {
+  std::string name;
+  Material material;
 };
 
 struct AnalysisSettings {
@@ -134,7 +149,9 @@ struct Scenario {
   // SI. Empty: metres, or a bare number.
   std::string written_length_unit;
   ParticleSource particles;
-  Material material;
+  Material material;                       // [material]: material 0, "default"
+  std::vector<NamedMaterial> materials;    // [materials.NAME], alphabetically: materials 1, 2, ...
+  std::vector<MaterialPairCoefficients> material_pairs;  // [[material_pairs]]
   std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)
   std::optional<PourSettings> pour;              // [pour]
   std::optional<TappingSettings> tapping;        // [tapping] (dynamics/tap.hpp)
@@ -144,6 +161,14 @@ struct Scenario {
   OutputSettings output;
   std::optional<Protocol> protocol;  // [[protocol]] as given; none: the stages' default order
 };
+
+// The run's materials: 0 is [material] ("default"), then [materials.NAME] in order.
+[[nodiscard]] inline std::size_t material_count(const Scenario& sc) { return 1 + sc.materials.size(); }
+[[nodiscard]] const Material& material_of(const Scenario& sc, std::size_t index);
+[[nodiscard]] std::string material_name(const Scenario& sc, std::size_t index);
+[[nodiscard]] std::vector<double> material_densities(const Scenario& sc);
+// Every material's contact parameters, in index order (make_contact_model's input).
+[[nodiscard]] std::vector<ContactParameters> material_contacts(const Scenario& sc);
 
 struct ScenarioOverrides {
   std::vector<std::string> set;  // "key.path=value", TOML syntax for the value (bare words are strings)

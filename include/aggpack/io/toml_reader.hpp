@@ -44,6 +44,8 @@ class TomlSection {
   void allow_only(std::initializer_list<std::string_view> allowed) const;
 
   [[nodiscard]] bool has(std::string_view key) const;
+  // The table's keys, in alphabetical order.
+  [[nodiscard]] std::vector<std::string> keys() const;
   [[nodiscard]] std::string key_path(std::string_view key) const;
   [[nodiscard]] std::string location(std::string_view key) const;
   [[noreturn]] void fail(std::string_view key, std::string_view what) const;

@@ -20,10 +20,11 @@ enum class VtpEncoding { ZlibAppended, Ascii };
 struct VtpPointArrays {
   std::span<const std::int32_t> coordination;  // sphere-sphere contacts of each sphere
   std::span<const std::int32_t> component;     // which part of the size specification it came from
+  std::span<const std::int32_t> material;      // the index of its material (summary.json names them)
 };
 
 // VTK XML PolyData: one vertex per sphere, point arrays radius, diameter, id, velocity (m/s,
-// 3 components), and coordination and component when given.
+// 3 components), and coordination, component and material when given.
 // In ParaView: Glyph filter, glyph type Sphere, scale array "diameter", scale factor 1
 // (the glyph sphere has diameter 1).
 // `provenance` (version, scenario, seed) goes into an XML comment. The bytes depend only on

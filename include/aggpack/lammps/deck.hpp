@@ -40,9 +40,10 @@ struct LammpsDeck {
 };
 
 // The deck of `step` on `bed` (as it is before the step). A pour step takes the radii of its
-// part of the drop sequence; the others take none.
+// part of the drop sequence and their materials (indices; empty: all [material]); the others
+// take none.
 LammpsDeck lammps_deck(const Scenario& scenario, const ParticleStore& bed, const LammpsStep& step,
-                       std::span<const double> pour_radii = {});
+                       std::span<const double> pour_radii = {}, std::span<const std::uint8_t> pour_materials = {});
 
 // Each of the deck's files written atomically into `folder` (made if missing).
 void write_lammps_deck(const std::filesystem::path& folder, const LammpsDeck& deck);

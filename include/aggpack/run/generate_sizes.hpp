@@ -48,4 +48,8 @@ struct GeneratedSizes {
 // From size classes or from gradings (one, or a coarse/fine mix), with the run's seed.
 GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed);
 
+// The material of each generated sphere (its component's); empty when every component is of
+// material 0 ([material]).
+std::vector<std::uint8_t> sphere_materials(const ParticleSource& source, const GeneratedSizes& sizes);
+
 }  // namespace aggpack

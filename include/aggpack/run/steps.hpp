@@ -19,11 +19,17 @@ struct RunContext {
   SafePoint* safe_point = nullptr;              // the run's checkpointer; null: none
   const std::string* resume_state = nullptr;    // the step in progress at a checkpoint, to continue
   std::vector<double> radii{};                  // the drop sequence, m
+  std::vector<std::uint8_t> sphere_materials{}; // the drop sequence's materials; empty: all [material]
+  std::vector<double> material_densities{};     // kg/m^3, per material of the run
   double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
   std::optional<std::uint32_t> deposition_stopped_at{};  // the layer whose deposition ended early
   const SampleObserver* at_sample = nullptr;    // at every DEM sample (the frames); null: nothing
   CarriedDem dem{};                             // the DEM system consecutive DEM steps continue
   bool in_step = false;                         // inside a step (whose safe points save its DEM state)
+  // The materials of the drop sequence's spheres [begin, end).
+  [[nodiscard]] SphereMaterials materials(std::size_t begin, std::size_t end) const {
+    return SphereMaterials{sphere_materials, material_densities}.part(begin, end - begin);
+  }
   [[nodiscard]] StageControls stage_controls() {
     return {threads, stop, safe_point, resume_state, at_sample, &dem};
   }

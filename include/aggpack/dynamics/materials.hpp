@@ -1,0 +1,26 @@
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "aggpack/dynamics/contact_law.hpp"
+
+namespace aggpack {
+
+// Contacts between grains of two materials (a stone and a sand) take E* and G* from both
+// materials by Hertz's and Mindlin's formulas, and the coefficients below from the mixing rule
+// (the geometric mean of the two materials' values, LAMMPS's own rule for friction and
+// rolling resistance), unless a pair gives them, as LAMMPS's
+// `pair_coeff I J` does. Materials are indices of the run's list (0 the scenario's [material]).
+struct MaterialPairCoefficients {
+  std::uint8_t first = 0, second = 0;
+  std::optional<double> friction;          // Coulomb mu of the pair
+  std::optional<double> restitution;       // in (0, 1]
+  std::optional<double> rolling_friction;  // mu_r
+};
+
+// The mixing rule for a coefficient of two materials: their geometric mean.
+[[nodiscard]] inline double mixed_coefficient(double a, double b) { return a == b ? a : std::sqrt(a * b); }
+
+}  // namespace aggpack

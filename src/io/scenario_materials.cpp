@@ -1,0 +1,107 @@
+// [materials.NAME] and [[material_pairs]]: the materials of a run beside [material], and the
+// coefficients of pairs of them that do not follow the mixing rule.
+#include <algorithm>
+#include <span>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "aggpack/core/error.hpp"
+#include "scenario_tables.hpp"
+
+namespace aggpack {
+
+namespace {
+
+// Materials are bytes in the particle store, and LAMMPS gets two atom types of each.
+constexpr std::size_t kMostMaterials = 100;
+
+bool is_plain_name(const std::string& name) {
+  return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+  });
+}
+
+}  // namespace
+
+std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const Material& base) {
+  std::vector<NamedMaterial> materials;
+  for (const std::string& name : table.keys()) {
+    if (!is_plain_name(name) || name == "default")
+      table.fail(name, "a material's name is made of letters, digits, '_' and '-' (at most 64), and is not "
+                       "\"default\" (the [material] table's own name)");
+    const TomlSection s =
+        table.required(table.table(name), name, fmt::format("a table [{}] of the material's keys", table.key_path(name)));
+    for (const char* k : {"wall_youngs_modulus", "wall_poisson_ratio"})
+      if (s.has(k)) s.fail(k, "the walls are the container's, one for every material: give it in [material]");
+    materials.push_back({name, read_material(s, base)});
+  }
+  if (materials.size() + 1 > kMostMaterials)
+    table.fail(materials[kMostMaterials - 1].name, fmt::format("at most {} materials, [material] included", kMostMaterials));
+  return materials;
+}
+
+std::uint8_t material_index(const TomlSection& s, std::string_view key, std::span<const std::string> names) {
+  const std::string name = *s.string(key);
+  const auto found = std::find(names.begin(), names.end(), name);
+  if (found == names.end())
+    s.fail(key, fmt::format("no material is named \"{}\"; expected \"default\" ([material]){}", name,
+                            names.size() > 1 ? fmt::format(" or one of [materials]: \"{}\"",
+                                                           fmt::join(names.subspan(1), "\", \""))
+                                             : std::string(", or a [materials.NAME] table of that name")));
+  return static_cast<std::uint8_t>(found - names.begin());
+}
+
+std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<TomlSection>& entries,
+                                                          std::span<const std::string> names) {
+  std::vector<MaterialPairCoefficients> pairs;
+  for (const TomlSection& e : entries) {
+    e.allow_only({"materials", "friction", "restitution", "rolling_friction"});
+    const auto pair = e.required(e.string_list("materials"), "materials", "two material names, such as [\"stone\", \"sand\"]");
+    if (pair.size() != 2) e.fail("materials", fmt::format("expected two material names, got {}", pair.size()));
+    MaterialPairCoefficients p;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const auto found = std::find(names.begin(), names.end(), pair[k]);
+      if (found == names.end())
+        e.fail("materials", fmt::format("no material is named \"{}\"; the materials are \"{}\"", pair[k],
+                                        fmt::join(names, "\", \"")));
+      (k == 0 ? p.first : p.second) = static_cast<std::uint8_t>(found - names.begin());
+    }
+    if (p.first == p.second)
+      e.fail("materials", fmt::format("\"{}\" against itself is the material's own table: give its values there",
+                                      pair[0]));
+    if (p.first > p.second) std::swap(p.first, p.second);
+    for (const MaterialPairCoefficients& q : pairs)
+      if (q.first == p.first && q.second == p.second)
+        e.fail("materials", fmt::format("the pair \"{}\", \"{}\" is given twice", pair[0], pair[1]));
+    p.friction = e.number("friction", kNonNegative);
+    p.restitution = e.number("restitution", kFraction);
+    p.rolling_friction = e.number("rolling_friction", kNonNegative);
+    if (!p.friction && !p.restitution && !p.rolling_friction)
+      e.fail("materials", "the pair gives no coefficient: expected friction, restitution or rolling_friction");
+    pairs.push_back(p);
+  }
+  return pairs;
+}
+
+const Material& material_of(const Scenario& sc, std::size_t index) {
+  return index == 0 ? sc.material : sc.materials.at(index - 1).material;
+}
+
+std::string material_name(const Scenario& sc, std::size_t index) {
+  return index == 0 ? std::string("default") : sc.materials.at(index - 1).name;
+}
+
+std::vector<double> material_densities(const Scenario& sc) {
+  std::vector<double> densities;
+  for (std::size_t k = 0; k < material_count(sc); ++k) densities.push_back(material_of(sc, k).density);
+  return densities;
+}
+
+std::vector<ContactParameters> material_contacts(const Scenario& sc) {
+  std::vector<ContactParameters> contacts;
+  for (std::size_t k = 0; k < material_count(sc); ++k) contacts.push_back(material_of(sc, k).contact);
+  return contacts;
+}
+
+}  // namespace aggpack
