@@ -87,16 +87,67 @@ HWY_INLINE void RollingTorque(D d, const ContactBatch& b, std::size_t k, V minus
   rz = wz * factor;
 }
 
+// The spring-dashpot rolling resistance (contact_detail::spring_dashpot_rolling_torque) of the
+// contacts k .. k + lanes: updates their histories h and gives the torque on i.
+HWY_INLINE void RollingSpringDashpot(D d, ContactBatch& b, std::size_t k, V k_roll, V gamma_roll, V minus_inverse_k,
+                                     V step, V cap, V r_eff, V nx, V ny, V nz, V& rx, V& ry, V& rz) {
+  const V zero = hn::Zero(d);
+  const V wx = Load(d, b, C::kWx, k), wy = Load(d, b, C::kWy, k), wz = Load(d, b, C::kWz, k);
+  const V lx = r_eff * (ny * wz - nz * wy), ly = r_eff * (nz * wx - nx * wz), lz = r_eff * (nx * wy - ny * wx);
+  V hx = Load(d, b, C::kHx, k), hy = Load(d, b, C::kHy, k), hz = Load(d, b, C::kHz, k);
+  // Into the contact plane, the length kept, where the normal part is not negligible.
+  const V along = hx * nx + hy * ny + hz * nz;
+  const auto tilted = hn::Gt(hn::Abs(along) * k_roll, hn::Set(d, 1e-10) * cap);
+  if (!hn::AllFalse(d, tilted)) {
+    const V length = hn::Sqrt(hx * hx + hy * hy + hz * hz);
+    const V px = hx - along * nx, py = hy - along * ny, pz = hz - along * nz;
+    const V projected = hn::Sqrt(px * px + py * py + pz * pz);
+    const V scale = hn::IfThenElse(hn::Gt(projected, zero), length / projected, zero);
+    hx = hn::IfThenElse(tilted, px * scale, hx);
+    hy = hn::IfThenElse(tilted, py * scale, hy);
+    hz = hn::IfThenElse(tilted, pz * scale, hz);
+  }
+  hx = hx + lx * step;
+  hy = hy + ly * step;
+  hz = hz + lz * step;
+  const V minus_k = hn::Neg(k_roll);
+  V fx = minus_k * hx - gamma_roll * lx, fy = minus_k * hy - gamma_roll * ly, fz = minus_k * hz - gamma_roll * lz;
+  // At the cap: the capped torque and its history, or none without a history (rare: masked).
+  const V fr2 = fx * fx + fy * fy + fz * fz;
+  const auto rolling = hn::Gt(fr2, cap * cap);
+  if (!hn::AllFalse(d, rolling)) {
+    const auto held = hn::Ne(hx * hx + hy * hy + hz * hz, zero);
+    const V shrink = cap / hn::Sqrt(fr2);
+    const V cx = fx * shrink, cy = fy * shrink, cz = fz * shrink;
+    const auto capped = hn::And(rolling, held);
+    hx = hn::IfThenElse(capped, (cx + gamma_roll * lx) * minus_inverse_k, hx);
+    hy = hn::IfThenElse(capped, (cy + gamma_roll * ly) * minus_inverse_k, hy);
+    hz = hn::IfThenElse(capped, (cz + gamma_roll * lz) * minus_inverse_k, hz);
+    fx = hn::IfThenElse(rolling, hn::IfThenElseZero(held, cx), fx);
+    fy = hn::IfThenElse(rolling, hn::IfThenElseZero(held, cy), fy);
+    fz = hn::IfThenElse(rolling, hn::IfThenElseZero(held, cz), fz);
+  }
+  Store(d, hx, b, C::kHx, k);
+  Store(d, hy, b, C::kHy, k);
+  Store(d, hz, b, C::kHz, k);
+  rx = r_eff * (fy * nz - fz * ny);
+  ry = r_eff * (fz * nx - fx * nz);
+  rz = r_eff * (fx * ny - fy * nx);
+}
+
 void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
   const D d;
-  const ContactCoefficients& c = law.c;
   const V zero = hn::Zero(d);
+  // The coefficients, read in this one place (the same for every contact of the batch).
+  const ContactCoefficients& c = law.c;
   const V stiffness_factor = hn::Set(d, (4.0 / 3.0) * c.e_star);
   const V shear_factor = hn::Set(d, 8.0 * c.g_star);
   const V damping = hn::Set(d, c.damping), friction = hn::Set(d, c.friction), step = hn::Set(d, dt);
   const V damping_ratio = hn::Set(d, law.tangential_damping_ratio);
   const V minus_rolling = hn::Set(d, -c.rolling), regularisation = hn::Set(d, kFrictionRegularisation);
-  const bool rolling = c.rolling != 0.0;
+  const V rolling_friction = hn::Set(d, c.rolling), k_roll = hn::Set(d, c.rolling_stiffness);
+  const V gamma_roll = hn::Set(d, c.rolling_damping), minus_inverse_k = hn::Set(d, -1.0 / c.rolling_stiffness);
+  const bool rolling = c.rolling != 0.0, spring_dashpot = c.rolling_history();
   const std::size_t lanes = hn::Lanes(d);
   for (std::size_t k = 0; k < b.size; k += lanes) {
     const V ri = Load(d, b, C::kRadiusI, k), rj = Load(d, b, C::kRadiusJ, k);
@@ -125,7 +176,11 @@ void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
     CapAtFriction(d, friction * fn, kt, eta_t, tx, ty, tz, ux, uy, uz, fx, fy, fz);
     // Rolling resistance, zero when the law has none.
     V rx = zero, ry = zero, rz = zero;
-    if (rolling) RollingTorque(d, b, k, minus_rolling, regularisation, r_eff, fn, rx, ry, rz);
+    if (spring_dashpot)
+      RollingSpringDashpot(d, b, k, k_roll, gamma_roll, minus_inverse_k, step, rolling_friction * fn, r_eff, nx, ny,
+                           nz, rx, ry, rz);
+    else if (rolling)
+      RollingTorque(d, b, k, minus_rolling, regularisation, r_eff, fn, rx, ry, rz);
     // Outputs: the spring, the force on i, and both torques (n x F_t is the same for j).
     Store(d, ux, b, C::kUx, k);
     Store(d, uy, b, C::kUy, k);

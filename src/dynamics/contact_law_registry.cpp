@@ -13,21 +13,44 @@ namespace aggpack {
 namespace {
 
 std::string rolling_text(const ContactParameters& p) {
-  return p.rolling_friction > 0 ? fmt::format(", rolling resistance {:g}", p.rolling_friction) : std::string();
+  if (!(p.rolling_friction > 0)) return {};
+  if (p.rolling_model == RollingModel::SpringDashpot)
+    return fmt::format(", spring-dashpot rolling resistance (LAMMPS's sds: k_roll {:g} N/m, gamma_roll {:g} N s/m, "
+                       "torque capped at {:g} R* F_n)",
+                       p.rolling_stiffness, p.rolling_damping, p.rolling_friction);
+  return fmt::format(", constant-torque rolling resistance {:g} (torque {:g} R* F_n against the relative spin)",
+                     p.rolling_friction, p.rolling_friction);
 }
 
 // LAMMPS's hertz/material takes E, the damping coefficient (with `damping tsuji`, the
-// restitution e) and nu of the material; a wall/gran wall takes the wall's.
+// restitution e) and nu of the material; a wall/gran wall takes the wall's. limit_damping
+// keeps the damped normal force from pulling, as aggpack's does.
 std::string lammps_normal(const ContactParameters& p, bool wall) {
-  return fmt::format("hertz/material {:.9g} {:.9g} {:.9g} damping tsuji", wall ? p.wall_youngs_modulus : p.youngs_modulus,
-                     p.restitution, wall ? p.wall_poisson_ratio : p.poisson_ratio);
+  return fmt::format("hertz/material {:.9g} {:.9g} {:.9g} damping tsuji limit_damping",
+                     wall ? p.wall_youngs_modulus : p.youngs_modulus, p.restitution,
+                     wall ? p.wall_poisson_ratio : p.poisson_ratio);
 }
 
 std::string lammps_rolling(const ContactParameters& p) {
-  // sds: k_roll, gamma_roll, mu_roll. Ours is a constant torque mu_r R* F_n: the closest is a
-  // stiff spring capped at mu_roll, which slides at once.
-  return p.rolling_friction > 0 ? fmt::format(" rolling sds 1e12 0 {:.9g}", p.rolling_friction) : std::string();
+  if (!(p.rolling_friction > 0)) return {};
+  // sds: k_roll, gamma_roll, mu_roll. The spring-dashpot model is sds itself.
+  if (p.rolling_model == RollingModel::SpringDashpot)
+    return fmt::format(" rolling sds {:.9g} {:.9g} {:.9g}", p.rolling_stiffness, p.rolling_damping,
+                       p.rolling_friction);
+  // The constant torque mu_r R* F_n has no LAMMPS form: the closest is a stiff spring capped
+  // at mu_roll, which reaches the cap at once.
+  return fmt::format(" rolling sds 1e12 0 {:.9g}", p.rolling_friction);
 }
+
+// Said by every law's differences (lammps_differences).
+#define AGGPACK_ROLLING_DIFFERENCES                                                                              \
+  "; rolling resistance: with rolling_model = \"spring_dashpot\" both codes run LAMMPS's sds law (the same "  \
+  "history, projection and cap), except that LAMMPS 2022 negates a contact's rolling history when the pair's " \
+  "order in its neighbour list changes (as it does the tangential one), where the rolling history is the same " \
+  "seen from either sphere (aggpack keeps it): on one rank the order does not change; with \"constant_torque\" " \
+  "aggpack's torque is mu_r R* F_n against the relative spin at once, and LAMMPS's sds 1e12 0 mu_r a very stiff " \
+  "spring that reaches the same cap within a step; LIGGGHTS's epsd2 is the same spring-dashpot form with its " \
+  "k_r taken from the normal stiffness (2.25 mu_r^2 R*^2 k_n) where sds takes a constant"
 
 const std::array<ContactLawEntry, 2> kLaws{{
     {"mindlin", "Hertz-Mindlin with history, restitution damping, Coulomb cap (recommended)",
@@ -51,8 +74,7 @@ const std::array<ContactLawEntry, 2> kLaws{{
      },
      "LAMMPS's tsuji damping maps e to the damping coefficient by a fitted polynomial, aggpack by solving the "
      "dimensionless impact exactly (the restitution differs by up to about 1 %); the tangential damping ratio "
-     "sqrt(4 G*/E*) is given explicitly (LAMMPS's own default is 1); aggpack's rolling resistance is a constant "
-     "torque, LAMMPS's sds a spring capped at the same torque"},
+     "sqrt(4 G*/E*) is given explicitly (LAMMPS's own default is 1)" AGGPACK_ROLLING_DIFFERENCES},
     {"fu2003", "the paper's sliding friction: mu F_n against the sliding velocity, no spring (never sticks)",
      [](const ContactCoefficients& c) -> ContactLaw { return SlidingFrictionFu2003{c}; },
      [](const ContactParameters& p) {
@@ -68,8 +90,9 @@ const std::array<ContactLawEntry, 2> kLaws{{
                           wall ? p.friction_wall : p.friction_particle, lammps_rolling(p));
      },
      "no exact LAMMPS equivalent: tangential linear_nohistory with a very large damping gives mu F_n against the "
-     "sliding velocity, but caps at gamma_t |v_t| where aggpack regularises below 1e-6 m/s"},
+     "sliding velocity, but caps at gamma_t |v_t| where aggpack regularises below 1e-6 m/s" AGGPACK_ROLLING_DIFFERENCES},
 }};
+#undef AGGPACK_ROLLING_DIFFERENCES
 
 }  // namespace
 

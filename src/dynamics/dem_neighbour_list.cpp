@@ -73,10 +73,12 @@ void DemSystem::build_neighbour_list() {
   reorder(from);
   std::vector<std::uint32_t> offset, other;
   find_pairs(offset, other);
-  std::vector<Vec3> spring = sort_rows_and_carry_springs(from, offset, other);
+  std::vector<Vec3> roll;
+  std::vector<Vec3> spring = sort_rows_and_carry_springs(from, offset, other, roll);
   offset_.swap(offset);
   other_.swap(other);
   spring_.swap(spring);
+  roll_.swap(roll);
   index_cross_block_entries();
   listed_position_.resize(n);
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
@@ -146,9 +148,11 @@ void DemSystem::find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::
 
 std::vector<Vec3> DemSystem::sort_rows_and_carry_springs(const std::vector<std::uint32_t>& from,
                                                          const std::vector<std::uint32_t>& offset,
-                                                         std::vector<std::uint32_t>& other) const {
+                                                         std::vector<std::uint32_t>& other,
+                                                         std::vector<Vec3>& roll) const {
   const std::uint32_t n = n_;
   std::vector<Vec3> spring(offset[n]);
+  roll.assign(rolling_history_ ? offset[n] : 0, Vec3{});
 #pragma omp parallel for schedule(dynamic, 512) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n; ++i) {
     const auto row = other.begin() + offset[i], row_end = other.begin() + offset[i + 1];
@@ -167,8 +171,11 @@ std::vector<Vec3> DemSystem::sort_rows_and_carry_springs(const std::vector<std::
       const auto first = other_.begin() + offset_[owner], last = other_.begin() + offset_[owner + 1];
       const auto found = std::lower_bound(first, last, partner);
       if (found == last || *found != partner) continue;
-      const Vec3& old = spring_[static_cast<std::size_t>(found - other_.begin())];
+      const auto old_entry = static_cast<std::size_t>(found - other_.begin());
+      const Vec3& old = spring_[old_entry];
       spring[k] = owner == oi ? old : -old;
+      // The rolling history is the same from either side: no sign to flip.
+      if (rolling_history_) roll[k] = roll_[old_entry];
     }
   }
   return spring;

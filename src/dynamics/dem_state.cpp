@@ -27,6 +27,9 @@ void DemSystem::archive_state(Archive& ar, System& s) {
   ar(raw_value(s.container_), s.skin_, s.grid_bed_volume_, s.morton_cell_, s.n_, s.listed_count_, s.free_count_);
   ar(raw(s.grain_), raw(s.user_index_), raw(s.slot_of_), raw(s.frozen_), raw(s.load_), raw(s.listed_position_));
   ar(raw(s.offset_), raw(s.other_), raw(s.spring_));
+  // Only a law with a rolling history has one to save (the model is the scenario's, not saved):
+  // the bytes of the other laws stay what they were.
+  if (s.rolling_history_) ar(raw(s.roll_));
   ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
      s.rebuilds_);
 }
@@ -120,7 +123,7 @@ void DemSystem::check_restored(const MadeWith& made) const {
   // The half neighbour list: rows of ascending entries, each a later slot or a wall.
   const std::uint32_t walls = container_.plane_count();
   if (offset_.size() != std::size_t{n} + 1 || offset_[0] != 0 || offset_[n] != other_.size() ||
-      spring_.size() != other_.size())
+      spring_.size() != other_.size() || roll_.size() != (rolling_history_ ? other_.size() : 0))
     fail("its neighbour list's rows");
   for (std::uint32_t i = 0; i < n; ++i) {
     // Each row within the entries (a later row's offset may not be read before it is checked).
@@ -129,7 +132,8 @@ void DemSystem::check_restored(const MadeWith& made) const {
     for (std::uint32_t k = offset_[i]; k < offset_[i + 1]; ++k) {
       const std::uint32_t j = other_[k];
       const bool both_frozen = j < n ? frozen_[i] && frozen_[j] : frozen_[i] != 0;
-      if (j <= i || j >= n + walls || (k > offset_[i] && j < other_[k - 1]) || both_frozen || !finite(spring_[k]))
+      if (j <= i || j >= n + walls || (k > offset_[i] && j < other_[k - 1]) || both_frozen || !finite(spring_[k]) ||
+          (rolling_history_ && !finite(roll_[k])))
         fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
     }
   }

@@ -37,6 +37,7 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   if (frozen_.empty()) frozen_.assign(particles.size(), 0);
   if (frozen_.size() != particles.size()) throw std::invalid_argument("DemSystem: one frozen flag per particle");
   threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
+  rolling_history_ = std::visit([](const auto& law) { return law.c.rolling_history(); }, model_.particle);
   skin_ = settings.skin;
   rest_floor_ = container_.bounds.lo.z;
   rest_top_ = container_.bounds.hi.z;
@@ -169,6 +170,8 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
   const Grain* grain = grain_.data();
   const ForceTorque* load = load_.data();
   Vec3* spring = spring_.data();
+  Vec3* roll = roll_.data();  // empty unless the law keeps a rolling history
+  const bool rolling_history = rolling_history_;
   const std::uint32_t* offset = offset_.data();
   const std::uint32_t* other = other_.data();
   const std::size_t entries = other_.size();
@@ -210,6 +213,10 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
         slot[C::kDistance2 * C::kGroup] = d2;
         C::put3(slot, C::kUx, spring[e]);
         spring[e] = {};
+        if (rolling_history) {
+          C::put3(slot, C::kHx, roll[e]);
+          roll[e] = {};
+        }
         k += d2 < reach * reach ? 1 : 0;
       }
       batch.rows.push_back({static_cast<std::uint32_t>(k), e});
@@ -242,6 +249,8 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
   const double dt = settings_.time_step;
   ForceTorque* load = load_.data();
   Vec3* spring = spring_.data();
+  Vec3* roll = roll_.data();
+  const bool rolling_history = rolling_history_;
   const std::uint32_t* offset = offset_.data();
   const std::uint32_t* other = other_.data();
   const std::uint32_t* const entry = batch.entry.data();
@@ -258,6 +267,7 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
       const double* const slot = batch.contact(k);
       const Vec3 pair_force = C::get3(slot, C::kFx), torque_j = C::get3(slot, C::kTjx);
       spring[e] = C::get3(slot, C::kUx);
+      if (rolling_history) roll[e] = C::get3(slot, C::kHx);
       f += pair_force;
       t += C::get3(slot, C::kTix);
       if (e >= cross_begin) {
@@ -276,8 +286,11 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
       const std::uint32_t wall = other[e] - n;
       ContactKinematics kin;
       const double distance = container_.plane_distance(wall, xi, kin.normal);
+      Vec3 no_history{};
+      Vec3& rolling = rolling_history ? roll[e] : no_history;
       if (distance >= ri) {
         spring[e] = {};
+        rolling = {};
         continue;
       }
       kin.overlap = ri - distance;
@@ -286,7 +299,7 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
       kin.spin = wi;
       kin.r_eff = ri;
       kin.m_eff = mi;
-      const ContactForce c = wall_law.evaluate(kin, spring[e], dt);
+      const ContactForce c = wall_law.evaluate(kin, spring[e], rolling, dt);
       f += c.force;
       t += ri * cross(kin.normal, c.tangential) + c.rolling_torque;
     }
@@ -476,7 +489,7 @@ std::size_t DemSystem::memory_bytes() const {
   std::size_t batches = 0;
   for (const ContactBatch& b : batches_) batches += b.memory_bytes();
   return grain_.capacity() * sizeof(Grain) + frozen_.capacity() +
-         (listed_position_.capacity() + spring_.capacity()) * sizeof(Vec3) +
+         (listed_position_.capacity() + spring_.capacity() + roll_.capacity()) * sizeof(Vec3) +
          (load_.capacity() + cross_.capacity()) * sizeof(ForceTorque) +
          (user_index_.capacity() + slot_of_.capacity() + offset_.capacity() + cross_begin_.capacity() +
           other_.capacity() + slot_base_.capacity() + reverse_offset_.capacity() + reverse_.capacity()) *

@@ -9,9 +9,30 @@
 
 namespace aggpack {
 
+namespace {
+
+// rolling_model and the spring-dashpot's coefficients, which apply to that model alone.
+void read_rolling_model(const TomlSection& s, ContactParameters& c) {
+  c.rolling_model = s.choice("rolling_model", kRollingModelNames).value_or(c.rolling_model);
+  if (c.rolling_model != RollingModel::SpringDashpot) {
+    for (const char* k : {"rolling_stiffness", "rolling_damping"})
+      if (s.has(k)) s.fail(k, "applies only with rolling_model = \"spring_dashpot\"");
+    return;
+  }
+  c.rolling_stiffness = s.number("rolling_stiffness", kPositive).value_or(c.rolling_stiffness);
+  if (!(c.rolling_stiffness > 0.0))
+    s.fail("rolling_stiffness", "is required with rolling_model = \"spring_dashpot\" (the rolling spring's k_roll, N/m)");
+  if (!(c.rolling_friction > 0.0))
+    s.fail("rolling_friction", "must be > 0 with rolling_model = \"spring_dashpot\" (it caps the rolling torque)");
+  c.rolling_damping = s.number("rolling_damping", kNonNegative).value_or(c.rolling_damping);
+}
+
+}  // namespace
+
 Material read_material(const TomlSection& s, Material base) {
   s.allow_only({"density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
-                "friction_particle", "friction_wall", "restitution", "rolling_friction"});
+                "friction_particle", "friction_wall", "restitution", "rolling_friction", "rolling_model",
+                "rolling_stiffness", "rolling_damping"});
   Material m = std::move(base);
   ContactParameters& c = m.contact;
   const NumberRange poisson{-1.0, 0.5, true, true};
@@ -24,6 +45,7 @@ Material read_material(const TomlSection& s, Material base) {
   c.friction_wall = s.number("friction_wall", kNonNegative).value_or(c.friction_wall);
   c.restitution = s.number("restitution", kFraction).value_or(c.restitution);
   c.rolling_friction = s.number("rolling_friction", kNonNegative).value_or(c.rolling_friction);
+  read_rolling_model(s, c);
   return m;
 }
 

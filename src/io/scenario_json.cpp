@@ -105,7 +105,7 @@ nlohmann::json dynamics_json(const DynamicsStage& d, const Material& material) {
 
 nlohmann::json material_json(const Material& m) {
   const ContactParameters& c = m.contact;
-  return {{"density_kg_m3", m.density},
+  nlohmann::json j = {{"density_kg_m3", m.density},
           {"youngs_modulus_pa", c.youngs_modulus},
           {"poisson_ratio", c.poisson_ratio},
           {"wall_youngs_modulus_pa", c.wall_youngs_modulus},
@@ -114,6 +114,13 @@ nlohmann::json material_json(const Material& m) {
           {"friction_wall", c.friction_wall},
           {"restitution", c.restitution},
           {"rolling_friction", c.rolling_friction}};
+  // Written for the spring-dashpot model only: the summaries of the default model stay as they were.
+  if (c.rolling_model == RollingModel::SpringDashpot) {
+    j["rolling_model"] = name_of(kRollingModelNames, c.rolling_model);
+    j["rolling_stiffness_n_m"] = c.rolling_stiffness;
+    j["rolling_damping_n_s_m"] = c.rolling_damping;
+  }
+  return j;
 }
 
 // A run of several materials: each named one (its index, 1 on: 0 is [material], "default"),
@@ -131,6 +138,8 @@ void add_materials(nlohmann::json& j, const Scenario& sc) {
     if (p.friction) pair["friction"] = *p.friction;
     if (p.restitution) pair["restitution"] = *p.restitution;
     if (p.rolling_friction) pair["rolling_friction"] = *p.rolling_friction;
+    if (p.rolling_stiffness) pair["rolling_stiffness_n_m"] = *p.rolling_stiffness;
+    if (p.rolling_damping) pair["rolling_damping_n_s_m"] = *p.rolling_damping;
     j["material_pairs"].push_back(std::move(pair));
   }
   nlohmann::json& components = j["particles"]["component_materials"] = nlohmann::json::array();

@@ -34,6 +34,9 @@ std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const 
         table.required(table.table(name), name, fmt::format("a table [{}] of the material's keys", table.key_path(name)));
     for (const char* k : {"wall_youngs_modulus", "wall_poisson_ratio"})
       if (s.has(k)) s.fail(k, "the walls are the container's, one for every material: give it in [material]");
+    if (s.has("rolling_model"))
+      s.fail("rolling_model", "one rolling model for the run: give it in [material] (each material may give its "
+                              "own rolling_friction, rolling_stiffness and rolling_damping)");
     materials.push_back({name, read_material(s, base)});
   }
   if (materials.size() + 1 > kMostMaterials)
@@ -56,7 +59,7 @@ std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<Toml
                                                           std::span<const std::string> names) {
   std::vector<MaterialPairCoefficients> pairs;
   for (const TomlSection& e : entries) {
-    e.allow_only({"materials", "friction", "restitution", "rolling_friction"});
+    e.allow_only({"materials", "friction", "restitution", "rolling_friction", "rolling_stiffness", "rolling_damping"});
     const auto pair = e.required(e.string_list("materials"), "materials", "two material names, such as [\"stone\", \"sand\"]");
     if (pair.size() != 2) e.fail("materials", fmt::format("expected two material names, got {}", pair.size()));
     MaterialPairCoefficients p;
@@ -77,8 +80,11 @@ std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<Toml
     p.friction = e.number("friction", kNonNegative);
     p.restitution = e.number("restitution", kFraction);
     p.rolling_friction = e.number("rolling_friction", kNonNegative);
-    if (!p.friction && !p.restitution && !p.rolling_friction)
-      e.fail("materials", "the pair gives no coefficient: expected friction, restitution or rolling_friction");
+    p.rolling_stiffness = e.number("rolling_stiffness", kPositive);
+    p.rolling_damping = e.number("rolling_damping", kNonNegative);
+    if (!p.friction && !p.restitution && !p.rolling_friction && !p.rolling_stiffness && !p.rolling_damping)
+      e.fail("materials", "the pair gives no coefficient: expected friction, restitution, rolling_friction, "
+                          "rolling_stiffness or rolling_damping");
     pairs.push_back(p);
   }
   return pairs;

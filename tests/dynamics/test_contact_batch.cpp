@@ -39,6 +39,7 @@ ContactBatch random_contacts(std::size_t count, std::uint64_t seed) {
     put3(C::kSx, random3(0.05));
     put3(C::kWx, random3(20.0));
     put3(C::kUx, random3(k % 2 ? 1e-4 : 1e-7));
+    put3(C::kHx, random3(k % 3 ? 1e-4 : 1e-6));  // rolling history, tilted off the contact plane
     b.entry[k] = static_cast<std::uint32_t>(k);
   }
   b.size = count;
@@ -49,25 +50,34 @@ ContactCoefficients coefficients(double rolling) {
   return {effective_youngs_modulus(50e9, 0.25, 50e9, 0.25), effective_shear_modulus(50e9, 0.25, 50e9, 0.25),
           damping_for_restitution(0.5), 0.3, rolling};
 }
+// The spring-dashpot rolling law, stiff enough that some histories reach the cap and some do not.
+ContactCoefficients spring_dashpot(double rolling) {
+  ContactCoefficients c = coefficients(rolling);
+  c.rolling_model = RollingModel::SpringDashpot;
+  c.rolling_stiffness = 1e6;
+  c.rolling_damping = 10.0;
+  return c;
+}
 
 // Every output column and the updated springs, for the batch's contacts.
 std::vector<double> results(const ContactBatch& b) {
   std::vector<double> out;
-  for (const C::Column c : {C::kUx, C::kUy, C::kUz, C::kFx, C::kFy, C::kFz, C::kTix, C::kTiy, C::kTiz, C::kTjx,
+  for (const C::Column c : {C::kUx, C::kUy, C::kUz, C::kHx, C::kHy, C::kHz, C::kFx, C::kFy, C::kFz, C::kTix, C::kTiy, C::kTiz, C::kTjx,
                             C::kTjy, C::kTjz})
     for (std::size_t k = 0; k < b.size; ++k) out.push_back(b.at(c, k));
   return out;
 }
 
 // The vector kernel gives the scalar law's bits, on every instruction set this machine
-// runs, with and without rolling resistance; sizes that are not a multiple of the vector
-// length use the padding.
+// runs, without rolling resistance, with the constant torque and with the spring-dashpot;
+// sizes that are not a multiple of the vector length use the padding.
 TEST(ContactBatch, VectorKernelGivesTheScalarLawsBitsOnEveryTarget) {
   const std::vector<std::string> targets = contact_kernel_targets();
   ASSERT_FALSE(targets.empty());
   EXPECT_EQ(contact_kernel_target(), targets.front());
-  for (const double rolling : {0.0, 0.05}) {
-    const HertzMindlin law(coefficients(rolling));
+  for (const ContactCoefficients& coefficient : {coefficients(0.0), coefficients(0.05), spring_dashpot(0.05)}) {
+    const HertzMindlin law(coefficient);
+    const double rolling = coefficient.rolling;
     for (const std::size_t count : {std::size_t{1}, std::size_t{7}, std::size_t{1003}}) {
       ContactBatch reference = random_contacts(count, 11 + count);
       const ContactBatch input = reference;
@@ -92,11 +102,25 @@ TEST(ContactBatch, VectorKernelGivesTheScalarLawsBitsOnEveryTarget) {
         const std::vector<double> got = results(vector);
         ASSERT_EQ(got.size(), expected.size());
         EXPECT_EQ(0, std::memcmp(got.data(), expected.data(), got.size() * sizeof(double)))
-            << target << ", rolling " << rolling << ", " << count << " contacts";
+            << target << ", rolling " << rolling << (law.c.rolling_history() ? " (spring-dashpot)" : "") << ", "
+            << count << " contacts";
       }
       ContactBatch dispatched = input;
       evaluate(law, dispatched, 1e-6);
       EXPECT_EQ(results(dispatched), expected);
+      if (!law.c.rolling_history() || count < 100) continue;
+      // Some rolling torques are at the cap mu_r R* F_n, some below it.
+      std::size_t capped = 0;
+      for (std::size_t k = 0; k < count; ++k) {
+        const auto at = [&](C::Column c) { return reference.at(c, k); };
+        const Vec3 d{at(C::kDx), at(C::kDy), at(C::kDz)}, f{at(C::kFx), at(C::kFy), at(C::kFz)};
+        const Vec3 n = d * (1.0 / norm(d));
+        const double fn = -dot(f, n), ri = at(C::kRadiusI), rj = at(C::kRadiusJ);
+        const Vec3 torque = C::get3(reference.contact(k), C::kTix) - ri * cross(n, f + fn * n);
+        capped += std::abs(norm(torque) - rolling * ri * rj / (ri + rj) * fn) < 1e-6 * norm(torque) ? 1 : 0;
+      }
+      EXPECT_GT(capped, count / 10);
+      EXPECT_LT(capped, count - count / 10);
     }
   }
   ContactBatch batch = random_contacts(4, 5);

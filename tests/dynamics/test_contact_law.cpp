@@ -185,6 +185,9 @@ TEST(ContactLawRegistry, EveryLawBuildsDescribesAndTranslatesItself) {
     EXPECT_EQ(particle.rfind("hertz/material 3e+09 0.5 0.3 damping tsuji", 0), 0u) << particle;
     EXPECT_EQ(wall.rfind("hertz/material 2e+11 0.5 0.3 damping tsuji", 0), 0u) << wall;
     EXPECT_NE(particle.find(" 0.17"), std::string::npos) << particle;
+    // LAMMPS's normal force never pulls either, as aggpack's does not.
+    EXPECT_NE(particle.find("damping tsuji limit_damping tangential"), std::string::npos) << particle;
+    EXPECT_NE(wall.find("damping tsuji limit_damping tangential"), std::string::npos) << wall;
     EXPECT_NE(wall.find(" 0.5"), std::string::npos) << wall;
     EXPECT_FALSE(law.lammps_differences.empty());
   }
@@ -195,6 +198,26 @@ TEST(ContactLawRegistry, EveryLawBuildsDescribesAndTranslatesItself) {
             std::string::npos)
       << contact_law("mindlin").lammps_keywords(p, false);
   EXPECT_THROW((void)contact_law("coulomb"), InputError);
+  // Rolling resistance: sds itself for the spring-dashpot, a stiff sds for the constant torque;
+  // the differences and the note say which.
+  p.rolling_friction = 0.1;
+  for (const ContactLawEntry& law : contact_laws()) {
+    p.friction_model = std::string(law.name);
+    p.rolling_model = RollingModel::ConstantTorque;
+    EXPECT_NE(law.lammps_keywords(p, true).find(" rolling sds 1e12 0 0.1"), std::string::npos);
+    EXPECT_NE(law.describe(p).find("constant-torque rolling resistance 0.1"), std::string::npos) << law.describe(p);
+    p.rolling_model = RollingModel::SpringDashpot;
+    p.rolling_stiffness = 250.0;
+    p.rolling_damping = 0.5;
+    EXPECT_TRUE(law.lammps_keywords(p, false).ends_with(" rolling sds 250 0.5 0.1")) << law.lammps_keywords(p, false);
+    EXPECT_NE(law.describe(p).find("spring-dashpot rolling resistance (LAMMPS's sds: k_roll 250 N/m"),
+              std::string::npos) << law.describe(p);
+    for (const char* said : {"spring_dashpot", "constant_torque", "epsd2"})
+      EXPECT_NE(law.lammps_differences.find(said), std::string::npos) << law.name << ": " << said;
+  }
+  p.rolling_friction = 0.0;
+  p.rolling_model = RollingModel::ConstantTorque;
+  p.friction_model = "mindlin";
   // The default time step's scale is the Rayleigh time of the smallest sphere.
   EXPECT_DOUBLE_EQ(stable_time_scale(p, 0.005, 2650.0), rayleigh_time(0.005, 2650.0, 3e9, 0.3));
 }

@@ -126,6 +126,24 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
        {"particles.classes", "add up to 1", "0.9"}},
       {"unknown output format", head + particles + "[output]\nformats = [\"stl\"]\n",
        {"s.toml:7:", "output.formats", "\"stl\""}},
+      {"rolling spring without the spring-dashpot model", head + particles + "[material]\nrolling_friction = 0.1\n"
+                                                                          "rolling_stiffness = 100\n",
+       {"s.toml:8:", "material.rolling_stiffness", "applies only with rolling_model = \"spring_dashpot\""}},
+      {"rolling damping without the spring-dashpot model",
+       head + particles + "[material]\nrolling_model = \"constant_torque\"\nrolling_damping = 1\n",
+       {"material.rolling_damping", "applies only with rolling_model = \"spring_dashpot\""}},
+      {"spring-dashpot without its stiffness",
+       head + particles + "[material]\nrolling_friction = 0.1\nrolling_model = \"spring_dashpot\"\n",
+       {"material.rolling_stiffness", "is required with rolling_model = \"spring_dashpot\""}},
+      {"spring-dashpot without rolling friction",
+       head + particles + "[material]\nrolling_model = \"spring_dashpot\"\nrolling_stiffness = 100\n",
+       {"material.rolling_friction", "must be > 0"}},
+      {"spring-dashpot with a negative damping",
+       head + particles + "[material]\nrolling_friction = 0.1\nrolling_model = \"spring_dashpot\"\n"
+                          "rolling_stiffness = 100\nrolling_damping = -1\n",
+       {"material.rolling_damping", "-1"}},
+      {"unknown rolling model", head + particles + "[material]\nrolling_model = \"epsd2\"\n",
+       {"material.rolling_model", "\"constant_torque\", \"spring_dashpot\"", "\"epsd2\""}},
             {"sizes but no stage", head + "[particles]\ndiameter = \"1 in\"\ncount = 10\n",
        {"s.toml:5:", "no stage places them", "[deposition]"}},
       {"deposition of a file's particles", head + particles + "[deposition]\n",
@@ -247,6 +265,23 @@ TEST_F(ScenarioTest, AProtocolOfManyStepsIsReadAndLinked) {
   // Names are still unique per kind.
   EXPECT_THROW(parse_scenario(text + "[[protocol]]\nstep = \"snapshot\"\nname = \"s7\"\n", dir_ / "s.toml"),
                InputError);
+}
+
+TEST_F(ScenarioTest, ReadsTheRollingModelAndEchoesItOnlyWhenItIsTheSpringDashpot) {
+  const Scenario plain = parse_scenario(std::string(kGood) + "[material]\nrolling_friction = 0.1\n", dir_ / "s.toml");
+  EXPECT_EQ(plain.material.contact.rolling_model, RollingModel::ConstantTorque);
+  EXPECT_FALSE(to_json(plain).at("material").contains("rolling_model"));
+  const Scenario sds = parse_scenario(std::string(kGood) + "[material]\nrolling_friction = 0.1\nrolling_model = "
+                                      "\"spring_dashpot\"\nrolling_stiffness = 250\nrolling_damping = 0.5\n",
+                                      dir_ / "s.toml");
+  const ContactParameters& c = sds.material.contact;
+  EXPECT_EQ(c.rolling_model, RollingModel::SpringDashpot);
+  EXPECT_EQ(c.rolling_stiffness, 250.0);
+  EXPECT_EQ(c.rolling_damping, 0.5);
+  const auto echoed = to_json(sds).at("material");
+  EXPECT_EQ(echoed.at("rolling_model"), "spring_dashpot");
+  EXPECT_EQ(echoed.at("rolling_stiffness_n_m"), 250.0);
+  EXPECT_EQ(echoed.at("rolling_damping_n_s_m"), 0.5);
 }
 
 TEST_F(ScenarioTest, AMissingFileIsAnInputError) {

@@ -23,6 +23,7 @@ struct alignas(64) ContactBatch {
     kSx, kSy, kSz,           // r_i w_i + r_j w_j (the contact point's speed is this x n)
     kWx, kWy, kWz,           // w_i - w_j (the DEM fills it only for a law with rolling resistance)
     kUx, kUy, kUz,           // tangential spring: in, and updated in place
+    kHx, kHy, kHz,           // rolling history, the same (the DEM fills it only for a law that keeps one)
     // outputs
     kFx, kFy, kFz,           // force on i (j gets the opposite)
     kTix, kTiy, kTiz,        // torque on i
@@ -125,13 +126,15 @@ void evaluate_each(const Law& law, ContactBatch& b, double dt) {
     kin.r_eff = ri * rj * (mi + mj) * distance * q;
     kin.m_eff = mi * mj * reach * distance * q;
     Vec3 spring{in(C::kUx), in(C::kUy), in(C::kUz)};
-    const ContactForce c = law.evaluate(kin, spring, dt);
+    Vec3 rolling{in(C::kHx), in(C::kHy), in(C::kHz)};
+    const ContactForce c = law.evaluate(kin, spring, rolling, dt);
     // j sees the opposite normal and tangential force, so the same n x F_t, and the
     // opposite rolling torque.
     const Vec3 arm = cross(kin.normal, c.tangential);
     const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
     double* const slot = b.contact(k);
     C::put3(slot, C::kUx, spring);
+    C::put3(slot, C::kHx, rolling);
     C::put3(slot, C::kFx, c.force);
     C::put3(slot, C::kTix, ti);
     C::put3(slot, C::kTjx, tj);

@@ -1,11 +1,14 @@
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
 
+#include "aggpack/core/enum_names.hpp"
 #include "aggpack/core/vec3.hpp"
 
 namespace aggpack {
@@ -56,13 +59,25 @@ struct ContactForce {
   double normal = 0.0; // magnitude of the normal force, >= 0
 };
 
+// Rolling resistance, both capped at the torque mu_r R* F_n: a constant torque against the
+// relative spin, or LAMMPS's `rolling sds` spring-dashpot with a history per contact.
+enum class RollingModel : std::uint8_t { ConstantTorque, SpringDashpot };
+inline constexpr std::array kRollingModelNames{
+    EnumName<RollingModel>{RollingModel::ConstantTorque, "constant_torque"},
+    EnumName<RollingModel>{RollingModel::SpringDashpot, "spring_dashpot"}};
+
 // The coefficients of one kind of contact (particle-particle or particle-wall).
 struct ContactCoefficients {
   double e_star = 0.0;        // Pa
   double g_star = 0.0;        // Pa
   double damping = 0.0;       // the dimensionless a above
   double friction = 0.0;      // Coulomb mu
-  double rolling = 0.0;       // rolling resistance mu_r (torque mu_r R* F_n), 0 for none
+  double rolling = 0.0;       // rolling resistance mu_r (torque at most mu_r R* F_n), 0 for none
+  RollingModel rolling_model = RollingModel::ConstantTorque;
+  double rolling_stiffness = 0.0;  // k_roll, N/m (SpringDashpot only, > 0 there)
+  double rolling_damping = 0.0;    // gamma_roll, N s/m (SpringDashpot only)
+  // Whether a contact keeps a rolling history (the DEM stores one per list entry only then).
+  [[nodiscard]] bool rolling_history() const { return rolling != 0.0 && rolling_model == RollingModel::SpringDashpot; }
 };
 
 // Sliding and spinning speeds below which friction and rolling resistance are made
@@ -79,10 +94,46 @@ inline double normal_force(const ContactCoefficients& c, const ContactKinematics
   damping_coefficient = c.damping * std::sqrt(k.m_eff * stiffness);
   return std::max(0.0, stiffness * k.overlap + damping_coefficient * approach);
 }
-inline Vec3 rolling_torque(const ContactCoefficients& c, const ContactKinematics& k, double normal) {
-  if (c.rolling == 0.0) return {};
+inline Vec3 constant_rolling_torque(const ContactCoefficients& c, const ContactKinematics& k, double normal) {
   const double scale = std::max(norm(k.spin) * k.r_eff, kFrictionRegularisation);
   return k.spin * (-c.rolling * k.r_eff * normal * k.r_eff / scale);
+}
+// LAMMPS 2022's pair granular `rolling sds` (and fix wall/gran, the wall at rest). LAMMPS's
+// normal n_L points from j to i, ours from i to j: its rolling velocity R* (w x n_L) is
+// R* (n x w) here and its torque R* (n_L x f_r) is R* (f_r x n); the history h is the same
+// vector either way, and the same seen from j (both w and n change sign).
+inline Vec3 spring_dashpot_rolling_torque(const ContactCoefficients& c, const ContactKinematics& k, double normal,
+                                          Vec3& history, double dt) {
+  const Vec3 rolling_velocity = k.r_eff * cross(k.normal, k.spin);
+  const double cap = c.rolling * normal;
+  // The history follows the contact plane, its length kept (LAMMPS skips a negligible tilt).
+  const double along = dot(history, k.normal);
+  if (std::abs(along) * c.rolling_stiffness > 1e-10 * cap) {
+    const double length = std::sqrt(norm2(history));
+    history -= along * k.normal;
+    const double projected = std::sqrt(norm2(history));
+    history = history * (projected > 0.0 ? length / projected : 0.0);
+  }
+  history += rolling_velocity * dt;
+  Vec3 fr = -c.rolling_stiffness * history - c.rolling_damping * rolling_velocity;
+  const double fr2 = norm2(fr);
+  if (fr2 > cap * cap) {
+    // Rolling: the torque at the cap and the history that gives it; none without a history.
+    if (norm2(history) != 0.0) {
+      fr = fr * (cap / std::sqrt(fr2));
+      history = (fr + c.rolling_damping * rolling_velocity) * (-1.0 / c.rolling_stiffness);
+    } else {
+      fr = {};
+    }
+  }
+  return k.r_eff * cross(fr, k.normal);
+}
+inline Vec3 rolling_torque(const ContactCoefficients& c, const ContactKinematics& k, double normal, Vec3& history,
+                           double dt) {
+  if (c.rolling == 0.0) return {};
+  if (c.rolling_model == RollingModel::SpringDashpot)
+    return spring_dashpot_rolling_torque(c, k, normal, history, dt);
+  return constant_rolling_torque(c, k, normal);
 }
 }  // namespace contact_detail
 
@@ -97,7 +148,8 @@ struct HertzMindlin {
   // eta_t / eta_n = sqrt(4 G* / E*), a constant (computed once: it costs a division and a root).
   double tangential_damping_ratio;
 
-  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double dt) const {
+  // `rolling` is the contact's rolling history (read and updated by the spring-dashpot model only).
+  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, Vec3& rolling, double dt) const {
     const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
     double damping_n;
     const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, damping_n);
@@ -116,7 +168,12 @@ struct HertzMindlin {
       ft = ft * (cap / std::sqrt(ft2));
       spring = (ft + eta_t * vt) * (-1.0 / kt);
     }
-    return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn), fn};
+    return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn, rolling, dt), fn};
+  }
+  // A contact without rolling history (a law with none, or one step of a fresh contact).
+  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double dt) const {
+    Vec3 rolling{};
+    return evaluate(k, spring, rolling, dt);
   }
 };
 
@@ -126,7 +183,7 @@ struct HertzMindlin {
 struct SlidingFrictionFu2003 {
   ContactCoefficients c;
 
-  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double /*dt*/) const {
+  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, Vec3& rolling, double dt) const {
     const double sqrt_r_overlap = std::sqrt(k.r_eff * k.overlap);
     double damping_n;
     const double fn = contact_detail::normal_force(c, k, sqrt_r_overlap, damping_n);
@@ -134,7 +191,11 @@ struct SlidingFrictionFu2003 {
     const double speed = std::max(norm(vt), kFrictionRegularisation);
     const Vec3 ft = vt * (-c.friction * fn / speed);
     spring = {};
-    return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn), fn};
+    return {ft - fn * k.normal, ft, contact_detail::rolling_torque(c, k, fn, rolling, dt), fn};
+  }
+  ContactForce evaluate(const ContactKinematics& k, Vec3& spring, double dt) const {
+    Vec3 rolling{};
+    return evaluate(k, spring, rolling, dt);
   }
 };
 
@@ -157,6 +218,9 @@ struct ContactParameters {
   double friction_wall = 0.17;
   double restitution = 0.5;
   double rolling_friction = 0.0;
+  RollingModel rolling_model = RollingModel::ConstantTorque;
+  double rolling_stiffness = 0.0;  // N/m, spring_dashpot only (> 0 there)
+  double rolling_damping = 0.0;    // N s/m, spring_dashpot only
 };
 
 // Throws std::invalid_argument naming the parameter, its value and the allowed range.

@@ -154,10 +154,12 @@ class DemSystem {
   // within the skin of a free slot.
   void find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::uint32_t>& other) const;
   // Sorts each row of the new list and returns its springs: each contact's tangential history
-  // taken from the old list (offset_, other_, spring_), whose slots were from[new slot].
+  // taken from the old list (offset_, other_, spring_), whose slots were from[new slot]; the
+  // rolling histories (roll_) likewise into `roll` when the law keeps them.
   [[nodiscard]] std::vector<Vec3> sort_rows_and_carry_springs(const std::vector<std::uint32_t>& from,
                                                               const std::vector<std::uint32_t>& offset,
-                                                              std::vector<std::uint32_t>& other) const;
+                                                              std::vector<std::uint32_t>& other,
+                                                              std::vector<Vec3>& roll) const;
   void check_not_blown_up() const;  // throws DemBlowUp
   [[nodiscard]] std::vector<std::uint32_t> morton_order() const;
   // Slot s takes what slot from[s] held (records, flags, forces); the lists are not touched.
@@ -212,6 +214,10 @@ class DemSystem {
   // cross_begin_[i]), then walls (n_ + wall index). Pairs of two frozen slots are left out.
   std::vector<std::uint32_t> offset_, cross_begin_, other_;
   std::vector<Vec3> spring_;                 // tangential history per entry, as seen from i
+  // Rolling history per entry (the same seen from i or j), kept only when the law needs it
+  // (rolling_history_: the spring-dashpot rolling model); empty otherwise.
+  std::vector<Vec3> roll_;
+  bool rolling_history_ = false;
   // Force and torque that a cross-block entry puts on its neighbour j; slot_base_[i] is the
   // first of row i's. Slot j gathers its own, cross_[reverse_[reverse_offset_[j] ...]], in
   // ascending order of the row they come from.

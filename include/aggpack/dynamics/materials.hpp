@@ -18,6 +18,8 @@ struct MaterialPairCoefficients {
   std::optional<double> friction;          // Coulomb mu of the pair
   std::optional<double> restitution;       // in (0, 1]
   std::optional<double> rolling_friction;  // mu_r
+  std::optional<double> rolling_stiffness; // k_roll, N/m (rolling_model = "spring_dashpot")
+  std::optional<double> rolling_damping;   // gamma_roll, N s/m (the same)
 };
 
 // The mixing rule for a coefficient of two materials: their geometric mean.
