@@ -1,6 +1,7 @@
 #include "aggpack/dynamics/contact_law.hpp"
 
 #include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/dynamics/materials.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -96,7 +97,7 @@ void require(bool ok, const char* name, double value, const char* range) {
 
 }  // namespace
 
-ContactModel make_contact_model(const ContactParameters& p) {
+void check_contact_parameters(const ContactParameters& p) {
   require(p.youngs_modulus > 0.0, "youngs_modulus", p.youngs_modulus, "> 0 Pa");
   require(p.wall_youngs_modulus > 0.0, "wall_youngs_modulus", p.wall_youngs_modulus, "> 0 Pa");
   require(p.poisson_ratio > -1.0 && p.poisson_ratio < 0.5, "poisson_ratio", p.poisson_ratio, "in (-1, 0.5)");
@@ -106,31 +107,12 @@ ContactModel make_contact_model(const ContactParameters& p) {
   require(p.friction_wall >= 0.0, "friction_wall", p.friction_wall, ">= 0");
   require(p.restitution > 0.0 && p.restitution <= 1.0, "restitution", p.restitution, "in (0, 1]");
   require(p.rolling_friction >= 0.0, "rolling_friction", p.rolling_friction, ">= 0");
-  const bool spring_dashpot = p.rolling_model == RollingModel::SpringDashpot;
-  if (spring_dashpot) {
-    require(p.rolling_friction > 0.0, "rolling_friction", p.rolling_friction, "> 0 with rolling_model spring_dashpot");
+  if (p.rolling_model == RollingModel::SpringDashpot) {
     require(p.rolling_stiffness > 0.0, "rolling_stiffness", p.rolling_stiffness, "> 0 N/m with rolling_model spring_dashpot");
     require(p.rolling_damping >= 0.0, "rolling_damping", p.rolling_damping, ">= 0 N s/m");
   }
-
-  const double damping = damping_for_restitution(p.restitution);
-  ContactCoefficients particle{
-      effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio, p.youngs_modulus, p.poisson_ratio),
-      effective_shear_modulus(p.youngs_modulus, p.poisson_ratio, p.youngs_modulus, p.poisson_ratio), damping,
-      p.friction_particle, p.rolling_friction};
-  ContactCoefficients wall{
-      effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio, p.wall_youngs_modulus, p.wall_poisson_ratio),
-      effective_shear_modulus(p.youngs_modulus, p.poisson_ratio, p.wall_youngs_modulus, p.wall_poisson_ratio),
-      damping, p.friction_wall, p.rolling_friction};
-  // The rolling law's own coefficients are the same for particles and walls (LAMMPS's
-  // fix wall/gran takes the particles' sds coefficients too).
-  for (ContactCoefficients* c : {&particle, &wall}) {
-    c->rolling_model = p.rolling_model;
-    c->rolling_stiffness = spring_dashpot ? p.rolling_stiffness : 0.0;
-    c->rolling_damping = spring_dashpot ? p.rolling_damping : 0.0;
-  }
-  const ContactLawEntry& law = contact_law(p.friction_model);
-  return {law.make(particle), law.make(wall)};
 }
+
+ContactModel make_contact_model(const ContactParameters& p) { return make_contact_model(std::span(&p, 1), {}); }
 
 }  // namespace aggpack

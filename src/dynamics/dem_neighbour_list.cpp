@@ -58,6 +58,7 @@ void DemSystem::reorder(const std::vector<std::uint32_t>& from) {
   permute(user_index_);
   permute(frozen_);
   permute(load_);
+  if (!material_.empty()) permute(material_);
   for (std::uint32_t s = 0; s < n_; ++s) slot_of_[user_index_[s]] = s;
 }
 

@@ -60,6 +60,7 @@ void DemSystem::restore_state(std::string_view bytes) {
     throw InputError(fmt::format("the DEM state is truncated or damaged ({})", e.what()));
   }
   check_restored(made);
+  read_materials();  // the restored slots' (the store's order is the user's)
   index_cross_block_entries();
   threaded_ = n_ >= kThreadedFrom;
   batches_.assign(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1, ContactBatch{});

@@ -37,7 +37,18 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   if (frozen_.empty()) frozen_.assign(particles.size(), 0);
   if (frozen_.size() != particles.size()) throw std::invalid_argument("DemSystem: one frozen flag per particle");
   threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
-  rolling_history_ = std::visit([](const auto& law) { return law.c.rolling_history(); }, model_.particle);
+  // Of any pair of materials (one material: its own pair and the walls').
+  const auto any_law = [&](auto&& property) {
+    bool any = false;
+    for (const auto* laws : {&model_.pairs, &model_.walls})
+      for (const ContactLaw& law : *laws) any = any || std::visit(property, law);
+    return any || std::visit(property, model_.particle) || std::visit(property, model_.wall);
+  };
+  rolling_history_ = any_law([](const auto& law) { return law.c.rolling_history(); });
+  rolling_resistance_ = any_law([](const auto& law) { return law.c.rolling != 0.0; });
+  if (model_.materials > 1 && (model_.pairs.size() != model_.materials * model_.materials ||
+                               model_.walls.size() != model_.materials))
+    throw std::invalid_argument("DemSystem: a model of several materials needs a law per pair and per material");
   skin_ = settings.skin;
   rest_floor_ = container_.bounds.lo.z;
   rest_top_ = container_.bounds.hi.z;
@@ -91,6 +102,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
     g.angular_velocity = p_.angular_velocity[i];
     g.inverse_inertia = 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
   }
+  read_materials();
   // Sizes of the whole system: the skin (unless set, 0.1 of the smallest diameter, kept once
   // chosen), the Morton cell (the mean diameter) and the grid's expected bed volume.
   double r_min = std::numeric_limits<double>::infinity(), d_sum = 0.0, solid = 0.0;
@@ -126,6 +138,18 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
         throw std::invalid_argument(fmt::format("DemSystem: admitted particle {} touches another particle or a wall",
                                                 is_new(s) ? user_index_[s] : user_index_[j]));
     }
+  }
+}
+
+void DemSystem::read_materials() {
+  if (model_.materials == 1) return;
+  material_.resize(n_);
+  for (std::uint32_t s = 0; s < n_; ++s) {
+    const std::uint32_t i = user_index_[s];
+    material_[s] = i < p_.material.size() ? p_.material[i] : 0;
+    if (material_[s] >= model_.materials)
+      throw std::invalid_argument(fmt::format("DemSystem: particle {} is of material {}, the model has {}", i,
+                                              material_[s], model_.materials));
   }
 }
 
@@ -175,11 +199,14 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
   const std::uint32_t* offset = offset_.data();
   const std::uint32_t* other = other_.data();
   const std::size_t entries = other_.size();
+  const std::uint8_t* material = material_.data();  // several materials only
+  const auto materials = static_cast<std::uint16_t>(model_.materials);
   batch.clear();
   std::uint32_t i = first_row;
   for (; i < block_end && batch.size < kBatchContacts; ++i) {
     const Grain& gi = grain[i];
     batch.reserve_more(offset[i + 1] - offset[i]);
+    if (material != nullptr) batch.pair.resize(batch.entry.size());
     std::uint32_t* const entry = batch.entry.data();
     const std::size_t row_begin = batch.size;
     std::size_t k = row_begin;
@@ -235,6 +262,8 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
       C::put3(slot, C::kVx, vi - gj.velocity);
       C::put3(slot, C::kSx, spin_i + gj.radius * gj.angular_velocity);
       if (spin_needed) C::put3(slot, C::kWx, wi - gj.angular_velocity);
+      if (material != nullptr)
+        batch.pair[c] = static_cast<std::uint16_t>(material[i] * materials + material[other[entry[c]]]);
     }
     batch.size = k;
   }
@@ -243,7 +272,7 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
 
 template <class Law>
 void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_row, std::uint32_t last_row,
-                                 const Law& wall_law) {
+                                 const Law& own_wall_law) {
   using C = ContactBatch;
   const std::uint32_t n = n_;
   const double dt = settings_.time_step;
@@ -278,7 +307,8 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
         load[j].torque += torque_j;
       }
     }
-    // The walls, one at a time (few, and each with the wall law's coefficients).
+    // The walls, one at a time (few, and each with the wall law's coefficients: its material's).
+    const Law& wall_law = material_.empty() ? own_wall_law : std::get<Law>(model_.walls[material_[i]]);
     const Grain& gi = grain_[i];
     const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
     const double ri = gi.radius, mi = gi.mass;
@@ -312,7 +342,7 @@ template <class Law>
 void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
   const std::uint32_t n = n_;
   const std::uint32_t blocks = (n + kForceBlock - 1) / kForceBlock;
-  const bool spin_needed = particle_law.c.rolling != 0.0;  // only rolling resistance reads w_i - w_j
+  const bool spin_needed = rolling_resistance_;  // only rolling resistance reads w_i - w_j
 #pragma omp parallel if (threaded_) num_threads(threads_)
   {
     ContactBatch& batch = batches_[static_cast<std::size_t>(omp_get_thread_num())];
@@ -325,7 +355,8 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
       // add the results in row and entry order, the fixed order of every sum.
       for (std::uint32_t first_row = begin; first_row < end;) {
         const std::uint32_t last_row = gather_contacts(batch, first_row, end, spin_needed);
-        evaluate(particle_law, batch, settings_.time_step);
+        if (material_.empty()) evaluate(particle_law, batch, settings_.time_step);
+        else evaluate_pairs<Law>(model_.pairs, batch, settings_.time_step);
         scatter_contacts(batch, first_row, last_row, wall_law);
         first_row = last_row;
       }
@@ -488,7 +519,7 @@ ContactStatistics DemSystem::contact_statistics() const {
 std::size_t DemSystem::memory_bytes() const {
   std::size_t batches = 0;
   for (const ContactBatch& b : batches_) batches += b.memory_bytes();
-  return grain_.capacity() * sizeof(Grain) + frozen_.capacity() +
+  return grain_.capacity() * sizeof(Grain) + frozen_.capacity() + material_.capacity() +
          (listed_position_.capacity() + spring_.capacity() + roll_.capacity()) * sizeof(Vec3) +
          (load_.capacity() + cross_.capacity()) * sizeof(ForceTorque) +
          (user_index_.capacity() + slot_of_.capacity() + offset_.capacity() + cross_begin_.capacity() +

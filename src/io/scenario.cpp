@@ -215,6 +215,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   if (sc.written_length_unit == "m") sc.written_length_unit.clear();
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto m = s.table("materials")) sc.materials = read_named_materials(*m, sc.material);
+  check_rolling_resistance(s, sc);
   std::vector<std::string> material_names;
   for (std::size_t k = 0; k < material_count(sc); ++k) material_names.push_back(material_name(sc, k));
   if (const auto pairs = s.table_array("material_pairs")) sc.material_pairs = read_material_pairs(*pairs, material_names);

@@ -22,8 +22,6 @@ void read_rolling_model(const TomlSection& s, ContactParameters& c) {
   c.rolling_stiffness = s.number("rolling_stiffness", kPositive).value_or(c.rolling_stiffness);
   if (!(c.rolling_stiffness > 0.0))
     s.fail("rolling_stiffness", "is required with rolling_model = \"spring_dashpot\" (the rolling spring's k_roll, N/m)");
-  if (!(c.rolling_friction > 0.0))
-    s.fail("rolling_friction", "must be > 0 with rolling_model = \"spring_dashpot\" (it caps the rolling torque)");
   c.rolling_damping = s.number("rolling_damping", kNonNegative).value_or(c.rolling_damping);
 }
 

@@ -44,6 +44,15 @@ std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const 
   return materials;
 }
 
+void check_rolling_resistance(const TomlSection& root, const Scenario& sc) {
+  if (sc.material.contact.rolling_model != RollingModel::SpringDashpot) return;
+  for (std::size_t k = 0; k < material_count(sc); ++k)
+    if (material_of(sc, k).contact.rolling_friction > 0.0) return;
+  const TomlSection material = *root.table("material");
+  material.fail("rolling_friction", "must be > 0 with rolling_model = \"spring_dashpot\" (it caps the rolling "
+                                    "torque), in [material] or a [materials.NAME] table");
+}
+
 std::uint8_t material_index(const TomlSection& s, std::string_view key, std::span<const std::string> names) {
   const std::string name = *s.string(key);
   const auto found = std::find(names.begin(), names.end(), name);

@@ -50,6 +50,8 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
 // scenario_materials.cpp: [materials] (each NAME's keys over `base`, [material]), a component's
 // `key` naming one of `names` (as its index), [[material_pairs]].
 std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const Material& base);
+// The spring-dashpot rolling model needs a rolling_friction > 0 somewhere (InputError at [material]).
+void check_rolling_resistance(const TomlSection& root, const Scenario& sc);
 std::uint8_t material_index(const TomlSection& s, std::string_view key, std::span<const std::string> names);
 std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<TomlSection>& entries,
                                                           std::span<const std::string> names);

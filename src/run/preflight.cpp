@@ -13,6 +13,7 @@
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/core/overloaded.hpp"
 #include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/dem_setup.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/protocol.hpp"
@@ -278,7 +279,7 @@ void check_box_sides(const Scenario& sc, double d_max) {
 // The time step against the contact law's stability limit.
 void check_time_step(const Scenario& sc, double r_min) {
   const DynamicsStage& d = *sc.dynamics;
-  const double scale = stable_time_scale(sc.material.contact, r_min, sc.material.density);
+  const double scale = stable_time_scale(sc, r_min);
   const double step = d.time_step.step(scale);
   if (!d.allow_unstable_time_step && step > TimeStepRule::kStableFraction * scale)
     throw InputError(fmt::format(
@@ -477,8 +478,7 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   if (sc.dynamics) check_time_step(sc, r_min);
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
-  const double time_step =
-      sc.dynamics ? sc.dynamics->time_step.step(stable_time_scale(sc.material.contact, r_min, sc.material.density)) : 0.0;
+  const double time_step = sc.dynamics ? sc.dynamics->time_step.step(stable_time_scale(sc, r_min)) : 0.0;
   if (sc.dynamics) {
     if (sc.tapping) check_tapping(sc, time_step);
     if (sc.pour) check_pour(sc, radii, solid, time_step);

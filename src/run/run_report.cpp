@@ -1,6 +1,7 @@
 #include "aggpack/run/run_report.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <limits>
 #include <type_traits>
 #include <variant>
@@ -23,6 +24,18 @@ std::uint64_t bed_fingerprint(const ParticleStore& bed) {
 std::string frame_file_name(std::size_t number) { return fmt::format("frames/frame_{:05}.vtp", number); }
 
 namespace {
+
+// The grains' density for the bulk density: the material's, or of several materials the
+// bed's mass over its solid volume.
+double particle_density(const Scenario& sc, const ParticleStore& bed) {
+  if (material_count(sc) == 1) return sc.material.density;
+  double mass = 0.0, volume = 0.0;
+  for (std::size_t i = 0; i < bed.size(); ++i) {
+    mass += bed.mass[i];
+    volume += 4.0 / 3.0 * std::numbers::pi * bed.radius[i] * bed.radius[i] * bed.radius[i];
+  }
+  return volume > 0.0 ? mass / volume : sc.material.density;
+}
 
 // An analysis as a stage's density and coordination keys.
 void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
@@ -411,7 +424,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   } else {
     summary.update(to_json(final));
     // The engineer's quantities beside the packing density (ASTM C29), from material.density.
-    const BulkDensity bulk = bulk_density(final.density.mean, sc.material.density);
+    const BulkDensity bulk = bulk_density(final.density.mean, particle_density(sc, particles));
     summary["bulk_density"] = {{"voids_content_percent", bulk.voids_percent},
                                {"kg_m3", bulk.kg_per_m3},
                                {"lb_ft3", bulk.lb_per_ft3},
@@ -462,8 +475,8 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} spheres\n", final.density.mean,
                  final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,
                  final.coordination.particles_counted);
-  fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n",
-                 describe(bulk_density(final.density.mean, sc.material.density)), sc.material.density);
+  const double grains = particle_density(sc, particles);
+  fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n", describe(bulk_density(final.density.mean, grains)), grains);
   if (rest && !rest->settled)
     fmt::format_to(o, "  not settled: the DEM ended with a kinetic energy of {:.2e} m g d per particle, above the "
                       "quiet criterion's {:.0e}; the density is that of a bed still moving (raise dynamics.max_time)\n",

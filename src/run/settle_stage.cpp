@@ -60,7 +60,7 @@ InputError blow_up_error(const Scenario& sc, const ParticleStore& particles, std
                          std::string_view causes) {
   double r_min = std::numeric_limits<double>::infinity();
   for (const double r : particles.radius) r_min = std::min(r_min, r);
-  const double rayleigh = stable_time_scale(sc.material.contact, r_min, sc.material.density);
+  const double rayleigh = stable_time_scale(sc, r_min);
   const double step = sc.dynamics->time_step.step(rayleigh);
   return InputError(fmt::format(
       "{}: the DEM blew up {}; the likely cause is the time step ({:.3g} s, {:.3g} times the smallest sphere's Rayleigh "
@@ -395,6 +395,29 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   throw blow_up_error(sc, particles, fmt::format("while tapping, {}", e.what()), kTapCauses);
 }
 
+// A run of several materials: each one's values, and how a pair's coefficients are made.
+std::string materials_note(const Scenario& sc) {
+  std::string text = fmt::format("dynamics: {} materials, each sphere of its component's (particles.csv's material "
+                                 "column):", material_count(sc));
+  for (std::size_t k = 0; k < material_count(sc); ++k) {
+    const Material& m = material_of(sc, k);
+    const ContactParameters& c = m.contact;
+    text += fmt::format(" {} (density {:g} kg/m3, E {:.3g} GPa, nu {:g}, mu {:g}, mu_wall {:g}, e {:g}, mu_r {:g}{});",
+                        material_name(sc, k), m.density, 1e-9 * c.youngs_modulus, c.poisson_ratio, c.friction_particle,
+                        c.friction_wall, c.restitution, c.rolling_friction,
+                        c.rolling_model == RollingModel::SpringDashpot
+                            ? fmt::format(", k_roll {:g} N/m, gamma_roll {:g} N s/m", c.rolling_stiffness,
+                                          c.rolling_damping)
+                            : std::string());
+  }
+  text += " a contact of two materials takes E* and G* from both (Hertz, Mindlin) and the geometric mean of their mu, "
+          "e, mu_r (and rolling spring)";
+  for (const MaterialPairCoefficients& p : sc.material_pairs)
+    text += fmt::format(", except {}-{}, given in [[material_pairs]]", material_name(sc, p.first),
+                        material_name(sc, p.second));
+  return text + "; a sphere against a wall takes its own material's mu_wall, e and mu_r";
+}
+
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report) {
   const DynamicsStage& stage = *sc.dynamics;
   const ContactParameters& m = sc.material.contact;
@@ -402,6 +425,7 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport
   const SettlingRun &first = report.runs.front(), &last = report.runs.back();
   std::vector<std::string> notes;
   notes.push_back(contact_law(sc.material.contact.friction_model).describe(sc.material.contact));
+  if (material_count(sc) > 1) notes.push_back(materials_note(sc));
   notes.push_back(fmt::format(
       "dynamics: Young's modulus {:.3g} GPa (walls {:.3g} GPa), Poisson ratio {:g}{}; mean overlap {:.2e} and "
       "maximum overlap {:.2e} of r_i + r_j at the end",

@@ -211,7 +211,7 @@ TEST(RollingResistance, TheRollingHistoryIsCarriedAndRestoredBitForBit) {
   for (double& r : radii) r = sizes.uniform(0.002, 0.003);
   ParticleStore deposited;
   DropAndRoll deposition(deposited, box, radii, DepositionSettings{}, Rng(4, 2));
-  deposition.deposit(radii, kDensity);
+  deposition.deposit(radii, SphereMaterials::all_of(kDensity));
   DemSettings settings;
   settings.time_step = 1e-5;
   settings.skin = 5e-5;  // rebuilt during the run

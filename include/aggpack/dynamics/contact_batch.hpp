@@ -1,6 +1,7 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,8 @@ struct alignas(64) ContactBatch {
 
   std::size_t size = 0;
   std::vector<std::uint32_t> entry;  // the neighbour-list entry of each contact
+  // The pair of materials of each contact (a * materials + b), in a run of several materials.
+  std::vector<std::uint16_t> pair;
   // Per gathered row, in order: the end of its contacts in the batch and the row's first
   // wall entry of the neighbour list (the DEM's bookkeeping for the scatter).
   struct Row {
@@ -66,7 +69,7 @@ struct alignas(64) ContactBatch {
   }
   [[nodiscard]] std::size_t memory_bytes() const {
     return values_.capacity() * sizeof(double) + entry.capacity() * sizeof(std::uint32_t) +
-           rows.capacity() * sizeof(Row);
+           pair.capacity() * sizeof(std::uint16_t) + rows.capacity() * sizeof(Row);
   }
   void clear() {
     size = 0;
@@ -89,6 +92,13 @@ struct alignas(64) ContactBatch {
 // through Law::evaluate.
 template <class Law>
 void evaluate_each(const Law& law, ContactBatch& batch, double dt);
+// Contact k of the batch with the law: evaluate_each's step.
+template <class Law>
+void evaluate_contact(const Law& law, ContactBatch& batch, std::size_t k, double dt);
+// A run of several materials: each contact with the law of its pair of materials,
+// `pair_laws[batch.pair[k]]` (all of kind Law), one at a time (the reference path, no vector kernel).
+template <class Law>
+void evaluate_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& batch, double dt);
 
 // The same with the law's vector kernel where it has one (HertzMindlin: Highway, dispatched
 // at run time to the best instruction set of the machine), otherwise evaluate_each. The
@@ -108,8 +118,18 @@ void evaluate_with_target(const std::string& target, const HertzMindlin& law, Co
 
 template <class Law>
 void evaluate_each(const Law& law, ContactBatch& b, double dt) {
+  for (std::size_t k = 0; k < b.size; ++k) evaluate_contact(law, b, k, dt);
+}
+
+template <class Law>
+void evaluate_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& b, double dt) {
+  for (std::size_t k = 0; k < b.size; ++k) evaluate_contact(std::get<Law>(pair_laws[b.pair[k]]), b, k, dt);
+}
+
+template <class Law>
+void evaluate_contact(const Law& law, ContactBatch& b, std::size_t k, double dt) {
   using C = ContactBatch;
-  for (std::size_t k = 0; k < b.size; ++k) {
+  {
     const auto in = [&](C::Column c) { return b.at(c, k); };
     const Vec3 d{in(C::kDx), in(C::kDy), in(C::kDz)};
     const double ri = in(C::kRadiusI), rj = in(C::kRadiusJ), mi = in(C::kMassI), mj = in(C::kMassJ);

@@ -202,9 +202,14 @@ struct SlidingFrictionFu2003 {
 using ContactLaw = std::variant<HertzMindlin, SlidingFrictionFu2003>;
 
 // One law for particle-particle contacts and one for particle-wall contacts, of the same kind.
+// A run of several materials (materials > 1) has one of each per pair of materials, all of one
+// kind: pairs[a * materials + b] (the same law for (b, a)) and walls[a]; `particle` and `wall`
+// are then material 0's.
 struct ContactModel {
   ContactLaw particle;
   ContactLaw wall;
+  std::size_t materials = 1;
+  std::vector<ContactLaw> pairs, walls;
 };
 
 // What a user states; the law's name is looked up in contact_laws() (contact_law_registry.hpp).
@@ -223,7 +228,9 @@ struct ContactParameters {
   double rolling_damping = 0.0;    // N s/m, spring_dashpot only
 };
 
-// Throws std::invalid_argument naming the parameter, its value and the allowed range.
+// Throws InputError naming the parameter, its value and the allowed range.
+void check_contact_parameters(const ContactParameters& p);
+// The model of one material (materials.hpp has the model of several).
 ContactModel make_contact_model(const ContactParameters& p);
 
 }  // namespace aggpack

@@ -218,6 +218,11 @@ class DemSystem {
   // (rolling_history_: the spring-dashpot rolling model); empty otherwise.
   std::vector<Vec3> roll_;
   bool rolling_history_ = false;
+  bool rolling_resistance_ = false;  // a law with rolling resistance: the contacts need w_i - w_j
+  // Per slot, the grain's material: in a run of several materials only (model_.materials > 1),
+  // whose contacts take the law of their pair of materials.
+  std::vector<std::uint8_t> material_;
+  void read_materials();  // material_ from the store, by the slots' user indices
   // Force and torque that a cross-block entry puts on its neighbour j; slot_base_[i] is the
   // first of row i's. Slot j gathers its own, cross_[reverse_[reverse_offset_[j] ...]], in
   // ascending order of the row they come from.

@@ -25,4 +25,17 @@ struct MaterialPairCoefficients {
 // The mixing rule for a coefficient of two materials: their geometric mean.
 [[nodiscard]] inline double mixed_coefficient(double a, double b) { return a == b ? a : std::sqrt(a * b); }
 
+// The contact model of a run whose materials are `materials` (index order; the law, the walls'
+// E and nu and the rolling model are material 0's), with the pairs that give their own
+// coefficients. One material and no pairs: make_contact_model(materials[0]). Throws
+// InputError naming the material's parameter and its range.
+ContactModel make_contact_model(std::span<const ContactParameters> materials,
+                                std::span<const MaterialPairCoefficients> pairs);
+
+// The coefficients of a contact of grains of materials a and b, and of a grain of material a
+// with the walls (whose E and nu are material 0's).
+ContactCoefficients pair_coefficients(std::span<const ContactParameters> materials,
+                                      std::span<const MaterialPairCoefficients> pairs, std::size_t a, std::size_t b);
+ContactCoefficients wall_coefficients(std::span<const ContactParameters> materials, std::size_t a);
+
 }  // namespace aggpack
