@@ -200,7 +200,6 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
   const std::uint32_t* other = other_.data();
   const std::size_t entries = other_.size();
   const std::uint8_t* material = material_.data();  // several materials only
-  const auto materials = static_cast<std::uint16_t>(model_.materials);
   batch.clear();
   std::uint32_t i = first_row;
   for (; i < block_end && batch.size < kBatchContacts; ++i) {
@@ -263,7 +262,7 @@ std::uint32_t DemSystem::gather_contacts(ContactBatch& batch, std::uint32_t firs
       C::put3(slot, C::kSx, spin_i + gj.radius * gj.angular_velocity);
       if (spin_needed) C::put3(slot, C::kWx, wi - gj.angular_velocity);
       if (material != nullptr)
-        batch.pair[c] = static_cast<std::uint16_t>(material[i] * materials + material[other[entry[c]]]);
+        batch.pair[c] = static_cast<std::uint16_t>(material[i] * model_.materials + material[other[entry[c]]]);
     }
     batch.size = k;
   }
