@@ -23,12 +23,25 @@ std::string rolling_text(const ContactParameters& p) {
 }
 
 // LAMMPS's hertz/material takes E, the damping coefficient (with `damping tsuji`, the
-// restitution e) and nu of the material; a wall/gran wall takes the wall's. limit_damping
-// keeps the damped normal force from pulling, as aggpack's does.
+// restitution e) and nu of the material. limit_damping keeps the damped normal force from
+// pulling, as aggpack's does. A wall (fix wall/gran, LAMMPS 2022) takes one E and nu for the
+// contact, E* = E / (2 (1 - nu)) and G* = E / (4 (2 - nu)(1 + nu)) (checked: a sphere resting on
+// the floor sinks by Hertz's overlap at that E*), not the sphere's and the wall's moduli
+// together as aggpack's E* and G* do: the wall gets the E and nu that give aggpack's E* and G*.
+// (Given the steel's own E, a wall of E/1000 spheres was 5000 times stiffer in LAMMPS.)
 std::string lammps_normal(const ContactParameters& p, bool wall) {
-  return fmt::format("hertz/material {:.9g} {:.9g} {:.9g} damping tsuji limit_damping",
-                     wall ? p.wall_youngs_modulus : p.youngs_modulus, p.restitution,
-                     wall ? p.wall_poisson_ratio : p.poisson_ratio);
+  double e = p.youngs_modulus, nu = p.poisson_ratio;
+  if (wall) {
+    const double e_star = effective_youngs_modulus(p.youngs_modulus, p.poisson_ratio, p.wall_youngs_modulus,
+                                                   p.wall_poisson_ratio);
+    const double g_star = effective_shear_modulus(p.youngs_modulus, p.poisson_ratio, p.wall_youngs_modulus,
+                                                  p.wall_poisson_ratio);
+    // G*/E* = r = (1 - nu) / (2 (2 - nu)(1 + nu)): 2 r nu^2 - (2 r + 1) nu - (4 r - 1) = 0, the root below 1/2.
+    const double r = g_star / e_star;
+    nu = ((2.0 * r + 1.0) - std::sqrt((2.0 * r + 1.0) * (2.0 * r + 1.0) + 8.0 * r * (4.0 * r - 1.0))) / (4.0 * r);
+    e = 2.0 * e_star * (1.0 - nu);
+  }
+  return fmt::format("hertz/material {:.9g} {:.9g} {:.9g} damping tsuji limit_damping", e, p.restitution, nu);
 }
 
 std::string lammps_rolling(const ContactParameters& p) {

@@ -34,23 +34,32 @@ void set_rolling(ContactCoefficients& c, const ContactParameters& run, double st
 
 }  // namespace
 
+PairValues pair_values(std::span<const ContactParameters> materials, std::span<const MaterialPairCoefficients> pairs,
+                       std::size_t a, std::size_t b) {
+  const ContactParameters &pa = materials[a], &pb = materials[b];
+  const MaterialPairCoefficients* given = given_pair(pairs, a, b);
+  const auto value = [&](const std::optional<double> MaterialPairCoefficients::*member, double of_a, double of_b) {
+    return coefficient(given != nullptr ? &(given->*member) : nullptr, of_a, of_b);
+  };
+  using P = MaterialPairCoefficients;
+  return {value(&P::restitution, pa.restitution, pb.restitution),
+          value(&P::friction, pa.friction_particle, pb.friction_particle),
+          value(&P::rolling_friction, pa.rolling_friction, pb.rolling_friction),
+          value(&P::rolling_stiffness, pa.rolling_stiffness, pb.rolling_stiffness),
+          value(&P::rolling_damping, pa.rolling_damping, pb.rolling_damping)};
+}
+
 ContactCoefficients pair_coefficients(std::span<const ContactParameters> materials,
                                       std::span<const MaterialPairCoefficients> pairs, std::size_t a, std::size_t b) {
   const ContactParameters &pa = materials[a], &pb = materials[b];
-  const MaterialPairCoefficients* given = given_pair(pairs, a, b);
-  const auto field = [&](const std::optional<double> MaterialPairCoefficients::*member) {
-    return given != nullptr ? &(given->*member) : nullptr;
-  };
+  const PairValues v = pair_values(materials, pairs, a, b);
   ContactCoefficients c;
   c.e_star = effective_youngs_modulus(pa.youngs_modulus, pa.poisson_ratio, pb.youngs_modulus, pb.poisson_ratio);
   c.g_star = effective_shear_modulus(pa.youngs_modulus, pa.poisson_ratio, pb.youngs_modulus, pb.poisson_ratio);
-  c.damping = damping_for_restitution(
-      coefficient(field(&MaterialPairCoefficients::restitution), pa.restitution, pb.restitution));
-  c.friction = coefficient(field(&MaterialPairCoefficients::friction), pa.friction_particle, pb.friction_particle);
-  c.rolling = coefficient(field(&MaterialPairCoefficients::rolling_friction), pa.rolling_friction, pb.rolling_friction);
-  set_rolling(c, materials[0],
-              coefficient(field(&MaterialPairCoefficients::rolling_stiffness), pa.rolling_stiffness, pb.rolling_stiffness),
-              coefficient(field(&MaterialPairCoefficients::rolling_damping), pa.rolling_damping, pb.rolling_damping));
+  c.damping = damping_for_restitution(v.restitution);
+  c.friction = v.friction;
+  c.rolling = v.rolling_friction;
+  set_rolling(c, materials[0], v.rolling_stiffness, v.rolling_damping);
   return c;
 }
 

@@ -14,6 +14,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/dynamics/materials.hpp"
 #include "aggpack/dynamics/pour.hpp"
 #include "aggpack/dynamics/tap.hpp"
 #include "aggpack/io/atomic_file.hpp"
@@ -84,14 +85,64 @@ std::string quiet_rule(const DeckBasis& b, const std::string& limit) {
       q.kinetic_fraction, q.sample_interval, q.window, limit);
 }
 
+// The parameters that make LAMMPS's pair granular give the contact of materials a and b what
+// aggpack gives it: LAMMPS computes E* = E / (2 (1 - nu^2)) and G* = E / (4 (2 - nu)(1 + nu))
+// from the one E and nu of a pair_coeff I J, so the pair gets the E and nu whose E* and G*
+// are aggpack's (G*/E* = (1 - nu) / (2 (2 - nu)) fixes nu), and its mixed coefficients.
+ContactParameters lammps_pair(std::span<const ContactParameters> materials,
+                              std::span<const MaterialPairCoefficients> pairs, std::size_t a, std::size_t b) {
+  const ContactCoefficients c = pair_coefficients(materials, pairs, a, b);
+  const PairValues v = pair_values(materials, pairs, a, b);
+  const double ratio = c.g_star / c.e_star;
+  ContactParameters p = materials[0];
+  p.poisson_ratio = (4.0 * ratio - 1.0) / (2.0 * ratio - 1.0);
+  p.youngs_modulus = 2.0 * c.e_star * (1.0 - p.poisson_ratio * p.poisson_ratio);
+  p.restitution = v.restitution;
+  p.friction_particle = v.friction;
+  p.rolling_friction = v.rolling_friction;
+  p.rolling_stiffness = v.rolling_stiffness;
+  p.rolling_damping = v.rolling_damping;
+  return p;
+}
+
+// The groups a wall fix acts on, the fix names' suffix and the wall's coefficients: `mobile`
+// for one material, else each material's mobile spheres with its own.
+struct WallGroup {
+  std::string group, suffix, keywords;
+};
+std::vector<WallGroup> wall_groups(const DeckBasis& b) {
+  const Scenario& sc = b.sc;
+  if (b.densities.size() == 1) return {{"mobile", "", b.law.lammps_keywords(sc.material.contact, true)}};
+  std::vector<WallGroup> groups;
+  for (std::size_t k = 0; k < b.densities.size(); ++k)
+    groups.push_back({"mobile_" + material_name(sc, k), "_" + material_name(sc, k),
+                      b.law.lammps_keywords(material_of(sc, k).contact, true)});
+  return groups;
+}
+
 // The system: units, the box from bed.data, the law between spheres, integration, gravity,
 // the neighbour list, the time step and the quantities the stopping rules read.
 void deck_system(Out o, const DeckBasis& b) {
   const Scenario& sc = b.sc;
   fmt::format_to(o, "units si\natom_style sphere\nboundary {0} {0} fm\nnewton off\ncomm_modify vel yes\nread_data {1}\n",
                  sc.container.periodic ? "p" : "f", LammpsDeck::kDataFile);
-  fmt::format_to(o, "group mobile type 1\n");
-  fmt::format_to(o, "pair_style granular\npair_coeff * * {}\n", b.law.lammps_keywords(sc.material.contact, false));
+  const std::size_t m = b.densities.size();
+  if (m == 1) {
+    fmt::format_to(o, "group mobile type 1\n");
+    fmt::format_to(o, "pair_style granular\npair_coeff * * {}\n", b.law.lammps_keywords(sc.material.contact, false));
+    return;
+  }
+  // Several materials: material k's spheres are type k + 1, held still M + k + 1.
+  fmt::format_to(o, "group mobile type");
+  for (std::size_t k = 0; k < m; ++k) fmt::format_to(o, " {}", k + 1);
+  fmt::format_to(o, "\n");
+  for (std::size_t k = 0; k < m; ++k) fmt::format_to(o, "group mobile_{} type {}\n", material_name(sc, k), k + 1);
+  fmt::format_to(o, "pair_style granular\n");
+  const std::vector<ContactParameters> contacts = material_contacts(sc);
+  for (std::size_t i = 0; i < 2 * m; ++i)
+    for (std::size_t j = i; j < 2 * m; ++j)
+      fmt::format_to(o, "pair_coeff {} {} {}\n", i + 1, j + 1,
+                     b.law.lammps_keywords(lammps_pair(contacts, sc.material_pairs, i % m, j % m), false));
 }
 
 void deck_motion(Out o, const DeckBasis& b) {
@@ -111,17 +162,20 @@ void deck_motion(Out o, const DeckBasis& b) {
   fmt::format_to(o, "thermo_style custom step time atoms v_energy c_top\nthermo {}\n", 100 * b.steps_per_sample);
 }
 
-// The container at rest: fix wall/gran planes (the floor only with periodic sides).
+// The container at rest: fix wall/gran planes (the floor only with periodic sides), one set per
+// material of several (a wall/gran fix has one set of coefficients for its group).
 void deck_static_walls(Out o, const DeckBasis& b) {
   const Container& c = b.sc.container;
-  const std::string wall = b.law.lammps_keywords(b.sc.material.contact, true);
-  if (!c.periodic) {
-    fmt::format_to(o, "fix wall_x mobile wall/gran granular {} xplane {:.17g} {:.17g}\n", wall, c.bounds.lo.x,
-                   c.bounds.hi.x);
-    fmt::format_to(o, "fix wall_y mobile wall/gran granular {} yplane {:.17g} {:.17g}\n", wall, c.bounds.lo.y,
-                   c.bounds.hi.y);
+  for (const auto& [group, suffix, wall] : wall_groups(b)) {
+    if (!c.periodic) {
+      fmt::format_to(o, "fix wall_x{} {} wall/gran granular {} xplane {:.17g} {:.17g}\n", suffix, group, wall,
+                     c.bounds.lo.x, c.bounds.hi.x);
+      fmt::format_to(o, "fix wall_y{} {} wall/gran granular {} yplane {:.17g} {:.17g}\n", suffix, group, wall,
+                     c.bounds.lo.y, c.bounds.hi.y);
+    }
+    fmt::format_to(o, "fix floor{} {} wall/gran granular {} zplane {:.17g} NULL\n", suffix, group, wall,
+                   c.bounds.lo.z);
   }
-  fmt::format_to(o, "fix floor mobile wall/gran granular {} zplane {:.17g} NULL\n", wall, c.bounds.lo.z);
 }
 
 // Samples of `steps_per_sample` steps until the quiet criterion's energy condition holds or
@@ -240,6 +294,10 @@ double deck_pour_batches(Out o, const DeckBasis& b, const std::vector<double>& f
                    floor, gap);
     fmt::format_to(o, "print \"aggpack-batch: {} bottom ${{slab_bottom}}\"\n", k + 1);
     fmt::format_to(o, "read_data pour_batch_{}.data add append shift 0 0 ${{slab_bottom}} group mobile\n", k + 1);
+    // A group is the atoms it held when made: each material's takes its new spheres in.
+    if (b.densities.size() > 1)
+      for (std::size_t m = 0; m < b.densities.size(); ++m)
+        fmt::format_to(o, "group mobile_{} type {}\n", material_name(sc, m), m + 1);
     if (k + 1 == batches) break;
     const double next = time + fall_after[k];
     std::size_t samples = 0;
@@ -318,7 +376,6 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
   fmt::format_to(o, "# The container is a region moved by v_lift; LAMMPS takes its velocity from the change of\n"
                     "# position over a step (aggpack: the exact derivative).\n");
   deck_system(o, b);
-  const std::string wall = b.law.lammps_keywords(sc.material.contact, true);
   fmt::format_to(o, "variable lift equal 0\n");
   if (c.periodic)
     fmt::format_to(o, "region container plane 0 0 {:.17g} 0 0 1 side in move NULL NULL v_lift units box\n",
@@ -327,7 +384,8 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
     fmt::format_to(o, "region container block {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} INF side in open 6 move NULL "
                       "NULL v_lift units box\n",
                    c.bounds.lo.x, c.bounds.hi.x, c.bounds.lo.y, c.bounds.hi.y, c.bounds.lo.z);
-  fmt::format_to(o, "fix container mobile wall/gran/region granular {} region container\n", wall);
+  for (const auto& [group, suffix, wall] : wall_groups(b))
+    fmt::format_to(o, "fix container{} {} wall/gran/region granular {} region container\n", suffix, group, wall);
   deck_motion(o, b);
   fmt::format_to(o, "variable quiet_samples equal 0\nvariable tap equal 1\nrun 0 post no\nlabel tap\n");
   // The tap: to the step after its end, so the container is at rest again (as aggpack's).

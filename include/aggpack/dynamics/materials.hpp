@@ -25,6 +25,14 @@ struct MaterialPairCoefficients {
 // The mixing rule for a coefficient of two materials: their geometric mean.
 [[nodiscard]] inline double mixed_coefficient(double a, double b) { return a == b ? a : std::sqrt(a * b); }
 
+// The coefficients of a contact of materials a and b that are not moduli: the pair's own where
+// [[material_pairs]] gives them, else the mixing rule's.
+struct PairValues {
+  double restitution = 0.0, friction = 0.0, rolling_friction = 0.0, rolling_stiffness = 0.0, rolling_damping = 0.0;
+};
+PairValues pair_values(std::span<const ContactParameters> materials, std::span<const MaterialPairCoefficients> pairs,
+                       std::size_t a, std::size_t b);
+
 // The contact model of a run whose materials are `materials` (index order; the law, the walls'
 // E and nu and the rolling model are material 0's), with the pairs that give their own
 // coefficients. One material and no pairs: make_contact_model(materials[0]). Throws
