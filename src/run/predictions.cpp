@@ -1,5 +1,6 @@
 #include "aggpack/run/predictions.hpp"
 
+#include <cmath>
 #include <algorithm>
 #include <filesystem>
 #include <variant>
@@ -60,14 +61,33 @@ namespace {
 ModelDistribution source_classes(const GradingSource& g, bool whole) {
   return whole ? grading_classes(g.grading) : grading_classes(g.grading, g.d_min, g.d_max);
 }
+
+// The grains' density of a run of several materials: each component's, weighted by its volume
+// (a mix's by its coarse/fine ratio, size classes by their volume fractions or counts x d^3).
+double components_density(const Scenario& sc) {
+  const ParticleSource& p = sc.particles;
+  const auto density = [&](std::size_t component) { return material_of(sc, p.material_of_component(component)).density; };
+  if (p.graded && p.graded->fine) return (p.graded->ca_fa * density(0) + density(1)) / (p.graded->ca_fa + 1.0);
+  if (!p.sizes) return density(0);
+  double weighted = 0.0, total = 0.0;
+  for (std::size_t k = 0; k < p.sizes->classes.size(); ++k) {
+    const SizeClass& c = p.sizes->classes[k];
+    const double volume =
+        c.volume_fraction ? *c.volume_fraction : static_cast<double>(c.count.value_or(0)) * std::pow(c.diameter, 3);
+    weighted += volume * density(k);
+    total += volume;
+  }
+  return total > 0.0 ? weighted / total : density(0);
+}
 }  // namespace
 
 Predictions predict_scenario(const Scenario& sc, const ModelParameters& parameters,
                              std::span<const double> file_diameters) {
   Predictions out;
   out.parameters = parameters;
-  out.particle_density = sc.material.density;
-  out.particle_density_source = "the scenario's material.density";
+  out.particle_density = material_count(sc) == 1 ? sc.material.density : components_density(sc);
+  out.particle_density_source = material_count(sc) == 1 ? "the scenario's material.density"
+                                                        : "the components' materials, weighted by volume";
   const ParticleSource& p = sc.particles;
   if (p.sizes) {
     const std::vector<std::size_t> counts = class_counts(*p.sizes);
