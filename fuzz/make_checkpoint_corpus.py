@@ -47,6 +47,14 @@ SCENARIOS = {
     "pour_tap": "seed = 7\n[container]\nside = 0.04\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 40\n"
                 "[pour]\nbatches = 2\n[tapping]\ntaps = 2\nintensity = 3\nrest_time = 0.05\n"
                 + COMMON.format(max_time=0.5, extra_dynamics="").replace("quiet_kinetic_fraction = 1e-30\n", ""),
+    # Two materials and the spring-dashpot rolling law: the rolling history and the materials.
+    "materials_rolling": "seed = 8\n[container]\nside = 0.04\nheight = 0.3\n[particles]\nclasses = [{diameter = 0.01, "
+                         "count = 30, material = \"stone\"}, {diameter = 0.007, count = 40, material = \"sand\"}]\n"
+                         "[materials.stone]\ndensity = 2700\nrolling_friction = 0.2\n[materials.sand]\n"
+                         "density = 2600\nfriction_particle = 0.4\n[pour]\nbatches = 2\n"
+                         + COMMON.format(max_time=2, extra_dynamics="").replace(
+                             "[material]\n", "[material]\nrolling_model = \"spring_dashpot\"\nrolling_friction = 0.1\n"
+                                             "rolling_stiffness = 50\nrolling_damping = 0.01\n"),
     "tap": "seed = 6\n[container]\nside = 0.04\nheight = 0.2\n[particles]\ndiameter = 0.01\ncount = 40\n"
            "[deposition]\n[tapping]\ntaps = 3\nintensity = 3\nrest_time = 0.5\n"
            + COMMON.format(max_time=0.05, extra_dynamics="").replace("quiet_kinetic_fraction = 1e-30\n", ""),
@@ -62,6 +70,8 @@ TARGETS = {
     "pour_while_pouring": ("pour", b"while pouring,"),
     "pour_while_settling": ("pour", b"while settling at"),
     "tap_while_tap_2": ("tap", b"while tap 2 of"),
+    "materials_rolling_while_pouring": ("materials_rolling", b"while pouring,"),
+    "materials_rolling_while_settling": ("materials_rolling", b"while settling at"),
     # Between a pour and its taps: the run state holds the DEM system the taps continue.
     "pour_tap_before_step_3": ("pour_tap", b"before step 3 of"),
 }
