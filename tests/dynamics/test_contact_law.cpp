@@ -1,6 +1,7 @@
 #include "aggpack/dynamics/contact_law.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
 
+#include <cstdio>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -183,7 +184,12 @@ TEST(ContactLawRegistry, EveryLawBuildsDescribesAndTranslatesItself) {
     EXPECT_NE(law.describe(p).find("e = 0.5"), std::string::npos) << law.describe(p);
     const std::string particle = law.lammps_keywords(p, false), wall = law.lammps_keywords(p, true);
     EXPECT_EQ(particle.rfind("hertz/material 3e+09 0.5 0.3 damping tsuji", 0), 0u) << particle;
-    EXPECT_EQ(wall.rfind("hertz/material 2e+11 0.5 0.3 damping tsuji", 0), 0u) << wall;
+    // The wall's E and nu are those whose E* and G* by LAMMPS 2022's fix wall/gran formulas,
+    // E/(2(1 - nu)) and E/(4(2 - nu)(1 + nu)), are aggpack's (Hertz and Mindlin of sphere and wall).
+    double e = 0.0, nu = 0.0;
+    ASSERT_EQ(std::sscanf(wall.c_str(), "hertz/material %lf 0.5 %lf damping tsuji", &e, &nu), 2) << wall;
+    EXPECT_NEAR(e / (2.0 * (1.0 - nu)), effective_youngs_modulus(3e9, 0.3, 200e9, 0.3), 1e-8 * e) << wall;
+    EXPECT_NEAR(e / (4.0 * (2.0 - nu) * (1.0 + nu)), effective_shear_modulus(3e9, 0.3, 200e9, 0.3), 1e-8 * e) << wall;
     EXPECT_NE(particle.find(" 0.17"), std::string::npos) << particle;
     // LAMMPS's normal force never pulls either, as aggpack's does not.
     EXPECT_NE(particle.find("damping tsuji limit_damping tangential"), std::string::npos) << particle;
