@@ -455,4 +455,57 @@ TEST_F(LammpsBridge, ExportRefusesWhatItCannotHandOver) {
   for (const char* d : {"y", "z", "w"}) EXPECT_FALSE(fs::exists(dir_ / d)) << d;
 }
 
+// Three materials (the default's 1 cm spheres, sand and stone) poured in two batches.
+constexpr const char* kThreeMaterialPour =
+    "title = \"LAMMPS materials\"\nseed = 6\n[container]\nside = 0.05\nheight = 0.3\n[particles]\n"
+    "classes = [{ diameter = 0.01, count = 20 }, { diameter = 0.008, count = 20, material = \"stone\" }, "
+    "{ diameter = 0.006, count = 40, material = \"sand\" }]\n[material]\nyoungs_modulus = 1e8\n"
+    "wall_youngs_modulus = 1e8\n[materials.stone]\ndensity = 3000\nyoungs_modulus = 2e8\nfriction_wall = 0.6\n"
+    "[materials.sand]\ndensity = 1500\nrestitution = 0.3\n[[material_pairs]]\nmaterials = [\"sand\", \"stone\"]\n"
+    "friction = 0.3\n[pour]\nbatches = 2\n[dynamics]\nmax_time = 0.05\n[analysis]\nbox_sides = [0.02]\n";
+
+std::size_t count_lines_starting(const std::string& text, const std::string& start) {
+  std::size_t n = 0;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) n += line.rfind(start, 0) == 0 ? 1 : 0;
+  return n;
+}
+
+// M = 3 materials: 2M = 6 atom types (each material free and held), a pair_coeff for every
+// pair of types (21), a group per material and a set of wall fixes per material's group. LAMMPS
+// runs the deck to its end.
+TEST_F(LammpsBridge, APourOfThreeMaterialsIsADeckOfTypesGroupsAndWallsPerMaterial) {
+  const fs::path scenario = dir_ / "materials.toml";
+  std::ofstream(scenario) << kThreeMaterialPour;
+  const fs::path exported = dir_ / "exported";
+  const auto e = run_cli("export-lammps " + scenario.string() + " --out " + exported.string());
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  const std::string deck = aggpack::testing::slurp(exported / "pour.in");
+  constexpr std::size_t m = 3;
+  EXPECT_EQ(count_lines_starting(deck, "pair_coeff "), 2 * m * (2 * m + 1) / 2) << deck;
+  EXPECT_EQ(count_lines_starting(deck, "pair_coeff * *"), 0u);
+  for (std::size_t i = 1; i <= 2 * m; ++i)
+    for (std::size_t j = i; j <= 2 * m; ++j)
+      EXPECT_EQ(count_lines_starting(deck, "pair_coeff " + std::to_string(i) + " " + std::to_string(j) + " "), 1u)
+          << i << " " << j;
+  EXPECT_EQ(count_lines_starting(deck, "group mobile type "), 1u);
+  EXPECT_NE(deck.find("\ngroup mobile type 1 2 3\n"), std::string::npos);
+  const char* names[] = {"default", "sand", "stone"};
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::string name = names[k];
+    // Made with the system, then renewed after each of the two batches.
+    EXPECT_GE(count_lines_starting(deck, "group mobile_" + name + " type " + std::to_string(k + 1)), 1u) << name;
+    for (const char* wall : {"fix wall_x_", "fix wall_y_", "fix floor_"})
+      EXPECT_EQ(count_lines_starting(deck, wall + name + " mobile_" + name + " wall/gran granular "), 1u)
+          << wall << name << "\n" << deck;
+  }
+  for (const char* f : {"bed.data", "pour_batch_1.data", "pour_batch_2.data"}) {
+    const std::string data = aggpack::testing::slurp(exported / f);
+    EXPECT_NE(data.find("\n6 atom types\n"), std::string::npos) << f;
+  }
+  const auto r = run_command("cd " + exported.string() + " && lmp -in pour.in -log lammps.log > /dev/null");
+  ASSERT_EQ(r.exit_code, 0) << "LAMMPS failed " << r.output << aggpack::testing::slurp(exported / "lammps.log");
+  EXPECT_NE(aggpack::testing::slurp(exported / "lammps.log").find("Total wall time"), std::string::npos);
+}
+
 }  // namespace
