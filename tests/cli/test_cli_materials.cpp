@@ -28,12 +28,12 @@ class CliMaterials : public ::testing::Test {
 // 30 stones of 1 cm (3000 kg/m^3) and 60 sand grains of 6 mm (1500 kg/m^3), deposited and
 // settled a little by the DEM with a pair of their own friction.
 constexpr const char* kTwoMaterials =
-    "title = \"two materials\"\nseed = 4\n[container]\nside = 0.05\nheight = 0.2\n[particles]\n"
+    "title = \"two materials\"\nseed = 4\n[container]\nside = 0.03\nheight = 0.2\n[particles]\n"
     "classes = [{ diameter = 0.01, count = 30, material = \"stone\" }, { diameter = 0.006, count = 60, material = "
     "\"sand\" }]\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n"
     "[materials.stone]\ndensity = 3000\nyoungs_modulus = 2e8\nfriction_particle = 0.6\n"
     "[materials.sand]\ndensity = 1500\n[[material_pairs]]\nmaterials = [\"sand\", \"stone\"]\nfriction = 0.3\n"
-    "[deposition]\n[dynamics]\nmax_time = 0.05\n[analysis]\nbox_sides = [0.02]\n";
+    "[deposition]\n[dynamics]\nmax_time = 0.05\n[analysis]\nbox_sides = [0.005]\n";
 
 struct Row {
   double r = 0.0;
@@ -94,8 +94,8 @@ TEST_F(CliMaterials, ARunOfTwoMaterialsNamesThemInItsOutputsAndWeighsEachByItsDe
 
 // The same bed of one material: no material column, array or summary key.
 TEST_F(CliMaterials, ARunOfOneMaterialWritesNoMaterialColumn) {
-  std::string text = "[container]\nside = 0.05\nheight = 0.2\n[particles]\nclasses = [{ diameter = 0.01, count = 30 },"
-                     " { diameter = 0.006, count = 60 }]\n[deposition]\n[analysis]\nbox_sides = [0.02]\n";
+  std::string text = "[container]\nside = 0.03\nheight = 0.2\n[particles]\nclasses = [{ diameter = 0.01, count = 30 },"
+                     " { diameter = 0.006, count = 60 }]\n[deposition]\n[analysis]\nbox_sides = [0.005]\n";
   std::ofstream(dir_ / "one.toml") << text;
   const auto r = run_cli("run " + (dir_ / "one.toml").string() + " --quiet --out " + (dir_ / "one").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
