@@ -16,6 +16,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+struct BadCase {
+  const char* name;
+  std::string text;
+  std::vector<std::string> expected;  // substrings of the message: location, key, what
+};
+
 class ScenarioTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -28,6 +34,18 @@ class ScenarioTest : public ::testing::Test {
     const fs::path f = dir_ / "s.toml";
     std::ofstream(f) << text;
     return f;
+  }
+  // Each case is refused with an InputError whose message holds its expected parts.
+  void expect_refused(const std::vector<BadCase>& cases) {
+    for (const auto& c : cases) {
+      try {
+        load_scenario(write(c.text));
+        ADD_FAILURE() << c.name << ": accepted";
+      } catch (const InputError& e) {
+        const std::string msg = e.what();
+        for (const auto& part : c.expected) EXPECT_NE(msg.find(part), std::string::npos) << c.name << ": " << msg;
+      }
+    }
   }
   fs::path dir_;
 };
@@ -85,20 +103,10 @@ TEST_F(ScenarioTest, SetOverridesAnyKeyAndItsErrorsNameTheOption) {
   }
 }
 
-struct BadCase {
-  const char* name;
-  std::string text;
-  std::vector<std::string> expected;  // substrings of the message: location, key, what
-};
-
 TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
   const std::string head = "[container]\nside = \"12 in\"\nheight = \"24 in\"\n";
   const std::string particles = "[particles]\nfrom = \"p.csv\"\n";
   const std::string sized = "[particles]\ndiameter = \"1 in\"\ncount = 10\n";
-  const std::string mat = "[materials.stone]\ndensity = 2700\n[materials.sand]\ndensity = 2600\n";
-  const auto pair = [](const std::string& names, const std::string& coefficient) {
-    return "[[material_pairs]]\nmaterials = [" + names + "]\n" + coefficient + "\n";
-  };
   const std::vector<BadCase> cases = {
       {"typo in a key", head + particles + "[analysis]\nbox_side = [\"6 in\"]\n",
        {"s.toml:7:", "analysis.box_side", "unknown key", "did you mean 'box_sides'"}},
@@ -196,6 +204,22 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
                                       sized + "[deposition]\n",
        {"container.side", "four times the largest diameter"}},
       {"syntax error", "[container\nside = 1\n", {"s.toml:1:", "TOML syntax error"}},
+      {"box side list of numbers with bad unit", head + particles + "[analysis]\nbox_sides = [\"6 in\", \"7 inch\"]\n",
+       {"s.toml:7:", "analysis.box_sides[1]", "unknown length unit 'inch'"}},
+  };
+  expect_refused(cases);
+}
+
+// The materials' errors name the key and say what is expected.
+TEST_F(ScenarioTest, MaterialErrorsNameTheKeyAndWhatIsExpected) {
+  const std::string head = "[container]\nside = \"12 in\"\nheight = \"24 in\"\n";
+  const std::string particles = "[particles]\nfrom = \"p.csv\"\n";
+  const std::string sized = "[particles]\ndiameter = \"1 in\"\ncount = 10\n";
+  const std::string mat = "[materials.stone]\ndensity = 2700\n[materials.sand]\ndensity = 2600\n";
+  const auto pair = [](const std::string& names, const std::string& coefficient) {
+    return "[[material_pairs]]\nmaterials = [" + names + "]\n" + coefficient + "\n";
+  };
+  const std::vector<BadCase> cases = {
       {"unknown material name", head + mat + sized + "material = \"granite\"\n[deposition]\n",
        {"particles.material", "no material is named \"granite\"", "\"default\"", "\"sand\", \"stone\""}},
       {"a named material with the walls' modulus", head + particles + "[materials.sand]\nwall_youngs_modulus = 1e9\n",
@@ -223,18 +247,8 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
        {"particles.material", "a grading's material is given in its own table"}},
       {"a material named default", head + particles + "[materials.default]\ndensity = 2000\n",
        {"materials.default", "is not \"default\""}},
-      {"box side list of numbers with bad unit", head + particles + "[analysis]\nbox_sides = [\"6 in\", \"7 inch\"]\n",
-       {"s.toml:7:", "analysis.box_sides[1]", "unknown length unit 'inch'"}},
   };
-  for (const auto& c : cases) {
-    try {
-      load_scenario(write(c.text));
-      ADD_FAILURE() << c.name << ": accepted";
-    } catch (const InputError& e) {
-      const std::string msg = e.what();
-      for (const auto& part : c.expected) EXPECT_NE(msg.find(part), std::string::npos) << c.name << ": " << msg;
-    }
-  }
+  expect_refused(cases);
 }
 
 TEST_F(ScenarioTest, ReadsTheDepositionStage) {
