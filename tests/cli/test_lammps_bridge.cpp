@@ -455,4 +455,93 @@ TEST_F(LammpsBridge, ExportRefusesWhatItCannotHandOver) {
   for (const char* d : {"y", "z", "w"}) EXPECT_FALSE(fs::exists(dir_ / d)) << d;
 }
 
+// Three materials (the default's 1 cm spheres, sand and stone) poured in two batches.
+constexpr const char* kThreeMaterialPour =
+    "title = \"LAMMPS materials\"\nseed = 6\n[container]\nside = 0.03\nheight = 0.3\n[particles]\n"
+    "classes = [{ diameter = 0.01, count = 20 }, { diameter = 0.008, count = 20, material = \"stone\" }, "
+    "{ diameter = 0.006, count = 40, material = \"sand\" }]\n[material]\nyoungs_modulus = 1e8\n"
+    "wall_youngs_modulus = 1e8\n[materials.stone]\ndensity = 3000\nyoungs_modulus = 2e8\nfriction_wall = 0.6\n"
+    "[materials.sand]\ndensity = 1500\nrestitution = 0.3\n[[material_pairs]]\nmaterials = [\"sand\", \"stone\"]\n"
+    "friction = 0.3\n[pour]\nbatches = 2\n[dynamics]\nmax_time = 0.3\n[analysis]\nbox_sides = [0.005]\n";
+
+std::size_t count_lines_starting(const std::string& text, const std::string& start) {
+  std::size_t n = 0;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) n += line.rfind(start, 0) == 0 ? 1 : 0;
+  return n;
+}
+
+// Each `pair_coeff I J hertz/material E e nu ... mindlin NULL x mu` of the three materials'
+// deck gives LAMMPS's E* = E / (2 (1 - nu^2)) (one E and nu for both sides) equal to Hertz's
+// E* of the two materials, the geometric mean of their restitutions and the pair's friction.
+void expect_pair_coefficients_of_the_materials(const std::string& deck) {
+  struct M {
+    double e, nu, restitution;
+  };
+  const M materials[] = {{1e8, 0.25, 0.5}, {1e8, 0.25, 0.3}, {2e8, 0.25, 0.5}};  // default, sand, stone
+  std::istringstream in(deck);
+  std::size_t seen = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("pair_coeff ", 0) != 0) continue;
+    std::istringstream words(line);
+    std::string word, law;
+    std::size_t i = 0, j = 0;
+    double e = 0, restitution = 0, nu = 0;
+    words >> word >> i >> j >> law >> e >> restitution >> nu;
+    ASSERT_EQ(law, "hertz/material") << line;
+    std::vector<std::string> rest;
+    while (words >> word) rest.push_back(word);
+    const M &a = materials[(i - 1) % 3], &b = materials[(j - 1) % 3];
+    const double e_star = 1.0 / ((1 - a.nu * a.nu) / a.e + (1 - b.nu * b.nu) / b.e);
+    EXPECT_NEAR(e / (2 * (1 - nu * nu)) / e_star, 1.0, 1e-7) << line;
+    EXPECT_NEAR(restitution, std::sqrt(a.restitution * b.restitution), 1e-8) << line;
+    const bool sand_stone = ((i - 1) % 3) + ((j - 1) % 3) == 3;
+    EXPECT_EQ(std::stod(rest.back()), sand_stone ? 0.3 : 0.17) << line;
+    ++seen;
+  }
+  EXPECT_EQ(seen, 21u);
+}
+
+// M = 3 materials: 2M = 6 atom types (each material free and held), a pair_coeff for every
+// pair of types (21), a group per material and a set of wall fixes per material's group. LAMMPS
+// runs the deck to its end.
+TEST_F(LammpsBridge, APourOfThreeMaterialsIsADeckOfTypesGroupsAndWallsPerMaterial) {
+  const fs::path scenario = dir_ / "materials.toml";
+  std::ofstream(scenario) << kThreeMaterialPour;
+  const fs::path exported = dir_ / "exported";
+  const auto e = run_cli("export-lammps " + scenario.string() + " --out " + exported.string());
+  ASSERT_EQ(e.exit_code, 0) << e.output;
+  const std::string deck = aggpack::testing::slurp(exported / "pour.in");
+  constexpr std::size_t m = 3;
+  EXPECT_EQ(count_lines_starting(deck, "pair_coeff "), 2 * m * (2 * m + 1) / 2) << deck;
+  EXPECT_EQ(count_lines_starting(deck, "pair_coeff * *"), 0u);
+  for (std::size_t i = 1; i <= 2 * m; ++i)
+    for (std::size_t j = i; j <= 2 * m; ++j)
+      EXPECT_EQ(count_lines_starting(deck, "pair_coeff " + std::to_string(i) + " " + std::to_string(j) + " "), 1u)
+          << i << " " << j;
+  EXPECT_EQ(count_lines_starting(deck, "group mobile type "), 1u);
+  EXPECT_NE(deck.find("\ngroup mobile type 1 2 3\n"), std::string::npos);
+  const char* names[] = {"default", "sand", "stone"};
+  for (std::size_t k = 0; k < m; ++k) {
+    const std::string name = names[k];
+    // Made with the system, then renewed after each of the two batches.
+    EXPECT_GE(count_lines_starting(deck, "group mobile_" + name + " type " + std::to_string(k + 1)), 1u) << name;
+    for (const char* wall : {"fix wall_x_", "fix wall_y_", "fix floor_"})
+      EXPECT_EQ(count_lines_starting(deck, wall + name + " mobile_" + name + " wall/gran granular "), 1u)
+          << wall << name << "\n" << deck;
+  }
+  expect_pair_coefficients_of_the_materials(deck);
+  for (const char* f : {"bed.data", "pour_batch_1.data", "pour_batch_2.data"}) {
+    const std::string data = aggpack::testing::slurp(exported / f);
+    EXPECT_NE(data.find("\n6 atom types\n"), std::string::npos) << f;
+  }
+  const auto r = run_command("cd " + exported.string() + " && lmp -in pour.in -log lammps.log > /dev/null");
+  ASSERT_EQ(r.exit_code, 0) << "LAMMPS failed " << r.output << aggpack::testing::slurp(exported / "lammps.log");
+  const std::string log = aggpack::testing::slurp(exported / "lammps.log");
+  EXPECT_NE(log.find("Total wall time"), std::string::npos);
+  // Every sphere of both batches is still in LAMMPS at the end (none lost through a wall).
+  EXPECT_NE(log.find("with 80 atoms", log.rfind("Loop time")), std::string::npos) << log.substr(log.rfind("Loop time"));
+  EXPECT_TRUE(fs::exists(exported / "settled.dump"));
+}
+
 }  // namespace

@@ -74,6 +74,54 @@ TEST(LammpsData, TheReaderTakesBackWhatTheWriterWrote) {
   EXPECT_FALSE(back.timestep);
 }
 
+// The Atoms rows of a data file: (type, density) per atom, in id order.
+std::vector<std::pair<std::size_t, double>> atom_types(const std::string& text) {
+  std::istringstream in(text.substr(text.find("Atoms # sphere\n\n") + 16));
+  std::vector<std::pair<std::size_t, double>> rows;
+  std::size_t id = 0, type = 0;
+  double diameter, density, x, y, z;
+  while (in >> id >> type >> diameter >> density >> x >> y >> z) rows.emplace_back(type, density);
+  return rows;
+}
+
+// M materials: atom type m + 1 for material m, M + m + 1 for a frozen sphere of it; 2M types
+// in the header when M > 1, frozen or not; each atom carries its material's density.
+TEST(LammpsData, EachMaterialIsAnAtomTypeWithItsDensity) {
+  ParticleStore bed;
+  const std::vector<double> densities{2650.0, 2000.0, 3100.0};
+  const std::vector<std::uint8_t> material{2, 0, 1, 1, 2, 0};
+  for (std::size_t i = 0; i < material.size(); ++i)
+    bed.add({0.05 + 0.04 * double(i), 0.1, 0.02}, 0.01, densities[material[i]], 0, material[i]);
+  const Container container{{{0, 0, 0}, {0.3, 0.4, 1.0}}, false};
+  const std::string free_text = lammps_data(bed, container, densities, 0.5);
+  EXPECT_NE(free_text.find("\n6 atom types\n"), std::string::npos) << free_text;
+  const auto free_rows = atom_types(free_text);
+  ASSERT_EQ(free_rows.size(), material.size());
+  for (std::size_t i = 0; i < material.size(); ++i) {
+    EXPECT_EQ(free_rows[i].first, material[i] + 1u) << i;
+    EXPECT_EQ(free_rows[i].second, densities[material[i]]) << i;
+  }
+  const std::vector<std::uint8_t> frozen{1, 1, 0, 1, 0, 0};
+  const auto frozen_rows = atom_types(lammps_data(bed, container, densities, 0.5, frozen));
+  ASSERT_EQ(frozen_rows.size(), material.size());
+  for (std::size_t i = 0; i < material.size(); ++i) {
+    EXPECT_EQ(frozen_rows[i].first, material[i] + 1u + (frozen[i] ? densities.size() : 0u)) << i;
+    EXPECT_EQ(frozen_rows[i].second, densities[material[i]]) << i;
+  }
+  // Two materials: 4 types; one material and nothing frozen: 1.
+  const std::vector<double> two{2650.0, 2000.0};
+  ParticleStore pair;
+  pair.add({0.1, 0.1, 0.02}, 0.01, 2650.0, 0, 0);
+  pair.add({0.2, 0.1, 0.02}, 0.01, 2000.0, 0, 1);
+  EXPECT_NE(lammps_data(pair, container, two, 0.5).find("\n4 atom types\n"), std::string::npos);
+  ParticleStore plain;
+  plain.add({0.1, 0.1, 0.02}, 0.01, 2650.0);
+  EXPECT_NE(lammps_data(plain, container, std::vector<double>{2650.0}, 0.5).find("\n1 atom types\n"),
+            std::string::npos);
+  // A sphere of a material beyond the list is refused.
+  EXPECT_THROW(lammps_data(pair, container, std::vector<double>{2650.0}, 0.5), std::invalid_argument);
+}
+
 // A dump as LAMMPS writes it: several snapshots, columns in any order, rows out of id order.
 constexpr const char* kDump =
     "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff fm\n0 0.3\n0 0.3\n0 1\n"

@@ -16,6 +16,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+struct BadCase {
+  const char* name;
+  std::string text;
+  std::vector<std::string> expected;  // substrings of the message: location, key, what
+};
+
 class ScenarioTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -28,6 +34,18 @@ class ScenarioTest : public ::testing::Test {
     const fs::path f = dir_ / "s.toml";
     std::ofstream(f) << text;
     return f;
+  }
+  // Each case is refused with an InputError whose message holds its expected parts.
+  void expect_refused(const std::vector<BadCase>& cases) {
+    for (const auto& c : cases) {
+      try {
+        load_scenario(write(c.text));
+        ADD_FAILURE() << c.name << ": accepted";
+      } catch (const InputError& e) {
+        const std::string msg = e.what();
+        for (const auto& part : c.expected) EXPECT_NE(msg.find(part), std::string::npos) << c.name << ": " << msg;
+      }
+    }
   }
   fs::path dir_;
 };
@@ -84,12 +102,6 @@ TEST_F(ScenarioTest, SetOverridesAnyKeyAndItsErrorsNameTheOption) {
         << e.what();
   }
 }
-
-struct BadCase {
-  const char* name;
-  std::string text;
-  std::vector<std::string> expected;  // substrings of the message: location, key, what
-};
 
 TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
   const std::string head = "[container]\nside = \"12 in\"\nheight = \"24 in\"\n";
@@ -195,15 +207,48 @@ TEST_F(ScenarioTest, BadFilesAreRefusedWithFileLineKeyAndExpectation) {
       {"box side list of numbers with bad unit", head + particles + "[analysis]\nbox_sides = [\"6 in\", \"7 inch\"]\n",
        {"s.toml:7:", "analysis.box_sides[1]", "unknown length unit 'inch'"}},
   };
-  for (const auto& c : cases) {
-    try {
-      load_scenario(write(c.text));
-      ADD_FAILURE() << c.name << ": accepted";
-    } catch (const InputError& e) {
-      const std::string msg = e.what();
-      for (const auto& part : c.expected) EXPECT_NE(msg.find(part), std::string::npos) << c.name << ": " << msg;
-    }
-  }
+  expect_refused(cases);
+}
+
+// The materials' errors name the key and say what is expected.
+TEST_F(ScenarioTest, MaterialErrorsNameTheKeyAndWhatIsExpected) {
+  const std::string head = "[container]\nside = \"12 in\"\nheight = \"24 in\"\n";
+  const std::string particles = "[particles]\nfrom = \"p.csv\"\n";
+  const std::string sized = "[particles]\ndiameter = \"1 in\"\ncount = 10\n";
+  const std::string mat = "[materials.stone]\ndensity = 2700\n[materials.sand]\ndensity = 2600\n";
+  const auto pair = [](const std::string& names, const std::string& coefficient) {
+    return "[[material_pairs]]\nmaterials = [" + names + "]\n" + coefficient + "\n";
+  };
+  const std::vector<BadCase> cases = {
+      {"unknown material name", head + mat + sized + "material = \"granite\"\n[deposition]\n",
+       {"particles.material", "no material is named \"granite\"", "\"default\"", "\"sand\", \"stone\""}},
+      {"a named material with the walls' modulus", head + particles + "[materials.sand]\nwall_youngs_modulus = 1e9\n",
+       {"materials.sand.wall_youngs_modulus", "give it in [material]"}},
+      {"a named material with the rolling model", head + particles + "[materials.sand]\nrolling_model = "
+                                                                     "\"spring_dashpot\"\n",
+       {"materials.sand.rolling_model", "one rolling model for the run"}},
+      {"a pair of a material with itself", head + particles + mat + pair("\"sand\", \"sand\"", "friction = 0.3"),
+       {"material_pairs[0].materials", "\"sand\" against itself"}},
+      {"a pair naming an unknown material", head + particles + mat + pair("\"sand\", \"clay\"", "friction = 0.3"),
+       {"material_pairs[0].materials", "no material is named \"clay\"", "\"default\", \"sand\", \"stone\""}},
+      {"a pair given twice", head + particles + mat + pair("\"sand\", \"stone\"", "friction = 0.3") +
+                                 pair("\"stone\", \"sand\"", "restitution = 0.3"),
+       {"material_pairs[1].materials", "is given twice"}},
+      {"a pair with no coefficient", head + particles + mat + pair("\"sand\", \"default\"", ""),
+       {"material_pairs[0].materials", "gives no coefficient", "friction, restitution"}},
+      {"two classes of one diameter and two materials",
+       head + mat + "[particles]\ncount = 10\nclasses = [{ diameter = \"1 in\", volume_fraction = 0.5, material = "
+                    "\"sand\" }, { diameter = \"1 in\", volume_fraction = 0.5, material = \"stone\" }]\n"
+                    "[deposition]\n",
+       {"particles.classes[1].material", "another size class of the same diameter is of another material"}},
+      {"a material at [particles] with a grading",
+       head + mat + "[particles]\ncount = 10\nmaterial = \"sand\"\n[particles.grading]\nname = "
+                    "\"astm_c33_fine_mid\"\n[deposition]\n",
+       {"particles.material", "a grading's material is given in its own table"}},
+      {"a material named default", head + particles + "[materials.default]\ndensity = 2000\n",
+       {"materials.default", "is not \"default\""}},
+  };
+  expect_refused(cases);
 }
 
 TEST_F(ScenarioTest, ReadsTheDepositionStage) {
@@ -282,6 +327,93 @@ TEST_F(ScenarioTest, ReadsTheRollingModelAndEchoesItOnlyWhenItIsTheSpringDashpot
   EXPECT_EQ(echoed.at("rolling_model"), "spring_dashpot");
   EXPECT_EQ(echoed.at("rolling_stiffness_n_m"), 250.0);
   EXPECT_EQ(echoed.at("rolling_damping_n_s_m"), 0.5);
+}
+
+// [materials.NAME] starts from [material] and overrides what it gives; the named materials
+// follow [material] (index 0, "default") in alphabetical order, whatever the file's order.
+TEST_F(ScenarioTest, NamedMaterialsAreReadOverTheBaseMaterial) {
+  const Scenario sc = parse_scenario(
+      "[container]\nside = \"12 in\"\nheight = \"24 in\"\n[particles]\ndiameter = \"1 in\"\ncount = 10\n"
+      "material = \"stone\"\n[deposition]\n"
+      "[material]\ndensity = 2500\nfriction_particle = 0.4\nfriction_wall = 0.2\nwall_youngs_modulus = 3e9\n"
+      "[materials.stone]\ndensity = 2800\nyoungs_modulus = 5e9\n"
+      "[materials.sand]\nfriction_particle = 0.7\nrestitution = 0.3\n"
+      "[[material_pairs]]\nmaterials = [\"stone\", \"sand\"]\nfriction = 0.9\n",
+      dir_ / "s.toml");
+  ASSERT_EQ(material_count(sc), 3u);
+  EXPECT_EQ(material_name(sc, 0), "default");
+  EXPECT_EQ(material_name(sc, 1), "sand");
+  EXPECT_EQ(material_name(sc, 2), "stone");
+  const Material &sand = material_of(sc, 1), &stone = material_of(sc, 2);
+  EXPECT_EQ(sand.density, 2500.0);  // the base's
+  EXPECT_EQ(sand.contact.friction_particle, 0.7);
+  EXPECT_EQ(sand.contact.restitution, 0.3);
+  EXPECT_EQ(sand.contact.friction_wall, 0.2);
+  EXPECT_EQ(sand.contact.wall_youngs_modulus, 3e9);
+  EXPECT_EQ(stone.density, 2800.0);
+  EXPECT_EQ(stone.contact.youngs_modulus, 5e9);
+  EXPECT_EQ(stone.contact.friction_particle, 0.4);
+  EXPECT_EQ(stone.contact.restitution, sc.material.contact.restitution);
+  EXPECT_EQ(material_densities(sc), (std::vector<double>{2500.0, 2500.0, 2800.0}));
+  ASSERT_EQ(sc.material_pairs.size(), 1u);
+  EXPECT_EQ(sc.material_pairs[0].first, 1);  // stored low index first
+  EXPECT_EQ(sc.material_pairs[0].second, 2);
+  EXPECT_EQ(sc.material_pairs[0].friction, 0.9);
+  EXPECT_FALSE(sc.material_pairs[0].restitution);
+  // The monosized bed is one component, of material "stone".
+  EXPECT_EQ(sc.particles.component_material, (std::vector<std::uint8_t>{2}));
+  const auto j = to_json(sc);
+  EXPECT_EQ(j.at("materials").at("stone").at("density_kg_m3"), 2800.0);
+  EXPECT_EQ(j.at("materials").at("stone").at("index"), 2);
+  EXPECT_FALSE(j.at("materials").at("sand").contains("wall_youngs_modulus_pa"));
+  EXPECT_EQ(j.at("material_pairs").at(0).at("materials"), (nlohmann::json{"sand", "stone"}));
+  EXPECT_EQ(j.at("material_pairs").at(0).at("friction"), 0.9);
+  EXPECT_EQ(j.at("particles").at("component_materials"), (nlohmann::json{"stone"}));
+}
+
+TEST_F(ScenarioTest, EachComponentNamesItsMaterial) {
+  const std::string head = "[container]\nside = \"5 in\"\nheight = \"8 in\"\n[materials.stone]\ndensity = 2800\n"
+                           "[materials.sand]\ndensity = 2600\n";
+  // A mix: coarse, then fine.
+  const Scenario mix = parse_scenario(
+      head + "[particles]\nca_fa = 1.5\ncount = 20\n[particles.coarse]\nname = \"fu2003_table1_coarse\"\n"
+             "material = \"stone\"\n[particles.fine]\nname = \"astm_c33_fine_mid\"\nd_min = \"1 mm\"\n"
+             "material = \"sand\"\n[deposition]\n",
+      dir_ / "s.toml");
+  EXPECT_EQ(mix.particles.component_material, (std::vector<std::uint8_t>{2, 1}));
+  EXPECT_EQ(mix.particles.material_of_component(1), 1);
+  EXPECT_EQ(to_json(mix).at("particles").at("component_materials"), (nlohmann::json{"stone", "sand"}));
+  // Size classes, as listed; a class without `material` is [material]'s.
+  const Scenario classes = parse_scenario(
+      head + "[particles]\nclasses = [{ diameter = \"1 in\", count = 3, material = \"sand\" }, { diameter = "
+             "\"0.5 in\", count = 4 }, { diameter = \"0.7 in\", count = 5, material = \"stone\" }]\n[deposition]\n",
+      dir_ / "s.toml");
+  EXPECT_EQ(classes.particles.component_material, (std::vector<std::uint8_t>{1, 0, 2}));
+  // A single grading.
+  const Scenario graded = parse_scenario(
+      head + "[particles]\ncount = 10\n[particles.grading]\nname = \"astm_c33_fine_mid\"\nmaterial = \"sand\"\n"
+             "[deposition]\n",
+      dir_ / "s.toml");
+  EXPECT_EQ(graded.particles.component_material, (std::vector<std::uint8_t>{1}));
+  // Two classes of one diameter and one material are accepted.
+  EXPECT_NO_THROW(parse_scenario(head + "[particles]\nclasses = [{ diameter = \"1 in\", count = 3, material = "
+                                        "\"sand\" }, { diameter = \"1 in\", count = 4, material = \"sand\" }]\n"
+                                        "[deposition]\n",
+                                 dir_ / "s.toml"));
+}
+
+TEST_F(ScenarioTest, TheSummaryNamesMaterialsOnlyWhenThereAreNamedOnes) {
+  const Scenario one = parse_scenario(std::string(kGood) + "[material]\ndensity = 2000\n", dir_ / "s.toml");
+  EXPECT_EQ(material_count(one), 1u);
+  const auto j = to_json(one);
+  EXPECT_FALSE(j.contains("materials"));
+  EXPECT_FALSE(j.contains("material_pairs"));
+  EXPECT_FALSE(j.at("particles").contains("component_materials"));
+  const Scenario two = parse_scenario(std::string(kGood) + "[materials.sand]\ndensity = 2000\n", dir_ / "s.toml");
+  const auto k = to_json(two);
+  EXPECT_TRUE(k.contains("materials"));
+  EXPECT_FALSE(k.contains("material_pairs"));
+  EXPECT_EQ(k.at("particles").at("component_materials"), (nlohmann::json{"default"}));
 }
 
 TEST_F(ScenarioTest, AMissingFileIsAnInputError) {
