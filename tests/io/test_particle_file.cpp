@@ -223,7 +223,7 @@ TEST(Vtk, BinaryPolyDataIsZlibAppendedWithTheGivenArrays) {
   EXPECT_LT(vtp.size(), particles_vtp(p, "t", VtpEncoding::Ascii, {coordination, component, {}}).size() / 3);
   EXPECT_EQ(vtp, particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component, {}}));  // deterministic
   const std::vector<std::int32_t> short_array(3, 0);
-  EXPECT_THROW(particles_vtp(p, "t", VtpEncoding::ZlibAppended, {short_array, {}}), std::invalid_argument);
+  EXPECT_THROW(particles_vtp(p, "t", VtpEncoding::ZlibAppended, {short_array, {}, {}}), std::invalid_argument);
 }
 
 TEST(Vtk, PvdListsTheFramesWithTheirTimesOrTheirNumbersWhenTimesRepeat) {
