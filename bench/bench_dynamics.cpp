@@ -10,9 +10,14 @@
 //  3. `--warmup` steps (untimed) let the tangential springs build up again; then `steps`
 //     steps are timed. The rms speed and the coordination before and after the timed
 //     steps show that the bed stayed at rest.
+// `--contact` times the same bed with another contact model (the bed is settled without):
+// `plain` (the default), `torque` (constant-torque rolling resistance mu_r = 0.1), `spring`
+// (the spring-dashpot rolling law, mu_r = 0.1, k_roll = 5000 N/m, gamma_roll = 0.01 N s/m) or
+// `materials` (half the spheres of a second, identical material: the contact-by-contact path
+// of a run of several materials, the same physics).
 // Prints one JSON line.
 //
-//   bench_dynamics <count> [steps] [--bed FILE] [--warmup N] [--quiet F]
+//   bench_dynamics <count> [steps] [--bed FILE] [--warmup N] [--quiet F] [--contact MODEL]
 #include <omp.h>
 
 #include <algorithm>
@@ -33,6 +38,7 @@
 
 #include "aggpack/deposition/drop_and_roll.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/dynamics/materials.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/io/lammps_data.hpp"
 #include "peak_rss.hpp"
@@ -74,12 +80,13 @@ int main(int argc, char** argv) {
   const auto count = static_cast<std::size_t>(std::atof(argv[1]));
   std::size_t steps = 1000, warmup = 500;
   double quiet_below = 1e-6;
-  std::string bed_file;
+  std::string bed_file, contact = "plain";
   for (int a = 2; a < argc; ++a) {
     const std::string arg = argv[a];
     if (arg == "--bed" && a + 1 < argc) bed_file = argv[++a];
     else if (arg == "--warmup" && a + 1 < argc) warmup = std::strtoull(argv[++a], nullptr, 10);
     else if (arg == "--quiet" && a + 1 < argc) quiet_below = std::atof(argv[++a]);
+    else if (arg == "--contact" && a + 1 < argc) contact = argv[++a];
     else steps = std::strtoull(argv[a], nullptr, 10);
   }
   const double density = 2650.0, r = 0.0127;
@@ -131,9 +138,27 @@ int main(int argc, char** argv) {
     }
   }
   for (std::size_t i = 0; i < bed.size(); ++i) bed.velocity[i] = bed.angular_velocity[i] = {};
+  aggpack::ContactModel timed_model = model;
+  if (contact == "torque" || contact == "spring") {
+    aggpack::ContactParameters rolling = material;
+    rolling.rolling_friction = 0.1;
+    if (contact == "spring") {
+      rolling.rolling_model = aggpack::RollingModel::SpringDashpot;
+      rolling.rolling_stiffness = 5000.0;
+      rolling.rolling_damping = 0.01;
+    }
+    timed_model = aggpack::make_contact_model(rolling);
+  } else if (contact == "materials") {
+    const std::vector<aggpack::ContactParameters> two(2, material);
+    timed_model = aggpack::make_contact_model(two, {});
+    for (std::size_t i = 0; i < bed.size(); ++i) bed.material[i] = static_cast<std::uint8_t>(i % 2);
+  } else if (contact != "plain") {
+    std::fprintf(stderr, "--contact %s: expected plain, torque, spring or materials\n", contact.c_str());
+    return 2;
+  }
 
   const long rss_before = peak_rss_kib();
-  aggpack::DemSystem dem(bed, container, model, settings);
+  aggpack::DemSystem dem(bed, container, timed_model, settings);
   dem.run(warmup);
   const double rms_before = rms_speed(bed);
   const double coordination_before = dem.contact_statistics().coordination;
@@ -144,13 +169,13 @@ int main(int argc, char** argv) {
   const auto stats = dem.contact_statistics();
   const long rss = peak_rss_kib();
   std::printf(
-      "{\"count\": %zu, \"threads\": %d, \"steps\": %zu, \"seconds\": %.3f, \"particle_steps_per_second\": %.4g, "
+      "{\"contact\": \"%s\", \"count\": %zu, \"threads\": %d, \"steps\": %zu, \"seconds\": %.3f, \"particle_steps_per_second\": %.4g, "
       "\"bed_from_file\": %s, \"settle_simulated_s\": %.3f, \"settle_wall_s\": %.1f, "
       "\"rms_speed_before\": %.3g, \"rms_speed_after\": %.3g, \"coordination_before\": %.3f, "
       "\"coordination_after\": %.3f, \"rebuilds\": %zu, \"list_entries_per_sphere\": %.2f, "
       "\"cross_block_entries_per_sphere\": %.2f, \"dem_bytes_per_sphere\": %.1f, \"store_bytes_per_sphere\": %zu, "
       "\"peak_rss_bytes_per_sphere\": %.1f, \"rss_before_dem_kib\": %ld, \"max_overlap\": %.3g}\n",
-      count, dem.threads(), steps, seconds, static_cast<double>(count * steps) / seconds,
+      contact.c_str(), count, dem.threads(), steps, seconds, static_cast<double>(count * steps) / seconds,
       cached ? "true" : "false", settled.simulated_time, settle_seconds,
       rms_before, rms_speed(bed), coordination_before, stats.coordination, dem.rebuilds() - rebuilds_before,
       static_cast<double>(dem.list_entries()) / static_cast<double>(count),
