@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -15,13 +16,16 @@ DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
   if (!std::isfinite(r_min))
     throw InputError(fmt::format("{}: [dynamics]: there are no particles to settle", sc.file.string()));
   const std::vector<ContactParameters> contacts = material_contacts(sc);
-  DemSetup setup{[&] {
-                   try {
-                     return make_contact_model(contacts, sc.material_pairs);
-                   } catch (const InputError& e) {
-                     throw InputError(fmt::format("{}: [material]: {}", sc.file.string(), e.what()));
-                   }
-                 }(),
+  // Each material's parameters, checked first so that an error names its table.
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    try {
+      check_contact_parameters(contacts[k]);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: [{}]: {}", sc.file.string(),
+                                   k == 0 ? std::string("material") : "materials." + material_name(sc, k), e.what()));
+    }
+  }
+  DemSetup setup{make_contact_model(contacts, sc.material_pairs),
                  stage.dem, stable_time_scale(sc, r_min)};
   setup.settings.time_step = stage.time_step.step(setup.rayleigh);
   setup.settings.threads = threads;
@@ -29,10 +33,23 @@ DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
 }
 
 double stable_time_scale(const Scenario& sc, double r_min) {
-  double scale = stable_time_scale(sc.material.contact, r_min, sc.material.density);
-  for (const NamedMaterial& m : sc.materials)
-    scale = std::min(scale, stable_time_scale(m.material.contact, r_min, m.material.density));
+  double scale = std::numeric_limits<double>::infinity();
+  for (const std::size_t k : used_materials(sc))
+    scale = std::min(scale, stable_time_scale(material_of(sc, k).contact, r_min, material_of(sc, k).density));
   return scale;
+}
+
+double largest_impact_overlap(const Scenario& sc, double r_min, double speed) {
+  const ContactParameters& walls = sc.material.contact;
+  double overlap = 0.0;
+  for (const std::size_t k : used_materials(sc)) {
+    const Material& m = material_of(sc, k);
+    const double e_star = effective_youngs_modulus(m.contact.youngs_modulus, m.contact.poisson_ratio,
+                                                   walls.wall_youngs_modulus, walls.wall_poisson_ratio);
+    const double mass = ParticleStore::sphere_mass(r_min, m.density);
+    overlap = std::max(overlap, std::pow(15.0 * mass * speed * speed / (16.0 * e_star * std::sqrt(r_min)), 0.4));
+  }
+  return overlap;
 }
 
 }  // namespace aggpack

@@ -46,6 +46,7 @@ bool is_blank_or_comment(const std::string& line) {
 struct Columns {
   std::array<std::size_t, 4> index{0, 1, 2, 3};  // x, y, z, size
   bool size_is_diameter = false;
+  std::optional<std::size_t> material;  // a run of several materials' particles.csv names each sphere's
 };
 // A column that a header names twice (x, y, z and r, radius, d, diameter all count as the
 // size); the reader would otherwise take one of them silently.
@@ -72,6 +73,7 @@ std::optional<Columns> columns_from_header(const std::vector<std::string>& names
     else if (name == "z") found[2] = k;
     else if (name == "r" || name == "radius") found[3] = k, c.size_is_diameter = false;
     else if (name == "d" || name == "diameter") found[3] = k, c.size_is_diameter = true;
+    else if (name == "material") c.material = k;
   }
   for (std::size_t k = 0; k < 4; ++k) {
     if (!found[k]) return std::nullopt;
@@ -108,7 +110,8 @@ RowLayout layout_from_header(const std::vector<std::string>& fields, bool csv, c
   layout.columns = *header;
   layout.has_header = true;
   if (csv) {
-    layout.min_fields = *std::max_element(layout.columns.index.begin(), layout.columns.index.end()) + 1;
+    layout.min_fields = std::max(*std::max_element(layout.columns.index.begin(), layout.columns.index.end()),
+                                 layout.columns.material.value_or(0)) + 1;
     layout.max_fields = std::numeric_limits<std::size_t>::max();
   } else {
     layout.min_fields = layout.max_fields = fields.size();
@@ -207,6 +210,7 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
     const auto fields = split(line, *csv);
     check_field_count(fields.size(), layout, *csv, name, line_no);
     add_particle(store, fields, layout.columns, length_unit, density, name, line_no);
+    if (layout.columns.material) file.materials.emplace_back(trim(fields[*layout.columns.material]));
   }
   if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", name));
   file.format = csv.value_or(false) ? "CSV" : "whitespace-separated text";

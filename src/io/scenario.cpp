@@ -218,7 +218,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   check_rolling_resistance(s, sc);
   std::vector<std::string> material_names;
   for (std::size_t k = 0; k < material_count(sc); ++k) material_names.push_back(material_name(sc, k));
-  if (const auto pairs = s.table_array("material_pairs")) sc.material_pairs = read_material_pairs(*pairs, material_names);
+  if (const auto pairs = s.table_array("material_pairs")) sc.material_pairs = read_material_pairs(*pairs, material_names, sc.material.contact.rolling_model);
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
                                 file.parent_path(), sc.container, material_names);
   read_stages(s, sc);

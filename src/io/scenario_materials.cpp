@@ -13,12 +13,13 @@ namespace aggpack {
 
 namespace {
 
-// Materials are bytes in the particle store, and LAMMPS gets two atom types of each.
-constexpr std::size_t kMostMaterials = 100;
+// Materials are bytes in the particle store; LAMMPS gets two atom types and a group of each,
+// and holds at most 32 groups (two are its own `all` and aggpack's `mobile`).
+constexpr std::size_t kMostMaterials = 30;
 
 bool is_plain_name(const std::string& name) {
   return !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
-    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
   });
 }
 
@@ -28,8 +29,8 @@ std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const 
   std::vector<NamedMaterial> materials;
   for (const std::string& name : table.keys()) {
     if (!is_plain_name(name) || name == "default")
-      table.fail(name, "a material's name is made of letters, digits, '_' and '-' (at most 64), and is not "
-                       "\"default\" (the [material] table's own name)");
+      table.fail(name, "a material's name is made of letters, digits and '_' (at most 64: it names LAMMPS groups and "
+                       "fixes), and is not \"default\" (the [material] table's own name)");
     const TomlSection s =
         table.required(table.table(name), name, fmt::format("a table [{}] of the material's keys", table.key_path(name)));
     for (const char* k : {"wall_youngs_modulus", "wall_poisson_ratio"})
@@ -65,7 +66,7 @@ std::uint8_t material_index(const TomlSection& s, std::string_view key, std::spa
 }
 
 std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<TomlSection>& entries,
-                                                          std::span<const std::string> names) {
+                                                          std::span<const std::string> names, RollingModel rolling) {
   std::vector<MaterialPairCoefficients> pairs;
   for (const TomlSection& e : entries) {
     e.allow_only({"materials", "friction", "restitution", "rolling_friction", "rolling_stiffness", "rolling_damping"});
@@ -89,6 +90,9 @@ std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<Toml
     p.friction = e.number("friction", kNonNegative);
     p.restitution = e.number("restitution", kFraction);
     p.rolling_friction = e.number("rolling_friction", kNonNegative);
+    for (const char* k : {"rolling_stiffness", "rolling_damping"})
+      if (rolling != RollingModel::SpringDashpot && e.has(k))
+        e.fail(k, "applies only with rolling_model = \"spring_dashpot\" (in [material])");
     p.rolling_stiffness = e.number("rolling_stiffness", kPositive);
     p.rolling_damping = e.number("rolling_damping", kNonNegative);
     if (!p.friction && !p.restitution && !p.rolling_friction && !p.rolling_stiffness && !p.rolling_damping)
@@ -107,10 +111,36 @@ std::string material_name(const Scenario& sc, std::size_t index) {
   return index == 0 ? std::string("default") : sc.materials.at(index - 1).name;
 }
 
+std::vector<std::size_t> used_materials(const Scenario& sc) {
+  std::vector<std::size_t> used;
+  for (std::size_t k = 0; k < material_count(sc); ++k) {
+    const auto& of = sc.particles.component_material;
+    if ((of.empty() && k == 0) || std::find(of.begin(), of.end(), k) != of.end()) used.push_back(k);
+  }
+  return used;
+}
+
 std::vector<double> material_densities(const Scenario& sc) {
   std::vector<double> densities;
   for (std::size_t k = 0; k < material_count(sc); ++k) densities.push_back(material_of(sc, k).density);
   return densities;
+}
+
+void assign_file_materials(ParticleStore& particles, const std::vector<std::string>& names, const Scenario& sc,
+                           const std::string& file) {
+  if (names.empty()) return;
+  if (names.size() != particles.size())
+    throw InputError(fmt::format("{}: {} material names for {} spheres", file, names.size(), particles.size()));
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    std::size_t k = 0;
+    while (k < material_count(sc) && material_name(sc, k) != names[i]) ++k;
+    if (k == material_count(sc))
+      throw InputError(fmt::format("{}: sphere {} (row {} of the data) is of material \"{}\", which the scenario does "
+                                   "not name; expected \"default\" or a [materials.NAME] of the scenario",
+                                   file, i + 1, i + 1, names[i]));
+    particles.material[i] = static_cast<std::uint8_t>(k);
+    particles.mass[i] = ParticleStore::sphere_mass(particles.radius[i], material_of(sc, k).density);
+  }
 }
 
 std::vector<ContactParameters> material_contacts(const Scenario& sc) {

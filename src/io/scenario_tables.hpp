@@ -54,7 +54,7 @@ std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const 
 void check_rolling_resistance(const TomlSection& root, const Scenario& sc);
 std::uint8_t material_index(const TomlSection& s, std::string_view key, std::span<const std::string> names);
 std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<TomlSection>& entries,
-                                                          std::span<const std::string> names);
+                                                          std::span<const std::string> names, RollingModel rolling);
 
 // scenario_dynamics.cpp: [material] (or a [materials.NAME] table), its keys over `base`.
 Material read_material(const TomlSection& s, Material base = {});

@@ -352,7 +352,9 @@ ExportedDeck export_run_folder(const std::filesystem::path& folder, const Scenar
   if (tap && !sc.tapping)
     throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps",
                                  scenario_file.string()));
-  ParticleStore bed = read_packing_file(bed_file, 1.0, sc.material.density, sc.limits.max_input_bytes()).particles;
+  PackingFile read = read_packing_file(bed_file, 1.0, sc.material.density, sc.limits.max_input_bytes());
+  assign_file_materials(read.particles, read.materials, sc, bed_file.string());  // a run of several materials'
+  ParticleStore bed = std::move(read.particles);
   for (auto& l : bed.layer) l = 0;
   ExportedDeck exported;
   exported.deck = lammps_deck(sc, bed, tap ? LammpsStep{TapStep{}} : LammpsStep{SettleStep{0}});

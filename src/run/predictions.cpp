@@ -62,9 +62,10 @@ ModelDistribution source_classes(const GradingSource& g, bool whole) {
   return whole ? grading_classes(g.grading) : grading_classes(g.grading, g.d_min, g.d_max);
 }
 
-// The grains' density of a run of several materials: each component's, weighted by its volume
-// (a mix's by its coarse/fine ratio, size classes by their volume fractions or counts x d^3).
-double components_density(const Scenario& sc) {
+}  // namespace
+
+double grains_density(const Scenario& sc) {
+  if (material_count(sc) == 1) return sc.material.density;
   const ParticleSource& p = sc.particles;
   const auto density = [&](std::size_t component) { return material_of(sc, p.material_of_component(component)).density; };
   if (p.graded && p.graded->fine) return (p.graded->ca_fa * density(0) + density(1)) / (p.graded->ca_fa + 1.0);
@@ -79,13 +80,12 @@ double components_density(const Scenario& sc) {
   }
   return total > 0.0 ? weighted / total : density(0);
 }
-}  // namespace
 
 Predictions predict_scenario(const Scenario& sc, const ModelParameters& parameters,
                              std::span<const double> file_diameters) {
   Predictions out;
   out.parameters = parameters;
-  out.particle_density = material_count(sc) == 1 ? sc.material.density : components_density(sc);
+  out.particle_density = grains_density(sc);
   out.particle_density_source = material_count(sc) == 1 ? "the scenario's material.density"
                                                         : "the components' materials, weighted by volume";
   const ParticleSource& p = sc.particles;

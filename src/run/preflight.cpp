@@ -166,12 +166,7 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
         "and the time to settle",
         file, shown(max_time), batches, batches == 1 ? "" : "es", shown(fall), shown(slab), shown(2.0 * batches * fall)));
   const double impact = std::sqrt(pour.velocity * pour.velocity + 2.0 * g * (gap + slab));
-  const ContactParameters& m = sc.material.contact;
-  const double nu = m.poisson_ratio;
-  const double e_star = 1.0 / ((1.0 - nu * nu) / m.youngs_modulus + (1.0 - nu * nu) / m.wall_youngs_modulus);
-  const double mass = sc.material.density * 4.0 / 3.0 * std::numbers::pi * r_min * r_min * r_min;
-  // The largest overlap of a Hertz sphere of radius r hitting a plane at speed v.
-  const double overlap = std::pow(15.0 * mass * impact * impact / (16.0 * e_star * std::sqrt(r_min)), 0.4);
+  const double overlap = largest_impact_overlap(sc, r_min, impact);
   const double per_step = impact * time_step;
   if (!(overlap <= 0.5 * r_min) || !(per_step <= 0.1 * r_min))
     throw InputError(fmt::format(

@@ -50,6 +50,11 @@ InitialBed initial_bed(const Scenario& sc) {
                                          sc.particles.file_timestep);
     bed.particles = std::move(file.particles);
     std::fill(bed.particles.material.begin(), bed.particles.material.end(), material);
+    if (!file.materials.empty() && sc.particles.component_material.front() != 0)
+      throw InputError(fmt::format("{}: particles.material: the file {} names each sphere's material (its material "
+                                   "column): expected no particles.material",
+                                   sc.file.string(), sc.particles.file->string()));
+    assign_file_materials(bed.particles, file.materials, sc, sc.particles.file->string());
     bed.file_format = std::move(file.format);
     if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
       throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",

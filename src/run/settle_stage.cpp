@@ -426,7 +426,7 @@ std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport
   std::vector<std::string> notes;
   notes.push_back(contact_law(sc.material.contact.friction_model).describe(sc.material.contact));
   if (material_count(sc) > 1) notes.push_back(materials_note(sc));
-  notes.push_back(fmt::format(
+  if (material_count(sc) == 1) notes.push_back(fmt::format(
       "dynamics: Young's modulus {:.3g} GPa (walls {:.3g} GPa), Poisson ratio {:g}{}; mean overlap {:.2e} and "
       "maximum overlap {:.2e} of r_i + r_j at the end",
       1e-9 * m.youngs_modulus, 1e-9 * m.wall_youngs_modulus, m.poisson_ratio,

@@ -67,6 +67,7 @@ struct SweepPoint {
   // Without cut-offs, what the scenario's own cut-offs leave out of the blend and of its sand
   // (volume fractions): the densities are of the rest only.
   double left_out = 0.0, fine_left_out = 0.0;
+  double particle_density = 0.0;  // kg/m^3, of the blend's grains (several materials: by volume)
   // What the best blend is chosen by, and how far off it the point may be and not be told apart.
   [[nodiscard]] double judged() const { return whole ? whole->density : density.mean; }
   [[nodiscard]] double uncertainty() const {
@@ -198,6 +199,7 @@ SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::si
                      bool& has_dynamics) {
   const double fa = options.fa_percent[blend];
   SweepPoint point{fa, (100.0 - fa) / fa, {}, {}, {}, std::nullopt};
+  point.particle_density = grains_density(plan.blends[blend]);
   const fs::path blend_dir = options.out / fmt::format("fa_{:g}", fa);
   std::vector<CutOffPoint> cut_points;
   std::vector<double> deposited;
@@ -240,8 +242,8 @@ SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::si
 nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, const std::vector<SweepPoint>& points,
                           std::size_t best, const std::vector<double>& indistinguishable, bool has_dynamics,
                           double seconds) {
-  const double particle_density = plan.blends.front().material.density;  // kg/m3 (bulk density, voids)
   const SweepPoint& top = points[best];
+  const double particle_density = top.particle_density;  // kg/m3, the densest blend's (bulk density, voids)
   nlohmann::json result;
   result["aggpack_version"] = kVersion;
   result["scenario_file"] = options.scenario.string();
@@ -254,9 +256,9 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
         {"fa_percent", p.fa_percent},
         {"ca_fa", p.ca_fa},
         {"density", {{"mean", p.density.mean}, {"sd", or_null(p.density.sd)}, {"values", p.final_density},
-                     {"voids_content_percent", bulk_density(p.density.mean, particle_density).voids_percent},
-                     {"bulk_density_kg_m3", bulk_density(p.density.mean, particle_density).kg_per_m3},
-                     {"bulk_density_lb_ft3", bulk_density(p.density.mean, particle_density).lb_per_ft3}}},
+                     {"voids_content_percent", bulk_density(p.density.mean, p.particle_density).voids_percent},
+                     {"bulk_density_kg_m3", bulk_density(p.density.mean, p.particle_density).kg_per_m3},
+                     {"bulk_density_lb_ft3", bulk_density(p.density.mean, p.particle_density).lb_per_ft3}}},
         {"density_after_deposition", {{"mean", or_null(p.after_deposition.mean)}, {"sd", or_null(p.after_deposition.sd)}}}};
     if (!p.whole) {
       point["left_out_volume_fraction"] = p.left_out;
@@ -379,7 +381,7 @@ nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   write_file_atomically(options.out / "sweep.json", result.dump(2) + "\n");
   remove_checkpoints(campaign.kept_checkpoints());
   if (!options.quiet)
-    print_sweep(log, options, points, best, indistinguishable, plan.blends.front().material.density);
+    print_sweep(log, options, points, best, indistinguishable, points[best].particle_density);
   return result;
 }
 

@@ -124,7 +124,7 @@ WholeGradingEstimate fit_whole_grading(const Scenario& whole, const ModelParamet
   e.scenario = whole.file.string();
   e.key = cut_off_key(*whole.particles.graded);
   e.parameters = parameters;
-  e.particle_density = whole.material.density;
+  e.particle_density = grains_density(whole);
   e.points = std::move(points);
   std::vector<double> x, y, y_error;
   for (const CutOffPoint& p : e.points)

@@ -108,3 +108,33 @@ TEST_F(CliMaterials, ARunOfOneMaterialWritesNoMaterialColumn) {
 }
 
 }  // namespace
+
+namespace {
+
+// A run's particles.csv read back as the bed of another scenario keeps each sphere's material
+// (its material column, by name), and one that names a material the scenario lacks is refused.
+TEST_F(CliMaterials, AParticleFileNamesItsSpheresMaterials) {
+  std::ofstream(dir_ / "two.toml") << kTwoMaterials;
+  ASSERT_EQ(run_cli("run " + (dir_ / "two.toml").string() + " --quiet --threads 1 --out " + (dir_ / "two").string())
+                .exit_code,
+            0);
+  const std::string file = (dir_ / "two" / "particles.csv").string();
+  const std::string bed = "seed = 1\n[container]\nside = 0.03\nheight = 0.2\n[particles]\nfrom = \"" + file +
+                          "\"\n[analysis]\nbox_sides = [0.005]\n";
+  std::ofstream(dir_ / "again.toml") << bed << "[materials.stone]\ndensity = 3000\n[materials.sand]\ndensity = 1500\n";
+  const auto again = run_cli("run " + (dir_ / "again.toml").string() + " --quiet --out " + (dir_ / "again").string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(slurp(dir_ / "again" / "particles.csv"), slurp(dir_ / "two" / "particles.csv"));
+  const auto first = nlohmann::json::parse(slurp(dir_ / "two" / "summary.json"));
+  const auto second = nlohmann::json::parse(slurp(dir_ / "again" / "summary.json"));
+  EXPECT_DOUBLE_EQ(second.at("bulk_density").at("particle_density_kg_m3").get<double>(),
+                   first.at("bulk_density").at("particle_density_kg_m3").get<double>());
+  std::ofstream(dir_ / "lacking.toml") << bed << "[materials.stone]\ndensity = 3000\n";
+  const auto lacking = run_cli("run " + (dir_ / "lacking.toml").string() + " --quiet --out " + (dir_ / "lacking").string());
+  EXPECT_EQ(lacking.exit_code, 2) << lacking.output;
+  EXPECT_NE(lacking.output.find("is of material \"sand\", which the scenario does not name"), std::string::npos)
+      << lacking.output;
+  EXPECT_FALSE(fs::exists(dir_ / "lacking" / "particles.csv"));
+}
+
+}  // namespace

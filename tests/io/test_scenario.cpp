@@ -236,6 +236,11 @@ TEST_F(ScenarioTest, MaterialErrorsNameTheKeyAndWhatIsExpected) {
        {"material_pairs[1].materials", "is given twice"}},
       {"a pair with no coefficient", head + particles + mat + pair("\"sand\", \"default\"", ""),
        {"material_pairs[0].materials", "gives no coefficient", "friction, restitution"}},
+      {"a material's name with a hyphen (LAMMPS's fix names refuse it)",
+       head + particles + "[materials.fine-sand]\ndensity = 2600\n", {"materials.fine-sand", "letters, digits and '_'"}},
+      {"a pair's rolling spring under the constant-torque model",
+       head + particles + mat + pair("\"sand\", \"stone\"", "rolling_stiffness = 100"),
+       {"material_pairs[0].rolling_stiffness", "applies only with rolling_model = \"spring_dashpot\""}},
       {"two classes of one diameter and two materials",
        head + mat + "[particles]\ncount = 10\nclasses = [{ diameter = \"1 in\", volume_fraction = 0.5, material = "
                     "\"sand\" }, { diameter = \"1 in\", volume_fraction = 0.5, material = \"stone\" }]\n"

@@ -16,7 +16,10 @@ struct DemSetup {
 };
 DemSetup dem_setup(const Scenario& sc, double r_min, int threads);
 // The contact law's stable time scale for the scenario's materials at radius r_min: the
-// shortest of any material's.
+// shortest of any material a component is made of.
 double stable_time_scale(const Scenario& sc, double r_min);
+// The deepest overlap of a sphere of radius r_min hitting the floor at `speed` (Hertz), of
+// any material a component is made of.
+double largest_impact_overlap(const Scenario& sc, double r_min, double speed);
 
 }  // namespace aggpack

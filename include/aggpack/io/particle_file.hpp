@@ -28,6 +28,7 @@ namespace aggpack {
 struct PackingFile {
   ParticleStore particles;
   std::string format;  // "CSV", "whitespace-separated text", "LAMMPS dump, timestep 1000 (the last of 3)", ...
+  std::vector<std::string> materials;  // a "material" column's names, per particle; empty without one
 };
 PackingFile read_packing_file(const std::filesystem::path& file, double length_unit, double density,
                               std::uintmax_t max_bytes = kDefaultMaxInputFileBytes,

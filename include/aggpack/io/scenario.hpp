@@ -167,6 +167,14 @@ struct Scenario {
 [[nodiscard]] const Material& material_of(const Scenario& sc, std::size_t index);
 [[nodiscard]] std::string material_name(const Scenario& sc, std::size_t index);
 [[nodiscard]] std::vector<double> material_densities(const Scenario& sc);
+// The materials some component is made of, in index order ([material] alone when none names one).
+[[nodiscard]] std::vector<std::size_t> used_materials(const Scenario& sc);
+// Gives the spheres of a particle file (read at the density of [material] or of `particles.material`)
+// their materials: `names`, a "material" column (one per sphere; empty: none), by the
+// scenario's names, each sphere's mass from its material. InputError naming `file`, the row and
+// the name when a name is not one of the scenario's.
+void assign_file_materials(ParticleStore& particles, const std::vector<std::string>& names, const Scenario& sc,
+                           const std::string& file);
 // Every material's contact parameters, in index order (make_contact_model's input).
 [[nodiscard]] std::vector<ContactParameters> material_contacts(const Scenario& sc);
 

@@ -80,4 +80,9 @@ nlohmann::json to_json(const Predictions& predictions);
 // The terminal's lines: one per distribution and model.
 std::string describe(const Predictions& predictions);
 
+// The grains' density of the scenario's particles, kg/m^3: [material]'s, or of several materials
+// each component's weighted by its volume (a mix's by its coarse/fine ratio, size classes by
+// their volume fractions or counts x d^3).
+[[nodiscard]] double grains_density(const Scenario& scenario);
+
 }  // namespace aggpack
