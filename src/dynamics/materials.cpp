@@ -90,7 +90,8 @@ ContactModel make_contact_model(std::span<const ContactParameters> materials,
   }
   const ContactLawEntry& law = contact_law(materials[0].friction_model);
   const std::size_t n = materials.size();
-  ContactModel model{law.make(pair_coefficients(materials, pairs, 0, 0)), law.make(wall_coefficients(materials, 0))};
+  ContactModel model{law.make(pair_coefficients(materials, pairs, 0, 0)), law.make(wall_coefficients(materials, 0)), 1,
+                     {}, {}};
   if (n == 1) return model;
   model.materials = n;
   for (std::size_t a = 0; a < n; ++a) {

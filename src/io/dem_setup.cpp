@@ -22,7 +22,7 @@ DemSetup dem_setup(const Scenario& sc, double r_min, int threads) {
       check_contact_parameters(contacts[k]);
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: [{}]: {}", sc.file.string(),
-                                   k == 0 ? std::string("material") : "materials." + material_name(sc, k), e.what()));
+                                   k == 0 ? std::string("material") : fmt::format("materials.{}", material_name(sc, k)), e.what()));
     }
   }
   DemSetup setup{make_contact_model(contacts, sc.material_pairs),

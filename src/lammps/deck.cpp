@@ -115,7 +115,7 @@ std::vector<WallGroup> wall_groups(const DeckBasis& b) {
   if (b.densities.size() == 1) return {{"mobile", "", b.law.lammps_keywords(sc.material.contact, true)}};
   std::vector<WallGroup> groups;
   for (std::size_t k = 0; k < b.densities.size(); ++k)
-    groups.push_back({"mobile_" + material_name(sc, k), "_" + material_name(sc, k),
+    groups.push_back({fmt::format("mobile_{}", material_name(sc, k)), fmt::format("_{}", material_name(sc, k)),
                       b.law.lammps_keywords(material_of(sc, k).contact, true)});
   return groups;
 }
