@@ -129,36 +129,34 @@ void evaluate_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& b, doub
 template <class Law>
 void evaluate_contact(const Law& law, ContactBatch& b, std::size_t k, double dt) {
   using C = ContactBatch;
-  {
-    const auto in = [&](C::Column c) { return b.at(c, k); };
-    const Vec3 d{in(C::kDx), in(C::kDy), in(C::kDz)};
-    const double ri = in(C::kRadiusI), rj = in(C::kRadiusJ), mi = in(C::kMassI), mj = in(C::kMassJ);
-    // One division for 1/distance, R* and m*: q = 1 / (distance (r_i + r_j) (m_i + m_j)).
-    const double distance = std::sqrt(in(C::kDistance2));
-    const double reach = ri + rj;
-    const double reach_mass = reach * (mi + mj);
-    const double q = 1.0 / (distance * reach_mass);
-    ContactKinematics kin;
-    kin.normal = d * (reach_mass * q);
-    kin.overlap = reach - distance;
-    kin.velocity = Vec3{in(C::kVx), in(C::kVy), in(C::kVz)} + cross(Vec3{in(C::kSx), in(C::kSy), in(C::kSz)}, kin.normal);
-    kin.spin = {in(C::kWx), in(C::kWy), in(C::kWz)};
-    kin.r_eff = ri * rj * (mi + mj) * distance * q;
-    kin.m_eff = mi * mj * reach * distance * q;
-    Vec3 spring{in(C::kUx), in(C::kUy), in(C::kUz)};
-    Vec3 rolling{in(C::kHx), in(C::kHy), in(C::kHz)};
-    const ContactForce c = law.evaluate(kin, spring, rolling, dt);
-    // j sees the opposite normal and tangential force, so the same n x F_t, and the
-    // opposite rolling torque.
-    const Vec3 arm = cross(kin.normal, c.tangential);
-    const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
-    double* const slot = b.contact(k);
-    C::put3(slot, C::kUx, spring);
-    C::put3(slot, C::kHx, rolling);
-    C::put3(slot, C::kFx, c.force);
-    C::put3(slot, C::kTix, ti);
-    C::put3(slot, C::kTjx, tj);
-  }
+  const auto in = [&](C::Column c) { return b.at(c, k); };
+  const Vec3 d{in(C::kDx), in(C::kDy), in(C::kDz)};
+  const double ri = in(C::kRadiusI), rj = in(C::kRadiusJ), mi = in(C::kMassI), mj = in(C::kMassJ);
+  // One division for 1/distance, R* and m*: q = 1 / (distance (r_i + r_j) (m_i + m_j)).
+  const double distance = std::sqrt(in(C::kDistance2));
+  const double reach = ri + rj;
+  const double reach_mass = reach * (mi + mj);
+  const double q = 1.0 / (distance * reach_mass);
+  ContactKinematics kin;
+  kin.normal = d * (reach_mass * q);
+  kin.overlap = reach - distance;
+  kin.velocity = Vec3{in(C::kVx), in(C::kVy), in(C::kVz)} + cross(Vec3{in(C::kSx), in(C::kSy), in(C::kSz)}, kin.normal);
+  kin.spin = {in(C::kWx), in(C::kWy), in(C::kWz)};
+  kin.r_eff = ri * rj * (mi + mj) * distance * q;
+  kin.m_eff = mi * mj * reach * distance * q;
+  Vec3 spring{in(C::kUx), in(C::kUy), in(C::kUz)};
+  Vec3 rolling{in(C::kHx), in(C::kHy), in(C::kHz)};
+  const ContactForce c = law.evaluate(kin, spring, rolling, dt);
+  // j sees the opposite normal and tangential force, so the same n x F_t, and the
+  // opposite rolling torque.
+  const Vec3 arm = cross(kin.normal, c.tangential);
+  const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
+  double* const slot = b.contact(k);
+  C::put3(slot, C::kUx, spring);
+  C::put3(slot, C::kHx, rolling);
+  C::put3(slot, C::kFx, c.force);
+  C::put3(slot, C::kTix, ti);
+  C::put3(slot, C::kTjx, tj);
 }
 
 }  // namespace aggpack
