@@ -90,11 +90,13 @@ HWY_INLINE void RollingTorque(D d, const ContactBatch& b, std::size_t k, V minus
 // The spring-dashpot rolling resistance (contact_detail::spring_dashpot_rolling_torque) of the
 // contacts k .. k + lanes: updates their histories h and gives the torque on i.
 HWY_INLINE void RollingSpringDashpot(D d, ContactBatch& b, std::size_t k, V k_roll, V gamma_roll, V minus_inverse_k,
-                                     V step, V cap, V r_eff, V nx, V ny, V nz, V& rx, V& ry, V& rz) {
+                                     V step, V cap, V r_eff, V nx, V ny, V nz, hn::Mask<D> rolling_lanes, V& rx, V& ry,
+                                     V& rz) {
   const V zero = hn::Zero(d);
   const V wx = Load(d, b, C::kWx, k), wy = Load(d, b, C::kWy, k), wz = Load(d, b, C::kWz, k);
   const V lx = r_eff * (ny * wz - nz * wy), ly = r_eff * (nz * wx - nx * wz), lz = r_eff * (nx * wy - ny * wx);
-  V hx = Load(d, b, C::kHx, k), hy = Load(d, b, C::kHy, k), hz = Load(d, b, C::kHz, k);
+  const V old_hx = Load(d, b, C::kHx, k), old_hy = Load(d, b, C::kHy, k), old_hz = Load(d, b, C::kHz, k);
+  V hx = old_hx, hy = old_hy, hz = old_hz;
   // Into the contact plane, the length kept, where the normal part is not negligible.
   const V along = hx * nx + hy * ny + hz * nz;
   const auto tilted = hn::Gt(hn::Abs(along) * k_roll, hn::Set(d, 1e-10) * cap);
@@ -127,74 +129,130 @@ HWY_INLINE void RollingSpringDashpot(D d, ContactBatch& b, std::size_t k, V k_ro
     fy = hn::IfThenElse(rolling, hn::IfThenElseZero(held, cy), fy);
     fz = hn::IfThenElse(rolling, hn::IfThenElseZero(held, cz), fz);
   }
-  Store(d, hx, b, C::kHx, k);
-  Store(d, hy, b, C::kHy, k);
-  Store(d, hz, b, C::kHz, k);
+  // A lane without rolling resistance (a pair of materials with none) keeps its history.
+  Store(d, hn::IfThenElse(rolling_lanes, hx, old_hx), b, C::kHx, k);
+  Store(d, hn::IfThenElse(rolling_lanes, hy, old_hy), b, C::kHy, k);
+  Store(d, hn::IfThenElse(rolling_lanes, hz, old_hz), b, C::kHz, k);
   rx = r_eff * (fy * nz - fz * ny);
   ry = r_eff * (fz * nx - fx * nz);
   rz = r_eff * (fx * ny - fy * nx);
 }
 
+// HertzMindlin::evaluate on the contacts k .. k + lanes, each lane with its own coefficients
+// (the same in every lane for one law). `constant_torque` and `spring_dashpot` say which rolling
+// law some lane has; `rolling_lanes`, which lanes have rolling resistance (the others give no
+// torque and keep their rolling history, as the scalar law does).
+HWY_INLINE void EvaluateLanes(D d, ContactBatch& b, std::size_t k, V step, V stiffness_factor, V shear_factor,
+                              V damping, V friction, V damping_ratio, V rolling_friction, V k_roll, V gamma_roll,
+                              V minus_inverse_k, bool constant_torque, bool spring_dashpot,
+                              hn::Mask<D> rolling_lanes) {
+  const V zero = hn::Zero(d);
+  const V ri = Load(d, b, C::kRadiusI, k), rj = Load(d, b, C::kRadiusJ, k);
+  V nx, ny, nz, overlap, vx, vy, vz, r_eff, m_eff;
+  Kinematics(d, b, k, ri, rj, nx, ny, nz, overlap, vx, vy, vz, r_eff, m_eff);
+  // HertzMindlin::evaluate: normal force.
+  const V sqrt_r_overlap = hn::Sqrt(r_eff * overlap);
+  const V stiffness = stiffness_factor * sqrt_r_overlap;
+  const V approach = vx * nx + vy * ny + vz * nz;
+  const V damping_n = damping * hn::Sqrt(m_eff * stiffness);
+  const V fn = MaxOf(zero, stiffness * overlap + damping_n * approach);
+  const V tx = vx - nx * approach, ty = vy - ny * approach, tz = vz - nz * approach;
+  // The spring follows the contact plane, grows with the sliding, and is capped.
+  V ux = Load(d, b, C::kUx, k), uy = Load(d, b, C::kUy, k), uz = Load(d, b, C::kUz, k);
+  const V normal_part = ux * nx + uy * ny + uz * nz;
+  ux = ux - nx * normal_part;
+  uy = uy - ny * normal_part;
+  uz = uz - nz * normal_part;
+  ux = ux + tx * step;
+  uy = uy + ty * step;
+  uz = uz + tz * step;
+  const V kt = shear_factor * sqrt_r_overlap;
+  const V eta_t = damping_n * damping_ratio;
+  const V minus_kt = hn::Neg(kt);
+  V fx = ux * minus_kt - tx * eta_t, fy = uy * minus_kt - ty * eta_t, fz = uz * minus_kt - tz * eta_t;
+  CapAtFriction(d, friction * fn, kt, eta_t, tx, ty, tz, ux, uy, uz, fx, fy, fz);
+  // Rolling resistance, zero (+0, as the scalar law's) in the lanes that have none.
+  V rx = zero, ry = zero, rz = zero;
+  if (spring_dashpot)
+    RollingSpringDashpot(d, b, k, k_roll, gamma_roll, minus_inverse_k, step, rolling_friction * fn, r_eff, nx, ny, nz,
+                         rolling_lanes, rx, ry, rz);
+  else if (constant_torque)
+    RollingTorque(d, b, k, hn::Neg(rolling_friction), hn::Set(d, kFrictionRegularisation), r_eff, fn, rx, ry, rz);
+  rx = hn::IfThenElseZero(rolling_lanes, rx);
+  ry = hn::IfThenElseZero(rolling_lanes, ry);
+  rz = hn::IfThenElseZero(rolling_lanes, rz);
+  // Outputs: the spring, the force on i, and both torques (n x F_t is the same for j).
+  Store(d, ux, b, C::kUx, k);
+  Store(d, uy, b, C::kUy, k);
+  Store(d, uz, b, C::kUz, k);
+  Store(d, fx - nx * fn, b, C::kFx, k);
+  Store(d, fy - ny * fn, b, C::kFy, k);
+  Store(d, fz - nz * fn, b, C::kFz, k);
+  const V ax = ny * fz - nz * fy, ay = nz * fx - nx * fz, az = nx * fy - ny * fx;
+  Store(d, ax * ri + rx, b, C::kTix, k);
+  Store(d, ay * ri + ry, b, C::kTiy, k);
+  Store(d, az * ri + rz, b, C::kTiz, k);
+  Store(d, ax * rj - rx, b, C::kTjx, k);
+  Store(d, ay * rj - ry, b, C::kTjy, k);
+  Store(d, az * rj - rz, b, C::kTjz, k);
+}
+
 void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {
   const D d;
-  const V zero = hn::Zero(d);
   // The coefficients, read in this one place (the same for every contact of the batch).
   const ContactCoefficients& c = law.c;
   const V stiffness_factor = hn::Set(d, (4.0 / 3.0) * c.e_star);
   const V shear_factor = hn::Set(d, 8.0 * c.g_star);
   const V damping = hn::Set(d, c.damping), friction = hn::Set(d, c.friction), step = hn::Set(d, dt);
   const V damping_ratio = hn::Set(d, law.tangential_damping_ratio);
-  const V minus_rolling = hn::Set(d, -c.rolling), regularisation = hn::Set(d, kFrictionRegularisation);
   const V rolling_friction = hn::Set(d, c.rolling), k_roll = hn::Set(d, c.rolling_stiffness);
   const V gamma_roll = hn::Set(d, c.rolling_damping), minus_inverse_k = hn::Set(d, -1.0 / c.rolling_stiffness);
   const bool rolling = c.rolling != 0.0, spring_dashpot = c.rolling_history();
+  const auto every_lane = hn::Eq(step, step);
+  const std::size_t lanes = hn::Lanes(d);
+  for (std::size_t k = 0; k < b.size; k += lanes)
+    EvaluateLanes(d, b, k, step, stiffness_factor, shear_factor, damping, friction, damping_ratio, rolling_friction,
+                  k_roll, gamma_roll, minus_inverse_k, rolling && !spring_dashpot, spring_dashpot, every_lane);
+}
+
+// A run of several materials: each lane takes the coefficients of its contact's pair of
+// materials, `pair_laws[b.pair[k]]` (all HertzMindlin), computed as EvaluateHertzMindlin
+// computes them from one law, so each lane gives the bits of its pair's law alone.
+void EvaluateHertzMindlinPairs(std::span<const ContactLaw> pair_laws, ContactBatch& b, double dt) {
+  const D d;
+  const V step = hn::Set(d, dt), zero = hn::Zero(d);
+  bool constant_torque = false, spring_dashpot = false;
+  for (const ContactLaw& law : pair_laws) {
+    const ContactCoefficients& c = std::get<HertzMindlin>(law).c;
+    spring_dashpot = spring_dashpot || c.rolling_history();
+    constant_torque = constant_torque || (c.rolling != 0.0 && !c.rolling_history());
+  }
+  enum Coefficient { kStiffness, kShear, kDamping, kFriction, kRatio, kRolling, kRollStiffness, kRollDamping,
+                     kMinusInverseK, kCoefficients };
+  HWY_ALIGN double lane[kCoefficients][C::kGroup];
   const std::size_t lanes = hn::Lanes(d);
   for (std::size_t k = 0; k < b.size; k += lanes) {
-    const V ri = Load(d, b, C::kRadiusI, k), rj = Load(d, b, C::kRadiusJ, k);
-    V nx, ny, nz, overlap, vx, vy, vz, r_eff, m_eff;
-    Kinematics(d, b, k, ri, rj, nx, ny, nz, overlap, vx, vy, vz, r_eff, m_eff);
-    // HertzMindlin::evaluate: normal force.
-    const V sqrt_r_overlap = hn::Sqrt(r_eff * overlap);
-    const V stiffness = stiffness_factor * sqrt_r_overlap;
-    const V approach = vx * nx + vy * ny + vz * nz;
-    const V damping_n = damping * hn::Sqrt(m_eff * stiffness);
-    const V fn = MaxOf(zero, stiffness * overlap + damping_n * approach);
-    const V tx = vx - nx * approach, ty = vy - ny * approach, tz = vz - nz * approach;
-    // The spring follows the contact plane, grows with the sliding, and is capped.
-    V ux = Load(d, b, C::kUx, k), uy = Load(d, b, C::kUy, k), uz = Load(d, b, C::kUz, k);
-    const V normal_part = ux * nx + uy * ny + uz * nz;
-    ux = ux - nx * normal_part;
-    uy = uy - ny * normal_part;
-    uz = uz - nz * normal_part;
-    ux = ux + tx * step;
-    uy = uy + ty * step;
-    uz = uz + tz * step;
-    const V kt = shear_factor * sqrt_r_overlap;
-    const V eta_t = damping_n * damping_ratio;
-    const V minus_kt = hn::Neg(kt);
-    V fx = ux * minus_kt - tx * eta_t, fy = uy * minus_kt - ty * eta_t, fz = uz * minus_kt - tz * eta_t;
-    CapAtFriction(d, friction * fn, kt, eta_t, tx, ty, tz, ux, uy, uz, fx, fy, fz);
-    // Rolling resistance, zero when the law has none.
-    V rx = zero, ry = zero, rz = zero;
-    if (spring_dashpot)
-      RollingSpringDashpot(d, b, k, k_roll, gamma_roll, minus_inverse_k, step, rolling_friction * fn, r_eff, nx, ny,
-                           nz, rx, ry, rz);
-    else if (rolling)
-      RollingTorque(d, b, k, minus_rolling, regularisation, r_eff, fn, rx, ry, rz);
-    // Outputs: the spring, the force on i, and both torques (n x F_t is the same for j).
-    Store(d, ux, b, C::kUx, k);
-    Store(d, uy, b, C::kUy, k);
-    Store(d, uz, b, C::kUz, k);
-    Store(d, fx - nx * fn, b, C::kFx, k);
-    Store(d, fy - ny * fn, b, C::kFy, k);
-    Store(d, fz - nz * fn, b, C::kFz, k);
-    const V ax = ny * fz - nz * fy, ay = nz * fx - nx * fz, az = nx * fy - ny * fx;
-    Store(d, ax * ri + rx, b, C::kTix, k);
-    Store(d, ay * ri + ry, b, C::kTiy, k);
-    Store(d, az * ri + rz, b, C::kTiz, k);
-    Store(d, ax * rj - rx, b, C::kTjx, k);
-    Store(d, ay * rj - ry, b, C::kTjy, k);
-    Store(d, az * rj - rz, b, C::kTjz, k);
+    for (std::size_t j = 0; j < lanes; ++j) {
+      // The padding after the last contact takes the first pair's law (its results are ignored).
+      const HertzMindlin& law = std::get<HertzMindlin>(pair_laws[k + j < b.size ? b.pair[k + j] : 0]);
+      const ContactCoefficients& c = law.c;
+      const bool has_rolling = c.rolling != 0.0;
+      lane[kStiffness][j] = (4.0 / 3.0) * c.e_star;
+      lane[kShear][j] = 8.0 * c.g_star;
+      lane[kDamping][j] = c.damping;
+      lane[kFriction][j] = c.friction;
+      lane[kRatio][j] = law.tangential_damping_ratio;
+      lane[kRolling][j] = c.rolling;
+      // A lane without rolling resistance computes with a harmless spring (and is masked out).
+      lane[kRollStiffness][j] = has_rolling && spring_dashpot ? c.rolling_stiffness : 1.0;
+      lane[kRollDamping][j] = has_rolling && spring_dashpot ? c.rolling_damping : 0.0;
+      lane[kMinusInverseK][j] = has_rolling && spring_dashpot ? -1.0 / c.rolling_stiffness : -1.0;
+    }
+    const auto column = [&](Coefficient c) { return hn::Load(d, lane[c]); };
+    const V rolling_friction = column(kRolling);
+    EvaluateLanes(d, b, k, step, column(kStiffness), column(kShear), column(kDamping), column(kFriction),
+                  column(kRatio), rolling_friction, column(kRollStiffness), column(kRollDamping),
+                  column(kMinusInverseK), constant_torque, spring_dashpot, hn::Ne(rolling_friction, zero));
   }
 }
 
@@ -208,6 +266,7 @@ HWY_AFTER_NAMESPACE();
 namespace aggpack {
 
 HWY_EXPORT(EvaluateHertzMindlin);
+HWY_EXPORT(EvaluateHertzMindlinPairs);
 
 void ContactBatch::grow(std::size_t contacts) {
   const std::size_t groups = (std::max(contacts, 2 * entry.size()) + kGroup - 1) / kGroup;
@@ -233,6 +292,11 @@ void evaluate(const HertzMindlin& law, ContactBatch& batch, double dt) {
 
 void evaluate(const SlidingFrictionFu2003& law, ContactBatch& batch, double dt) { evaluate_each(law, batch, dt); }
 
+void evaluate_hertz_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& batch, double dt) {
+  batch.pad();
+  HWY_DYNAMIC_DISPATCH(EvaluateHertzMindlinPairs)(pair_laws, batch, dt);
+}
+
 std::vector<std::string> contact_kernel_targets() {
   std::vector<std::string> names;
   for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) names.emplace_back(hwy::TargetName(target));
@@ -245,15 +309,27 @@ std::string contact_kernel_target() {
   return targets.empty() ? std::string("none") : std::string(hwy::TargetName(targets.front()));
 }
 
-void evaluate_with_target(const std::string& target, const HertzMindlin& law, ContactBatch& batch, double dt) {
+namespace {
+template <class Evaluate>
+void with_target(const std::string& target, const Evaluate& evaluate) {
   for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
     if (target != hwy::TargetName(t)) continue;
     hwy::SetSupportedTargetsForTest(t);
-    evaluate(law, batch, dt);
+    evaluate();
     hwy::SetSupportedTargetsForTest(0);
     return;
   }
   throw std::invalid_argument("evaluate_with_target: " + target + " is not a target of this machine");
+}
+}  // namespace
+
+void evaluate_with_target(const std::string& target, const HertzMindlin& law, ContactBatch& batch, double dt) {
+  with_target(target, [&] { evaluate(law, batch, dt); });
+}
+
+void evaluate_hertz_pairs_with_target(const std::string& target, std::span<const ContactLaw> pair_laws,
+                                      ContactBatch& batch, double dt) {
+  with_target(target, [&] { evaluate_hertz_pairs(pair_laws, batch, dt); });
 }
 
 }  // namespace aggpack

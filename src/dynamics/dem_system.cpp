@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <variant>
 
@@ -355,6 +356,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
       for (std::uint32_t first_row = begin; first_row < end;) {
         const std::uint32_t last_row = gather_contacts(batch, first_row, end, spin_needed);
         if (material_.empty()) evaluate(particle_law, batch, settings_.time_step);
+        else if constexpr (std::is_same_v<Law, HertzMindlin>) evaluate_hertz_pairs(model_.pairs, batch, settings_.time_step);
         else evaluate_pairs<Law>(model_.pairs, batch, settings_.time_step);
         scatter_contacts(batch, first_row, last_row, wall_law);
         first_row = last_row;

@@ -128,5 +128,62 @@ TEST(ContactBatch, VectorKernelGivesTheScalarLawsBitsOnEveryTarget) {
                std::invalid_argument);
 }
 
+// A run of three materials: the vector kernel with each lane's pair coefficients gives
+// evaluate_pairs's bits (each contact with its own pair's law alone) on every target, with
+// pairs of other moduli, friction and restitution, and pairs with and without rolling
+// resistance side by side in one vector (their torque +0 and their history untouched).
+TEST(ContactBatch, PairKernelGivesEachPairsScalarLawBitsOnEveryTarget) {
+  const auto pair_laws = [](bool spring) {
+    std::vector<ContactLaw> laws;
+    for (std::size_t a = 0; a < 3; ++a)
+      for (std::size_t b = 0; b < 3; ++b) {
+        const double rolling = (a + b) % 3 == 0 ? 0.0 : 0.02 * static_cast<double>(a + b);
+        ContactCoefficients c = spring ? spring_dashpot(rolling) : coefficients(rolling);
+        if (spring && rolling == 0.0) c.rolling_stiffness = c.rolling_damping = 0.0;
+        c.e_star = effective_youngs_modulus(50e9 / static_cast<double>(1 + a), 0.25, 70e9 / static_cast<double>(1 + b), 0.2);
+        c.g_star = effective_shear_modulus(50e9 / static_cast<double>(1 + a), 0.25, 70e9 / static_cast<double>(1 + b), 0.2);
+        c.friction = 0.2 + 0.1 * static_cast<double>(a * b);
+        c.damping = damping_for_restitution(0.3 + 0.1 * static_cast<double>(a + b));
+        laws.emplace_back(HertzMindlin(c));
+      }
+    return laws;
+  };
+  for (const bool spring : {false, true}) {
+    const std::vector<ContactLaw> laws = pair_laws(spring);
+    for (const std::size_t count : {std::size_t{1}, std::size_t{7}, std::size_t{1003}}) {
+      ContactBatch reference = random_contacts(count, 23 + count);
+      reference.pair.resize(count);
+      Rng rng(count, 3);
+      for (std::size_t k = 0; k < count; ++k) reference.pair[k] = static_cast<std::uint16_t>(rng.uniform(0.0, 9.0));
+      const ContactBatch input = reference;
+      evaluate_pairs<HertzMindlin>(laws, reference, 1e-6);
+      const std::vector<double> expected = results(reference);
+      for (const std::string& target : contact_kernel_targets()) {
+        ContactBatch vector = input;
+        evaluate_hertz_pairs_with_target(target, laws, vector, 1e-6);
+        const std::vector<double> got = results(vector);
+        ASSERT_EQ(got.size(), expected.size());
+        EXPECT_EQ(0, std::memcmp(got.data(), expected.data(), got.size() * sizeof(double)))
+            << target << (spring ? ", spring-dashpot" : ", constant torque") << ", " << count << " contacts";
+      }
+      // The pairs without rolling resistance kept their histories; the others moved theirs.
+      std::size_t kept = 0, moved = 0;
+      for (std::size_t k = 0; k < count; ++k) {
+        const bool same = reference.at(C::kHx, k) == input.at(C::kHx, k);
+        if (std::get<HertzMindlin>(laws[input.pair[k]]).c.rolling == 0.0) {
+          EXPECT_TRUE(same) << k;
+          kept += same ? 1 : 0;
+        } else {
+          moved += same ? 0 : 1;
+        }
+      }
+      if (count > 100 && spring) {
+        EXPECT_GT(kept, count / 10);
+        EXPECT_GT(moved, count / 2);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace aggpack

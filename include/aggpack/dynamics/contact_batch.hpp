@@ -107,12 +107,17 @@ void evaluate_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& batch, 
 // in the same order.
 void evaluate(const HertzMindlin& law, ContactBatch& batch, double dt);
 void evaluate(const SlidingFrictionFu2003& law, ContactBatch& batch, double dt);
+// evaluate_pairs<HertzMindlin> with the vector kernel, each lane taking its pair's
+// coefficients: the same bits as evaluate_pairs, one pair's law alone per contact.
+void evaluate_hertz_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& batch, double dt);
 
 // The instruction sets the HertzMindlin vector kernel was compiled for that this machine
 // runs, best first, and the one evaluate() uses; evaluate_with_target() forces one (tests).
 std::vector<std::string> contact_kernel_targets();
 std::string contact_kernel_target();
 void evaluate_with_target(const std::string& target, const HertzMindlin& law, ContactBatch& batch, double dt);
+void evaluate_hertz_pairs_with_target(const std::string& target, std::span<const ContactLaw> pair_laws,
+                                      ContactBatch& batch, double dt);
 
 // ---- implementation of the reference ----------------------------------------------------
 
