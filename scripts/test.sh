@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The whole test suite: install, build, run the unit tests and the validation runs (labels
 # "unit" and "validation", a few minutes), then build the same suite with AddressSanitizer
-# and UBSan (the "sanitize" preset, build-sanitize/) and run it again under them, all but
-# `reproduce --quick` (14 minutes under the sanitizers, more than CI's 30 minutes allow;
-# `ctest --preset sanitize` runs it too; docs/validation.md has its result). Runs labelled
-# "long" are left out.
+# and UBSan (the "sanitize" preset, build-sanitize/, at -O1 -g1) and run its "unit" tests
+# again under them (the validation runs check numbers the normal build checks, and cost
+# minutes under the sanitizers: `ctest --preset sanitize -L validation` runs them).
+# Runs labelled "long" are left out.
 # Under CI (CI=true) warnings are errors.
 # Two tests run at once on the two cores, so each gets one OpenMP thread, and threads wait
 # passively (threads spinning on a shared core slow everything down: under the sanitizers two
@@ -20,5 +20,5 @@ OMP_NUM_THREADS=1 OMP_WAIT_POLICY=PASSIVE ctest --test-dir build --output-on-fai
 if [ "${AGGPACK_SKIP_SANITIZE:-}" != "1" ]; then
   cmake --preset sanitize "${werror[@]}" >/dev/null
   cmake --build --preset sanitize
-  ctest --preset sanitize --exclude-regex '^reproduce_quick_and_sweep$'
+  ctest --preset sanitize-unit
 fi

@@ -6,10 +6,12 @@
 #include <string_view>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/text.hpp"
 #include "aggpack/core/units.hpp"
+#include "aggpack/io/dem_calibration_file.hpp"
 
 double length_argument(const std::string& text, const std::string& option, long double bare_unit) {
   std::string why;
@@ -35,6 +37,19 @@ double positive_argument(const std::string& text, const std::string& option) {
   if (error != std::errc() || end != text.data() + text.size() || !(value > 0.0) || !std::isfinite(value))
     throw aggpack::InputError(fmt::format("{} {}: expected a number above 0", option, text));
   return value;
+}
+
+std::vector<double> numbers_argument(const std::string& text, const std::string& option) {
+  std::vector<double> values;
+  for (const std::string& part : list_parts(text)) {
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    if (part.empty() || error != std::errc() || end != part.data() + part.size() || !std::isfinite(value))
+      throw aggpack::InputError(fmt::format("{} {}: \"{}\" is not a number; expected numbers separated by commas", option,
+                                            text, part));
+    values.push_back(value);
+  }
+  return values;
 }
 
 int count_argument(const std::string& text, const std::string& option) {
@@ -82,4 +97,48 @@ aggpack::Box box_argument(const std::string& text, long double bare_unit) {
   if (v.size() != 6 || !(v[3] > v[0] && v[4] > v[1] && v[5] > v[2]))
     throw aggpack::InputError(fmt::format("--box {}: expected xmin,ymin,zmin,xmax,ymax,zmax with max > min", text));
   return {{v[0], v[1], v[2]}, {v[3], v[4], v[5]}};
+}
+
+std::string toml_path(const std::filesystem::path& file) {
+  std::string quoted = "\"";  // a TOML basic string
+  for (const char ch : std::filesystem::absolute(file).string()) {
+    if (ch == '"' || ch == '\\') quoted += '\\';
+    quoted += ch;
+  }
+  return quoted + '"';
+}
+
+CalibrationArguments calibration_arguments(const std::vector<std::string>& files) {
+  CalibrationArguments c;
+  std::vector<std::string> dem, typed;
+  for (const std::string& file : files) {
+    if (aggpack::is_dem_calibration(file)) {
+      dem.push_back(toml_path(file));
+      typed.push_back("--calibration " + file);
+    } else if (c.cpm) {
+      throw aggpack::InputError(fmt::format("--calibration {} and --calibration {}: two of CPM's calibrations give K and "
+                                            "beta twice; give one (DEM calibrations, from calibrate --dem, may be several)",
+                                            c.cpm->string(), file));
+    } else {
+      c.cpm = file;  // read (and refused when it is not one) by the models' own reader
+    }
+  }
+  if (!dem.empty()) {
+    c.calibrated_by = fmt::format("calibrated_by=[{}]", fmt::join(dem, ", "));
+    c.typed = fmt::format("{}", fmt::join(typed, " "));
+  }
+  return c;
+}
+
+void add_run_calibrations(const std::vector<std::string>& files, aggpack::ScenarioOverrides& overrides) {
+  const CalibrationArguments c = calibration_arguments(files);
+  if (c.calibrated_by) {
+    overrides.set.push_back(*c.calibrated_by);
+    overrides.typed_as[*c.calibrated_by] = c.typed;
+  }
+  if (c.cpm) {
+    const std::string models = "models.calibration=" + toml_path(*c.cpm);
+    overrides.set.push_back(models);
+    overrides.typed_as[models] = "--calibration " + c.cpm->string();
+  }
 }

@@ -47,6 +47,7 @@ Subcommand add_run(CLI::App& app) {
   struct Arguments {
     aggpack::RunOptions run;
     std::string scenario, out_dir, seed, stop_after, checkpoint_every;
+    std::vector<std::string> calibrations;
     bool no_checkpoint = false;
   };
   const auto a = std::make_shared<Arguments>();
@@ -56,6 +57,9 @@ Subcommand add_run(CLI::App& app) {
   auto* seed_opt = cmd->add_option("--seed", a->seed, "Random seed, 0 to 2^63-1 (overrides seed)");
   cmd->add_option("--threads", a->run.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
   cmd->add_option("--set", a->run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
+  cmd->add_option("--calibration", a->calibrations,
+                  "A file aggpack calibrate wrote: with --dem, its fitted keys replace the scenario's (calibrated_by; "
+                  "several may be given); else CPM's K and beta for the predictions (models.calibration)");
   auto* stop_opt = cmd->add_option("--stop-after", a->stop_after, "Stop after this stage (deposition, dynamics)");
   cmd->add_flag("--quiet", a->run.quiet, "Print nothing on success");
   cmd->add_flag("--overwrite", a->run.overwrite,
@@ -72,6 +76,7 @@ Subcommand add_run(CLI::App& app) {
             if (*out_opt) run.overrides.output_directory = a->out_dir;
             if (*seed_opt) run.overrides.seed = seed_argument(a->seed);
             if (*stop_opt) run.stop_after = a->stop_after;
+            add_run_calibrations(a->calibrations, run.overrides);
             if (*every_opt)
               run.overrides.set.push_back("output.checkpoint_every=" + seconds_argument(a->checkpoint_every));
             if (a->no_checkpoint) run.overrides.set.push_back("output.checkpoint=false");

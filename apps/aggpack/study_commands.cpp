@@ -2,16 +2,19 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/run/preflight.hpp"
 #include "aggpack/studies/calibration.hpp"
+#include "aggpack/studies/dem_calibration.hpp"
 #include "aggpack/studies/reproduce.hpp"
 #include "aggpack/studies/sweep.hpp"
 #include "aggpack/studies/whole_grading.hpp"
@@ -29,23 +32,75 @@ void check_output_file(const std::string& option, const std::string& target, std
   aggpack::check_output_directory(out.has_parent_path() ? out.parent_path() : ".", true);
 }
 
+struct CalibrateArguments {
+  aggpack::CalibrationOptions calibration;
+  aggpack::DemCalibrationOptions dem;
+  bool by_dem = false;
+  std::optional<double> measured;
+  std::string range, out;
+};
+
+int calibrate_by_dem(CalibrateArguments& a) {
+  if (!a.measured)
+    throw aggpack::InputError("--dem: --measured is missing: the measured packing density of the scenario's "
+                              "bed, which the fit reproduces");
+  aggpack::DemCalibrationOptions& d = a.dem;
+  d.scenario = a.calibration.scenario;
+  d.overrides = a.calibration.overrides;
+  d.seeds = a.calibration.seeds;
+  d.threads = a.calibration.threads;
+  d.quiet = a.calibration.quiet;
+  d.measured = *a.measured;
+  if (!a.range.empty()) d.range = numbers_argument(a.range, "--range");
+  const aggpack::DemCalibration c = aggpack::calibrate_dem(d, std::cout);
+  aggpack::write_file_atomically(a.out, aggpack::to_json(c).dump(1) + "\n");
+  if (!d.quiet)
+    fmt::print("aggpack: calibrated {} of {} = {:.4g} (band {:.4g} to {:.4g}{}) to the measured {:.4f}, from {} values "
+               "x {} seeds of {} ({}){}; wrote {}\n",
+               c.parameter, fmt::join(c.materials, " and "), c.search.value, c.search.band_low, c.search.band_high,
+               c.search.band_clipped ? ", cut at the range's end" : "", c.measured, c.search.evaluations.size(), c.seeds,
+               c.scenario, c.protocol,
+               c.search.converged ? "" : "; NOT CONVERGED: no value came within its standard error of the measurement "
+                                         "(raise --max-runs)",
+               a.out);
+  return 0;
+}
+
 Subcommand add_calibrate(CLI::App& app) {
-  struct Arguments {
-    aggpack::CalibrationOptions calibration;
-    std::string out;
-  };
+  using Arguments = CalibrateArguments;
   const auto a = std::make_shared<Arguments>();
   aggpack::CalibrationOptions& calibration = a->calibration;
   auto* cmd = app.add_subcommand(
-      "calibrate", "CPM's K and beta from simulations of a scenario's protocol: a monosized bed and the scenario's mix");
+      "calibrate",
+      "CPM's K and beta from simulations of a scenario's protocol: a monosized bed and the scenario's mix; with --dem, "
+      "a material's rolling friction or friction fitted by DEM runs to a measured density");
   cmd->add_option("scenario", calibration.scenario, "Scenario of two sizes or more (TOML)")->required();
   cmd->add_option("--out", a->out, "The calibration file to write (JSON)")->required();
   cmd->add_option("--seeds", calibration.seeds, "Seeds per packing (default 3)")->check(CLI::Range(1, 100));
   cmd->add_option("--threads", calibration.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
   cmd->add_option("--set", calibration.overrides.set, "Override a scenario key: key.path=value");
   cmd->add_flag("--quiet", calibration.quiet, "Print nothing on success");
+  auto* dem = cmd->add_flag("--dem", a->by_dem,
+                            "Fit a contact parameter by DEM runs of the scenario's own protocol to --measured");
+  cmd->add_option("--measured", a->measured, "With --dem: the measured packing density of the scenario's bed")
+      ->needs(dem);
+  cmd->add_option("--fit", a->dem.fit, "With --dem: rolling_friction (default) or friction")
+      ->delimiter(',')
+      ->needs(dem);
+  cmd->add_option("--materials", a->dem.materials,
+                  "With --dem: the material(s) whose value is fitted (default: the bed's one material)")
+      ->delimiter(',')
+      ->needs(dem);
+  cmd->add_flag("--shared", a->dem.shared, "With --dem: one value for every material of --materials")->needs(dem);
+  cmd->add_option("--range", a->range,
+                  "With --dem: LOW,HIGH searched (default 0,0.5 for rolling_friction, 0.1,1 for friction)")
+      ->needs(dem);
+  cmd->add_option("--max-runs", a->dem.max_evaluations,
+                  "With --dem: values simulated at most, the range's ends included (default 6; each over --seeds)")
+      ->needs(dem);
   return {cmd, [a] {
             check_output_file("--out", a->out, "the calibration file's name");
+            if (a->by_dem) return calibrate_by_dem(*a);
             const aggpack::Calibration c = aggpack::calibrate(a->calibration, std::cout);
             aggpack::write_file_atomically(a->out, aggpack::to_json(c).dump(1) + "\n");
             if (!a->calibration.quiet)
@@ -61,9 +116,16 @@ Subcommand add_calibrate(CLI::App& app) {
 struct WholeGradingArguments {
   aggpack::WholeGradingOptions whole;
   std::string cuts, out, plot;
+  std::vector<std::string> calibrations;
 };
 
 int whole_grading_command(WholeGradingArguments& a) {
+  const CalibrationArguments calibrations = calibration_arguments(a.calibrations);
+  a.whole.calibration = calibrations.cpm;
+  if (calibrations.calibrated_by) {
+    a.whole.overrides.set.push_back(*calibrations.calibrated_by);
+    a.whole.overrides.typed_as[*calibrations.calibrated_by] = calibrations.typed;
+  }
   a.whole.cut_offs = lengths_argument(a.cuts, "--cut-offs");
   a.whole.cut_off_texts = list_parts(a.cuts);
   for (const auto& [option, target] : {std::pair{"--out", a.out}, std::pair{"--plot", a.plot}})
@@ -90,7 +152,8 @@ Subcommand add_whole_grading(CLI::App& app) {
   cmd->add_option("--cut-offs", a->cuts, "Three or more d_min of the finest grading, e.g. \"0.1in,0.07in,0.04in\"")
       ->required();
   cmd->add_option("--seeds", whole.seeds, "Seeds per cut-off (default 3)")->check(CLI::Range(1, 100));
-  cmd->add_option("--calibration", whole.calibration, "CPM's K and beta from a file aggpack calibrate wrote");
+  cmd->add_option("--calibration", a->calibrations,
+                  "A file aggpack calibrate wrote: CPM's K and beta, or (with --dem) fitted keys for every run");
   cmd->add_option("--out", a->out, "Also write the estimate as JSON to this file");
   cmd->add_option("--plot", a->plot, "Also draw the density against the volume left out to this SVG file");
   cmd->add_option("--threads", whole.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
@@ -162,6 +225,7 @@ Subcommand add_sweep(CLI::App& app) {
   struct Arguments {
     aggpack::SweepOptions sweep;
     std::string out, fa, seeds, cuts, stop_after;
+    std::vector<std::string> calibrations;
   };
   const auto a = std::make_shared<Arguments>();
   aggpack::SweepOptions& sweep = a->sweep;
@@ -174,7 +238,9 @@ Subcommand add_sweep(CLI::App& app) {
   cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
   cmd->add_option("--cut-offs", a->cuts,
                   "Three or more d_min of the fine grading: each blend's whole grading estimated from them");
-  cmd->add_option("--calibration", sweep.calibration, "CPM's K and beta (with --cut-offs) from aggpack calibrate");
+  cmd->add_option("--calibration", a->calibrations,
+                  "A file aggpack calibrate wrote: CPM's K and beta (with --cut-offs), or (with --dem) fitted keys for "
+                  "every run");
   auto* stop_opt =
       cmd->add_option("--stop-after", a->stop_after, "Stop each run after this stage (deposition, dynamics)");
   cmd->add_option("--threads", sweep.threads, "OpenMP threads (default 0: all cores)")->check(thread_range());
@@ -192,6 +258,9 @@ Subcommand add_sweep(CLI::App& app) {
               options.cut_off_texts = list_parts(a->cuts);
             }
             if (*stop_opt) options.stop_after = a->stop_after;
+            const CalibrationArguments calibrations = calibration_arguments(a->calibrations);
+            options.calibration = calibrations.cpm;
+            if (calibrations.calibrated_by) options.sets.push_back(*calibrations.calibrated_by);
             aggpack::sweep(options, std::cout);
             return 0;
           }};

@@ -4,6 +4,7 @@
 #include "aggpack/io/scenario.hpp"
 
 #include <algorithm>
+#include <map>
 #include <limits>
 
 #include <unistd.h>
@@ -64,6 +65,47 @@ toml::table parse_toml(std::string_view text, const std::filesystem::path& file)
     throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
                                  src.begin.column, e.description()));
   }
+}
+
+// calibrated_by: a DEM calibration file or a list of them (relative to the scenario's folder).
+// Each one's assignments replace the scenario's values, after --set. A key given two values (by
+// two files, or by a file and --set) is refused: which one is meant cannot be known.
+std::vector<DemCalibrationFile> apply_calibrations(toml::table& root, const TomlSection& s,
+                                                   const std::filesystem::path& file, ScenarioOrigin& origin) {
+  if (!s.has("calibrated_by")) return {};
+  const toml::node* given = root.get("calibrated_by");
+  const std::vector<std::string> names =
+      given->is_string() ? std::vector<std::string>{*s.string("calibrated_by")} : *s.string_list("calibrated_by");
+  std::map<std::string, std::string> set_by = origin.overrides;  // key -> what set it
+  std::vector<DemCalibrationFile> applied;
+  for (const std::string& name : names) {
+    const std::filesystem::path path = relative_to(file.parent_path(), name);
+    DemCalibrationFile calibration;
+    try {
+      calibration = read_dem_calibration(path);
+    } catch (const InputError& e) {
+      s.fail("calibrated_by", e.what());
+    }
+    for (const std::string& assignment : calibration.assignments) {
+      const std::string key = assignment.substr(0, assignment.find('='));
+      if (key.starts_with("materials.")) {
+        const std::string material = key.substr(10, key.rfind('.') - 10);
+        const toml::table* materials = root.get("materials") ? root.get("materials")->as_table() : nullptr;
+        if (!materials || !materials->get(material))
+          s.fail("calibrated_by", fmt::format("{} sets {}, but this scenario has no [materials.{}]: it calibrated "
+                                              "another scenario's materials",
+                                              path.string(), key, material));
+      }
+      if (const auto other = set_by.find(key); other != set_by.end())
+        s.fail("calibrated_by", fmt::format("{} sets {}, which {} sets too: give each key one value", path.string(),
+                                            key, other->second));
+      const std::string typed = "calibrated_by " + path.string();
+      apply_override(root, assignment, typed, origin);
+      set_by[key] = typed;
+    }
+    applied.push_back(std::move(calibration));
+  }
+  return applied;
 }
 
 // The file's seed, checked even when --seed replaces it.
@@ -201,12 +243,13 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   }
 
   const TomlSection s(root, "", origin);
-  s.allow_only({"title", "seed", "container", "particles", "material", "materials", "material_pairs", "analysis",
+  s.allow_only({"title", "seed", "calibrated_by", "container", "particles", "material", "materials", "material_pairs", "analysis",
                 "output", "deposition", "pour", "tapping", "dynamics", "protocol", "limits", "models"});
 
   Scenario sc;
   sc.file = file;
   sc.overrides = overrides.set;
+  sc.calibrations = apply_calibrations(root, s, file, origin);
   sc.title = s.string("title").value_or(file.stem().string());
   sc.seed = read_seed(s, file, overrides);
   const TomlSection container = s.required(s.table("container"), "container", "a [container] table");

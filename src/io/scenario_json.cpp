@@ -210,6 +210,8 @@ nlohmann::json to_json(const Scenario& sc) {
   if (!sc.materials.empty()) add_materials(j, sc);
   j["analysis"] = analysis_json(sc.analysis);
   j["output"] = output_json(sc.output);
+  for (const DemCalibrationFile& c : sc.calibrations)
+    j["calibrated_by"].push_back({{"file", c.file.string()}, {"assignments", c.assignments}, {"fitted_to", c.fitted_to}});
   return j;
 }
 

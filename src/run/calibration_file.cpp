@@ -8,6 +8,7 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
+#include "aggpack/io/dem_calibration_file.hpp"
 
 namespace aggpack {
 
@@ -34,6 +35,12 @@ ModelParameters parse_calibration(std::string_view text, const std::filesystem::
     return InputError(fmt::format("{}: {}: {}", file.string(), key, what));
   };
   const auto kind = j.is_object() ? j.find("kind") : j.end();
+  if (is_dem_calibration_text(text))
+    throw InputError(fmt::format("{}: a DEM calibration (aggpack calibrate --dem): it sets contact parameters the DEM "
+                                 "uses, which the analytic models do not have; give it to run, sweep or whole-grading "
+                                 "(--calibration, or calibrated_by in the scenario); CPM's K and beta come from "
+                                 "aggpack calibrate without --dem",
+                                 file.string()));
   if (kind == j.end() || !kind->is_string() || kind->get_ref<const std::string&>() != "aggpack CPM calibration")
     throw InputError(fmt::format("{}: not a calibration written by aggpack calibrate (expected \"kind\": \"aggpack CPM "
                                  "calibration\")",

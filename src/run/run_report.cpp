@@ -7,6 +7,7 @@
 #include <variant>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/run/calibration_file.hpp"
 #include "aggpack/analysis/bulk_density.hpp"
@@ -235,6 +236,10 @@ std::vector<std::string> RunReport::modelling_notes() const {
                         : fmt::format("export_lammps: the bed of {} spheres and a LAMMPS deck of the next DEM step ({}) "
                                       "were written into {}; aggpack's own results below do not depend on it",
                                       x.spheres, x.what, x.path));
+  for (const DemCalibrationFile& c : sc.calibrations)
+    notes.push_back(fmt::format("calibrated: {} (in place of the scenario's values): {}. A density predicted with them "
+                                "is validated only on measurements the calibration did not see",
+                                fmt::join(c.assignments, ", "), c.fitted_to));
   if (sc.container.periodic) notes.push_back("periodic sides: x and y wrap, so the packing has no side-wall effect");
   if (r.deposition) {
     notes.push_back(fmt::format(

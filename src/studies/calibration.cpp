@@ -54,8 +54,7 @@ CalibratedParameters solve_calibration(const ModelDistribution& mix, double phi_
                                phi_mono, phi_mix + lowest, phi_mix + highest, k_lo, k_hi, phi_mix));
 }
 
-namespace {
-SimulatedDensities statistics(std::string what, std::vector<double> densities) {
+SimulatedDensities simulated_densities(std::string what, std::vector<double> densities) {
   SimulatedDensities s;
   s.what = std::move(what);
   const SeedStatistics stats = seed_statistics(densities);
@@ -64,7 +63,6 @@ SimulatedDensities statistics(std::string what, std::vector<double> densities) {
   s.standard_error = stats.count > 1 ? stats.sd / std::sqrt(static_cast<double>(stats.count)) : 0.0;
   return s;
 }
-}  // namespace
 
 Calibration calibrate(const CalibrationOptions& options, std::ostream& log) {
   if (options.seeds < 1 || options.seeds > 100)
@@ -109,8 +107,8 @@ Calibration calibrate(const CalibrationOptions& options, std::ostream& log) {
   c.scenario = sc.file.string();
   c.protocol = fmt::format("{}", fmt::join(protocol.stage_names(), ", "));
   c.seeds = static_cast<std::uint64_t>(options.seeds);
-  c.monosized = statistics(fmt::format("monosized, d = {:.6g} m", d), mono_densities);
-  c.mix = statistics("the scenario's mix", mix_densities);
+  c.monosized = simulated_densities(fmt::format("monosized, d = {:.6g} m", d), mono_densities);
+  c.mix = simulated_densities("the scenario's mix", mix_densities);
   const CalibratedParameters best = solve_calibration(mix, c.monosized.mean, c.mix.mean);
   c.compaction_index = best.compaction_index;
   c.beta = best.beta;

@@ -13,6 +13,7 @@
 #include <fstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -89,19 +90,37 @@ class Resume : public ::testing::Test {
   // Returns the exit code (or minus the signal), or nullopt when the run ended first.
   static std::optional<int> run_and_signal_when(const fs::path& scenario, const fs::path& out, const std::string& when,
                                                 int signal_number) {
+    return signal_when({"run", scenario.string(), "--quiet", "--threads", "1", "--checkpoint-every", "0", "--out",
+                        out.string()},
+                       out, when, signal_number);
+  }
+
+  // The same for `aggpack resume out` on `threads` threads: a resumed run killed in its turn.
+  static std::optional<int> resume_and_signal_when(const fs::path& out, const std::string& when, int signal_number,
+                                                   const std::string& threads) {
+    return signal_when({"resume", out.string(), "--quiet", "--threads", threads, "--checkpoint-every", "0"}, out,
+                       when, signal_number);
+  }
+
+  static std::optional<int> signal_when(const std::vector<std::string>& arguments, const fs::path& out,
+                                        const std::string& when, int signal_number) {
+    // The safe point's description is stored as plain text in checkpoint.bin; a resumed run's
+    // checkpoint holds the one it started from until it writes its own.
+    const auto taken_at_when = [&] { return slurp(out / "checkpoint.bin").find(when) != std::string::npos; };
     const pid_t pid = ::fork();
     if (pid == 0) {
       ::freopen("/dev/null", "w", stdout);
       ::freopen("/dev/null", "w", stderr);
-      ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--threads", "1", "--checkpoint-every",
-              "0", "--out", out.c_str(), static_cast<char*>(nullptr));
+      std::vector<char*> argv{const_cast<char*>(AGGPACK_EXE)};
+      for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      ::execv(AGGPACK_EXE, argv.data());
       ::_exit(127);
     }
     int status = 0;
     for (int k = 0; k < 12000; ++k) {  // at most two minutes
       if (::waitpid(pid, &status, WNOHANG) == pid) return std::nullopt;
-      // The safe point's description is stored as plain text in checkpoint.bin.
-      if (slurp(out / "checkpoint.bin").find(when) != std::string::npos) break;
+      if (taken_at_when()) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     ::kill(pid, signal_number);
@@ -135,22 +154,30 @@ TEST_F(Resume, ARunKilledInAnyLoopOfItsProtocolResumesToTheSameBytes) {
   const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   ASSERT_FALSE(fs::exists(reference / "checkpoint.bin"));
-  // "before step 3": between the pour (and its analysis) and the taps, where the checkpoint's
-  // run state holds the DEM system the taps continue, contact history and all.
-  for (const std::string when : {"while pouring, 550 of 1100", "while settling", "before step 3 of 3", "while tap 2 of 2"}) {
-    SCOPED_TRACE("killed " + when);
-    const fs::path out = dir_ / ("killed_" + std::to_string(when.size()));
-    ASSERT_EQ(run_and_signal_when(scenario, out, when, SIGKILL), -SIGKILL) << "the run ended before " << when;
+  // One run killed in each loop in turn, each time resumed (on one thread or two) from the
+  // checkpoint the killed run (or resumed run) left. "before step 3": between the pour (and its
+  // analysis) and the taps, where the checkpoint's run state holds the DEM system the taps
+  // continue, contact history and all.
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "while pouring, 550 of 1100", SIGKILL), -SIGKILL)
+      << "the run ended while pouring";
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+  const std::string threads[] = {"2", "1", "2"};
+  const std::string kill_points[] = {"while settling", "before step 3 of 3", "while tap 2 of 2"};
+  for (std::size_t k = 0; k < 3; ++k) {
+    SCOPED_TRACE("resumed and killed " + kill_points[k]);
+    ASSERT_EQ(resume_and_signal_when(out, kill_points[k], SIGKILL, threads[k]), -SIGKILL)
+        << "the resumed run ended before " << kill_points[k];
     EXPECT_FALSE(fs::exists(out / "summary.json"));
-    const auto resumed = run_cli("resume " + out.string() + " --threads 2");
-    ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
-    EXPECT_NE(resumed.output.find("resuming " + out.string() + " from its checkpoint, taken " + when),
-              std::string::npos)
-        << resumed.output;
-    expect_same_run(reference, out);
-    const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
-    EXPECT_NE(summary.at("resumed_from_checkpoint").get<std::string>().find(when), std::string::npos);
   }
+  const auto resumed = run_cli("resume " + out.string() + " --threads 1");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("resuming " + out.string() + " from its checkpoint, taken while tap 2 of 2"),
+            std::string::npos)
+      << resumed.output;
+  expect_same_run(reference, out);
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_NE(summary.at("resumed_from_checkpoint").get<std::string>().find("while tap 2 of 2"), std::string::npos);
 }
 
 // With frames (output.frame_interval), a run killed while pouring or in a tap's rest and
@@ -224,19 +251,8 @@ TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
   const fs::path out = dir_ / "killed";
   ASSERT_EQ(run_and_signal_when(scenario, out, "before step 4 of 6", SIGKILL), -SIGKILL);
   // The resumed run is killed in its turn, in the last layer's settling.
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::freopen("/dev/null", "w", stdout);
-    ::execl(AGGPACK_EXE, AGGPACK_EXE, "resume", out.c_str(), "--quiet", "--threads", "1", "--checkpoint-every", "0",
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  int status = 0;
-  for (int k = 0; k < 12000 && slurp(out / "checkpoint.bin").find("before step 6 of 6") == std::string::npos; ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  ::kill(pid, SIGKILL);
-  ::waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFSIGNALED(status)) << "the resumed run ended before it was killed";
+  ASSERT_EQ(resume_and_signal_when(out, "before step 6 of 6", SIGKILL, "1"), -SIGKILL)
+      << "the resumed run ended before it was killed";
   const auto resumed = run_cli("resume " + out.string() + " --quiet --threads 1");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
   expect_same_run(reference, out);

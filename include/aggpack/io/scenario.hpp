@@ -16,6 +16,7 @@
 #include "aggpack/dynamics/materials.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/dynamics/tap.hpp"
+#include "aggpack/io/dem_calibration_file.hpp"
 #include "aggpack/io/protocol.hpp"
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
@@ -142,6 +143,7 @@ struct Scenario {
   std::filesystem::path file;
   std::vector<std::string> overrides;  // the --set key=value assignments it was read with, in order
   std::optional<std::filesystem::path> models_calibration;  // [models] calibration: K and beta for the predictions
+  std::vector<DemCalibrationFile> calibrations;  // calibrated_by: DEM calibrations whose values replaced the file's
   std::string title;
   std::uint64_t seed = 1;
   Container container;

@@ -35,6 +35,9 @@ struct SimulatedDensities {
   double mean = 0.0, standard_error = 0.0;
 };
 
+// The densities of seeds 1..N, their mean and the standard error of that mean (0 for one seed).
+SimulatedDensities simulated_densities(std::string what, std::vector<double> densities);
+
 struct Calibration {
   std::string scenario, protocol;  // the scenario file, its stages in order
   std::uint64_t seeds = 0;

@@ -1,0 +1,265 @@
+// calibrate --dem: one contact parameter fitted to one measured density by running the
+// scenario's own protocol through the DEM, and the checks that refuse, before any run, what one
+// measurement cannot fix.
+#include "aggpack/studies/dem_calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/run/protocol.hpp"
+#include "aggpack/studies/campaign.hpp"
+
+namespace aggpack {
+
+std::string material_key(const std::string& parameter) {
+  return parameter == "friction" ? "friction_particle" : parameter;
+}
+
+namespace {
+
+struct Bracket {
+  double value, mean, standard_error;
+};
+
+// Where the line through the bracket's two ends meets `target`.
+double crossing(const Bracket& a, const Bracket& b, double target) {
+  if (a.mean == b.mean) return 0.5 * (a.value + b.value);
+  return a.value + (target - a.mean) * (b.value - a.value) / (b.mean - a.mean);
+}
+
+std::string format_value(double v) { return fmt::format("{:.6g}", v); }
+
+}  // namespace
+
+CrossingSearch find_crossing(const std::function<SimulatedDensities(double)>& density, double low, double high,
+                             double target, int max_evaluations, const std::string& parameter) {
+  CrossingSearch search;
+  const auto evaluate = [&](double value) {
+    search.evaluations.push_back({value, density(value)});
+    const SimulatedDensities& d = search.evaluations.back().density;
+    return Bracket{value, d.mean, d.standard_error};
+  };
+  Bracket a = evaluate(low), b = evaluate(high);  // a: the denser end, b: the looser
+  // Beyond an end by more than its noise: no value of the range reaches the measurement.
+  if (target > a.mean + a.standard_error)
+    throw InputError(fmt::format("the measured density {:.4f} is above the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
+                                 "the densest end of the range: lowering {} further cannot reach it (lower the range's "
+                                 "low end, or look at the protocol: a denser fill, taps)",
+                                 target, a.mean, a.standard_error, parameter, low, parameter));
+  if (target < b.mean - b.standard_error)
+    throw InputError(fmt::format("the measured density {:.4f} is below the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
+                                 "the loosest end of the range: raise the range's high end (--range), or the "
+                                 "grains pack denser than this lever can loosen them",
+                                 target, b.mean, b.standard_error, parameter, high));
+  // Illinois regula falsi: an end kept twice in a row has its distance to the target halved,
+  // so that the bracket closes from both sides.
+  double weight_a = 1.0, weight_b = 1.0;
+  int kept = 0;  // +1: a kept (b moved) last time; -1: b kept
+  for (int k = 2; k < max_evaluations; ++k) {
+    if (std::abs(a.mean - target) <= a.standard_error || std::abs(b.mean - target) <= b.standard_error) {
+      search.converged = true;
+      break;
+    }
+    const double fa = weight_a * (a.mean - target), fb = weight_b * (b.mean - target);
+    double x = a.value - fa * (b.value - a.value) / (fb - fa);
+    // Never at an end: a tenth of the bracket from either.
+    const double margin = 0.1 * (b.value - a.value);
+    x = std::clamp(x, a.value + margin, b.value - margin);
+    const Bracket m = evaluate(x);
+    if (m.mean >= target) {  // still denser than measured: the crossing lies above x
+      a = m, weight_a = 1.0;
+      weight_b = kept == -1 ? 0.5 * weight_b : 1.0;
+      kept = -1;
+    } else {
+      b = m, weight_b = 1.0;
+      weight_a = kept == 1 ? 0.5 * weight_a : 1.0;
+      kept = 1;
+    }
+  }
+  if (!search.converged)
+    search.converged =
+        std::abs(a.mean - target) <= a.standard_error || std::abs(b.mean - target) <= b.standard_error;
+  search.value = std::clamp(crossing(a, b, target), low, high);
+  const double noise = std::max(a.standard_error, b.standard_error);
+  const double x1 = crossing(a, b, target - noise), x2 = crossing(a, b, target + noise);
+  search.band_low = std::min(x1, x2), search.band_high = std::max(x1, x2);
+  search.band_clipped = search.band_low < low || search.band_high > high;
+  search.band_low = std::clamp(search.band_low, low, high);
+  search.band_high = std::clamp(search.band_high, low, high);
+  return search;
+}
+
+namespace {
+
+bool has_dem_step(const Protocol& protocol) {
+  return std::any_of(protocol.steps.begin(), protocol.steps.end(), [](const Step& s) {
+    return std::holds_alternative<PourStep>(s.kind) || std::holds_alternative<SettleStep>(s.kind) ||
+           std::holds_alternative<TapStep>(s.kind);
+  });
+}
+
+// The materials whose value is fitted, checked against the scenario: each one of its
+// materials, some component made of it, and no [[material_pairs]] entry overriding the fitted
+// parameter for a pair of it (the fit would not move that pair).
+std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrationOptions& options,
+                                          const std::string& parameter) {
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < material_count(sc); ++k) names.push_back(material_name(sc, k));
+  const std::vector<std::size_t> used = used_materials(sc);
+  std::vector<std::string> used_names;
+  for (const std::size_t k : used) used_names.push_back(names[k]);
+  std::vector<std::size_t> fitted;
+  if (options.materials.empty()) {
+    if (used.size() > 1)
+      throw InputError(fmt::format(
+          "{}: the bed is made of {} materials ({}): one measured density cannot fix the {} of each. Name the one "
+          "to fit (--materials {}; the others keep the scenario's values, from the literature or their own "
+          "calibration), or fit one value for all (--materials {} --shared)",
+          sc.file.string(), used.size(), fmt::join(used_names, ", "), parameter, used_names.back(),
+          fmt::join(used_names, ",")));
+    fitted = used;
+  } else {
+    for (const std::string& name : options.materials) {
+      const auto at = std::find(names.begin(), names.end(), name);
+      if (at == names.end())
+        throw InputError(fmt::format("--materials {}: not a material of {} (its materials: {})", name,
+                                     sc.file.string(), fmt::join(names, ", ")));
+      const auto k = static_cast<std::size_t>(at - names.begin());
+      if (std::find(used.begin(), used.end(), k) == used.end())
+        throw InputError(fmt::format("--materials {}: no component of {} is made of it, so its {} does not move the "
+                                     "bed (the bed's materials: {})",
+                                     name, sc.file.string(), parameter, fmt::join(used_names, ", ")));
+      if (std::find(fitted.begin(), fitted.end(), k) == fitted.end()) fitted.push_back(k);
+    }
+    if (fitted.size() > 1 && !options.shared)
+      throw InputError(fmt::format(
+          "--materials {}: one measured density cannot fix {} unknowns (the {} of each). Fit one of them (the others "
+          "keep the scenario's values), calibrate each on a measurement of its own component alone, or fit one "
+          "value for all of them (--shared)",
+          fmt::join(options.materials, ","), fitted.size(), parameter));
+  }
+  for (const MaterialPairCoefficients& pair : sc.material_pairs) {
+    const bool fitted_pair = std::find(fitted.begin(), fitted.end(), pair.first) != fitted.end() ||
+                             std::find(fitted.begin(), fitted.end(), pair.second) != fitted.end();
+    const auto& given = parameter == "friction" ? pair.friction : pair.rolling_friction;
+    if (fitted_pair && given)
+      throw InputError(fmt::format("{}: [[material_pairs]] sets the {} of {} and {}, which the fit of {} would not "
+                                   "move: leave that pair to the mixing rule, or fit another parameter",
+                                   sc.file.string(), parameter, names[pair.first], names[pair.second],
+                                   material_key(parameter)));
+  }
+  return fitted;
+}
+
+// The scenario keys that give the fitted materials `value`.
+std::vector<std::string> assignments_for(const Scenario& sc, const std::vector<std::size_t>& fitted,
+                                         const std::string& parameter, double value) {
+  std::vector<std::string> out;
+  for (const std::size_t k : fitted)
+    out.push_back(fmt::format("{}.{}={}", k == 0 ? std::string("material") : "materials." + material_name(sc, k),
+                              material_key(parameter), format_value(value)));
+  return out;
+}
+
+}  // namespace
+
+DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream& log) {
+  // Everything one measurement cannot fix, or the DEM cannot run, is refused before any run.
+  if (options.fit.size() != 1)
+    throw InputError(fmt::format("--fit {}: one measured density cannot fix {} unknowns: fit one parameter (the "
+                                 "other keeps the scenario's value), or calibrate on a second measurement",
+                                 fmt::join(options.fit, ","), options.fit.size()));
+  const std::string& parameter = options.fit.front();
+  if (parameter != "rolling_friction" && parameter != "friction")
+    throw InputError(fmt::format("--fit {}: expected rolling_friction or friction", parameter));
+  if (!(options.measured > 0.0 && options.measured < 1.0))
+    throw InputError(fmt::format("--measured {}: expected a packing density between 0 and 1", options.measured));
+  if (options.seeds < 1 || options.seeds > 100)
+    throw InputError(fmt::format("--seeds {}: expected 1 to 100", options.seeds));
+  if (options.max_evaluations < 3 || options.max_evaluations > 30)
+    throw InputError(fmt::format("--max-runs {}: expected 3 to 30 values", options.max_evaluations));
+  const std::vector<double> range =
+      options.range.value_or(parameter == "friction" ? std::vector<double>{0.1, 1.0} : std::vector<double>{0.0, 0.5});
+  if (range.size() != 2 || !(range[0] >= 0.0 && range[1] > range[0] && std::isfinite(range[1])) ||
+      (parameter == "friction" && !(range[0] > 0.0)))
+    throw InputError(fmt::format("--range {}: expected LOW,HIGH with 0 {} LOW < HIGH", fmt::join(range, ","),
+                                 parameter == "friction" ? "<" : "<="));
+  const Scenario sc = load_scenario(options.scenario, options.overrides);
+  const Protocol protocol = scenario_protocol(sc);
+  if (!has_dem_step(protocol))
+    throw InputError(fmt::format("{}: its protocol ({}) has no DEM step: friction and rolling friction act only in "
+                                 "the DEM (give the scenario a [pour], or a [dynamics] settling, or [tapping])",
+                                 sc.file.string(), fmt::join(protocol.stage_names(), ", ")));
+  const std::vector<std::size_t> fitted = fitted_materials(sc, options, parameter);
+  const auto scenario_at = [&](double value) {
+    ScenarioOverrides o = options.overrides;
+    for (const std::string& a : assignments_for(sc, fitted, parameter, value)) o.set.push_back(a);
+    return load_scenario(options.scenario, o);
+  };
+  for (const double end : range) (void)scenario_at(end);  // both ends are scenarios the DEM takes
+
+  DemCalibration c;
+  c.scenario = sc.file.string();
+  c.protocol = fmt::format("{}", fmt::join(protocol.stage_names(), ", "));
+  c.parameter = parameter;
+  for (const std::size_t k : fitted) c.materials.push_back(material_name(sc, k));
+  c.measured = options.measured;
+  c.seeds = static_cast<std::uint64_t>(options.seeds);
+  c.range_low = range[0], c.range_high = range[1];
+  Campaign campaign(options.threads, options.quiet, log,
+                    static_cast<std::size_t>(options.max_evaluations) * static_cast<std::size_t>(options.seeds));
+  const auto density = [&](double value) {
+    const Scenario at = scenario_at(value);
+    const std::string what = fmt::format("{} = {}", parameter, format_value(value));
+    std::vector<double> per_seed;
+    for (int seed = 1; seed <= options.seeds; ++seed) {
+      const CaseRun run = campaign.run(what, at, static_cast<std::uint64_t>(seed), [&](const CaseRun& r) {
+        return fmt::format("  calibrate --dem: {}, seed {}: density {:.4f}", what, seed, r.final_density());
+      });
+      per_seed.push_back(run.final_density());
+    }
+    return simulated_densities(what, per_seed);
+  };
+  c.search = find_crossing(density, range[0], range[1], options.measured, options.max_evaluations, parameter);
+  campaign.clear_progress();
+  c.assignments = assignments_for(sc, fitted, parameter, c.search.value);
+  return c;
+}
+
+nlohmann::json to_json(const DemCalibration& c) {
+  nlohmann::json evaluations = nlohmann::json::array();
+  for (const DemEvaluation& e : c.search.evaluations)
+    evaluations.push_back({{"value", e.value},
+                           {"density_per_seed", e.density.density},
+                           {"mean", e.density.mean},
+                           {"standard_error", e.density.standard_error}});
+  return {{"aggpack_version", kVersion},
+          {"kind", kDemCalibrationKind},
+          {"scenario_file", c.scenario},
+          {"protocol", c.protocol},
+          {"seeds", c.seeds},
+          {"measured", {{"density", c.measured}, {"of", "the scenario's bed"}}},
+          {"fit",
+           {{"parameter", c.parameter},
+            {"materials", c.materials},
+            {"shared", c.materials.size() > 1},
+            {"value", c.search.value},
+            {"band", {c.search.band_low, c.search.band_high}},
+            {"band_clipped_at_range", c.search.band_clipped},
+            {"converged", c.search.converged},
+            {"range", {c.range_low, c.range_high}},
+            {"search", "regula falsi (Illinois) on the seed mean, the same seeds for every value; the value where the "
+                       "line between the last bracket's ends meets the measured density; the band, the same at the "
+                       "measured density -+ the larger standard error of the two ends' means"}}},
+          {"evaluations", evaluations},
+          {"assignments", c.assignments}};
+}
+
+}  // namespace aggpack
