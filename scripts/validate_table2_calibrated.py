@@ -12,7 +12,7 @@ grid values around it), and the other seven mixes are predicted at that mu_r. Pr
 tables and writes OUT/table2_calibrated.json.
 
 The bed is reduced so that the study fits in about an hour on two cores (stated in every
-output): sand and stone cut at 0.1 in, a 4 in container filled to 4 in, cubes of 1.6-1.8 in.
+output): sand and stone cut at 0.1 in, a 4 in container filled to 4 in, cubes of 1.4-1.6 in.
 The carry to the whole grading is CPM's own: carried = simulated + (CPM of the whole grading -
 CPM of the simulated distribution), i.e. the whole-grading fit of `aggpack whole-grading` with
 one cut-off and the residual's slope taken as zero.
@@ -39,7 +39,7 @@ REDUCED = [
     'container.side="4 in"',
     'container.height="10 in"',
     'particles.fill_height="4 in"',
-    'analysis.box_sides=["1.6 in", "1.7 in", "1.8 in"]',
+    'analysis.box_sides=["1.4 in", "1.5 in", "1.6 in"]',
     "output.formats=[]",
 ]
 

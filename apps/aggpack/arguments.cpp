@@ -9,6 +9,7 @@
 #include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/io/dem_calibration_file.hpp"
@@ -112,7 +113,8 @@ CalibrationArguments calibration_arguments(const std::vector<std::string>& files
   CalibrationArguments c;
   std::vector<std::string> dem, typed;
   for (const std::string& file : files) {
-    if (aggpack::is_dem_calibration(file)) {
+    // Routed by its kind; a file that cannot be read is refused here, naming it.
+    if (aggpack::is_dem_calibration_text(aggpack::read_input_text(file, "the calibration", std::uintmax_t{1} << 20))) {
       dem.push_back(toml_path(file));
       typed.push_back("--calibration " + file);
     } else if (c.cpm) {

@@ -34,14 +34,6 @@ bool is_dem_calibration_text(std::string_view text) {
   return kind != j.end() && kind->is_string() && kind->get_ref<const std::string&>() == kDemCalibrationKind;
 }
 
-bool is_dem_calibration(const std::filesystem::path& file) {
-  try {
-    return is_dem_calibration_text(read_input_text(file, "the calibration", kMaxCalibrationBytes));
-  } catch (const InputError&) {
-    return false;
-  }
-}
-
 DemCalibrationFile parse_dem_calibration(std::string_view text, const std::filesystem::path& file) {
   const nlohmann::json j = parsed(text);
   if (j.is_discarded()) throw InputError(fmt::format("{}: not JSON (expected a file aggpack calibrate --dem wrote)", file.string()));

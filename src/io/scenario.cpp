@@ -237,6 +237,16 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
 Scenario parse_scenario(std::string_view text, const std::filesystem::path& file, const ScenarioOverrides& overrides) {
   ScenarioOrigin origin{file.string(), {}};
   toml::table root = parse_toml(text, file);
+  // The command line's calibration files replace the scenario's list: refused rather than one
+  // list silently dropped.
+  for (const auto& assignment : overrides.set)
+    if (assignment.starts_with("calibrated_by=") && root.contains("calibrated_by")) {
+      const auto typed = overrides.typed_as.find(assignment);
+      throw InputError(fmt::format("{}: the scenario has calibrated_by, and {} would replace it: name every calibration "
+                                   "file in one place (the scenario's calibrated_by, or --calibration)",
+                                   file.string(),
+                                   typed != overrides.typed_as.end() ? typed->second : "--set " + assignment));
+    }
   for (const auto& assignment : overrides.set) {
     const auto typed = overrides.typed_as.find(assignment);
     apply_override(root, assignment, typed != overrides.typed_as.end() ? typed->second : "--set " + assignment, origin);

@@ -318,7 +318,8 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
   }
 }
 
-std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vector<double>& radii) {
+std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vector<double>& radii,
+                                std::string_view calibrations) {
   std::uint64_t hash = 0xcbf29ce484222325ull;  // FNV-1a over the bytes
   const auto add = [&](const void* data, std::size_t bytes) {
     const auto* p = static_cast<const unsigned char*>(data);
@@ -327,6 +328,7 @@ std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vecto
   add(particles.position.data(), particles.position.size() * sizeof(Vec3));
   add(particles.radius.data(), particles.radius.size() * sizeof(double));
   add(radii.data(), radii.size() * sizeof(double));
+  add(calibrations.data(), calibrations.size());
   return hash;
 }
 

@@ -98,11 +98,15 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   context_.radii = drop_radii(initial);
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
   context_.material_densities = material_densities(sc);
-  const std::uint64_t fingerprint = input_fingerprint(report_.particles, context_.radii);
+  std::string calibrated;  // the values its calibration files gave the scenario
+  for (const DemCalibrationFile& c : sc.calibrations)
+    for (const std::string& assignment : c.assignments) calibrated += assignment + '\n';
+  const std::uint64_t fingerprint = input_fingerprint(report_.particles, context_.radii, calibrated);
   const Checkpoint* resume = controls.resume_from;
   if (resume && resume->inputs_fingerprint != fingerprint)
-    throw InputError(fmt::format("{}: the run's starting bed is not the one its checkpoint began from: a particle or "
-                                 "grading file the scenario reads has changed since; run the scenario again",
+    throw InputError(fmt::format("{}: the run's starting bed or calibration is not the one its checkpoint began from: "
+                                 "a particle, grading or calibration file the scenario reads has changed since; run "
+                                 "the scenario again",
                                  sc.file.string()));
   // The calibration the predictions will read at the end, read now: a bad file fails before the work.
   if (sc.models_calibration) (void)read_calibration(*sc.models_calibration);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <set>
 
 #include <fmt/format.h>
@@ -50,9 +51,12 @@ CrossingSearch find_crossing(const std::function<SimulatedDensities(double)>& de
   // Beyond an end by more than its noise: no value of the range reaches the measurement.
   if (target > a.mean + a.standard_error)
     throw InputError(fmt::format("the measured density {:.4f} is above the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
-                                 "the densest end of the range: lowering {} further cannot reach it (lower the range's "
-                                 "low end, or look at the protocol: a denser fill, taps)",
-                                 target, a.mean, a.standard_error, parameter, low, parameter));
+                                 "the densest end of the range: {}",
+                                 target, a.mean, a.standard_error, parameter, low,
+                                 low > 0.0 ? "lower the range's low end (--range), or the protocol packs looser than "
+                                             "the lab's (a denser fill, taps)"
+                                           : "no value of this lever reaches it; the protocol packs looser than the "
+                                             "lab's (a denser fill, taps), or another lever is too high"));
   if (target < b.mean - b.standard_error)
     throw InputError(fmt::format("the measured density {:.4f} is below the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
                                  "the loosest end of the range: raise the range's high end (--range), or the "
@@ -116,6 +120,12 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
   std::vector<std::string> used_names;
   for (const std::size_t k : used) used_names.push_back(names[k]);
   std::vector<std::size_t> fitted;
+  // A bed read from a file takes its materials from the file's column: any of the scenario's may be in it.
+  const bool from_file = sc.particles.file.has_value();
+  if (options.materials.empty() && from_file && names.size() > 1)
+    throw InputError(fmt::format("{}: the bed's materials come from its particle file: name the one to fit "
+                                 "(--materials NAME; the scenario's materials: {})",
+                                 sc.file.string(), fmt::join(names, ", ")));
   if (options.materials.empty()) {
     if (used.size() > 1)
       throw InputError(fmt::format(
@@ -132,7 +142,7 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
         throw InputError(fmt::format("--materials {}: not a material of {} (its materials: {})", name,
                                      sc.file.string(), fmt::join(names, ", ")));
       const auto k = static_cast<std::size_t>(at - names.begin());
-      if (std::find(used.begin(), used.end(), k) == used.end())
+      if (!from_file && std::find(used.begin(), used.end(), k) == used.end())
         throw InputError(fmt::format("--materials {}: no component of {} is made of it, so its {} does not move the "
                                      "bed (the bed's materials: {})",
                                      name, sc.file.string(), parameter, fmt::join(used_names, ", ")));
@@ -145,9 +155,13 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
           "value for all of them (--shared)",
           fmt::join(options.materials, ","), fitted.size(), parameter));
   }
+  const auto in = [](const std::vector<std::size_t>& list, std::size_t k) {
+    return std::find(list.begin(), list.end(), k) != list.end();
+  };
   for (const MaterialPairCoefficients& pair : sc.material_pairs) {
-    const bool fitted_pair = std::find(fitted.begin(), fitted.end(), pair.first) != fitted.end() ||
-                             std::find(fitted.begin(), fitted.end(), pair.second) != fitted.end();
+    // A pair of the bed (both materials in it) with a fitted material.
+    const bool occurs = from_file || (in(used, pair.first) && in(used, pair.second));
+    const bool fitted_pair = occurs && (in(fitted, pair.first) || in(fitted, pair.second));
     const auto& given = parameter == "friction" ? pair.friction : pair.rolling_friction;
     if (fitted_pair && given)
       throw InputError(fmt::format("{}: [[material_pairs]] sets the {} of {} and {}, which the fit of {} would not "
@@ -155,7 +169,38 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
                                    sc.file.string(), parameter, names[pair.first], names[pair.second],
                                    material_key(parameter)));
   }
+  // A key the scenario's own calibration already sets cannot be fitted again on top of it.
+  for (const std::size_t k : fitted) {
+    const std::string key = fmt::format("{}.{}", k == 0 ? std::string("material") : "materials." + names[k],
+                                        material_key(parameter));
+    for (const DemCalibrationFile& c : sc.calibrations)
+      for (const std::string& a : c.assignments)
+        if (a.starts_with(key + "="))
+          throw InputError(fmt::format("{}: its calibrated_by {} already sets {}: calibrate the scenario without that "
+                                       "file",
+                                       sc.file.string(), c.file.string(), key));
+  }
   return fitted;
+}
+
+// The value of `parameter` of material k in a scenario.
+double parameter_of(const Scenario& sc, std::size_t k, const std::string& parameter) {
+  const ContactParameters& c = material_of(sc, k).contact;
+  return parameter == "friction" ? c.friction_particle : c.rolling_friction;
+}
+
+// The fit moves the fitted materials only: a named material that takes the key from [material]
+// (it does not set it) would move with a fit of `default`.
+void check_others_kept(const Scenario& sc, const Scenario& moved, const std::vector<std::size_t>& fitted,
+                       const std::string& parameter) {
+  for (const std::size_t k : used_materials(sc))
+    if (std::find(fitted.begin(), fitted.end(), k) == fitted.end() &&
+        parameter_of(sc, k, parameter) != parameter_of(moved, k, parameter))
+      throw InputError(fmt::format("{}: [materials.{}] takes its {} from [material], so fitting default would move "
+                                   "it too: give [materials.{}] its own {}, or fit both (--materials default,{} "
+                                   "--shared)",
+                                   sc.file.string(), material_name(sc, k), material_key(parameter),
+                                   material_name(sc, k), material_key(parameter), material_name(sc, k)));
 }
 
 // The scenario keys that give the fitted materials `value`.
@@ -181,8 +226,10 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
     throw InputError(fmt::format("--fit {}: expected rolling_friction or friction", parameter));
   if (!(options.measured > 0.0 && options.measured < 1.0))
     throw InputError(fmt::format("--measured {}: expected a packing density between 0 and 1", options.measured));
-  if (options.seeds < 1 || options.seeds > 100)
-    throw InputError(fmt::format("--seeds {}: expected 1 to 100", options.seeds));
+  if (options.seeds < 2 || options.seeds > 100)
+    throw InputError(fmt::format("--seeds {}: expected 2 to 100 with --dem: the seeds' scatter is the noise the fit's "
+                                 "band is made of",
+                                 options.seeds));
   if (options.max_evaluations < 3 || options.max_evaluations > 30)
     throw InputError(fmt::format("--max-runs {}: expected 3 to 30 values", options.max_evaluations));
   const std::vector<double> range =
@@ -200,10 +247,21 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
   const std::vector<std::size_t> fitted = fitted_materials(sc, options, parameter);
   const auto scenario_at = [&](double value) {
     ScenarioOverrides o = options.overrides;
-    for (const std::string& a : assignments_for(sc, fitted, parameter, value)) o.set.push_back(a);
+    for (const std::string& a : assignments_for(sc, fitted, parameter, value)) {
+      o.set.push_back(a);
+      o.typed_as[a] = fmt::format("the fit's value ({} = {})", parameter, format_value(value));
+    }
     return load_scenario(options.scenario, o);
   };
-  for (const double end : range) (void)scenario_at(end);  // both ends are scenarios the DEM takes
+  for (const double end : range) {  // both ends are scenarios the DEM takes, and move the fitted materials only
+    std::optional<Scenario> at_end;
+    try {
+      at_end = scenario_at(end);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("at {} = {:g}, an end of the range (--range): {}", parameter, end, e.what()));
+    }
+    check_others_kept(sc, *at_end, fitted, parameter);
+  }
 
   DemCalibration c;
   c.scenario = sc.file.string();

@@ -111,6 +111,23 @@ TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
   const std::string paired = write("paired.toml", std::string(kStoneAndSand) +
                                                       "[[material_pairs]]\nmaterials = [\"sand\", \"stone\"]\n"
                                                       "rolling_friction = 0.2\n").string();
+  // Stones of [material] and sand grains that take their rolling friction from it.
+  const std::string inherit =
+      write("inherit.toml", "[container]\nside = 0.04\nheight = 0.3\n[particles]\nclasses = [{ diameter = 0.01, "
+                            "count = 40 }, { diameter = 0.006, count = 80, material = \"sand\" }]\n[material]\n"
+                            "youngs_modulus = 1e8\n[materials.sand]\nfriction_particle = 0.4\n[dynamics]\n[pour]\n")
+          .string();
+  // A scenario whose calibrated_by already gives the sand its rolling friction.
+  const nlohmann::json sand{{"kind", "aggpack DEM calibration"},
+                            {"scenario_file", "two.toml"},
+                            {"protocol", "pour"},
+                            {"seeds", 2},
+                            {"measured", {{"density", 0.6}, {"of", "the scenario's bed"}}},
+                            {"fit", {{"parameter", "rolling_friction"}, {"value", 0.2}, {"band", {0.1, 0.3}}}},
+                            {"assignments", {"materials.sand.rolling_friction=0.2"}}};
+  write("sand.json", sand.dump());
+  const std::string calibrated =
+      write("calibrated.toml", "calibrated_by = \"sand.json\"\n" + std::string(kStoneAndSand)).string();
   const fs::path out = dir_ / "c.json";
   const std::string to = " --out " + out.string();
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases{
@@ -133,6 +150,11 @@ TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
       {"calibrate " + two + " --dem --measured 0.6 --materials sand --range 0.3,0.1" + to, {"--range 0.3,0.1", "LOW < HIGH"}},
       {"calibrate " + two + " --dem --measured 0.6 --materials sand --range 0.1,x" + to, {"--range 0.1,x", "\"x\""}},
       {"calibrate " + two + " --dem --measured 0.6 --materials sand --fit mass" + to, {"--fit mass", "rolling_friction or friction"}},
+      {"calibrate " + two + " --dem --measured 0.6 --materials sand --seeds 1" + to, {"--seeds 1", "2 to 100"}},
+      {"calibrate " + inherit + " --dem --measured 0.6 --materials default" + to,
+       {"[materials.sand] takes its rolling_friction from [material]", "--materials default,sand --shared"}},
+      {"calibrate " + calibrated + " --dem --measured 0.6 --materials sand" + to,
+       {"calibrated_by", "sand.json already sets materials.sand.rolling_friction"}},
   };
   for (const auto& [command, words] : cases) {
     SCOPED_TRACE(command);
@@ -147,7 +169,7 @@ TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
 // A measurement beyond what the range's ends give: said after the two runs of the ends, with no file.
 TEST_F(CliCalibration, SaysWhenTheMeasurementIsOutOfTheLeversReach) {
   const fs::path scenario = write("poured.toml", kPoured);
-  const auto r = run_cli("calibrate " + scenario.string() + " --dem --measured 0.75 --seeds 1 --threads 1 --out " +
+  const auto r = run_cli("calibrate " + scenario.string() + " --dem --measured 0.75 --seeds 2 --threads 1 --out " +
                          (dir_ / "c.json").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("the measured density 0.7500 is above the simulated"), std::string::npos) << r.output;
@@ -177,6 +199,21 @@ TEST_F(CliCalibration, SweepAndWholeGradingGiveItToEveryRun) {
         << r.output;
   }
   EXPECT_FALSE(fs::exists(dir_ / "sweep"));
+  // A scenario's own calibrated_by and --calibration: one list would replace the other.
+  const fs::path scenario = write("calibrated.toml", "calibrated_by = \"gravel.json\"\n" + std::string(kPoured));
+  const auto both = run_cli("run " + scenario.string() + " --calibration " + file.string() + " --out " +
+                            (dir_ / "both").string());
+  EXPECT_EQ(both.exit_code, 2) << both.output;
+  EXPECT_NE(both.output.find("the scenario has calibrated_by, and --calibration " + file.string() + " would replace it"),
+            std::string::npos)
+      << both.output;
+  // A calibration file that is not there is named.
+  const auto missing = run_cli("run " + std::string(AGGPACK_EXAMPLES) + "/example1.toml --calibration " +
+                               (dir_ / "none.json").string() + " --out " + (dir_ / "missing").string());
+  EXPECT_EQ(missing.exit_code, 2) << missing.output;
+  EXPECT_NE(missing.output.find((dir_ / "none.json").string()), std::string::npos) << missing.output;
+  EXPECT_FALSE(fs::exists(dir_ / "both"));
+  EXPECT_FALSE(fs::exists(dir_ / "missing"));
 }
 
 }  // namespace

@@ -380,16 +380,36 @@ TEST_F(Resume, RefusesWhatItCannotContinue) {
           << (k == 199 ? last_z : 0.006 + 0.014 * (k / 25)) << ",0.005\n";
   };
   write_bed(0.2);
-  const fs::path from_file = write_scenario(
-      "from_file", "[container]\nside = 0.08\nheight = 0.3\n[particles]\nfrom = \"bed.csv\"\n[material]\n"
-                   "youngs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 100\n"
-                   "quiet_kinetic_fraction = 1e-30\n[analysis]\nbox_sides = [0.01]\n");
+  const std::string settling = "[container]\nside = 0.08\nheight = 0.3\n[particles]\nfrom = \"bed.csv\"\n[material]\n"
+                               "youngs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 100\n"
+                               "quiet_kinetic_fraction = 1e-30\n[analysis]\nbox_sides = [0.01]\n";
+  const fs::path from_file = write_scenario("from_file", settling);
   const fs::path settled = dir_ / "settled";
   ASSERT_EQ(run_and_signal_when(from_file, settled, "while settling", SIGKILL), -SIGKILL);
   write_bed(0.21);
   const auto r = run_cli("resume " + settled.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("a particle or grading file the scenario reads has changed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a particle, grading or calibration file the scenario reads has changed"), std::string::npos)
+      << r.output;
+  // A calibration file refitted since the checkpoint: the run would go on with other physics.
+  write_bed(0.2);
+  const auto calibration = [&](double value) {
+    std::ofstream(dir_ / "cal.json")
+        << R"({"kind": "aggpack DEM calibration", "scenario_file": "s.toml", "protocol": "settle", "seeds": 2,
+               "measured": {"density": 0.6, "of": "the bed"},
+               "fit": {"parameter": "rolling_friction", "value": 0.1, "band": [0.05, 0.15]},
+               "assignments": ["material.rolling_friction=)"
+        << value << R"("]})";
+  };
+  calibration(0.1);
+  const fs::path calibrated = write_scenario("calibrated", "calibrated_by = \"cal.json\"\n" + settling);
+  const fs::path killed = dir_ / "calibrated_run";
+  ASSERT_EQ(run_and_signal_when(calibrated, killed, "while settling", SIGKILL), -SIGKILL);
+  calibration(0.2);
+  const auto refitted = run_cli("resume " + killed.string());
+  EXPECT_EQ(refitted.exit_code, 2) << refitted.output;
+  EXPECT_NE(refitted.output.find("calibration file the scenario reads has changed"), std::string::npos)
+      << refitted.output;
 }
 
 // A damaged checkpoint.bin is refused: exit 2 and "checkpoint.bin is damaged; run again

@@ -22,8 +22,6 @@ inline constexpr std::string_view kDemCalibrationKind = "aggpack DEM calibration
 
 // Whether `text` is a DEM calibration (its "kind"), as opposed to CPM's (`calibrate` without --dem).
 [[nodiscard]] bool is_dem_calibration_text(std::string_view text);
-// Whether the file is a DEM calibration; false for anything else (read_dem_calibration says why).
-[[nodiscard]] bool is_dem_calibration(const std::filesystem::path& file);
 // Reads and checks the file: InputError naming the file and the key when it is not one.
 DemCalibrationFile read_dem_calibration(const std::filesystem::path& file);
 DemCalibrationFile parse_dem_calibration(std::string_view text, const std::filesystem::path& file);

@@ -32,7 +32,7 @@ struct Checkpoint {
   std::string scenario_text;
   ScenarioOverrides overrides;
   std::optional<std::string> stop_after;
-  std::uint64_t inputs_fingerprint = 0;  // of the bed the run started from (input_fingerprint)
+  std::uint64_t inputs_fingerprint = 0;  // of the bed the run started from and its calibrations (input_fingerprint)
   std::string where;                     // "before step 2 of 3", "while settling at 0.1230 s simulated"
   std::uint64_t steps_completed = 0;     // protocol steps done before the safe point
   // As read back (writing streams them into the file instead, encode_checkpoint):
@@ -79,7 +79,10 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
 
 // A hash of the bed and the drop sequence a run starts from: a resumed run must start from
 // the same (its particle or grading files unchanged).
-std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vector<double>& radii);
+// `calibrations`: the values the scenario's calibration files gave it (a file refitted since the
+// checkpoint would continue the run with other physics).
+std::uint64_t input_fingerprint(const ParticleStore& particles, const std::vector<double>& radii,
+                                std::string_view calibrations = {});
 
 // Writes a run's checkpoints: at a safe point once `every_seconds` of wall clock have passed
 // since the last one (0: at every safe point), and at the safe point where a stop was
