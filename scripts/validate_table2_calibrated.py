@@ -20,7 +20,7 @@ one cut-off and the residual's slope taken as zero.
 Runs are resumable: a run whose summary.json exists is not run again.
 
 Usage: scripts/validate_table2_calibrated.py OUT [--values 0,0.1,0.2,0.35] [--seeds 2]
-       [--workers 2] [--set KEY=VALUE ...]
+       [--workers 2] [--fit sand|shared] [--set KEY=VALUE ...]
 """
 import argparse
 import concurrent.futures
@@ -50,11 +50,12 @@ def table2():
     return sorted(rows, key=lambda r: float(r["fa_percent"]))
 
 
-def run_one(exe, out, mix, value, seed, extra_sets, core):
+def run_one(exe, out, mix, value, seed, extra_sets, core, fitted):
     folder = os.path.join(out, "runs", f"mix{mix['mix_id']}_mu{value:g}_seed{seed}")
     summary = os.path.join(folder, "summary.json")
     if not os.path.exists(summary):
-        sets = REDUCED + [f"particles.ca_fa={mix['ca_fa']}", f"materials.sand.rolling_friction={value}"] + extra_sets
+        sets = REDUCED + [f"particles.ca_fa={mix['ca_fa']}"] + [f"materials.{m}.rolling_friction={value}"
+                                                               for m in fitted] + extra_sets
         command = ["taskset", "-c", str(core), exe, "run", SCENARIO, "--seed", str(seed), "--threads", "1",
                    "--quiet", "--no-checkpoint", "--overwrite", "--out", folder]
         for s in sets:
@@ -111,6 +112,8 @@ def main():
     p.add_argument("--seeds", type=int, default=2)
     p.add_argument("--workers", type=int, default=2)
     p.add_argument("--set", action="append", default=[])
+    p.add_argument("--fit", choices=["sand", "shared"], default="sand",
+                   help="the sand's mu_r (the stone's kept at 0.2), or one mu_r for stone and sand")
     p.add_argument("--exe", default=os.path.join(ROOT, "build", "aggpack"))
     a = p.parse_args()
     values = [float(v) for v in a.values.split(",")]
@@ -121,7 +124,8 @@ def main():
     with concurrent.futures.ThreadPoolExecutor(a.workers) as pool:
         futures = []
         for k, (m, v, s) in enumerate(jobs):
-            futures.append(pool.submit(run_one, a.exe, a.out, m, v, s, a.set, k % a.workers))
+            fitted = ["sand"] if a.fit == "sand" else ["sand", "stone"]
+            futures.append(pool.submit(run_one, a.exe, a.out, m, v, s, a.set, k % a.workers, fitted))
         for f in futures:
             results.append(f.result())
             r = results[-1]
@@ -138,7 +142,7 @@ def main():
             rows.append((v, *mean_se(carried), mean_se(simulated)[0]))
         curve[m["mix_id"]] = rows
 
-    print(f"Reduced bed: {'; '.join(REDUCED)}; {a.seeds} seeds; the sand's mu_r fitted, the stone's 0.2; "
+    print(f"Reduced bed: {'; '.join(REDUCED)}; {a.seeds} seeds; {'the sand' + chr(39) + 's mu_r fitted, the stone' + chr(39) + 's 0.2' if a.fit == 'sand' else 'one mu_r for stone and sand'}; "
           f"wall {wall / 60:.1f} min for {len(jobs)} runs ({a.workers} at a time)\n")
     print("| mix | Fa % | measured | " + " | ".join(f"mu_r {v:g}: at the cut / carried" for v in values) + " |")
     print("| --- | --- | --- | " + " | ".join("---" for _ in values) + " |")
@@ -186,7 +190,7 @@ def main():
         print(f"\nMedian choice (by MAE): mix {median['mix']}: MAE {median['mae']:.4f} (target <= 0.015), slope "
               f"{median['slope_per_10']:+.4f} per 10 points (target within 0.005 of -0.020)")
     with open(os.path.join(a.out, "table2_calibrated.json"), "w") as f:
-        json.dump({"reduced_bed": REDUCED, "extra_sets": a.set, "values": values, "seeds": a.seeds,
+        json.dump({"reduced_bed": REDUCED, "fit": a.fit, "extra_sets": a.set, "values": values, "seeds": a.seeds,
                    "wall_seconds": wall, "runs": results, "choices": choices,
                    "carry": "simulated + CPM(whole grading) - CPM(simulated distribution)"}, f, indent=1)
 

@@ -653,13 +653,15 @@ TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
   for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
            {"--cut-offs 0.2in,0.12in", "expected three or more"},
            {"--cut-offs 0.2in,0.2in,0.12in", "given twice"},
-           {"--calibration x.json", "with --cut-offs only"}}) {
+           {"--calibration " + (dir_.parent_path() / "aggpack_sweep_cpm.json").string(), "with --cut-offs only"}}) {
     fs::remove_all(dir_);
+    std::ofstream(dir_.parent_path() / "aggpack_sweep_cpm.json") << R"({"kind": "aggpack CPM calibration"})";
     const Result bad = run("sweep " + scenario + " --fa 30,45 --out " + dir_.string() + " " + args);
     EXPECT_EQ(bad.exit_code, 2) << args << "\n" << bad.output;
     EXPECT_NE(bad.output.find(words), std::string::npos) << args << "\n" << bad.output;
     EXPECT_FALSE(fs::exists(dir_ / "sweep.json"));
   }
+  fs::remove(dir_.parent_path() / "aggpack_sweep_cpm.json");
 }
 
 TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
