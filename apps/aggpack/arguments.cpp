@@ -118,8 +118,9 @@ CalibrationArguments calibration_arguments(const std::vector<std::string>& files
       dem.push_back(toml_path(file));
       typed.push_back("--calibration " + file);
     } else if (c.cpm) {
-      throw aggpack::InputError(fmt::format("--calibration {} and --calibration {}: two of CPM's calibrations give K and "
-                                            "beta twice; give one (DEM calibrations, from calibrate --dem, may be several)",
+      throw aggpack::InputError(fmt::format("--calibration {} and --calibration {}: two of CPM's calibrations give K "
+                                            "and beta twice; give one (DEM calibrations, from calibrate --dem, may be "
+                                            "several)",
                                             c.cpm->string(), file));
     } else {
       c.cpm = file;  // read (and refused when it is not one) by the models' own reader

@@ -58,8 +58,8 @@ int calibrate_by_dem(CalibrateArguments& a) {
     fmt::print("aggpack: calibrated {} of {} = {:.4g} (band {:.4g} to {:.4g}{}) to the measured {:.4f}, from {} values "
                "x {} seeds of {} ({}); wrote {}\n",
                c.parameter, fmt::join(c.materials, " and "), c.search.value, c.search.band_low, c.search.band_high,
-               c.search.band_clipped ? ", cut at the range's end" : "", c.measured, c.search.evaluations.size(), c.seeds,
-               c.scenario, c.protocol, a.out);
+               c.search.band_clipped ? ", cut at the range's end" : "", c.measured, c.search.evaluations.size(),
+               c.seeds, c.scenario, c.protocol, a.out);
   if (!c.search.converged)  // even when quiet: the value is an interpolation the runs did not confirm
     fmt::print(stderr, "aggpack: warning: NOT CONVERGED: no value's seed mean came within its standard error of the "
                        "measurement in {} values; the value is interpolated between the last two (raise --max-runs)\n",

@@ -2,12 +2,12 @@
 // it may have been edited), and the line that says what they were fitted to.
 #include "aggpack/io/dem_calibration_file.hpp"
 
-#include <cmath>
-#include <regex>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <cmath>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
@@ -36,10 +36,12 @@ bool is_dem_calibration_text(std::string_view text) {
 
 DemCalibrationFile parse_dem_calibration(std::string_view text, const std::filesystem::path& file) {
   const nlohmann::json j = parsed(text);
-  if (j.is_discarded()) throw InputError(fmt::format("{}: not JSON (expected a file aggpack calibrate --dem wrote)", file.string()));
+  if (j.is_discarded())
+    throw InputError(fmt::format("{}: not JSON (expected a file aggpack calibrate --dem wrote)", file.string()));
   if (!is_dem_calibration_text(text))
-    throw InputError(fmt::format("{}: not a DEM calibration written by aggpack calibrate --dem (expected \"kind\": \"{}\")",
-                                 file.string(), kDemCalibrationKind));
+    throw InputError(
+        fmt::format("{}: not a DEM calibration written by aggpack calibrate --dem (expected \"kind\": \"{}\")",
+                    file.string(), kDemCalibrationKind));
   const auto fail = [&](std::string_view key, const std::string& what) {
     return InputError(fmt::format("{}: {}: {}", file.string(), key, what));
   };
@@ -63,11 +65,13 @@ DemCalibrationFile parse_dem_calibration(std::string_view text, const std::files
   c.file = file;
   // Only the two levers calibrate fits, of [material] or a named material: a calibration file
   // sets nothing else in a scenario.
-  static const std::regex kAssignment(R"(^(material|materials\.[A-Za-z0-9_]+)\.(rolling_friction|friction_particle)=(.+)$)");
+  static const std::regex kAssignment(
+      R"(^(material|materials\.[A-Za-z0-9_]+)\.(rolling_friction|friction_particle)=(.+)$)");
   const nlohmann::json& assignments = member(j, "", "assignments", is_array, "a list of \"key=value\" strings");
   for (std::size_t i = 0; i < assignments.size(); ++i) {
     const std::string key = fmt::format("assignments[{}]", i);
-    if (!assignments[i].is_string()) throw fail(key, fmt::format("{}; expected a \"key=value\" string", described(assignments[i])));
+    if (!assignments[i].is_string())
+      throw fail(key, fmt::format("{}; expected a \"key=value\" string", described(assignments[i])));
     const std::string& a = assignments[i].get_ref<const std::string&>();
     std::smatch m;
     double value = NAN;
@@ -81,9 +85,10 @@ DemCalibrationFile parse_dem_calibration(std::string_view text, const std::files
       }
     }
     if (!(value >= 0.0 && std::isfinite(value)))
-      throw fail(key, fmt::format("\"{}\"; expected material.KEY=VALUE or materials.NAME.KEY=VALUE, KEY rolling_friction "
-                                  "or friction_particle, VALUE a number >= 0",
-                                  a));
+      throw fail(key,
+                 fmt::format("\"{}\"; expected material.KEY=VALUE or materials.NAME.KEY=VALUE, KEY rolling_friction "
+                             "or friction_particle, VALUE a number >= 0",
+                             a));
     c.assignments.push_back(a);
   }
   const nlohmann::json& measured = member(j, "", "measured", is_object, "an object");
@@ -95,12 +100,15 @@ DemCalibrationFile parse_dem_calibration(std::string_view text, const std::files
   const nlohmann::json& band = member(fit, "fit", "band", is_band, "[low, high]");
   const std::string& scenario = member(j, "", "scenario_file", is_string, "a string").get_ref<const std::string&>();
   const std::string& protocol = member(j, "", "protocol", is_string, "a string").get_ref<const std::string&>();
-  const auto seeds = member(j, "", "seeds", [](const nlohmann::json& v) { return v.is_number_unsigned(); },
-                            "a count of seeds").get<std::uint64_t>();
-  c.fitted_to = fmt::format("{} = {:.4g} (band {:.4g} to {:.4g}) fitted by aggpack calibrate --dem to the measured "
-                            "density {:.4g} of {} ({}; {}; {} seed{}) [{}]",
-                            parameter, value, band[0].get<double>(), band[1].get<double>(), density, of, scenario,
-                            protocol, seeds, seeds == 1 ? "" : "s", file.string());
+  const auto seeds =
+      member(
+          j, "", "seeds", [](const nlohmann::json& v) { return v.is_number_unsigned(); }, "a count of seeds")
+          .get<std::uint64_t>();
+  c.fitted_to = fmt::format(
+      "{} = {:.4g} (band {:.4g} to {:.4g}) fitted by aggpack calibrate --dem to the measured "
+      "density {:.4g} of {} ({}; {}; {} seed{}) [{}]",
+      parameter, value, band[0].get<double>(), band[1].get<double>(), density, of, scenario, protocol, seeds,
+      seeds == 1 ? "" : "s", file.string());
   return c;
 }
 

@@ -242,8 +242,8 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   for (const auto& assignment : overrides.set)
     if (assignment.starts_with("calibrated_by=") && root.contains("calibrated_by")) {
       const auto typed = overrides.typed_as.find(assignment);
-      throw InputError(fmt::format("{}: the scenario has calibrated_by, and {} would replace it: name every calibration "
-                                   "file in one place (the scenario's calibrated_by, or --calibration)",
+      throw InputError(fmt::format("{}: the scenario has calibrated_by, and {} would replace it: name every "
+                                   "calibration file in one place (the scenario's calibrated_by, or --calibration)",
                                    file.string(),
                                    typed != overrides.typed_as.end() ? typed->second : "--set " + assignment));
     }
@@ -253,8 +253,8 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   }
 
   const TomlSection s(root, "", origin);
-  s.allow_only({"title", "seed", "calibrated_by", "container", "particles", "material", "materials", "material_pairs", "analysis",
-                "output", "deposition", "pour", "tapping", "dynamics", "protocol", "limits", "models"});
+  s.allow_only({"title", "seed", "calibrated_by", "container", "particles", "material", "materials", "material_pairs",
+                "analysis", "output", "deposition", "pour", "tapping", "dynamics", "protocol", "limits", "models"});
 
   Scenario sc;
   sc.file = file;

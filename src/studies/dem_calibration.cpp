@@ -3,14 +3,14 @@
 // measurement cannot fix.
 #include "aggpack/studies/dem_calibration.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <set>
-
-#include <fmt/format.h>
-#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
@@ -35,7 +35,9 @@ double crossing(const Bracket& a, const Bracket& b, double target) {
   return a.value + (target - a.mean) * (b.value - a.value) / (b.mean - a.mean);
 }
 
-std::string format_value(double v) { return fmt::format("{:.6g}", v); }
+std::string format_value(double v) {
+  return fmt::format("{:.6g}", v);
+}
 
 }  // namespace
 
@@ -50,18 +52,20 @@ CrossingSearch find_crossing(const std::function<SimulatedDensities(double)>& de
   Bracket a = evaluate(low), b = evaluate(high);  // a: the denser end, b: the looser
   // Beyond an end by more than its noise: no value of the range reaches the measurement.
   if (target > a.mean + a.standard_error)
-    throw InputError(fmt::format("the measured density {:.4f} is above the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
-                                 "the densest end of the range: {}",
-                                 target, a.mean, a.standard_error, parameter, low,
-                                 low > 0.0 ? "lower the range's low end (--range), or the protocol packs looser than "
-                                             "the lab's (a denser fill, taps)"
-                                           : "no value of this lever reaches it; the protocol packs looser than the "
-                                             "lab's (a denser fill, taps), or another lever is too high"));
+    throw InputError(
+        fmt::format("the measured density {:.4f} is above the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
+                    "the densest end of the range: {}",
+                    target, a.mean, a.standard_error, parameter, low,
+                    low > 0.0 ? "lower the range's low end (--range), or the protocol packs looser than "
+                                "the lab's (a denser fill, taps)"
+                              : "no value of this lever reaches it; the protocol packs looser than the "
+                                "lab's (a denser fill, taps), or another lever is too high"));
   if (target < b.mean - b.standard_error)
-    throw InputError(fmt::format("the measured density {:.4f} is below the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
-                                 "the loosest end of the range: raise the range's high end (--range), or the "
-                                 "grains pack denser than this lever can loosen them",
-                                 target, b.mean, b.standard_error, parameter, high));
+    throw InputError(
+        fmt::format("the measured density {:.4f} is below the simulated {:.4f} (+- {:.4f}) at {} = {:g}, "
+                    "the loosest end of the range: raise the range's high end (--range), or the "
+                    "grains pack denser than this lever can loosen them",
+                    target, b.mean, b.standard_error, parameter, high));
   // Illinois regula falsi: an end kept twice in a row has its distance to the target halved,
   // so that the bracket closes from both sides.
   double weight_a = 1.0, weight_b = 1.0;
@@ -88,8 +92,7 @@ CrossingSearch find_crossing(const std::function<SimulatedDensities(double)>& de
     }
   }
   if (!search.converged)
-    search.converged =
-        std::abs(a.mean - target) <= a.standard_error || std::abs(b.mean - target) <= b.standard_error;
+    search.converged = std::abs(a.mean - target) <= a.standard_error || std::abs(b.mean - target) <= b.standard_error;
   search.value = std::clamp(crossing(a, b, target), low, high);
   const double noise = std::max(a.standard_error, b.standard_error);
   const double x1 = crossing(a, b, target - noise), x2 = crossing(a, b, target + noise);
@@ -109,6 +112,45 @@ bool has_dem_step(const Protocol& protocol) {
   });
 }
 
+// The scenario key of material k's `parameter`: material.rolling_friction, materials.sand.friction_particle.
+std::string key_of(const Scenario& sc, std::size_t k, const std::string& parameter) {
+  return fmt::format("{}.{}", k == 0 ? std::string("material") : "materials." + material_name(sc, k),
+                     material_key(parameter));
+}
+
+// Nothing else gives the fitted materials' parameter a value the fit would not move: a
+// [[material_pairs]] entry of a pair of the bed, or the scenario's own calibrated_by.
+void check_nothing_else_sets(const Scenario& sc, const std::vector<std::size_t>& fitted, const std::string& parameter) {
+  const std::vector<std::size_t> used = used_materials(sc);
+  const bool from_file = sc.particles.file.has_value();
+  const auto in = [](const std::vector<std::size_t>& list, std::size_t k) {
+    return std::find(list.begin(), list.end(), k) != list.end();
+  };
+  for (const MaterialPairCoefficients& pair : sc.material_pairs) {
+    // A pair of the bed (both materials in it) with a fitted material.
+    const bool occurs = from_file || (in(used, pair.first) && in(used, pair.second));
+    const bool fitted_pair = occurs && (in(fitted, pair.first) || in(fitted, pair.second));
+    const auto& given = parameter == "friction" ? pair.friction : pair.rolling_friction;
+    if (fitted_pair && given)
+      throw InputError(
+          fmt::format("{}: [[material_pairs]] sets the {} of {} and {}, which the fit of {} would not "
+                      "move: leave that pair to the mixing rule, or fit another parameter",
+                      sc.file.string(), parameter, material_name(sc, pair.first), material_name(sc, pair.second),
+                      material_key(parameter)));
+  }
+  // A key the scenario's own calibration already sets cannot be fitted again on top of it.
+  for (const std::size_t k : fitted) {
+    const std::string key = key_of(sc, k, parameter);
+    for (const DemCalibrationFile& c : sc.calibrations)
+      for (const std::string& a : c.assignments)
+        if (a.starts_with(key + "="))
+          throw InputError(
+              fmt::format("{}: its calibrated_by {} already sets {}: calibrate the scenario without that "
+                          "file",
+                          sc.file.string(), c.file.string(), key));
+  }
+}
+
 // The materials whose value is fitted, checked against the scenario: each one of its
 // materials, some component made of it, and no [[material_pairs]] entry overriding the fitted
 // parameter for a pair of it (the fit would not move that pair).
@@ -123,9 +165,10 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
   // A bed read from a file takes its materials from the file's column: any of the scenario's may be in it.
   const bool from_file = sc.particles.file.has_value();
   if (options.materials.empty() && from_file && names.size() > 1)
-    throw InputError(fmt::format("{}: the bed's materials come from its particle file: name the one to fit "
-                                 "(--materials NAME; the scenario's materials: {})",
-                                 sc.file.string(), fmt::join(names, ", ")));
+    throw InputError(
+        fmt::format("{}: the bed's materials come from its particle file: name the one to fit "
+                    "(--materials NAME; the scenario's materials: {})",
+                    sc.file.string(), fmt::join(names, ", ")));
   if (options.materials.empty()) {
     if (used.size() > 1)
       throw InputError(fmt::format(
@@ -139,13 +182,14 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
     for (const std::string& name : options.materials) {
       const auto at = std::find(names.begin(), names.end(), name);
       if (at == names.end())
-        throw InputError(fmt::format("--materials {}: not a material of {} (its materials: {})", name,
-                                     sc.file.string(), fmt::join(names, ", ")));
+        throw InputError(fmt::format("--materials {}: not a material of {} (its materials: {})", name, sc.file.string(),
+                                     fmt::join(names, ", ")));
       const auto k = static_cast<std::size_t>(at - names.begin());
       if (!from_file && std::find(used.begin(), used.end(), k) == used.end())
-        throw InputError(fmt::format("--materials {}: no component of {} is made of it, so its {} does not move the "
-                                     "bed (the bed's materials: {})",
-                                     name, sc.file.string(), parameter, fmt::join(used_names, ", ")));
+        throw InputError(
+            fmt::format("--materials {}: no component of {} is made of it, so its {} does not move the "
+                        "bed (the bed's materials: {})",
+                        name, sc.file.string(), parameter, fmt::join(used_names, ", ")));
       if (std::find(fitted.begin(), fitted.end(), k) == fitted.end()) fitted.push_back(k);
     }
     if (fitted.size() > 1 && !options.shared)
@@ -155,31 +199,7 @@ std::vector<std::size_t> fitted_materials(const Scenario& sc, const DemCalibrati
           "value for all of them (--shared)",
           fmt::join(options.materials, ","), fitted.size(), parameter));
   }
-  const auto in = [](const std::vector<std::size_t>& list, std::size_t k) {
-    return std::find(list.begin(), list.end(), k) != list.end();
-  };
-  for (const MaterialPairCoefficients& pair : sc.material_pairs) {
-    // A pair of the bed (both materials in it) with a fitted material.
-    const bool occurs = from_file || (in(used, pair.first) && in(used, pair.second));
-    const bool fitted_pair = occurs && (in(fitted, pair.first) || in(fitted, pair.second));
-    const auto& given = parameter == "friction" ? pair.friction : pair.rolling_friction;
-    if (fitted_pair && given)
-      throw InputError(fmt::format("{}: [[material_pairs]] sets the {} of {} and {}, which the fit of {} would not "
-                                   "move: leave that pair to the mixing rule, or fit another parameter",
-                                   sc.file.string(), parameter, names[pair.first], names[pair.second],
-                                   material_key(parameter)));
-  }
-  // A key the scenario's own calibration already sets cannot be fitted again on top of it.
-  for (const std::size_t k : fitted) {
-    const std::string key = fmt::format("{}.{}", k == 0 ? std::string("material") : "materials." + names[k],
-                                        material_key(parameter));
-    for (const DemCalibrationFile& c : sc.calibrations)
-      for (const std::string& a : c.assignments)
-        if (a.starts_with(key + "="))
-          throw InputError(fmt::format("{}: its calibrated_by {} already sets {}: calibrate the scenario without that "
-                                       "file",
-                                       sc.file.string(), c.file.string(), key));
-  }
+  check_nothing_else_sets(sc, fitted, parameter);
   return fitted;
 }
 
@@ -196,20 +216,19 @@ void check_others_kept(const Scenario& sc, const Scenario& moved, const std::vec
   for (const std::size_t k : used_materials(sc))
     if (std::find(fitted.begin(), fitted.end(), k) == fitted.end() &&
         parameter_of(sc, k, parameter) != parameter_of(moved, k, parameter))
-      throw InputError(fmt::format("{}: [materials.{}] takes its {} from [material], so fitting default would move "
-                                   "it too: give [materials.{}] its own {}, or fit both (--materials default,{} "
-                                   "--shared)",
-                                   sc.file.string(), material_name(sc, k), material_key(parameter),
-                                   material_name(sc, k), material_key(parameter), material_name(sc, k)));
+      throw InputError(
+          fmt::format("{}: [materials.{}] takes its {} from [material], so fitting default would move "
+                      "it too: give [materials.{}] its own {}, or fit both (--materials default,{} "
+                      "--shared)",
+                      sc.file.string(), material_name(sc, k), material_key(parameter), material_name(sc, k),
+                      material_key(parameter), material_name(sc, k)));
 }
 
 // The scenario keys that give the fitted materials `value`.
 std::vector<std::string> assignments_for(const Scenario& sc, const std::vector<std::size_t>& fitted,
                                          const std::string& parameter, double value) {
   std::vector<std::string> out;
-  for (const std::size_t k : fitted)
-    out.push_back(fmt::format("{}.{}={}", k == 0 ? std::string("material") : "materials." + material_name(sc, k),
-                              material_key(parameter), format_value(value)));
+  for (const std::size_t k : fitted) out.push_back(key_of(sc, k, parameter) + "=" + format_value(value));
   return out;
 }
 
@@ -218,18 +237,20 @@ std::vector<std::string> assignments_for(const Scenario& sc, const std::vector<s
 DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream& log) {
   // Everything one measurement cannot fix, or the DEM cannot run, is refused before any run.
   if (options.fit.size() != 1)
-    throw InputError(fmt::format("--fit {}: one measured density cannot fix {} unknowns: fit one parameter (the "
-                                 "other keeps the scenario's value), or calibrate on a second measurement",
-                                 fmt::join(options.fit, ","), options.fit.size()));
+    throw InputError(
+        fmt::format("--fit {}: one measured density cannot fix {} unknowns: fit one parameter (the "
+                    "other keeps the scenario's value), or calibrate on a second measurement",
+                    fmt::join(options.fit, ","), options.fit.size()));
   const std::string& parameter = options.fit.front();
   if (parameter != "rolling_friction" && parameter != "friction")
     throw InputError(fmt::format("--fit {}: expected rolling_friction or friction", parameter));
   if (!(options.measured > 0.0 && options.measured < 1.0))
     throw InputError(fmt::format("--measured {}: expected a packing density between 0 and 1", options.measured));
   if (options.seeds < 2 || options.seeds > 100)
-    throw InputError(fmt::format("--seeds {}: expected 2 to 100 with --dem: the seeds' scatter is the noise the fit's "
-                                 "band is made of",
-                                 options.seeds));
+    throw InputError(
+        fmt::format("--seeds {}: expected 2 to 100 with --dem: the seeds' scatter is the noise the fit's "
+                    "band is made of",
+                    options.seeds));
   if (options.max_evaluations < 3 || options.max_evaluations > 30)
     throw InputError(fmt::format("--max-runs {}: expected 3 to 30 values", options.max_evaluations));
   const std::vector<double> range =
@@ -241,9 +262,10 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
   const Scenario sc = load_scenario(options.scenario, options.overrides);
   const Protocol protocol = scenario_protocol(sc);
   if (!has_dem_step(protocol))
-    throw InputError(fmt::format("{}: its protocol ({}) has no DEM step: friction and rolling friction act only in "
-                                 "the DEM (give the scenario a [pour], or a [dynamics] settling, or [tapping])",
-                                 sc.file.string(), fmt::join(protocol.stage_names(), ", ")));
+    throw InputError(
+        fmt::format("{}: its protocol ({}) has no DEM step: friction and rolling friction act only in "
+                    "the DEM (give the scenario a [pour], or a [dynamics] settling, or [tapping])",
+                    sc.file.string(), fmt::join(protocol.stage_names(), ", ")));
   const std::vector<std::size_t> fitted = fitted_materials(sc, options, parameter);
   const auto scenario_at = [&](double value) {
     ScenarioOverrides o = options.overrides;
@@ -313,9 +335,10 @@ nlohmann::json to_json(const DemCalibration& c) {
             {"band_clipped_at_range", c.search.band_clipped},
             {"converged", c.search.converged},
             {"range", {c.range_low, c.range_high}},
-            {"search", "regula falsi (Illinois) on the seed mean, the same seeds for every value; the value where the "
-                       "line between the last bracket's ends meets the measured density; the band, the same at the "
-                       "measured density -+ the larger standard error of the two ends' means"}}},
+            {"search",
+             "regula falsi (Illinois) on the seed mean, the same seeds for every value; the value where the "
+             "line between the last bracket's ends meets the measured density; the band, the same at the "
+             "measured density -+ the larger standard error of the two ends' means"}}},
           {"evaluations", evaluations},
           {"assignments", c.assignments}};
 }

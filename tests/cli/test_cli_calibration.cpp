@@ -79,8 +79,10 @@ TEST_F(CliCalibration, FindsTheRollingFrictionThatMadeTheMeasurementAndARunTakes
   EXPECT_EQ(c["assignments"][0].get<std::string>().rfind("material.rolling_friction=", 0), 0u);
 
   // Each value was the scenario's own run at that seed: seed 1 at the range's low end, again.
-  const auto plain = run_cli("run " + scenario.string() + " --set material.rolling_friction=0 --quiet --threads 1 "
-                             "--out " + (dir_ / "plain").string());
+  const auto plain = run_cli("run " + scenario.string() +
+                             " --set material.rolling_friction=0 --quiet --threads 1 "
+                             "--out " +
+                             (dir_ / "plain").string());
   ASSERT_EQ(plain.exit_code, 0) << plain.output;
   EXPECT_EQ(json_of(dir_ / "plain" / "summary.json")["density"]["mean"], evaluations[0]["density_per_seed"][0]);
 
@@ -106,16 +108,20 @@ TEST_F(CliCalibration, FindsTheRollingFrictionThatMadeTheMeasurementAndARunTakes
 TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
   const std::string two = write("two.toml", kStoneAndSand).string();
   const std::string deposited =
-      write("deposited.toml", "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 100\n"
-                              "[deposition]\n").string();
+      write("deposited.toml",
+            "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 100\n"
+            "[deposition]\n")
+          .string();
   const std::string paired = write("paired.toml", std::string(kStoneAndSand) +
                                                       "[[material_pairs]]\nmaterials = [\"sand\", \"stone\"]\n"
-                                                      "rolling_friction = 0.2\n").string();
+                                                      "rolling_friction = 0.2\n")
+                                 .string();
   // Stones of [material] and sand grains that take their rolling friction from it.
   const std::string inherit =
-      write("inherit.toml", "[container]\nside = 0.04\nheight = 0.3\n[particles]\nclasses = [{ diameter = 0.01, "
-                            "count = 40 }, { diameter = 0.006, count = 80, material = \"sand\" }]\n[material]\n"
-                            "youngs_modulus = 1e8\n[materials.sand]\nfriction_particle = 0.4\n[dynamics]\n[pour]\n")
+      write("inherit.toml",
+            "[container]\nside = 0.04\nheight = 0.3\n[particles]\nclasses = [{ diameter = 0.01, "
+            "count = 40 }, { diameter = 0.006, count = 80, material = \"sand\" }]\n[material]\n"
+            "youngs_modulus = 1e8\n[materials.sand]\nfriction_particle = 0.4\n[dynamics]\n[pour]\n")
           .string();
   // A scenario whose calibrated_by already gives the sand its rolling friction.
   const nlohmann::json sand{{"kind", "aggpack DEM calibration"},
@@ -147,9 +153,11 @@ TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
       {"calibrate " + two + " --dem --measured 1.2 --materials sand" + to, {"--measured 1.2", "between 0 and 1"}},
       {"calibrate " + two + " --dem --materials sand" + to, {"--measured is missing"}},
       {"calibrate " + two + " --measured 0.6" + to, {"--measured", "--dem"}},
-      {"calibrate " + two + " --dem --measured 0.6 --materials sand --range 0.3,0.1" + to, {"--range 0.3,0.1", "LOW < HIGH"}},
+      {"calibrate " + two + " --dem --measured 0.6 --materials sand --range 0.3,0.1" + to,
+       {"--range 0.3,0.1", "LOW < HIGH"}},
       {"calibrate " + two + " --dem --measured 0.6 --materials sand --range 0.1,x" + to, {"--range 0.1,x", "\"x\""}},
-      {"calibrate " + two + " --dem --measured 0.6 --materials sand --fit mass" + to, {"--fit mass", "rolling_friction or friction"}},
+      {"calibrate " + two + " --dem --measured 0.6 --materials sand --fit mass" + to,
+       {"--fit mass", "rolling_friction or friction"}},
       {"calibrate " + two + " --dem --measured 0.6 --materials sand --seeds 1" + to, {"--seeds 1", "2 to 100"}},
       {"calibrate " + inherit + " --dem --measured 0.6 --materials default" + to,
        {"[materials.sand] takes its rolling_friction from [material]", "--materials default,sand --shared"}},
@@ -188,9 +196,8 @@ TEST_F(CliCalibration, SweepAndWholeGradingGiveItToEveryRun) {
                               {"assignments", {"materials.gravel.rolling_friction=0.2"}}};
   const fs::path file = write("gravel.json", gravel.dump());
   const std::string mix = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
-  for (const std::string& command :
-       {"sweep " + mix + " --fa 30,40 --seeds 1 --out " + (dir_ / "sweep").string(),
-        "whole-grading " + mix + " --cut-offs 0.1in,0.07in,0.04in --seeds 1"}) {
+  for (const std::string& command : {"sweep " + mix + " --fa 30,40 --seeds 1 --out " + (dir_ / "sweep").string(),
+                                     "whole-grading " + mix + " --cut-offs 0.1in,0.07in,0.04in --seeds 1"}) {
     SCOPED_TRACE(command);
     const auto r = run_cli(command + " --calibration " + file.string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
@@ -201,11 +208,12 @@ TEST_F(CliCalibration, SweepAndWholeGradingGiveItToEveryRun) {
   EXPECT_FALSE(fs::exists(dir_ / "sweep"));
   // A scenario's own calibrated_by and --calibration: one list would replace the other.
   const fs::path scenario = write("calibrated.toml", "calibrated_by = \"gravel.json\"\n" + std::string(kPoured));
-  const auto both = run_cli("run " + scenario.string() + " --calibration " + file.string() + " --out " +
-                            (dir_ / "both").string());
+  const auto both =
+      run_cli("run " + scenario.string() + " --calibration " + file.string() + " --out " + (dir_ / "both").string());
   EXPECT_EQ(both.exit_code, 2) << both.output;
-  EXPECT_NE(both.output.find("the scenario has calibrated_by, and --calibration " + file.string() + " would replace it"),
-            std::string::npos)
+  EXPECT_NE(
+      both.output.find("the scenario has calibrated_by, and --calibration " + file.string() + " would replace it"),
+      std::string::npos)
       << both.output;
   // A calibration file that is not there is named.
   const auto missing = run_cli("run " + std::string(AGGPACK_EXAMPLES) + "/example1.toml --calibration " +

@@ -1,13 +1,13 @@
 // calibrated_by: a DEM calibration's values replace the scenario's own, and every way a
 // calibration cannot apply is refused naming the key and the file.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
-#include <unistd.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/scenario.hpp"
@@ -54,7 +54,8 @@ class ScenarioCalibration : public ::testing::Test {
       (void)parse(extra, sets);
       ADD_FAILURE() << extra << " accepted";
     } catch (const InputError& e) {
-      for (const std::string& w : words) EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << w << " in " << e.what();
+      for (const std::string& w : words)
+        EXPECT_NE(std::string(e.what()).find(w), std::string::npos) << w << " in " << e.what();
     }
   }
   fs::path dir_;
@@ -89,8 +90,10 @@ TEST_F(ScenarioCalibration, ACalibrationThatCannotApplyIsRefused) {
   calibration("gravel.json", {"materials.gravel.rolling_friction=0.2"});
   std::ofstream(dir_ / "cpm.json") << R"({"kind": "aggpack CPM calibration", "cpm": {}})";
   expect_refused("calibrated_by = [\"sand.json\", \"sand_again.json\"]\n",
-                 {"s.toml:1:", "calibrated_by", "sand_again.json sets materials.sand.rolling_friction, which "
-                                                "calibrated_by " + (dir_ / "sand.json").string() + " sets too"});
+                 {"s.toml:1:", "calibrated_by",
+                  "sand_again.json sets materials.sand.rolling_friction, which "
+                  "calibrated_by " +
+                      (dir_ / "sand.json").string() + " sets too"});
   expect_refused("calibrated_by = \"sand.json\"\n", {"--set materials.sand.rolling_friction=0.1 sets too"},
                  {"materials.sand.rolling_friction=0.1"});
   expect_refused("calibrated_by = \"gravel.json\"\n", {"materials.gravel.rolling_friction", "no [materials.gravel]"});

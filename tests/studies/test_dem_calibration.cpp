@@ -1,9 +1,9 @@
 // calibrate --dem's search on densities with closed forms (no DEM), and its file read back.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/dem_calibration_file.hpp"
@@ -25,8 +25,12 @@ auto curve(double (*phi)(double), double standard_error) {
   };
 }
 
-double linear(double x) { return 0.64 - 0.2 * x; }
-double saturating(double x) { return 0.58 + 0.06 * std::exp(-8.0 * x); }
+double linear(double x) {
+  return 0.64 - 0.2 * x;
+}
+double saturating(double x) {
+  return 0.58 + 0.06 * std::exp(-8.0 * x);
+}
 
 // On a straight line the first interpolation is the root: three values, and the band is the
 // standard error over the slope.
@@ -106,12 +110,15 @@ TEST(DemCalibration, ItsFileReadsBackWithWhatItWasFittedTo) {
 TEST(DemCalibration, RefusesADamagedFileNamingTheKey) {
   const auto with = [](const char* key, const nlohmann::json& value) {
     nlohmann::json j = aggpack::to_json(a_calibration());
-    if (value.is_null()) j.erase(key);
-    else j[key] = value;
+    if (value.is_null())
+      j.erase(key);
+    else
+      j[key] = value;
     return j.dump();
   };
   const std::vector<std::pair<std::string, std::vector<std::string>>> cases{
-      {with("assignments", {"dynamics.time_step=1"}), {"assignments[0]", "\"dynamics.time_step=1\"", "rolling_friction"}},
+      {with("assignments", {"dynamics.time_step=1"}),
+       {"assignments[0]", "\"dynamics.time_step=1\"", "rolling_friction"}},
       {with("assignments", {"materials.sand.rolling_friction=-0.1"}), {"assignments[0]", "a number >= 0"}},
       {with("assignments", {"materials.sand.rolling_friction=0.1x"}), {"assignments[0]"}},
       {with("assignments", {"materials.sand.rolling_friction=nan"}), {"assignments[0]"}},

@@ -2,12 +2,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/studies/calibration.hpp"
@@ -22,10 +21,10 @@ namespace aggpack {
 struct DemCalibrationOptions {
   std::filesystem::path scenario;
   ScenarioOverrides overrides;
-  double measured = 0.0;                              // the measured packing density of the scenario's bed
+  double measured = 0.0;                             // the measured packing density of the scenario's bed
   std::vector<std::string> fit{"rolling_friction"};  // the parameters asked for: one measurement fixes one
-  std::vector<std::string> materials;  // whose value is fitted; empty: the one material the bed is made of
-  bool shared = false;                 // one value for every material of `materials`
+  std::vector<std::string> materials;        // whose value is fitted; empty: the one material the bed is made of
+  bool shared = false;                       // one value for every material of `materials`
   std::optional<std::vector<double>> range;  // [low, high] searched; default by parameter
   int seeds = 3;
   int max_evaluations = 6;  // values simulated, the range's two ends included
