@@ -114,7 +114,7 @@ CalibrationArguments calibration_arguments(const std::vector<std::string>& files
   std::vector<std::string> dem, typed;
   for (const std::string& file : files) {
     // Routed by its kind; a file that cannot be read is refused here, naming it.
-    if (aggpack::is_dem_calibration_text(aggpack::read_input_text(file, "the calibration", std::uintmax_t{1} << 20))) {
+    if (aggpack::is_dem_calibration_text(aggpack::read_input_text(file, "the calibration"))) {
       dem.push_back(toml_path(file));
       typed.push_back("--calibration " + file);
     } else if (c.cpm) {

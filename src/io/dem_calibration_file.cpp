@@ -15,8 +15,6 @@
 namespace aggpack {
 
 namespace {
-constexpr std::uintmax_t kMaxCalibrationBytes = std::uintmax_t{1} << 20;
-
 std::string described(const nlohmann::json& v) {
   if (v.is_null()) return "null";
   const std::string type = v.type_name();
@@ -26,19 +24,20 @@ std::string described(const nlohmann::json& v) {
 nlohmann::json parsed(std::string_view text) {
   return nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
 }
-}  // namespace
 
-bool is_dem_calibration_text(std::string_view text) {
-  const nlohmann::json j = parsed(text);
+bool has_dem_kind(const nlohmann::json& j) {
   const auto kind = j.is_object() ? j.find("kind") : j.end();
   return kind != j.end() && kind->is_string() && kind->get_ref<const std::string&>() == kDemCalibrationKind;
 }
+}  // namespace
+
+bool is_dem_calibration_text(std::string_view text) { return has_dem_kind(parsed(text)); }
 
 DemCalibrationFile parse_dem_calibration(std::string_view text, const std::filesystem::path& file) {
   const nlohmann::json j = parsed(text);
   if (j.is_discarded())
     throw InputError(fmt::format("{}: not JSON (expected a file aggpack calibrate --dem wrote)", file.string()));
-  if (!is_dem_calibration_text(text))
+  if (!has_dem_kind(j))
     throw InputError(
         fmt::format("{}: not a DEM calibration written by aggpack calibrate --dem (expected \"kind\": \"{}\")",
                     file.string(), kDemCalibrationKind));
@@ -113,7 +112,7 @@ DemCalibrationFile parse_dem_calibration(std::string_view text, const std::files
 }
 
 DemCalibrationFile read_dem_calibration(const std::filesystem::path& file) {
-  return parse_dem_calibration(read_input_text(file, "the calibration", kMaxCalibrationBytes), file);
+  return parse_dem_calibration(read_input_text(file, "the calibration"), file);
 }
 
 }  // namespace aggpack

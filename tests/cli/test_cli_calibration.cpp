@@ -38,6 +38,17 @@ class CliCalibration : public ::testing::Test {
     return dir_ / name;
   }
   static nlohmann::json json_of(const fs::path& file) { return nlohmann::json::parse(std::ifstream(file)); }
+  // A DEM calibration file as calibrate --dem writes it, setting one key.
+  fs::path write_calibration(const std::string& name, const std::string& assignment) {
+    const nlohmann::json j{{"kind", "aggpack DEM calibration"},
+                           {"scenario_file", "s.toml"},
+                           {"protocol", "pour"},
+                           {"seeds", 2},
+                           {"measured", {{"density", 0.6}, {"of", "the scenario's bed"}}},
+                           {"fit", {{"parameter", "rolling_friction"}, {"value", 0.2}, {"band", {0.1, 0.3}}}},
+                           {"assignments", {assignment}}};
+    return write(name, j.dump());
+  }
 };
 
 // The "measurement" is the same pour made at mu_r = 0.15 (seeds 1 and 2): calibrate finds
@@ -124,14 +135,7 @@ TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
             "youngs_modulus = 1e8\n[materials.sand]\nfriction_particle = 0.4\n[dynamics]\n[pour]\n")
           .string();
   // A scenario whose calibrated_by already gives the sand its rolling friction.
-  const nlohmann::json sand{{"kind", "aggpack DEM calibration"},
-                            {"scenario_file", "two.toml"},
-                            {"protocol", "pour"},
-                            {"seeds", 2},
-                            {"measured", {{"density", 0.6}, {"of", "the scenario's bed"}}},
-                            {"fit", {{"parameter", "rolling_friction"}, {"value", 0.2}, {"band", {0.1, 0.3}}}},
-                            {"assignments", {"materials.sand.rolling_friction=0.2"}}};
-  write("sand.json", sand.dump());
+  write_calibration("sand.json", "materials.sand.rolling_friction=0.2");
   const std::string calibrated =
       write("calibrated.toml", "calibrated_by = \"sand.json\"\n" + std::string(kStoneAndSand)).string();
   const fs::path out = dir_ / "c.json";
@@ -187,14 +191,7 @@ TEST_F(CliCalibration, SaysWhenTheMeasurementIsOutOfTheLeversReach) {
 // sweep and whole-grading hand a DEM calibration to every run's scenario (here refused there,
 // before any run, for a material the scenario does not have).
 TEST_F(CliCalibration, SweepAndWholeGradingGiveItToEveryRun) {
-  const nlohmann::json gravel{{"kind", "aggpack DEM calibration"},
-                              {"scenario_file", "g.toml"},
-                              {"protocol", "pour"},
-                              {"seeds", 3},
-                              {"measured", {{"density", 0.7}, {"of", "the scenario's bed"}}},
-                              {"fit", {{"parameter", "rolling_friction"}, {"value", 0.2}, {"band", {0.1, 0.3}}}},
-                              {"assignments", {"materials.gravel.rolling_friction=0.2"}}};
-  const fs::path file = write("gravel.json", gravel.dump());
+  const fs::path file = write_calibration("gravel.json", "materials.gravel.rolling_friction=0.2");
   const std::string mix = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
   for (const std::string& command : {"sweep " + mix + " --fa 30,40 --seeds 1 --out " + (dir_ / "sweep").string(),
                                      "whole-grading " + mix + " --cut-offs 0.1in,0.07in,0.04in --seeds 1"}) {
