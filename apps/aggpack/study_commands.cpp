@@ -208,6 +208,9 @@ Subcommand add_reproduce(CLI::App& app, int argc, char** argv) {
   cmd->add_flag("--whole-grading", reproduce.whole_grading,
                 "Also run every Table 2 mix with the sand cut at 0.1, 0.07 and 0.02 in, for its whole grading "
                 "(minutes more: BENCHMARKS.md)");
+  cmd->add_flag("--calibrated-table2", reproduce.calibrated_table2,
+                "Also predict Table 2 from one calibration mix: every mix poured with stone and sand at 4 values of "
+                "the sand's rolling friction on a reduced bed (about an hour a seed on two cores)");
   cmd->add_flag("--resume", reproduce.resume,
                 "Continue an interrupted reproduce into the same --out: runs it finished or began are taken "
                 "up from their checkpoints, not run again");

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
+#include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "reproduce_parts.hpp"
@@ -48,6 +49,23 @@ Plan make_plan(const ReproduceOptions& o) {
   // Every mix at the sand cut-offs of docs/validation.md's whole-grading table (the 0.02 in cut
   // is what narrows the band, and costs some 30 s a run).
   if (o.whole_grading) p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
+  // Table 2 from one calibration mix: the sand's rolling friction is the unknown (the stone's is
+  // the literature's). The bed is reduced so that the study takes about an hour a seed on two
+  // cores (docs/validation.md, "Table 2 from one calibration mix").
+  if (o.calibrated_table2) {
+    CalibratedTable2Plan c{"table2_mix3_stone_sand.toml", "sand", {0.0, 0.1, 0.2, 0.35}, {}, {}};
+    c.bed = {"particles.fine.d_min=\"0.1 in\"", "container.side=\"4 in\"", "container.height=\"10 in\"",
+             "particles.fill_height=\"4 in\"", "analysis.box_sides=[\"1.4 in\", \"1.5 in\", \"1.6 in\"]"};
+    c.bed_label = "REDUCED: stone and sand cut at 0.1 in, a 4 in container filled to 4 in, cubes of 1.4-1.6 in";
+    if (o.quick) {
+      c.values = {0.0, 0.35};
+      c.bed = {"particles.fine.d_min=\"0.25 in\"", "particles.coarse.d_min=\"0.25 in\"",
+               "container.side=\"3 in\"",          "container.height=\"7 in\"",
+               "particles.fill_height=\"3 in\"",   "analysis.box_sides=[\"1 in\", \"1.1 in\"]"};
+      c.bed_label = "QUICK: stone and sand cut at 0.25 in, a 3 in container filled to 3 in, cubes of 1-1.1 in";
+    }
+    p.calibrated_table2 = std::move(c);
+  }
   if (o.quick) {
     p.example_sets = {"dynamics.max_time=0.25"};
     p.sensitivity = {shipped, cut(0.1), cut(0.06)};
@@ -72,6 +90,18 @@ bool runs_of_its_own(const Plan& plan, const SensitivityCase& c) {
                                          [&](double cut) { return std::abs(cut - c.sand_cut_in) < 1e-12; });
 }
 
+std::string calibrated_label(const CalibratedTable2Plan& c, int mix, double value) {
+  return fmt::format("Table 2 mix {}, stone and sand, {} rolling friction {:g}", mix, c.material, value);
+}
+
+// The calibrated study's scenario, checked before any run.
+void check_calibrated_inputs(const Plan& plan, const ReproduceInputs& in) {
+  if (plan.calibrated_table2 && !fs::exists(in.examples / plan.calibrated_table2->scenario))
+    throw InputError(fmt::format("reproduce --calibrated-table2: {} is missing: the study pours every Table 2 mix "
+                                 "from it",
+                                 (in.examples / plan.calibrated_table2->scenario).string()));
+}
+
 // The runs of every case, over all seeds: what the campaign announces and `--dry-run` lists.
 std::vector<std::pair<std::string, std::size_t>> planned_cases(const Plan& plan, const ReproduceInputs& in) {
   const std::size_t seeds = static_cast<std::size_t>(plan.seeds);
@@ -89,6 +119,10 @@ std::vector<std::pair<std::string, std::size_t>> planned_cases(const Plan& plan,
   for (const SensitivityCase& c : plan.sensitivity)
     if (runs_of_its_own(plan, c))
       cases.emplace_back(fmt::format("mix {} sensitivity: {}", sensitivity_mix, c.label), seeds);
+  if (plan.calibrated_table2)
+    for (const Table2Row& row : in.table2)
+      for (const double value : plan.calibrated_table2->values)
+        cases.emplace_back(calibrated_label(*plan.calibrated_table2, row.mix, value), seeds);
   return cases;
 }
 
@@ -203,10 +237,36 @@ void run_sensitivity(const CaseRunner& cases, Reproduction& rep) {
   }
 }
 
+// Table 2 from one calibration mix: every mix at every grid value of the material's rolling
+// friction, over the seeds.
+void run_calibrated_table2(const CaseRunner& cases, const std::vector<Table2Row>& table2, Reproduction& rep) {
+  if (!cases.plan.calibrated_table2) return;
+  const CalibratedTable2Plan& c = *cases.plan.calibrated_table2;
+  for (const Table2Row& row : table2) {
+    CalibratedMix mix{row, {}};
+    for (const double value : c.values) {
+      std::vector<std::string> sets = cases.no_particle_files();
+      sets.insert(sets.end(), c.bed.begin(), c.bed.end());
+      sets.push_back(fmt::format("particles.ca_fa={:.17g}", row.ca_fa));
+      sets.push_back(fmt::format("materials.{}.rolling_friction={:.17g}", c.material, value));
+      SeedRuns runs;
+      for (std::size_t s = 1; s <= cases.seeds; ++s)
+        runs.add(keep_bed_if(false, cases.campaign.run(calibrated_label(c, row.mix, value), cases.examples / c.scenario,
+                                                       sets, s,
+                                                       cases.runs_dir / "calibrated_table2" /
+                                                           fmt::format("mix{}_{}_mu_r_{:g}", row.mix, c.material, value) /
+                                                           fmt::format("seed_{}", s))));
+      mix.at_value.push_back(std::move(runs));
+    }
+    rep.calibrated.push_back(std::move(mix));
+  }
+}
+
 // Runs every case of the plan: Examples 1 and 2, the Table 2 mixes and the sensitivity variants.
 Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   const Plan plan = make_plan(options);
   const ReproduceInputs inputs = read_inputs(options.examples);
+  check_calibrated_inputs(plan, inputs);
   Campaign campaign(options.threads, options.quiet, log, total_runs(planned_cases(plan, inputs)),
                     options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
   const CaseRunner cases{campaign, plan, inputs.examples, options.out / "runs", static_cast<std::size_t>(plan.seeds)};
@@ -216,6 +276,7 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   run_examples(cases, inputs, rep);
   run_table2(cases, inputs.table2, rep);
   run_sensitivity(cases, rep);
+  run_calibrated_table2(cases, inputs.table2, rep);
   rep.runs = campaign.runs_done();
   rep.resumed_runs = campaign.runs_resumed();
   rep.kept_checkpoints = campaign.kept_checkpoints();
@@ -232,6 +293,7 @@ using namespace reproduction;  // the parts of the report, private to this file 
 ReproducePlan plan_reproduce(const ReproduceOptions& options) {
   const Plan plan = make_plan(options);
   const ReproduceInputs inputs = read_inputs(options.examples);
+  check_calibrated_inputs(plan, inputs);
   ReproducePlan p;
   p.examples = fs::absolute(options.examples).lexically_normal();
   p.seeds = plan.seeds;
@@ -261,6 +323,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   compose_protocols(doc, figures, result, rep);
   compose_table2(doc, figures, result, rep);
   compose_sensitivity(doc, result, rep);
+  compose_calibrated_table2(doc, figures, result, rep);
   compose_notes(doc, rep);
   result["aggpack_version"] = kVersion;
   result["mode"] = options.quick ? "quick" : "full";

@@ -17,6 +17,7 @@
 #include "aggpack/report/document.hpp"
 #include "aggpack/report/svg_plot.hpp"
 #include "aggpack/studies/campaign.hpp"
+#include "aggpack/studies/leave_one_out.hpp"
 #include "aggpack/studies/reproduce.hpp"
 #include "aggpack/studies/whole_grading.hpp"
 
@@ -86,6 +87,17 @@ struct Variant : SeedRuns {
   SensitivityCase spec;
 };
 
+// Table 2 predicted from one calibration mix (--calibrated-table2): every mix poured by the DEM
+// from one scenario with a material per component, at each grid value of one material's rolling
+// friction (the one unknown; the other material keeps its literature value).
+struct CalibratedTable2Plan {
+  std::string scenario;              // in the examples folder
+  std::string material;              // whose rolling friction the grid varies
+  std::vector<double> values;        // the grid, ascending
+  std::vector<std::string> bed;      // the overrides that make the (reduced) bed
+  std::string bed_label;             // those in words, for the report
+};
+
 // What each mode runs. The quick mode exercises every table and figure in a few minutes.
 struct Plan {
   int seeds;
@@ -95,6 +107,13 @@ struct Plan {
   std::vector<double> table2_cuts_in;     // more sand cut-offs for every mix, for its whole grading (in)
   std::string tapping_label;              // that protocol in words
   std::vector<SensitivityCase> sensitivity;
+  std::optional<CalibratedTable2Plan> calibrated_table2;
+};
+
+// A Table 2 mix of the calibrated study: its runs at each grid value, in the plan's order.
+struct CalibratedMix {
+  Table2Row row;
+  std::vector<SeedRuns> at_value;
 };
 
 // What a reproduction ran: every case's runs over seeds.
@@ -105,6 +124,7 @@ struct Reproduction {
   std::map<std::string, SeedRuns> poured;    // the same, poured then tapped (when exampleN_pour.toml exists)
   std::vector<Table2Outcome> mixes;
   std::vector<Variant> variants;             // of the sensitivity mix, in the plan's order
+  std::vector<CalibratedMix> calibrated;     // --calibrated-table2, in Table 2's order
   std::size_t runs = 0;
   std::size_t resumed_runs = 0;  // continued from an interrupted reproduce's checkpoints
   std::vector<fs::path> kept_checkpoints;  // removed once the report is written
@@ -195,6 +215,17 @@ std::optional<WholeGradingEstimate> table2_whole_grading(const Reproduction& rep
 // A whole-grading estimate for a table cell: "0.782 (0.771–0.793)", "wide" past 0.04, or none.
 std::string whole_grading_text(const std::optional<WholeGradingEstimate>& e);
 void compose_whole_grading(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep);
+
+// reproduce_calibrated.cpp: Table 2 predicted from one calibration mix (--calibrated-table2).
+// A calibrated-study run's density carried to its whole grading by CPM's own increment:
+// simulated + CPM(whole grading) - CPM(simulated distribution).
+double carried_density(const CaseRun& run);
+// Every choice of the calibration mix; none when the study did not run.
+std::optional<LeaveOneOutStudy> calibrated_study(const Reproduction& rep);
+// Table 2's column of the median choice's predictions: "0.7412 (0.7390-0.7433)", "the calibration
+// mix", or why nothing was predicted.
+std::string calibrated_cell(const LeaveOneOutStudy& study, int mix);
+void compose_calibrated_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep);
 
 // reproduce_sensitivity.cpp: how Table 2 mix 3 moves with the choices the paper leaves open.
 // How the density moves with the sand cut-off, from the variants of the cut-off series.

@@ -354,6 +354,25 @@ nlohmann::json dem_json(const Table2Outcome& m) {
   return runs;
 }
 
+// Table 2's caption: what each column is, with the CPM parameters the runs' predictions took.
+std::string table2_caption(const Reproduction& rep, const std::string& cpm_parameters, bool calibrated) {
+  return "Ours: mean ± sd over seeds (after DEM: over the settled seeds, see below); the differences use ours "
+         "after DEM (after deposition when DEM was not run). CPM: de Larrard's Compressible Packing Model on the "
+         "simulated distribution (above the cut-offs) and on the whole grading, " +
+         (cpm_parameters.empty() ? std::string("not computed") : cpm_parameters) +
+         " (README, \"Analytic packing models\"). Whole grading: the mix's deposited densities at its sand "
+         "cut-offs (three or more) carried below the finest by CPM, as aggpack whole-grading does, with a band of "
+         "two standard errors, \"wide\" beyond 0.04; " +
+         (rep.plan.table2_cuts_in.empty()
+              ? std::string("only mix 3's sensitivity runs have a series; reproduce --whole-grading runs every "
+                            "mix at more cut-offs")
+              : fmt::format("every mix also ran at {} in", nlohmann::json(rep.plan.table2_cuts_in).dump())) +
+         "." +
+         (calibrated ? " Stone and sand, calibrated on one mix: the median choice's prediction (band), from the "
+                       "section \"Table 2 predicted from one calibration mix\" below."
+                     : "");
+}
+
 }  // namespace
 
 // The scenario Table 2's mixes were run from (mix 3's, which they share but for Ca/Fa), if any ran.
@@ -385,6 +404,9 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
   t2.header = {"mix", "state", "Ca/Fa", "Fa %", "ours after deposition", "ours after DEM", "CPM as simulated",
                "CPM whole grading", "whole grading (band)", "paper (computed)", "experiment", "ours - paper",
                "ours - experiment"};
+  // --calibrated-table2: the median calibration mix's predictions beside the spheres'.
+  const std::optional<LeaveOneOutStudy> calibrated = calibrated_study(rep);
+  if (calibrated) t2.header.insert(t2.header.begin() + 9, "stone and sand, calibrated on one mix");
   nlohmann::json t2_json = nlohmann::json::array();
   std::string cpm_parameters;
   for (const Table2Outcome& m : mixes) {
@@ -406,6 +428,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                        value_text(cpm("simulated")), value_text(cpm("whole_grading")), whole_grading_text(whole),
                        fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd), value_text(m.row.experiment, 3),
                        difference_text(ours, m.row.paper_mean), difference_text(ours, m.row.experiment)});
+    if (calibrated) t2.rows.back().insert(t2.rows.back().begin() + 9, calibrated_cell(*calibrated, m.row.mix));
     t2_json.push_back({{"mix", m.row.mix}, {"state", m.row.state}, {"ca_fa", m.row.ca_fa}, {"fa_percent", m.row.fa_percent},
                        {"after_deposition", m.json(&CaseRun::after_deposition)},
                        {"after_dynamics", m.json(&CaseRun::after_dynamics)},
@@ -420,18 +443,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                                                : nlohmann::json()},
                        {"dem", dem_json(m)}});
   }
-  t2.caption = "Ours: mean ± sd over seeds (after DEM: over the settled seeds, see below); the differences use ours "
-               "after DEM (after deposition when DEM was not run). CPM: de Larrard's Compressible Packing Model on the "
-               "simulated distribution (above the cut-offs) and on the whole grading, " +
-               (cpm_parameters.empty() ? std::string("not computed") : cpm_parameters) +
-               " (README, \"Analytic packing models\"). Whole grading: the mix's deposited densities at its sand "
-               "cut-offs (three or more) carried below the finest by CPM, as aggpack whole-grading does, with a band of "
-               "two standard errors, \"wide\" beyond 0.04; " +
-               (rep.plan.table2_cuts_in.empty()
-                    ? std::string("only mix 3's sensitivity runs have a series; reproduce --whole-grading runs every "
-                                  "mix at more cut-offs")
-                    : fmt::format("every mix also ran at {} in", nlohmann::json(rep.plan.table2_cuts_in).dump())) +
-               ".";
+  t2.caption = table2_caption(rep, cpm_parameters, calibrated.has_value());
   b.emplace_back(t2);
   result["table2"] = t2_json;
   if (std::optional<Table> engineers = table2_engineers_table(mixes)) b.emplace_back(std::move(*engineers));

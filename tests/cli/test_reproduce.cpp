@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdio>
@@ -50,7 +51,7 @@ class Reproduce : public ::testing::Test {
   static void SetUpTestSuite() {
     out_ = fs::temp_directory_path() / ("aggpack_reproduce_" + std::to_string(::getpid()));
     fs::remove_all(out_);
-    result_ = run("reproduce --quick --threads 1 --out " + out_.string());
+    result_ = run("reproduce --quick --calibrated-table2 --threads 1 --out " + out_.string());
   }
   static void TearDownTestSuite() { fs::remove_all(out_); }
   static fs::path out_;
@@ -132,7 +133,7 @@ TEST_F(Reproduce, TextMatchesWhatWasRun) {
   const std::string md = slurp(out_ / "report.md");
   EXPECT_EQ(md.find("sd up to"), std::string::npos);
   EXPECT_EQ(md.find("(s)"), std::string::npos);
-  EXPECT_NE(md.find("1 seed per case, 14 runs in"), std::string::npos);
+  EXPECT_NE(md.find("1 seed per case, 30 runs in"), std::string::npos);  // 14, and 16 of --calibrated-table2
   EXPECT_NE(md.find("on 1 thread. Command:"), std::string::npos);
   EXPECT_NE(md.find("ours has one seed per mix, so no bar; sd over the four virtual boxes (paper)"), std::string::npos);
   EXPECT_EQ(md.find("sd over seeds (ours)"), std::string::npos);
@@ -274,6 +275,80 @@ TEST_F(Reproduce, NumbersAgreeWithTheRunsTheyCameFrom) {
   }
 }
 
+// --calibrated-table2: every mix poured with stone and sand at each grid value of the sand's
+// rolling friction, carried to its whole grading as each run's own predictions say, then each
+// mix in turn calibrated on and the others predicted, recomputed here from the runs' files.
+TEST_F(Reproduce, CalibratedTable2PredictsFromOneMixWhatItsRunsGive) {
+  const auto j = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  const auto& study = j["calibrated_table2"];
+  ASSERT_EQ(study["values"], nlohmann::json({0.0, 0.35}));
+  ASSERT_EQ(study["mixes"].size(), 8u);
+  std::map<int, std::pair<double, double>> carried;  // at 0 and 0.35
+  std::map<int, double> measured, fa;
+  for (const auto& m : study["mixes"]) {
+    const int mix = m["mix"];
+    for (std::size_t v = 0; v < 2; ++v) {
+      const double value = study["values"][v];
+      const auto summary = nlohmann::json::parse(
+          slurp(out_ / "runs" / "calibrated_table2" / fmt::format("mix{}_sand_mu_r_{:g}", mix, value) / "seed_1" /
+                "summary.json"));
+      EXPECT_DOUBLE_EQ(summary["scenario"]["materials"]["sand"]["rolling_friction"].get<double>(), value);
+      const auto& cpm = summary["predictions"];
+      const double expected = summary["density"]["mean"].get<double>() +
+                              cpm["whole_grading"]["cpm"]["density"].get<double>() -
+                              cpm["simulated"]["cpm"]["density"].get<double>();
+      EXPECT_DOUBLE_EQ(m["at"][v]["carried"][0].get<double>(), expected) << mix;
+      (v == 0 ? carried[mix].first : carried[mix].second) = expected;
+    }
+    measured[mix] = m["measured"];
+    fa[mix] = m["fa_percent"];
+  }
+  // Each choice: on two grid values the crossing is the straight line's, and one seed gives
+  // no scatter, so a measurement outside the two carried values is out of reach.
+  std::vector<std::pair<double, int>> fitted_by_error;
+  for (const auto& choice : study["choices"]) {
+    const int c = choice["calibration_mix"];
+    const auto [a, b] = carried[c];
+    const double t = measured[c];
+    if ((a - t) * (b - t) > 0) {
+      EXPECT_TRUE(choice["fitted"].is_null()) << c;
+      continue;
+    }
+    ASSERT_FALSE(choice["fitted"].is_null()) << c;
+    const double value = 0.35 * (t - a) / (b - a);
+    EXPECT_NEAR(choice["fitted"]["value"].get<double>(), value, 1e-12) << c;
+    EXPECT_TRUE(choice["fitted"]["band"][0].is_null());  // one seed: no band
+    double sum = 0.0;
+    for (const auto& p : choice["predicted"]) {
+      const int mix = p["mix"];
+      EXPECT_NE(mix, c);
+      const double predicted = carried[mix].first + (carried[mix].second - carried[mix].first) * value / 0.35;
+      EXPECT_NEAR(p["density"].get<double>(), predicted, 1e-12) << c << " predicts " << mix;
+      sum += std::abs(predicted - measured[mix]);
+    }
+    EXPECT_EQ(choice["predicted"].size(), 7u);
+    EXPECT_NEAR(choice["mean_absolute_error"].get<double>(), sum / 7.0, 1e-12);
+    fitted_by_error.emplace_back(sum / 7.0, c);
+  }
+  std::sort(fitted_by_error.begin(), fitted_by_error.end());
+  const std::string md = slurp(out_ / "report.md");
+  EXPECT_NE(md.find("## Table 2 predicted from one calibration mix: stone and sand"), std::string::npos);
+  EXPECT_NE(md.find("| stone and sand, calibrated on one mix |"), std::string::npos);
+  EXPECT_NE(md.find("QUICK: stone and sand cut at 0.25 in"), std::string::npos);
+  if (fitted_by_error.empty()) {
+    EXPECT_TRUE(study["median_calibration_mix"].is_null());
+    EXPECT_NE(md.find("No calibration mix can be fitted"), std::string::npos);
+  } else {
+    EXPECT_EQ(study["median_calibration_mix"], fitted_by_error[(fitted_by_error.size() - 1) / 2].second);
+    EXPECT_EQ(count_of(md, "| the calibration mix |"), 1u);  // the median choice's own row of Table 2
+  }
+  EXPECT_FALSE(study["targets"]["met"].get<bool>() && fitted_by_error.empty());
+  const std::string svg = slurp(out_ / "figures" / "table2_calibrated.svg");
+  for (const char* series : {"experiment", "paper (computed)", "smooth spheres, as simulated (Table 2)",
+                             "stone and sand carried, sand μ_r 0", "stone and sand carried, sand μ_r 0.35"})
+    EXPECT_NE(svg.find(std::string("data-label=\"") + series + "\""), std::string::npos) << series;
+}
+
 TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
   const auto j = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
   std::size_t svgs = 0, pngs = 0;
@@ -290,7 +365,8 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
       EXPECT_EQ(content.substr(1, 3), "PNG") << p;
     }
   }
-  EXPECT_EQ(svgs, 2u + 2u + 1u + 1u + 8u);  // Figs. 4 and 7, two compaction curves, Fig. 9, mix 3's cut-offs, eight gradings
+  // Figs. 4 and 7, two compaction curves, Fig. 9, mix 3's cut-offs, eight gradings, the calibrated Table 2.
+  EXPECT_EQ(svgs, 2u + 2u + 1u + 1u + 8u + 1u);
   // Issue 34, item 15: each plot's data beside its SVG, as a CSV that Python's csv module reads,
   // its columns named with their units.
   std::size_t data = 0;
@@ -349,15 +425,15 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
 
 TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   const std::string html = slurp(out_ / "report.html");
-  EXPECT_EQ(count_of(html, "<svg"), 14u);
+  EXPECT_EQ(count_of(html, "<svg"), 15u);
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
   EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
   // The same tables as report.md (one header rule "| --- |" each): summary, Table 2 errors,
   // two per example, the protocols, Table 2 and its voids and bulk densities, sensitivity, notes
-  // of three cases.
+  // of three cases, and the calibrated Table 2's grid and choices.
   EXPECT_EQ(count_of(html, "<table>"), count_of(slurp(out_ / "report.md"), "\n| --- |"));
-  EXPECT_EQ(count_of(html, "<table>"), 13u);
-  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 13u);
+  EXPECT_EQ(count_of(html, "<table>"), 15u);
+  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 15u);
   EXPECT_NE(html.find("</html>"), std::string::npos);
 }
 
@@ -418,7 +494,16 @@ TEST_F(Reproduce, ResumedAfterAKillEndsWithTheNumbersOfAnUninterruptedRun) {
             std::string::npos)
       << r.output;
   const auto resumed = nlohmann::json::parse(slurp(out / "reproduce.json"));
-  const auto uninterrupted = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  auto uninterrupted = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
+  // The fixture also ran --calibrated-table2: its 16 runs, its section and its figure.
+  uninterrupted.erase("calibrated_table2");
+  uninterrupted["runs"] = uninterrupted["runs"].get<int>() - 16;
+  for (const char* list : {"figures", "figure_data"}) {
+    nlohmann::json kept = nlohmann::json::array();
+    for (const auto& file : uninterrupted[list])
+      if (file.get<std::string>().find("table2_calibrated") == std::string::npos) kept.push_back(file);
+    uninterrupted[list] = kept;
+  }
   EXPECT_GE(resumed["resumed_runs"].get<int>(), 2);  // Example 1 and the first poured example
   EXPECT_EQ(uninterrupted["resumed_runs"], 0);
   std::map<std::string, nlohmann::json> a, b;
