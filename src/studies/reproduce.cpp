@@ -1,10 +1,10 @@
 #include "aggpack/studies/reproduce.hpp"
 
-#include <algorithm>
-#include <cmath>
-
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
@@ -24,8 +24,8 @@ Plan make_plan(const ReproduceOptions& o) {
   p.seeds = o.seeds > 0 ? o.seeds : (o.quick ? 1 : 3);
   const SensitivityCase shipped{"as shipped (5 in walls, sand cut at 0.04 in, mass sampling)", {}, 0.04};
   const auto cut = [](double inches) {
-    return SensitivityCase{fmt::format("sand cut at {:g} in", inches),
-                           {fmt::format("particles.fine.d_min=\"{:g} in\"", inches)}, inches};
+    return SensitivityCase{
+        fmt::format("sand cut at {:g} in", inches), {fmt::format("particles.fine.d_min=\"{:g} in\"", inches)}, inches};
   };
   // Table 2's DEM protocol: a reduced stiffness, E/1000 of natural aggregate (50 GPa), which
   // moved mix 3's settled density by at most 0.0032 against E/10 and E/100 (docs/validation.md,
@@ -35,20 +35,21 @@ Plan make_plan(const ReproduceOptions& o) {
   if (o.settle_table2)
     p.table2_dem = {"material.youngs_modulus=5e7",         "material.wall_youngs_modulus=5e7",
                     "dynamics.friction_model=\"mindlin\"", "dynamics.quiet_kinetic_fraction=1e-3",
-                    "dynamics.quiet_window=0.02",           o.quick ? "dynamics.max_time=0.05" : "dynamics.max_time=1"};
+                    "dynamics.quiet_window=0.02",          o.quick ? "dynamics.max_time=0.05" : "dynamics.max_time=1"};
   // The examples poured, then tapped: 10 taps of 2 g at 30 Hz, 0.15 s apart (a light tapping;
   // docs/validation.md has 100 taps at 2 g and 5 g).
   p.poured_sets = {"tapping.taps=10", "tapping.intensity=2", "tapping.frequency=30", "tapping.rest_time=0.15",
                    "output.formats=[]"};
   p.tapping_label = "10 taps of 2 g at 30 Hz, 0.15 s apart";
   if (o.quick) {
-    p.poured_sets = {"tapping.taps=2", "tapping.intensity=2", "tapping.frequency=30", "tapping.rest_time=0.15",
-                     "dynamics.max_time=0.6", "output.formats=[]"};
+    p.poured_sets = {"tapping.taps=2",         "tapping.intensity=2",   "tapping.frequency=30",
+                     "tapping.rest_time=0.15", "dynamics.max_time=0.6", "output.formats=[]"};
     p.tapping_label = "2 taps of 2 g at 30 Hz, 0.15 s apart (QUICK: the pour cut at 0.6 s)";
   }
   // Every mix at the sand cut-offs of docs/validation.md's whole-grading table (the 0.02 in cut
   // is what narrows the band, and costs some 30 s a run).
-  if (o.whole_grading) p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
+  if (o.whole_grading)
+    p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
   // Table 2 from one calibration mix: the sand's rolling friction is the unknown (the stone's is
   // the literature's). The bed is reduced so that the study takes about an hour a seed on two
   // cores (docs/validation.md, "Table 2 from one calibration mix").
@@ -94,12 +95,19 @@ std::string calibrated_label(const CalibratedTable2Plan& c, int mix, double valu
   return fmt::format("Table 2 mix {}, stone and sand, {} rolling friction {:g}", mix, c.material, value);
 }
 
-// The calibrated study's scenario, checked before any run.
+// The calibrated study's scenario and mixes, checked before any run.
 void check_calibrated_inputs(const Plan& plan, const ReproduceInputs& in) {
-  if (plan.calibrated_table2 && !fs::exists(in.examples / plan.calibrated_table2->scenario))
-    throw InputError(fmt::format("reproduce --calibrated-table2: {} is missing: the study pours every Table 2 mix "
-                                 "from it",
-                                 (in.examples / plan.calibrated_table2->scenario).string()));
+  if (!plan.calibrated_table2) return;
+  if (!fs::exists(in.examples / plan.calibrated_table2->scenario))
+    throw InputError(
+        fmt::format("reproduce --calibrated-table2: {} is missing: the study pours every Table 2 mix "
+                    "from it",
+                    (in.examples / plan.calibrated_table2->scenario).string()));
+  if (in.table2.size() < 3)
+    throw InputError(
+        fmt::format("reproduce --calibrated-table2: {} has {} mix(es); calibrating on one and "
+                    "predicting the others needs three or more",
+                    (in.examples / "fu2003_table2.csv").string(), in.table2.size()));
 }
 
 // The runs of every case, over all seeds: what the campaign announces and `--dry-run` lists.
@@ -159,16 +167,16 @@ void run_examples(const CaseRunner& cases, const ReproduceInputs& inputs, Reprod
   Campaign& campaign = cases.campaign;
   for (const PaperExample& ex : inputs.paper)
     for (std::size_t s = 1; s <= cases.seeds; ++s)
-      rep.examples[ex.id].add(keep_bed_if(
-          ex.id == "example2" && s == 1, campaign.run(ex.title, cases.examples / ex.scenario, cases.plan.example_sets,
-                                                     s, cases.runs_dir / ex.id / fmt::format("seed_{}", s))));
+      rep.examples[ex.id].add(keep_bed_if(ex.id == "example2" && s == 1,
+                                          campaign.run(ex.title, cases.examples / ex.scenario, cases.plan.example_sets,
+                                                       s, cases.runs_dir / ex.id / fmt::format("seed_{}", s))));
   for (const PaperExample& ex : inputs.paper)
     if (fs::exists(inputs.pour_scenario(ex)))
       for (std::size_t s = 1; s <= cases.seeds; ++s)
-        rep.poured[ex.id].add(keep_bed_if(false, campaign.run(fmt::format("{} poured and tapped", ex.short_name),
-                                                              inputs.pour_scenario(ex), cases.plan.poured_sets, s,
-                                                              cases.runs_dir / (ex.id + "_poured") /
-                                                                  fmt::format("seed_{}", s))));
+        rep.poured[ex.id].add(keep_bed_if(
+            false,
+            campaign.run(fmt::format("{} poured and tapped", ex.short_name), inputs.pour_scenario(ex),
+                         cases.plan.poured_sets, s, cases.runs_dir / (ex.id + "_poured") / fmt::format("seed_{}", s))));
 }
 
 // Table 2: each mix over the seeds (seed 1 settled when the plan says so), then at the plan's sand cut-offs.
@@ -182,23 +190,22 @@ void run_table2(const CaseRunner& cases, const std::vector<Table2Row>& table2, R
     m.row = row;
     for (std::size_t s = 1; s <= cases.seeds; ++s) {
       const bool settle = s == 1 && !plan.table2_dem.empty();
-      m.add(keep_bed_if(mixes.empty() && s == 1,
-                        cases.campaign.run(fmt::format("Table 2 mix {}{}", row.mix, settle ? " (with DEM)" : ""),
-                                           cases.table2_scenario(row.mix),
-                                           settle ? table2_dem_sets : cases.no_particle_files(), s,
-                                           cases.runs_dir / fmt::format("table2_mix{}", row.mix) /
-                                               fmt::format("seed_{}", s))));
+      m.add(keep_bed_if(
+          mixes.empty() && s == 1,
+          cases.campaign.run(fmt::format("Table 2 mix {}{}", row.mix, settle ? " (with DEM)" : ""),
+                             cases.table2_scenario(row.mix), settle ? table2_dem_sets : cases.no_particle_files(), s,
+                             cases.runs_dir / fmt::format("table2_mix{}", row.mix) / fmt::format("seed_{}", s))));
     }
     for (const double cut : plan.table2_cuts_in) {
       std::vector<std::string> sets = cases.no_particle_files();
       sets.push_back(fmt::format("particles.fine.d_min=\"{:g} in\"", cut));
       SeedRuns runs;
       for (std::size_t s = 1; s <= cases.seeds; ++s)
-        runs.add(keep_bed_if(false, cases.campaign.run(fmt::format("Table 2 mix {}, sand cut at {:g} in", row.mix, cut),
-                                                       cases.table2_scenario(row.mix), sets, s,
-                                                       cases.runs_dir /
-                                                           fmt::format("table2_mix{}_cut_{:g}in", row.mix, cut) /
-                                                           fmt::format("seed_{}", s))));
+        runs.add(keep_bed_if(
+            false,
+            cases.campaign.run(
+                fmt::format("Table 2 mix {}, sand cut at {:g} in", row.mix, cut), cases.table2_scenario(row.mix), sets,
+                s, cases.runs_dir / fmt::format("table2_mix{}_cut_{:g}in", row.mix, cut) / fmt::format("seed_{}", s))));
       m.cut_series.emplace_back(cut, std::move(runs));
     }
     mixes.push_back(std::move(m));
@@ -251,11 +258,11 @@ void run_calibrated_table2(const CaseRunner& cases, const std::vector<Table2Row>
       sets.push_back(fmt::format("materials.{}.rolling_friction={:.17g}", c.material, value));
       SeedRuns runs;
       for (std::size_t s = 1; s <= cases.seeds; ++s)
-        runs.add(keep_bed_if(false, cases.campaign.run(calibrated_label(c, row.mix, value), cases.examples / c.scenario,
-                                                       sets, s,
-                                                       cases.runs_dir / "calibrated_table2" /
-                                                           fmt::format("mix{}_{}_mu_r_{:g}", row.mix, c.material, value) /
-                                                           fmt::format("seed_{}", s))));
+        runs.add(keep_bed_if(
+            false, cases.campaign.run(calibrated_label(c, row.mix, value), cases.examples / c.scenario, sets, s,
+                                      cases.runs_dir / "calibrated_table2" /
+                                          fmt::format("mix{}_{}_mu_r_{:g}", row.mix, c.material, value) /
+                                          fmt::format("seed_{}", s))));
       mix.at_value.push_back(std::move(runs));
     }
     rep.calibrated.push_back(std::move(mix));

@@ -2,9 +2,6 @@
 // figures and numbers are checked, not just that the files exist.
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-
-#include "run_cli.hpp"
-
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -22,15 +19,21 @@
 #include <string>
 #include <thread>
 
+#include "run_cli.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
 using aggpack::testing::slurp;
 using Result = aggpack::testing::CliResult;
-Result run(const std::string& args) { return aggpack::testing::run_cli(args); }
+Result run(const std::string& args) {
+  return aggpack::testing::run_cli(args);
+}
 
-std::string fmt_mix_dir(int mix) { return "table2_mix" + std::to_string(mix); }
+std::string fmt_mix_dir(int mix) {
+  return "table2_mix" + std::to_string(mix);
+}
 
 std::size_t count_of(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -82,20 +85,22 @@ TEST_F(Reproduce, ProtocolTableHasFourWaysToMakeEachExampleBed) {
   const std::string dem_row = ended_quiet("example1") ? "| Example 1 | drop-and-roll, then DEM until quiet"
                                                       : "| Example 1 | drop-and-roll, then DEM cut at its time limit "
                                                         "(0.25 s simulated) before quiet in 1 of 1 runs";
-  const std::string pour_row = ended_quiet("example1_poured")
-                                   ? "| Example 1 | pour: a random gas at solid fraction 0.2, fallen through the DEM until quiet"
-                                   : "| Example 1 | pour: a random gas at solid fraction 0.2, fallen through the DEM cut at "
-                                     "its time limit (0.6 s simulated)";
+  const std::string pour_row =
+      ended_quiet("example1_poured")
+          ? "| Example 1 | pour: a random gas at solid fraction 0.2, fallen through the DEM until quiet"
+          : "| Example 1 | pour: a random gas at solid fraction 0.2, fallen through the DEM cut at "
+            "its time limit (0.6 s simulated)";
   for (const std::string& row : {std::string("| Example 1 | drop-and-roll |"), dem_row, pour_row,
-                          std::string("| Example 1 | pour, then 2 taps of 2 g"),
-                          std::string("| Example 2 | the paper (drop, then DEM) | 0.660 |"),
-                          std::string("| Example 2 | experiment | 0.6600 |")})
+                                 std::string("| Example 1 | pour, then 2 taps of 2 g"),
+                                 std::string("| Example 2 | the paper (drop, then DEM) | 0.660 |"),
+                                 std::string("| Example 2 | experiment | 0.6600 |")})
     EXPECT_NE(md.find(row), std::string::npos) << row;
   const auto j = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
   for (const char* ex : {"example1", "example2"}) {
     const auto& p = j["protocols"][ex];
     EXPECT_EQ(p["drop_and_roll"], j["examples"][ex]["after_deposition"]) << ex;
-    const auto poured = nlohmann::json::parse(slurp(out_ / "runs" / (std::string(ex) + "_poured") / "seed_1" / "summary.json"));
+    const auto poured =
+        nlohmann::json::parse(slurp(out_ / "runs" / (std::string(ex) + "_poured") / "seed_1" / "summary.json"));
     EXPECT_DOUBLE_EQ(p["pour"]["mean"].get<double>(), poured["stages"]["pour"]["density"]["mean"].get<double>()) << ex;
     EXPECT_DOUBLE_EQ(p["pour_then_tapping"]["mean"].get<double>(), poured["density"]["mean"].get<double>()) << ex;
     EXPECT_EQ(poured["stages"]["tapping"]["taps"], 2);
@@ -110,8 +115,8 @@ TEST_F(Reproduce, ProtocolTableHasFourWaysToMakeEachExampleBed) {
 
 TEST_F(Reproduce, MarkdownHasEveryTableWithThePapersNumbers) {
   const std::string md = slurp(out_ / "report.md");
-  for (const char* heading : {"## Summary", "## Example 1", "## Example 2", "## Table 2", "### How the Table 2 result moves",
-                              "## Modelling notes"})
+  for (const char* heading : {"## Summary", "## Example 1", "## Example 2", "## Table 2",
+                              "### How the Table 2 result moves", "## Modelling notes"})
     EXPECT_NE(md.find(heading), std::string::npos) << heading;
   EXPECT_NE(md.find("| paper |  | 0.558 | 0.604 |"), std::string::npos);  // Example 1 reference row
   EXPECT_NE(md.find("| paper |  | 0.576 | 0.660 |"), std::string::npos);  // Example 2
@@ -175,7 +180,7 @@ TEST_F(Reproduce, Table2IsAlsoGivenAsVoidsAndDryBulkDensity) {
   const double particle_density = mix3["scenario"]["material"]["density_kg_m3"].get<double>();
   for (const auto& row : j["table2"]) {
     const double ours = row["after_dynamics"]["mean"].is_null() ? row["after_deposition"]["mean"].get<double>()
-                                                                 : row["after_dynamics"]["mean"].get<double>();
+                                                                : row["after_dynamics"]["mean"].get<double>();
     const double experiment = row["experiment"].get<double>();
     const std::string expected = fmt::format(
         "| {} | {:.1f} | {:.0f} | {:.1f} | {:.1f} | {:.0f} | {:.1f} |", row["mix"].get<int>(), 100 * (1 - ours),
@@ -289,9 +294,9 @@ TEST_F(Reproduce, CalibratedTable2PredictsFromOneMixWhatItsRunsGive) {
     const int mix = m["mix"];
     for (std::size_t v = 0; v < 2; ++v) {
       const double value = study["values"][v];
-      const auto summary = nlohmann::json::parse(
-          slurp(out_ / "runs" / "calibrated_table2" / fmt::format("mix{}_sand_mu_r_{:g}", mix, value) / "seed_1" /
-                "summary.json"));
+      const auto summary =
+          nlohmann::json::parse(slurp(out_ / "runs" / "calibrated_table2" /
+                                      fmt::format("mix{}_sand_mu_r_{:g}", mix, value) / "seed_1" / "summary.json"));
       EXPECT_DOUBLE_EQ(summary["scenario"]["materials"]["sand"]["rolling_friction"].get<double>(), value);
       const auto& cpm = summary["predictions"];
       const double expected = summary["density"]["mean"].get<double>() +
@@ -386,7 +391,7 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
   EXPECT_EQ(slurp(out_ / "figures" / "table2_mix3_grading.csv")
                 .rfind("series,sieve_opening_mm,percent_passing_by_volume\n", 0),
             0u);
-  EXPECT_EQ(pngs, 3u);            // Fig. 6 a and b, one Table 2 bed
+  EXPECT_EQ(pngs, 3u);  // Fig. 6 a and b, one Table 2 bed
 
   // Fig. 4: time from 0 to the end of the (quick) settling run; densities from the paper's
   // 0.558 after deposition to the experiment's 0.6108.
@@ -489,9 +494,11 @@ TEST_F(Reproduce, ResumedAfterAKillEndsWithTheNumbersOfAnUninterruptedRun) {
   const Result r = run("reproduce --quick --resume --threads 2 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("seed 1: density 0.5971 after DEM"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("resumed from its checkpoint taken before the final analysis)"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("seed 1: run again, not resumed: the checkpoint in " + (runs / "example2" / "seed_1").string()),
-            std::string::npos)
+  EXPECT_NE(r.output.find("resumed from its checkpoint taken before the final analysis)"), std::string::npos)
+      << r.output;
+  EXPECT_NE(
+      r.output.find("seed 1: run again, not resumed: the checkpoint in " + (runs / "example2" / "seed_1").string()),
+      std::string::npos)
       << r.output;
   const auto resumed = nlohmann::json::parse(slurp(out / "reproduce.json"));
   auto uninterrupted = nlohmann::json::parse(slurp(out_ / "reproduce.json"));
@@ -550,6 +557,22 @@ fs::path shrunk_examples(const fs::path& dir, const std::string& sand_cut) {
   return examples;
 }
 
+// Calibrating on one mix and predicting the others needs three mixes: refused before any run.
+TEST(ReproduceCalibratedTable2, RefusesFewerThanThreeMixesBeforeAnyRun) {
+  const aggpack::testing::ScratchDir scratch("aggpack_calibrated_two_mixes_");
+  const fs::path examples = shrunk_examples(scratch.path(), "0.14 in");
+  for (const char* dry : {" --dry-run", ""}) {
+    const Result r = run("reproduce --quick --calibrated-table2 --examples " + examples.string() + " --out " +
+                         (scratch.path() / "out").string() + dry);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("fu2003_table2.csv has 2 mix(es); calibrating on one and predicting the others needs "
+                            "three or more"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(fs::exists(scratch.path() / "out" / "runs"));
+  }
+}
+
 // `--settle-table2` settles seed 1 of each Table 2 mix by DEM; `--whole-grading` runs every mix
 // at more sand cut-offs (0.1 and 0.06 in with --quick, deposited) and carries each mix's series
 // to its whole grading. On the shrunk copy (sand cut at 0.14 in, so that each mix has three
@@ -572,8 +595,8 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
     EXPECT_EQ(mix["dem"][0]["seed"], 1);
     EXPECT_GT(mix["dem"][0]["steps"].get<double>(), 1000.0);
     EXPECT_LT(mix["dem"][0]["max_overlap_rel"].get<double>(), 0.1);
-    const auto summary = nlohmann::json::parse(
-        slurp(out / "runs" / fmt_mix_dir(mix["mix"].get<int>()) / "seed_1" / "summary.json"));
+    const auto summary =
+        nlohmann::json::parse(slurp(out / "runs" / fmt_mix_dir(mix["mix"].get<int>()) / "seed_1" / "summary.json"));
     EXPECT_DOUBLE_EQ(summary["stages"]["dynamics"]["density"]["mean"].get<double>(),
                      mix["after_dynamics"]["mean"].get<double>());
     EXPECT_DOUBLE_EQ(summary["scenario"]["material"]["youngs_modulus_pa"].get<double>(), 5e7);
@@ -603,9 +626,10 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
   EXPECT_NE(md.find("| mix | seed | particles | after deposition | after DEM | steps |"), std::string::npos) << md;
   for (const auto& mix : j["table2"]) {
     EXPECT_GT(mix["dem"][0]["particle_steps_per_second"].get<double>(), 0.0);
-    EXPECT_NE(md.find(fmt::format("| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(),
-                                  mix["particles"].get<std::size_t>(), mix["after_deposition"]["values"][0].get<double>(),
-                                  mix["after_dynamics"]["values"][0].get<double>(), mix["dem"][0]["steps"].get<std::size_t>())),
+    EXPECT_NE(md.find(fmt::format(
+                  "| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(), mix["particles"].get<std::size_t>(),
+                  mix["after_deposition"]["values"][0].get<double>(), mix["after_dynamics"]["values"][0].get<double>(),
+                  mix["dem"][0]["steps"].get<std::size_t>())),
               std::string::npos)
         << md;
   }
@@ -632,7 +656,8 @@ TEST_F(Sweep, FindsTheDensestOfThePointsItRan) {
   ASSERT_EQ(j["points"].size(), 3u);
   double best = 0.0, best_fa = 0.0;
   for (const auto& p : j["points"]) {
-    EXPECT_NEAR(p["ca_fa"].get<double>(), (100.0 - p["fa_percent"].get<double>()) / p["fa_percent"].get<double>(), 1e-12);
+    EXPECT_NEAR(p["ca_fa"].get<double>(), (100.0 - p["fa_percent"].get<double>()) / p["fa_percent"].get<double>(),
+                1e-12);
     EXPECT_EQ(p["density"]["values"].size(), 2u);
     EXPECT_FALSE(p["density"]["sd"].is_null());
     if (p["density"]["mean"].get<double>() > best) best = p["density"]["mean"], best_fa = p["fa_percent"];
@@ -677,12 +702,15 @@ TEST_F(Sweep, SaysWhatItsCutOffLeftOutAndClaimsNoSpreadFromOneSeed) {
         slurp(dir_ / fmt::format("fa_{:g}", p["fa_percent"].get<double>()) / "seed_1" / "summary.json"));
     const auto& components = run["sizes"]["components"];
     ASSERT_EQ(components.size(), 2u);
-    const double coarse_out = components[0]["cut_below_fraction"].get<double>() + components[0]["cut_above_fraction"].get<double>();
-    const double fine_out = components[1]["cut_below_fraction"].get<double>() + components[1]["cut_above_fraction"].get<double>();
+    const double coarse_out =
+        components[0]["cut_below_fraction"].get<double>() + components[0]["cut_above_fraction"].get<double>();
+    const double fine_out =
+        components[1]["cut_below_fraction"].get<double>() + components[1]["cut_above_fraction"].get<double>();
     EXPECT_GT(fine_out, 0.3);  // 0.1 in leaves most of this sand out
     EXPECT_NEAR(p["fine_left_out_volume_fraction"].get<double>(), fine_out, 1e-12);
     const double fine_share = p["fa_percent"].get<double>() / 100.0;
-    EXPECT_NEAR(p["left_out_volume_fraction"].get<double>(), (1.0 - fine_share) * coarse_out + fine_share * fine_out, 1e-12);
+    EXPECT_NEAR(p["left_out_volume_fraction"].get<double>(), (1.0 - fine_share) * coarse_out + fine_share * fine_out,
+                1e-12);
     if (p["fa_percent"].get<double>() == best_fa) {
       EXPECT_NE(r.output.find(fmt::format("note: {:.0f} % of the sand's volume ({:.0f} % of this blend's) is outside",
                                           100.0 * fine_out, 100.0 * p["left_out_volume_fraction"].get<double>())),
@@ -701,9 +729,10 @@ TEST_F(Sweep, SaysWhatItsCutOffLeftOutAndClaimsNoSpreadFromOneSeed) {
 // blend is the one of the densest whole grading.
 TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
   const std::string scenario = std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml";
-  const Result r = run("sweep " + scenario + " --fa 30,45 --seeds 2 --cut-offs 0.2in,0.16in,0.12in --out " +
-                       dir_.string() + " --set 'container.side=\"2.5 in\"' --set 'particles.coarse.d_max=\"0.5 in\"' --set "
-                       "'analysis.box_sides=[\"1 in\"]'");
+  const Result r =
+      run("sweep " + scenario + " --fa 30,45 --seeds 2 --cut-offs 0.2in,0.16in,0.12in --out " + dir_.string() +
+          " --set 'container.side=\"2.5 in\"' --set 'particles.coarse.d_max=\"0.5 in\"' --set "
+          "'analysis.box_sides=[\"1 in\"]'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const auto j = nlohmann::json::parse(slurp(dir_ / "sweep.json"));
   ASSERT_EQ(j["points"].size(), 2u);
@@ -717,7 +746,8 @@ TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
     EXPECT_DOUBLE_EQ(p["density"]["mean"].get<double>(), w["cut_offs"][2]["mean"].get<double>());
     EXPECT_DOUBLE_EQ(w["whole_grading"]["density"].get<double>(),
                      w["whole_grading"]["cpm"].get<double>() + w["residual_fit"]["at_nothing_left_out"].get<double>());
-    if (w["whole_grading"]["density"].get<double>() > best) best = w["whole_grading"]["density"], best_fa = p["fa_percent"];
+    if (w["whole_grading"]["density"].get<double>() > best)
+      best = w["whole_grading"]["density"], best_fa = p["fa_percent"];
     const fs::path blend = dir_ / fmt::format("fa_{:g}", p["fa_percent"].get<double>());
     EXPECT_TRUE(fs::exists(blend / "whole_grading.svg"));
     const Result data = aggpack::testing::check_outputs("csv " + (blend / "whole_grading.csv").string());
@@ -726,10 +756,11 @@ TEST_F(Sweep, CarriesEachBlendToItsWholeGrading) {
   }
   EXPECT_EQ(j["best"]["fa_percent"].get<double>(), best_fa);
   EXPECT_DOUBLE_EQ(j["best"]["whole_grading"]["density"].get<double>(), best);
-  EXPECT_EQ(slurp(dir_ / "sweep.csv").rfind("fa_percent,ca_fa,seeds,density_mean,density_sd,density_after_deposition_"
-                                            "mean,density_after_deposition_sd,whole_grading,whole_grading_low,"
-                                            "whole_grading_high\n",
-                                            0),
+  EXPECT_EQ(slurp(dir_ / "sweep.csv")
+                .rfind("fa_percent,ca_fa,seeds,density_mean,density_sd,density_after_deposition_"
+                       "mean,density_after_deposition_sd,whole_grading,whole_grading_low,"
+                       "whole_grading_high\n",
+                       0),
             0u);
   // Coarse cut-offs of a small box: the bands are wide, and the run says the ranking is no answer.
   EXPECT_FALSE(j["best"]["whole_grading"]["trustworthy"].get<bool>());
@@ -753,14 +784,18 @@ TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
   const Result frames = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 30,40 --out " +
                             dir_.string() + " --set output.frame_interval=0.01");
   EXPECT_EQ(frames.exit_code, 2) << frames.output;
-  EXPECT_NE(frames.output.find("output.frame_interval: a sweep writes no VTP files"), std::string::npos) << frames.output;
-  const Result not_mix = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/example1.toml --fa 30,40 --out " + dir_.string());
+  EXPECT_NE(frames.output.find("output.frame_interval: a sweep writes no VTP files"), std::string::npos)
+      << frames.output;
+  const Result not_mix =
+      run("sweep " + std::string(AGGPACK_EXAMPLES) + "/example1.toml --fa 30,40 --out " + dir_.string());
   EXPECT_EQ(not_mix.exit_code, 2);
   EXPECT_NE(not_mix.output.find("coarse/fine mix"), std::string::npos) << not_mix.output;
-  const Result bad = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 30:x:5 --out " + dir_.string());
+  const Result bad =
+      run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 30:x:5 --out " + dir_.string());
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.output.find("--fa 30:x:5"), std::string::npos) << bad.output;
-  const Result zero = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 0,40 --out " + dir_.string());
+  const Result zero =
+      run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 0,40 --out " + dir_.string());
   EXPECT_EQ(zero.exit_code, 2);
   EXPECT_FALSE(fs::exists(dir_ / "sweep.json"));
 }
