@@ -33,9 +33,14 @@ struct GridCrossing {
   // NaN when a seed count below two leaves the scatter unknown.
   double band_low = 0.0, band_high = 0.0;
   bool at_end = false;  // beyond the grid's end by less than its standard error: the end's value
+  // How many times the curve meets the target; more than one: it is not monotone there, and the
+  // first crossing (the lowest value) is taken.
+  std::size_t crossings = 1;
 };
 // The first crossing of the curve with `target`, grid value by grid value. None when the target
 // lies beyond both ends' densities by more than their standard errors: out of the grid's reach.
+// A target beyond both ends but within the standard error of one takes that end (the nearer, if
+// both).
 std::optional<GridCrossing> crossing_on_grid(const GridCurve& curve, double target);
 
 struct PredictedBlend {
@@ -64,8 +69,8 @@ struct LeaveOneOutStudy {
   double lab_slope_per_10 = 0.0;  // over every blend
 };
 
-// Every choice of the calibration blend. InputError for fewer than three curves or curves on
-// different grids.
+// Every choice of the calibration blend. InputError for fewer than three curves, or curves on
+// different grids or on a grid that is not strictly ascending.
 LeaveOneOutStudy leave_one_out(const std::vector<GridCurve>& curves);
 
 }  // namespace aggpack
