@@ -42,11 +42,13 @@ max_time = 1.5
 [analysis]
 box_sides = [0.05]
 TOML
+grep -v '^rolling' "$out/rolling.toml" > "$out/rolling_mu0.toml"  # the control: no rolling resistance
 one() {  # seed engine mu_r core
-  local dir="$out/seed$1_$2_mu$3"
+  local dir="$out/seed$1_$2_mu$3" scenario="$out/rolling.toml"
+  [ "$3" = 0 ] && scenario="$out/rolling_mu0.toml"
   [ -f "$dir/summary.json" ] && return
-  taskset -c "$4" "$exe" run "$out/rolling.toml" --seed "$1" --threads 1 --quiet --no-checkpoint --overwrite \
-    --set "dynamics.engine=\"$2\"" --set "material.rolling_friction=$3" --out "$dir"
+  taskset -c "$4" "$exe" run "$scenario" --seed "$1" --threads 1 --quiet --no-checkpoint --overwrite \
+    --set "dynamics.engine=\"$2\"" --out "$dir"
 }
 start=$(date +%s)
 for seed in $(seq 1 "$seeds"); do
