@@ -60,7 +60,8 @@ std::string lammps_rolling(const ContactParameters& p) {
   "; rolling resistance: with rolling_model = \"spring_dashpot\" both codes run LAMMPS's sds law (the same "  \
   "history, projection and cap), except that LAMMPS 2022 negates a contact's rolling history when the pair's " \
   "order in its neighbour list changes (as it does the tangential one), where the rolling history is the same " \
-  "seen from either sphere (aggpack keeps it): on one rank the order does not change; with \"constant_torque\" " \
+  "seen from either sphere (aggpack keeps it; on one rank a pour gave the same densities with LAMMPS's atom " \
+  "sort on and off, docs/validation.md); with \"constant_torque\" " \
   "aggpack's torque is mu_r R* F_n against the relative spin at once, and LAMMPS's sds 1e12 0 mu_r a very stiff " \
   "spring that reaches the same cap within a step; LIGGGHTS's epsd2 is the same spring-dashpot form with its " \
   "k_r taken from the normal stiffness (2.25 mu_r^2 R*^2 k_n) where sds takes a constant"
