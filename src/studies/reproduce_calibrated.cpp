@@ -22,7 +22,7 @@ const Scenario& calibrated_scenario(const Reproduction& rep) {
   return rep.calibrated.front().at_value.front().runs.front().result.report.scenario;
 }
 
-// "stone: μ 0.5, μ_r 0.2; sand: μ 0.4, μ_r fitted", with the rolling law.
+// "sand: μ 0.4, μ_r the unknown, ...; stone: μ 0.5, μ_r 0.2, ...", with the rolling law.
 std::string materials_text(const Scenario& sc, const CalibratedTable2Plan& plan) {
   std::vector<std::string> parts;
   for (const NamedMaterial& m : sc.materials) {
