@@ -51,7 +51,7 @@ Plan make_plan(const ReproduceOptions& o) {
   if (o.whole_grading)
     p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
   // Table 2 from one calibration mix: the sand's rolling friction is the unknown (the stone's is
-  // the literature's). The bed is reduced so that the study takes about an hour a seed on two
+  // the literature's). The bed is reduced so that the study takes about 40 minutes a seed on two
   // cores (docs/validation.md, "Table 2 from one calibration mix").
   if (o.calibrated_table2) {
     CalibratedTable2Plan c{"table2_mix3_stone_sand.toml", "sand", {0.0, 0.1, 0.2, 0.35}, {}, {}};
