@@ -211,6 +211,25 @@ void take_over_folder(const Scenario& sc, bool resumed, const RunOptions& option
                fmt::join(removed, ", "));
 }
 
+
+// A bed that a DEM made and the final analysis refused (a virtual cube that does not fit it):
+// kept in the folder, this run's one output (with a resumed run's checkpoint) in the manifest,
+// to be measured again rather than made again. Returns the refusal, saying where the bed is.
+InputError keep_unanalysed_bed(const Scenario& sc, const BedNotAnalysed& refused, bool resumed, bool frames_begun) {
+  std::error_code ec;
+  if (!resumed) {
+    std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
+    if (frames_begun) std::filesystem::remove_all(sc.output.directory / kFramesFolder, ec);
+  }
+  const std::filesystem::path kept = sc.output.directory / kUnanalysedBedFile;
+  write_file_atomically(kept, particles_csv(refused.bed()));
+  std::vector<std::string> files{kUnanalysedBedFile};
+  if (std::filesystem::exists(sc.output.directory / kCheckpointFile)) files.emplace_back(kCheckpointFile);
+  write_manifest(sc.output.directory, files);
+  return InputError(fmt::format("{}. The bed ({:.3g} s of DEM) is kept in {}: measure it with `aggpack analyze {} "
+                                "--cube SIDE` (sides in m), or run again with smaller analysis.box_sides",
+                                refused.what(), refused.simulated_time(), kept.string(), kept.string()));
+}
 // run_scenario's and resume_run's common part: runs `sc` into its output folder, with
 // checkpoints of `header` there unless the scenario turns them off.
 RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoint* resume, const RunOptions& options,
@@ -254,6 +273,8 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   RunResult result{sc.output.directory, {}, {}, 0.0};
   try {
     result.report = run(sc, controls, progress);
+  } catch (const BedNotAnalysed& refused) {
+    throw keep_unanalysed_bed(sc, refused, resume != nullptr, began);
   } catch (...) {
     // A refused run leaves nothing: not the checkpoint it took on its way (a resumed run's
     // stays: it is the user's way back to the work done before).

@@ -187,7 +187,13 @@ RunReport RunSession::finish() {
   const auto t0 = Clock::now();
   progress_.start_stage("analysis");
   progress_.update({"virtual boxes"}, 0.0);
-  report_.final = analyse_bed(scenario_, report_.particles);
+  try {
+    report_.final = analyse_bed(scenario_, report_.particles);
+  } catch (const InputError& e) {
+    progress_.clear();
+    if (report_.simulated_time > 0.0) throw BedNotAnalysed(e.what(), std::move(report_.particles), report_.simulated_time);
+    throw;
+  }
   progress_.clear();
   report_.wall_clock_s["analysis"] = seconds_since(t0);
   return std::move(report_);

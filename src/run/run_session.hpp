@@ -7,6 +7,7 @@
 #include <string>
 
 #include "aggpack/analysis/coordination.hpp"
+#include "aggpack/core/error.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/checkpoint.hpp"
 #include "aggpack/run/generate_sizes.hpp"
@@ -26,6 +27,20 @@ struct InitialBed {
   std::optional<GeneratedSizes> sizes;
 };
 InitialBed initial_bed(const Scenario& sc);
+
+// The final analysis refused a bed that a DEM made (a virtual cube that does not fit it, which
+// is known only once the bed is made): the refusal, with the bed, for a run into a folder to keep.
+class BedNotAnalysed : public InputError {
+ public:
+  BedNotAnalysed(const std::string& why, ParticleStore bed, double simulated_time)
+      : InputError(why), bed_(std::move(bed)), simulated_time_(simulated_time) {}
+  [[nodiscard]] const ParticleStore& bed() const { return bed_; }
+  [[nodiscard]] double simulated_time() const { return simulated_time_; }
+
+ private:
+  ParticleStore bed_;
+  double simulated_time_;
+};
 
 // A run in progress: its report (the bed in it), what its steps share (RunContext: the drop
 // sequence, the time so far, the DEM system they continue), its checkpointer and its frames.

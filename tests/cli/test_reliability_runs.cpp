@@ -182,6 +182,41 @@ std::set<std::string> manifest_names(const fs::path& folder) {
 // Issue 34, item 1: the README's Example 1, then the same scenario with --stop-after
 // deposition into the same folder, kept the first run's timeseries.csv beside the second's
 // summary. The second run now removes the first's files (its manifest lists them) and says so.
+// A virtual cube that the preflight lets through (the bed at its loosest would hold it) but
+// the poured bed, denser, cannot: the refusal comes after the DEM, and the bed it made is kept
+// (listed in the manifest) for `analyze`, not thrown away; a run into the folder again replaces it.
+TEST_F(ReliabilityRuns, ACubeThatDoesNotFitThePouredBedKeepsTheBed) {
+  const fs::path scenario = write(
+      "pour.toml",
+      "title = \"pour\"\nseed = 1\n[container]\nside = 0.09\nheight = 0.4\n[particles]\ndiameter = 0.01\n"
+      "count = 700\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\nfriction_particle = 0.5\n"
+      "friction_wall = 0.5\n[pour]\nbatches = 2\n[dynamics]\nmax_time = 1.5\n[analysis]\nbox_sides = [0.069]\n");
+  const fs::path out = dir_ / "out";
+  const auto r = run_cli("run " + scenario.string() + " --threads 2 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("analysis.box_sides: a virtual cube of side 0.069 m comes closer than d_max"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("s of DEM) is kept in " + (out / "particles_unanalysed.csv").string()), std::string::npos)
+      << r.output;
+  std::set<std::string> left;
+  for (const auto& entry : fs::directory_iterator(out)) left.insert(entry.path().filename().string());
+  EXPECT_EQ(left, (std::set<std::string>{"aggpack-manifest.json", "particles_unanalysed.csv"}));
+  const auto manifest = nlohmann::json::parse(slurp(out / "aggpack-manifest.json"));
+  EXPECT_EQ(manifest["files"], nlohmann::json::array({"particles_unanalysed.csv"}));
+  // The kept bed is the whole bed, and `analyze` measures it.
+  const auto a = run_cli("analyze " + (out / "particles_unanalysed.csv").string() + " --cube 0.04 --json");
+  ASSERT_EQ(a.exit_code, 0) << a.output;
+  const auto measured = nlohmann::json::parse(a.output.substr(a.output.find('{')));
+  EXPECT_GT(measured["density"]["mean"].get<double>(), 0.5);
+  // Run again with a cube that fits: the folder holds that run's outputs only.
+  const auto again = run_cli("run " + scenario.string() + " --threads 2 --quiet --out " + out.string() +
+                             " --set analysis.box_sides=[0.04]");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_FALSE(fs::exists(out / "particles_unanalysed.csv"));
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
 TEST_F(ReliabilityRuns, AReusedFolderHoldsTheLastRunsOutputsOnly) {
   const fs::path scenario =
       write("settle.toml", "[container]\nside = 0.1\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 500\n"

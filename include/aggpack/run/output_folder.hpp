@@ -11,6 +11,9 @@
 namespace aggpack {
 
 inline constexpr const char* kManifestFile = "aggpack-manifest.json";
+// The bed of a run whose final analysis was refused after a DEM (a virtual cube that does not
+// fit the bed it made): kept, and listed in the manifest, so that it can be measured again.
+inline constexpr const char* kUnanalysedBedFile = "particles_unanalysed.csv";
 
 // The entries of `folder` (names, not paths; sorted): those an aggpack run wrote (listed in its
 // manifest; in a folder of an aggpack from before manifests, one whose summary.json names an
