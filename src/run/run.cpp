@@ -211,7 +211,6 @@ void take_over_folder(const Scenario& sc, bool resumed, const RunOptions& option
                fmt::join(removed, ", "));
 }
 
-
 // A bed that a DEM made and the final analysis refused (a virtual cube that does not fit it):
 // kept in the folder, this run's one output (with a resumed run's checkpoint) in the manifest,
 // to be measured again rather than made again. Returns the refusal, saying where the bed is.
@@ -230,6 +229,7 @@ InputError keep_unanalysed_bed(const Scenario& sc, const BedNotAnalysed& refused
                                 "--cube SIDE` (sides in m), or run again with smaller analysis.box_sides",
                                 refused.what(), refused.simulated_time(), kept.string(), kept.string()));
 }
+
 // run_scenario's and resume_run's common part: runs `sc` into its output folder, with
 // checkpoints of `header` there unless the scenario turns them off.
 RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoint* resume, const RunOptions& options,

@@ -406,7 +406,8 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                "ours - experiment"};
   // --calibrated-table2: the median calibration mix's predictions beside the spheres'.
   const std::optional<LeaveOneOutStudy> calibrated = calibrated_study(rep);
-  if (calibrated) t2.header.insert(t2.header.begin() + 9, "stone and sand, calibrated on one mix");
+  constexpr std::ptrdiff_t kCalibratedColumn = 9;  // before "paper (computed)"
+  if (calibrated) t2.header.insert(t2.header.begin() + kCalibratedColumn, "stone and sand, calibrated on one mix");
   nlohmann::json t2_json = nlohmann::json::array();
   std::string cpm_parameters;
   for (const Table2Outcome& m : mixes) {
@@ -428,7 +429,8 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                        value_text(cpm("simulated")), value_text(cpm("whole_grading")), whole_grading_text(whole),
                        fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd), value_text(m.row.experiment, 3),
                        difference_text(ours, m.row.paper_mean), difference_text(ours, m.row.experiment)});
-    if (calibrated) t2.rows.back().insert(t2.rows.back().begin() + 9, calibrated_cell(*calibrated, m.row.mix));
+    if (calibrated)
+      t2.rows.back().insert(t2.rows.back().begin() + kCalibratedColumn, calibrated_cell(*calibrated, m.row.mix));
     t2_json.push_back({{"mix", m.row.mix}, {"state", m.row.state}, {"ca_fa", m.row.ca_fa}, {"fa_percent", m.row.fa_percent},
                        {"after_deposition", m.json(&CaseRun::after_deposition)},
                        {"after_dynamics", m.json(&CaseRun::after_dynamics)},
