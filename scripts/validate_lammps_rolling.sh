@@ -15,6 +15,10 @@ cd "$(dirname "$0")/.."
 exe=$PWD/build/aggpack
 seeds=${1:-20}
 out=${2:-out/validate_lammps_rolling}
+if ! [[ "$seeds" =~ ^[0-9]+$ ]] || (( seeds < 2 || seeds > 1000 )); then
+  echo "validate_lammps_rolling.sh: SEEDS $seeds: expected a whole number from 2 to 1000 (a mean needs two)" >&2
+  exit 2
+fi
 mkdir -p "$out"
 export OMP_NUM_THREADS=1
 cat > "$out/rolling.toml" <<'TOML'

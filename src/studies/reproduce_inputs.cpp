@@ -2,6 +2,7 @@
 #include "reproduce_parts.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -60,6 +61,15 @@ std::vector<Table2Row> read_table2(const fs::path& file) {
       throw InputError(fmt::format("{}:{}: expected mix_id,state,ca_fa,fa_percent,phi_com_mean,phi_com_sd,phi_exp",
                                    file.string(), number));
     }
+    // Every number a run or a fit takes (a NaN would pass as a measurement no fit can reach).
+    const Table2Row& r = rows.back();
+    const auto density = [](double v) { return v > 0.0 && v < 1.0; };
+    if (!(r.ca_fa > 0.0 && std::isfinite(r.ca_fa)) || !(r.fa_percent > 0.0 && r.fa_percent < 100.0) ||
+        !density(r.paper_mean) || !(r.paper_sd >= 0.0 && r.paper_sd < 1.0) || !density(r.experiment))
+      throw InputError(fmt::format("{}:{}: ca_fa {}, fa_percent {}, phi_com_mean {}, phi_com_sd {}, phi_exp {}: "
+                                   "expected a positive finite ca_fa, fa_percent between 0 and 100 and densities "
+                                   "between 0 and 1",
+                                   file.string(), number, f[2], f[3], f[4], f[5], f[6]));
   });
   if (rows.empty()) throw InputError(fmt::format("{}: no rows", file.string()));
   return rows;

@@ -581,6 +581,15 @@ TEST(ReproduceCalibratedTable2, RefusesFewerThanThreeMixesBeforeAnyRun) {
         << r.output;
     EXPECT_FALSE(fs::exists(scratch.path() / "out" / "runs"));
   }
+  // A measurement that is not a density would pass to the fit as one no value reaches.
+  std::string table = slurp(examples / "fu2003_table2.csv");
+  const auto at = table.find(",0.741");
+  ASSERT_NE(at, std::string::npos);
+  table.replace(at, 6, ",nan");
+  std::ofstream(examples / "fu2003_table2.csv") << table;
+  const Result r = run("reproduce --quick --calibrated-table2 --dry-run --examples " + examples.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("phi_exp nan: expected"), std::string::npos) << r.output;
 }
 
 // `--settle-table2` settles seed 1 of each Table 2 mix by DEM; `--whole-grading` runs every mix
