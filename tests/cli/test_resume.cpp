@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <functional>
 #include <fstream>
@@ -86,7 +87,7 @@ class Resume : public ::testing::Test {
   }
 
   // Starts `aggpack run`, checkpointing at every safe point, and sends `signal_number` once
-  // the checkpoint in `out` was taken at a safe point whose description contains `when`.
+  // the checkpoint in `out` was taken at the safe point `when` names (taken_at).
   // Returns the exit code (or minus the signal), or nullopt when the run ended first.
   static std::optional<int> run_and_signal_when(const fs::path& scenario, const fs::path& out, const std::string& when,
                                                 int signal_number) {
@@ -102,11 +103,25 @@ class Resume : public ::testing::Test {
                        when, signal_number);
   }
 
+  // Whether the checkpoint in `out` was taken at `when`: "before step K of N" is any safe
+  // point of step K (K - 1 steps completed; its first safe point alone lasts until the step's
+  // next one, a few milliseconds, and a poll could miss it); anything else, a safe point whose
+  // description contains `when`. A resumed run's checkpoint holds the one it started from
+  // until it writes its own.
+  static bool taken_at(const fs::path& out, const std::string& when) {
+    aggpack::Checkpoint checkpoint;
+    try {
+      checkpoint = aggpack::read_checkpoint(out);  // written atomically: whole, when there
+    } catch (const aggpack::InputError&) {
+      return false;  // none yet, or the finished run has removed it
+    }
+    unsigned step = 0;
+    if (std::sscanf(when.c_str(), "before step %u of", &step) == 1) return checkpoint.steps_completed + 1 >= step;
+    return checkpoint.where.find(when) != std::string::npos;
+  }
+
   static std::optional<int> signal_when(const std::vector<std::string>& arguments, const fs::path& out,
                                         const std::string& when, int signal_number) {
-    // The safe point's description is stored as plain text in checkpoint.bin; a resumed run's
-    // checkpoint holds the one it started from until it writes its own.
-    const auto taken_at_when = [&] { return slurp(out / "checkpoint.bin").find(when) != std::string::npos; };
     const pid_t pid = ::fork();
     if (pid == 0) {
       ::freopen("/dev/null", "w", stdout);
@@ -120,7 +135,7 @@ class Resume : public ::testing::Test {
     int status = 0;
     for (int k = 0; k < 12000; ++k) {  // at most two minutes
       if (::waitpid(pid, &status, WNOHANG) == pid) return std::nullopt;
-      if (taken_at_when()) break;
+      if (taken_at(out, when)) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     ::kill(pid, signal_number);
