@@ -104,6 +104,7 @@ int main(int argc, char** argv) {
   const aggpack::ContactModel model = aggpack::make_contact_model(material);
   aggpack::DemSettings settings;
   settings.time_step = 1e-5;
+  settings.adapt_threads = false;  // the scaling of OMP_NUM_THREADS threads, not the governor's choice
 
   aggpack::ParticleStore bed;
   aggpack::SettleResult settled;

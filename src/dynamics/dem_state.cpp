@@ -15,7 +15,6 @@
 namespace aggpack {
 
 namespace {
-using dem_internal::kThreadedFrom;
 constexpr std::uint32_t kStateFormat = 2;  // raise when the members below change
 }  // namespace
 
@@ -62,8 +61,8 @@ void DemSystem::restore_state(std::string_view bytes) {
   check_restored(made);
   read_materials();  // the restored slots' (the store's order is the user's)
   index_cross_block_entries();
-  threaded_ = n_ >= kThreadedFrom;
-  batches_.assign(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1, ContactBatch{});
+  use_threads(threads_);
+  batches_.assign(static_cast<std::size_t>(governor_.most()), ContactBatch{});
 }
 
 void DemSystem::check_restored(const MadeWith& made) const {

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -37,7 +38,8 @@ DemSystem::DemSystem(ParticleStore& particles, const Container& container, const
   if (!(settings.time_step > 0.0)) throw InputError(fmt::format("time step {} s must be > 0", settings.time_step));
   if (frozen_.empty()) frozen_.assign(particles.size(), 0);
   if (frozen_.size() != particles.size()) throw std::invalid_argument("DemSystem: one frozen flag per particle");
-  threads_ = settings.threads > 0 ? settings.threads : omp_get_max_threads();
+  governor_ = ThreadGovernor(settings.threads > 0 ? settings.threads : omp_get_max_threads());
+  threads_ = governor_.most();
   // Of any pair of materials (one material: its own pair and the walls').
   const auto any_law = [&](auto&& property) {
     bool any = false;
@@ -79,7 +81,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
   if (p_.size() >= 0xFFFFFFF0u) throw InputError("the dynamics stage holds at most 4e9 particles");
   const std::uint32_t first = n_;
   n_ = static_cast<std::uint32_t>(p_.size());
-  threaded_ = n_ >= kThreadedFrom;
+  threaded_ = n_ >= kThreadedFrom && threads_ > 1;
   grain_.resize(n_);
   frozen_.resize(n_);
   user_index_.resize(n_);
@@ -116,7 +118,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
   morton_cell_ = n_ > 0 ? d_sum / n_ : 1.0;
   grid_bed_volume_ = 4.0 / 3.0 * std::numbers::pi * solid / 0.5 + 1e-300;  // the spheres at a loose 0.5
   offset_.resize(std::max<std::size_t>(offset_.size(), first + 1), 0);
-  batches_.resize(threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1);
+  batches_.resize(static_cast<std::size_t>(governor_.most()));
   build_neighbour_list();
   if (first == 0) {
     compute_forces();
@@ -422,6 +424,29 @@ bool DemSystem::drift(double slack) {
 }
 
 void DemSystem::run(std::size_t steps) {
+  using Clock = std::chrono::steady_clock;
+  // Below kThreadedFrom the loops run on one thread whatever the count: nothing to choose.
+  const bool adapt = settings_.adapt_threads && n_ >= kThreadedFrom;
+  for (std::size_t done = 0; done < steps;) {
+    const std::size_t count = adapt ? std::min(steps - done, governor_.chunk(n_)) : steps - done;
+    use_threads(adapt ? governor_.threads() : governor_.most());
+    if (!threaded_ && governor_.most() > 1) steps_on_fewer_threads_ += count;
+    const double list_seconds = list_seconds_;
+    const Clock::time_point start = Clock::now();
+    advance(count);
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (adapt) governor_.ran(count, n_, seconds - (list_seconds_ - list_seconds));
+    done += count;
+  }
+  write_back();
+}
+
+void DemSystem::use_threads(int threads) {
+  threads_ = threads;
+  threaded_ = n_ >= kThreadedFrom && threads_ > 1;
+}
+
+void DemSystem::advance(std::size_t steps) {
   const double half = 0.5 * settings_.time_step;
   for (std::size_t s = 0; s < steps; ++s) {
     kick(half);
@@ -433,13 +458,16 @@ void DemSystem::run(std::size_t steps) {
       place_container(force_time_);
       slack = std::abs(container_offset() - listed_offset_);
     }
-    if (drift(slack)) build_neighbour_list();
+    if (drift(slack)) {
+      const auto start = std::chrono::steady_clock::now();
+      build_neighbour_list();
+      list_seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
     compute_forces();
     kick(half);
     ++steps_;
     time_ = static_cast<double>(steps_) * settings_.time_step;
   }
-  write_back();
 }
 
 DemSystem::KineticEnergy DemSystem::kinetic_energy() const {

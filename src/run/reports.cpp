@@ -150,6 +150,7 @@ nlohmann::json to_json(const SettlingRun& r) {
   j["wall_clock_s"] = r.wall_clock_s;
   j["particle_steps_per_second"] = r.particle_steps_per_second;
   j["threads"] = r.threads;
+  j["steps_on_fewer_threads"] = r.steps_on_fewer_threads;
   j["memory_bytes_per_particle"] = r.memory_bytes_per_particle;
   if (r.continues_dem_system) j["continues_dem_system"] = true;
   if (r.lammps_ranks > 0) {
@@ -170,6 +171,9 @@ nlohmann::json to_json(const SettlingReport& report) {
   if (report.runs.size() == 1) return total;
   const SettlingRun& last = report.runs.back();
   total["steps"] = report.steps();
+  std::size_t on_fewer = 0;
+  for (const SettlingRun& r : report.runs) on_fewer += r.steps_on_fewer_threads;
+  total["steps_on_fewer_threads"] = on_fewer;
   total["neighbour_list_builds"] = report.neighbour_list_builds();
   total["simulated_time_s"] = report.simulated_time();
   total["wall_clock_s"] = report.wall_clock_s();

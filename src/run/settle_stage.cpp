@@ -150,6 +150,7 @@ class StepDem {
       system_ = &carried.system;
       continued_ = carried.continued;
       builds_before_ = carried.continued ? carried.system.rebuilds() : 0;
+      fewer_before_ = carried.continued ? carried.system.steps_on_fewer_threads() : 0;
     } else {
       own_ = std::make_unique<DemSystem>(particles, container, setup.model, setup.settings, std::move(frozen));
       system_ = own_.get();
@@ -158,6 +159,10 @@ class StepDem {
   [[nodiscard]] DemSystem& system() const { return *system_; }
   [[nodiscard]] std::size_t builds() const { return system_->rebuilds() - builds_before_; }
   [[nodiscard]] bool continued() const { return continued_; }
+  // Of this step's steps (a machine figure: counted from the resume on, for a resumed step).
+  [[nodiscard]] std::size_t steps_on_fewer_threads() const {
+    return system_->steps_on_fewer_threads() - fewer_before_;
+  }
   [[nodiscard]] double seconds() const { return std::chrono::duration<double>(Clock::now() - t0_).count(); }
 
   // The step's state at a safe point, for a checkpoint: its kind (checked when it is read
@@ -207,6 +212,7 @@ class StepDem {
   std::unique_ptr<DemSystem> own_;
   DemSystem* system_ = nullptr;
   std::size_t builds_before_ = 0;
+  std::size_t fewer_before_ = 0;  // the carried system's governor's count, when the step began
   bool continued_ = false;  // the system went on from the step before (a resumed step: it did then)
 };
 
@@ -244,6 +250,7 @@ SettlingRun settling_run(const StepDem& step, const DemSetup& setup, const Scena
   run.particle_steps_per_second =
       seconds > 0 ? static_cast<double>(dem.free_count()) * static_cast<double>(steps) / seconds : 0.0;
   run.threads = dem.threads();
+  run.steps_on_fewer_threads = step.steps_on_fewer_threads();
   run.memory_bytes_per_particle =
       static_cast<double>(dem.memory_bytes()) / static_cast<double>(std::max<std::size_t>(1, particles.size()));
   return run;

@@ -135,6 +135,12 @@ TEST_F(Cli, VtpIsZlibBinaryWithVelocityCoordinationAndComponent) {
                              (dir_ / "threads").string());
   ASSERT_EQ(threads.exit_code, 0) << threads.output;
   EXPECT_EQ(slurp(dir_ / "threads" / "particles.vtp"), bytes);
+  // 400 spheres are too few to gain from a second thread: every step ran on one, and the
+  // summary says so.
+  const auto two = nlohmann::json::parse(std::ifstream(dir_ / "threads" / "summary.json")).at("stages").at("dynamics");
+  EXPECT_EQ(two.at("threads"), 2);
+  EXPECT_GT(two.at("steps").get<std::size_t>(), 0u);
+  EXPECT_EQ(two.at("steps_on_fewer_threads"), two.at("steps"));
 }
 
 TEST_F(Cli, BadInputExitsWithTwoAndWritesNothing) {

@@ -12,6 +12,7 @@
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/dynamics/contact_batch.hpp"
 #include "aggpack/dynamics/contact_law.hpp"
+#include "aggpack/dynamics/thread_governor.hpp"
 
 namespace aggpack {
 
@@ -19,7 +20,10 @@ struct DemSettings {
   Vec3 gravity{0.0, 0.0, -9.81};  // m/s^2
   double time_step = 1e-5;        // s
   double skin = 0.0;              // m; Verlet-list skin, 0: 0.1 of the smallest diameter
-  int threads = 0;                // OpenMP threads for this system's loops; 0: OpenMP's default
+  int threads = 0;                // OpenMP threads for this system's loops, at most; 0: OpenMP's default
+  // Whether the steps measure their speed and take fewer threads when fewer are faster (a
+  // busy machine, a small bed: ThreadGovernor); else always `threads`. Either way the same bits.
+  bool adapt_threads = true;
 };
 
 // Contact statistics of the free particles (frozen ones are not counted).
@@ -88,7 +92,10 @@ class DemSystem {
   [[nodiscard]] std::size_t rebuilds() const { return rebuilds_; }
   [[nodiscard]] double time_step() const { return settings_.time_step; }
   [[nodiscard]] double skin() const { return skin_; }
-  [[nodiscard]] int threads() const { return threads_; }
+  [[nodiscard]] int threads() const { return governor_.most(); }  // at most; see DemSettings
+  // Steps run on fewer threads than threads(): the governor's choice, or a bed too small for
+  // threads (kThreadedFrom).
+  [[nodiscard]] std::size_t steps_on_fewer_threads() const { return steps_on_fewer_threads_; }
   [[nodiscard]] const Vec3& gravity() const { return settings_.gravity; }
   // Net force and torque on particle i at the current positions (gravity included; zero on
   // a frozen particle).
@@ -168,6 +175,8 @@ class DemSystem {
   // Positions stay within one period of the box between list builds, so the container's
   // minimum image applies. (Inline: it is in the innermost loop.)
   [[nodiscard]] Vec3 separation(const Vec3& from, const Vec3& to) const { return container_.minimum_image(to - from); }
+  void advance(std::size_t steps);  // run()'s steps, on threads_ threads
+  void use_threads(int threads);    // from the next loop on
   void kick(double half_step);
   // Moves the grains; true when one has moved more than half the skin, less `slack`, since
   // the list build.
@@ -197,8 +206,11 @@ class DemSystem {
   double morton_cell_ = 0.0;      // m, cell of the Morton sort: the mean diameter
   std::uint32_t n_ = 0;
   std::uint32_t listed_count_ = 0;  // n_ when the neighbour list was last built
-  bool threaded_ = false;  // OpenMP loops for beds large enough to gain from them
-  int threads_ = 1;        // threads of those loops (the results do not depend on it)
+  bool threaded_ = false;  // OpenMP loops: a bed large enough to gain from them, threads_ > 1
+  int threads_ = 1;        // threads of those loops now (the results do not depend on it)
+  ThreadGovernor governor_{1};  // chooses threads_ from the most allowed, when it adapts
+  std::size_t steps_on_fewer_threads_ = 0;
+  double list_seconds_ = 0.0;   // wall clock of the list builds in run() (left out of the speeds)
   std::size_t free_count_ = 0;
   std::vector<Grain> grain_;                 // per slot
   std::vector<std::uint32_t> user_index_;    // per slot: the grain's index in the store

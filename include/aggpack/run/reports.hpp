@@ -46,7 +46,8 @@ struct SettlingRun {
   SettleSample last;                              // the final sample
   double wall_clock_s = 0.0;
   double particle_steps_per_second = 0.0;
-  int threads = 1;
+  int threads = 1;                          // at most
+  std::size_t steps_on_fewer_threads = 0;   // the DEM's choice (ThreadGovernor): faster then
   double memory_bytes_per_particle = 0.0;
   int lammps_ranks = 0;  // 0: aggpack's DEM ran it; else LAMMPS on that many ranks
   bool continues_dem_system = false;  // the DEM system of the step before, contact history and all
