@@ -18,7 +18,7 @@ extra=("$@")
 tmp=$(mktemp -d)
 busy_pid=
 cleanup() {
-  [[ -n $busy_pid ]] && kill "$busy_pid" 2>/dev/null
+  [[ -n $busy_pid ]] && { kill "$busy_pid" 2>/dev/null || true; }
   rm -rf "$tmp"
 }
 trap cleanup EXIT
@@ -61,8 +61,9 @@ for ((r = 1; r <= rounds; ++r)); do
   busy_stop
   start=$(date +%s.%N)
   run_once 2 "$tmp/pairA" >"$tmp/pairA.s" &
+  pair_pid=$!
   run_once 2 "$tmp/pairB" >"$tmp/pairB.s"
-  wait
+  wait "$pair_pid"
   end=$(date +%s.%N)
   t=$(awk -v a="$start" -v b="$end" 'BEGIN {printf "%.2f\n", b - a}')
   times[pair]+="$t "
@@ -76,6 +77,6 @@ for key in alone1 alone2 busy1 busy2 pair; do
   declare "med_$key=$m"
 done
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.2f\n", a / b}'; }
-echo "two threads alone / one thread alone (speed-up): $(ratio "$med_alone1" "$med_alone2")"
+echo "speed-up alone, one thread's time / two threads': $(ratio "$med_alone1" "$med_alone2")"
 echo "beside a busy loop, --threads 2 / --threads 1 (target <= 1): $(ratio "$med_busy2" "$med_busy1")"
 echo "two side by side / one alone, --threads 2 (target <= 2.2): $(ratio "$med_pair" "$med_alone2")"

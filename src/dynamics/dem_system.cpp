@@ -430,12 +430,12 @@ void DemSystem::run(std::size_t steps) {
   for (std::size_t done = 0; done < steps;) {
     const std::size_t count = adapt ? std::min(steps - done, governor_.chunk(n_)) : steps - done;
     use_threads(adapt ? governor_.threads() : governor_.most());
-    if (!threaded_ && governor_.most() > 1) steps_on_fewer_threads_ += count;
     const double list_seconds = list_seconds_;
     const Clock::time_point start = Clock::now();
     advance(count);
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
-    if (adapt) governor_.ran(count, n_, seconds - (list_seconds_ - list_seconds));
+    if (adapt) governor_.ran(count, n_, std::max(0.0, seconds - (list_seconds_ - list_seconds)));
+    if ((threaded_ ? threads_ : 1) < governor_.most()) steps_on_fewer_threads_ += count;
     done += count;
   }
   write_back();

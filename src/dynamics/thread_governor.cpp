@@ -32,7 +32,8 @@ void ThreadGovernor::ran(std::size_t steps, std::size_t particles, double second
   stretch_seconds_ += seconds;
   since_try_ += seconds;
   const double rate = stretch_work_ / std::max(stretch_seconds_, 1e-9);
-  const bool hopeless = chosen_rate_ > 0.0 && stretch_seconds_ >= kJudgeAfter && rate < kGiveUp * chosen_rate_;
+  const bool hopeless =
+      chosen_rate_ > 0.0 && !confirming_ && stretch_seconds_ >= kJudgeAfter && rate < kGiveUp * chosen_rate_;
   if (stretch_seconds_ >= kStretchSeconds || hopeless) end_stretch(rate);
 }
 
@@ -47,14 +48,19 @@ void ThreadGovernor::end_stretch(double rate) {
       try_below_ = !try_below_;
       wait_ = std::clamp(2.0 * wait_, kShortestWait, kLongestWait);
     }
+  } else if (stretch_seconds_ < kStretchSeconds) {
+    // The chosen count cut short: a stall of a few milliseconds, or another process came. A
+    // whole stretch tells which, before its speed is taken.
+    confirming_ = true;
   } else {
+    confirming_ = false;
     // A speed far from the recent one (another process came or went, the bed changed): the
     // neighbours may now be faster; try one at once, against this speed.
     const bool changed = chosen_rate_ > 0.0 && (rate < kChanged * chosen_rate_ || kChanged * rate > chosen_rate_);
     if (changed) wait_ = 0.0;
     chosen_rate_ = chosen_rate_ > 0.0 && !changed ? 0.5 * (chosen_rate_ + rate) : rate;
   }
-  stretch_rung_ = since_try_ >= wait_ ? neighbour() : chosen_;
+  stretch_rung_ = since_try_ >= wait_ && !confirming_ ? neighbour() : chosen_;
   stretch_steps_ = 0;
   stretch_work_ = stretch_seconds_ = 0.0;
 }

@@ -24,7 +24,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 5;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 6;  // raise when what a checkpoint holds changes
 constexpr std::array<const char*, 3> kSections{"header", "run state", "step state"};
 
 template <class Archive>

@@ -32,18 +32,24 @@ struct Simulated {
 };
 
 // Runs `particles` for `duration` wall seconds on `machine` as the governor directs, with a
-// deterministic jitter of +-10 % on every chunk (a noisy machine); `from` is where the
+// deterministic jitter of +-10 % on every chunk (a noisy machine) and, every `stall_every`
+// seconds (0: never), a stall of 10 ms (the process descheduled once); `from` is where the
 // clock starts.
 Simulated simulate(ThreadGovernor& governor, const Machine& machine, double duration, double from = 0.0,
-                   std::size_t particles = 20000) {
+                   std::size_t particles = 20000, double stall_every = 0.0) {
   Simulated s;
   std::uint64_t noise = 12345;
+  double next_stall = stall_every;
   while (s.seconds < duration) {
     noise = noise * 6364136223846793005ULL + 1442695040888963407ULL;
     const double jitter = 0.9 + 0.2 * static_cast<double>(noise >> 11) / 9007199254740992.0;
     const int threads = governor.threads();
     const std::size_t steps = governor.chunk(particles);
-    const double seconds = static_cast<double>(steps) * machine(threads, from + s.seconds, particles) * jitter;
+    double seconds = static_cast<double>(steps) * machine(threads, from + s.seconds, particles) * jitter;
+    if (stall_every > 0.0 && s.seconds + seconds >= next_stall) {
+      seconds += 0.010;
+      next_stall += stall_every;
+    }
     governor.ran(steps, particles, seconds);
     s.seconds_on[threads] += seconds;
     s.seconds += seconds;
@@ -66,6 +72,17 @@ TEST(ThreadGovernor, AloneItRunsOnTheMostAndTriesFewerRarely) {
   ThreadGovernor governor(2);
   const Simulated s = simulate(
       governor, [](int threads, double, std::size_t n) { return work(n, threads == 2 ? 1.9e7 : 1e7); }, 200.0);
+  EXPECT_EQ(governor.chosen(), 2);
+  EXPECT_LT(s.seconds_on.at(1), 0.02 * s.seconds);
+}
+
+TEST(ThreadGovernor, AStallOfAFewMillisecondsIsNotABusyMachine) {
+  // Alone, two threads the faster, the process stalled for 10 ms three times a second: a
+  // stretch cut short by a stall is followed by a whole one, which finds the speed unchanged.
+  ThreadGovernor governor(2);
+  const Simulated s = simulate(
+      governor, [](int threads, double, std::size_t n) { return work(n, threads == 2 ? 1.9e7 : 1e7); }, 200.0, 0.0,
+      20000, 0.3);
   EXPECT_EQ(governor.chosen(), 2);
   EXPECT_LT(s.seconds_on.at(1), 0.02 * s.seconds);
 }

@@ -14,7 +14,9 @@ namespace aggpack {
 // fastest count and now and then tries a neighbouring one (half or double) for a stretch:
 // soon after the speed changed, more rarely while the neighbours keep losing. A stretch is
 // run in chunks of doubling length, and one that runs far slower than the chosen count's
-// recent speed is cut short: a try on a busy core costs a few milliseconds, not seconds.
+// recent speed is cut short: a try on a busy core costs a few milliseconds, not seconds (a
+// stretch of the chosen count cut short is followed by a whole one before its speed counts:
+// a stall of a few milliseconds is not a busy machine).
 // Speeds are of the steps alone (the caller leaves its neighbour-list builds out: one costs
 // as much as dozens of steps and would weigh on whichever stretch it fell in).
 //
@@ -51,6 +53,7 @@ class ThreadGovernor {
   std::size_t chosen_ = 0;    // rung of the chosen count
   double chosen_rate_ = 0.0;  // its particle-steps per second, recent stretches (0: none yet)
   bool try_below_ = true;     // which neighbour to try next, alternately
+  bool confirming_ = false;   // the chosen count's last stretch was cut short: the next one is whole
   double wait_ = 0.0;         // wall seconds between tries (0 at the start: try at once)
   double since_try_ = 0.0;    // wall seconds run since the last try
   // The stretch in progress: its rung, and its steps (of particles) and seconds so far.
