@@ -71,6 +71,9 @@ void DemSystem::check_restored(const MadeWith& made) const {
   };
   const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
   const std::uint32_t n = n_;
+  // The count first: every check below indexes the store and the run's flags by it.
+  if (n != p_.size() || n != made.frozen_by_index.size())
+    fail(fmt::format("its particle count, {}, is not the run's {}", n, p_.size()));
   // The container: the scenario's, moved up or down by its motion only. Its flag is read as a
   // byte first: any other value than 0 or 1 in a bool is undefined behaviour.
   unsigned char periodic = 0;

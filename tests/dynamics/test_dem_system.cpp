@@ -684,6 +684,28 @@ TEST(DemSystem, ADamagedStateIsRefusedOrRunsNeverReadsOutOfRange) {
   flag[4 + 8 + sizeof(Box)] = 2;  // the container's `periodic`, after the format, the count and its box
   EXPECT_THROW(restore_and_run(flag), InputError);
 
+  // A state of a system with one more particle, its count in the header forged to this
+  // store's: refused by its own count, before any record is read against the store.
+  {
+    std::vector<double> more = radii;
+    more.push_back(radii.back());
+    ParticleStore bigger;
+    DropAndRoll more_deposition(bigger, box, more, DepositionSettings{}, Rng(10, 2));
+    more_deposition.deposit(more, SphereMaterials::all_of(kDensity));
+    std::vector<std::uint8_t> more_frozen = frozen;
+    more_frozen.push_back(0);
+    DemSystem larger(bigger, box, model, settings, more_frozen);
+    std::string forged = saved_state_of(larger);
+    const std::uint64_t count = n;
+    std::memcpy(forged.data() + 4, &count, 8);  // after the format
+    try {
+      restore_and_run(forged);
+      ADD_FAILURE() << "a state of " << n + 1 << " particles was restored into " << n;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("particle count"), std::string::npos) << e.what();
+    }
+  }
+
   std::size_t refused = 0;
   for (std::size_t at = 0; at < state.size(); ++at) {
     std::string bytes = state;
