@@ -81,7 +81,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
   if (p_.size() >= 0xFFFFFFF0u) throw InputError("the dynamics stage holds at most 4e9 particles");
   const std::uint32_t first = n_;
   n_ = static_cast<std::uint32_t>(p_.size());
-  threaded_ = n_ >= kThreadedFrom && threads_ > 1;
+  use_threads(threads_);  // the bed's size decides whether the loops are threaded
   grain_.resize(n_);
   frozen_.resize(n_);
   user_index_.resize(n_);
