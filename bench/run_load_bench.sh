@@ -46,18 +46,18 @@ busy_stop() {
 median() { sort -g | awk '{a[NR]=$1} END {print (NR % 2) ? a[(NR + 1) / 2] : (a[NR / 2] + a[NR / 2 + 1]) / 2}'; }
 
 declare -A times
+run_both() {  # key description: the run with --threads 1, then 2, timed into times[key1], times[key2]
+  local threads t
+  for threads in 1 2; do
+    t=$(run_once "$threads" "$tmp/$1$threads")
+    times[$1$threads]+="$t "
+    echo "round $r: $2, --threads $threads: $t s"
+  done
+}
 for ((r = 1; r <= rounds; ++r)); do
-  for threads in 1 2; do
-    t=$(run_once "$threads" "$tmp/alone$threads")
-    times[alone$threads]+="$t "
-    echo "round $r: alone, --threads $threads: $t s"
-  done
+  run_both alone "alone"
   busy_start
-  for threads in 1 2; do
-    t=$(run_once "$threads" "$tmp/busy$threads")
-    times[busy$threads]+="$t "
-    echo "round $r: beside a busy loop on core 1, --threads $threads: $t s"
-  done
+  run_both busy "beside a busy loop on core 1"
   busy_stop
   start=$(date +%s.%N)
   run_once 2 "$tmp/pairA" >"$tmp/pairA.s" &
