@@ -67,7 +67,18 @@ struct SeedRuns {
 
 struct Table2Outcome : SeedRuns {
   Table2Row row;
+  // Table 2's DEM protocol (--settle-table2): seed 1 deposited again on the protocol's own bed
+  // and settled there. Empty when none ran, or when the mix's own runs were settled (a
+  // [dynamics] table in the scenarios).
+  SeedRuns settled;
   std::vector<std::pair<double, SeedRuns>> cut_series;  // sand cut-off (in), deposited runs at it
+  // The runs that give the DEM column: the protocol's own bed, else the mix's runs.
+  [[nodiscard]] const SeedRuns& dem_runs() const { return settled.runs.empty() ? *this : settled; }
+  // After DEM where it ran, else after deposition (hides SeedRuns::final_stats, which cannot
+  // see the protocol's own bed).
+  [[nodiscard]] const SeedStatistics& final_stats() const {
+    return dem_runs().dynamics.count ? dem_runs().dynamics : deposition;
+  }
   // The runs at a sand cut-off of the series, if it has it.
   [[nodiscard]] const SeedRuns* at_cut(double cut_in) const {
     for (const auto& [cut, series_runs] : cut_series)
@@ -102,7 +113,7 @@ struct CalibratedTable2Plan {
 struct Plan {
   int seeds;
   std::vector<std::string> example_sets;  // applied to Examples 1 and 2
-  std::vector<std::string> table2_dem;    // applied to seed 1 of each Table 2 mix; none: deposition only
+  std::vector<std::string> table2_dem;    // seed 1 of each Table 2 mix run again with these and settled; none: no DEM
   std::vector<std::string> poured_sets;   // the examples' pour-then-tap runs (exampleN_pour.toml)
   std::vector<double> table2_cuts_in;     // more sand cut-offs for every mix, for its whole grading (in)
   std::string tapping_label;              // that protocol in words

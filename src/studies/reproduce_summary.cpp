@@ -71,7 +71,7 @@ void compose_summary(Document& doc, nlohmann::json& result, const Reproduction& 
         {"experiment", ex->experiment}};
   }
   const Table2Errors e = table2_errors(mixes);
-  const bool table2_has_dem = !mixes.empty() && mixes.front().dynamics.count > 0;
+  const bool table2_has_dem = !mixes.empty() && mixes.front().dem_runs().dynamics.count > 0;
   headline.caption = "Packing density: ours is the mean ± sd over seeds of the mean over the virtual boxes.";
   b.emplace_back(headline);
   // Table 2 in percentages, in its own table: its numbers are errors, not densities.

@@ -110,15 +110,19 @@ std::string table2_settled_text(const std::vector<Table2Outcome>& mixes) {
   const SettlingRun* first = nullptr;
   const Material* material = nullptr;
   const QuietCriterion* quiet = nullptr;
+  const Container* container = nullptr;
+  double d_min = 0.0;
   std::size_t beds = 0, cut = 0;
   for (const Table2Outcome& m : mixes)
-    for (const CaseRun& r : m.runs) {
+    for (const CaseRun& r : m.dem_runs().runs) {
       if (!r.result.report.dynamics || r.result.report.dynamics->runs.empty()) continue;
       const SettlingReport& d = *r.result.report.dynamics;
       if (!first) {
         first = &d.runs.front();
         material = &r.result.report.scenario.material;
         quiet = &r.result.report.scenario.dynamics->quiet;
+        container = &r.result.report.scenario.container;
+        d_min = r.result.report.final.bed.d_min;
       }
       ++beds;
       cut += d.runs_ended_by_max_time();
@@ -134,20 +138,29 @@ std::string table2_settled_text(const std::vector<Table2Outcome>& mixes) {
     return fmt::format(fmt::runtime(std::string("{:") + spec + "} to {:" + spec + "}"), *lo, *hi);
   };
   const double modulus = material->contact.youngs_modulus;
+  // Where the DEM protocol has its own bed, say which: its sides and its footprint.
+  const bool own_bed = !mixes.front().settled.runs.empty();
+  const std::string bed =
+      own_bed ? fmt::format(", each deposited again for it on a bed with {} of {:.3g} x {:.3g} in (the after-deposition "
+                            "column keeps the shipped bed)",
+                            container->periodic ? "periodic sides (no walls), a cell" : "walls, a container",
+                            container->length_x() / kInch, container->length_y() / kInch)
+              : std::string();
   return fmt::format(
-      "The DEM column: {} settled after deposition{}, with Hertz-Mindlin contacts at a Young's modulus of {:.3g} GPa "
-      "({}), a time step of {:.2g} s ({:.2g} of the Rayleigh time of the smallest sphere), until the kinetic energy "
-      "stayed below {:.0e} m g d and the box density within {:.0e} for {:g} s{}. DEM raises the density by {} "
-      "(each settled bed against its own deposited state), far more than for the monosized and binary examples: "
-      "in a graded bed small grains find room in the pores of the large ones as the bed moves. Overlaps at the "
-      "end: mean {} and maximum {} of r_i + r_j. Each bed took {} s of wall time for {} s simulated.",
-      counted(beds, "bed"), beds == mixes.size() ? " (seed 1 of each mix)" : "", 1e-9 * modulus,
+      "The DEM column: {} settled after deposition{}{}, with Hertz-Mindlin contacts at a Young's modulus of {:.3g} "
+      "GPa ({}), a time step of {:.2g} s ({:.2g} of the Rayleigh time of the smallest sphere) and a Verlet skin of "
+      "{:.2g} of its diameter, until the kinetic energy stayed below {:.0e} m g d and the box density within {:.0e} "
+      "for {:g} s{}. DEM raises the density by {} (each settled bed against its own deposited "
+      "state), far more than for the monosized and binary examples: in a graded bed small grains find room in the "
+      "pores of the large ones as the bed moves. Overlaps at the end: mean {} and maximum {} of r_i + r_j. Each bed "
+      "took {} s of wall time for {} s simulated.",
+      counted(beds, "bed"), beds == mixes.size() ? " (seed 1 of each mix)" : "", bed, 1e-9 * modulus,
       modulus < 20e9 ? "a reduced stiffness: on mix 3, E/10, E/100 and E/1000 of natural aggregate gave settled "
                        "densities within 0.0032 of each other, docs/validation.md"
                      : "the aggregate's own stiffness",
-      first->time_step, first->time_step / first->rayleigh_time, quiet->kinetic_fraction, quiet->density_tolerance,
-      quiet->window, cut > 0 ? fmt::format("; {} reached max_time first", counted(cut, "bed")) : std::string(),
-      range(gain, "+.4f"), range(mean_overlap, ".1e"), range(max_overlap, ".1e"), range(wall, ".0f"),
+      first->time_step, first->time_step / first->rayleigh_time, first->skin / d_min, quiet->kinetic_fraction,
+      quiet->density_tolerance, quiet->window,
+      cut > 0 ? fmt::format("; {} reached max_time first", counted(cut, "bed")) : std::string(), range(gain, "+.4f"), range(mean_overlap, ".1e"), range(max_overlap, ".1e"), range(wall, ".0f"),
       range(simulated, ".2f"));
 }
 
@@ -158,7 +171,7 @@ std::optional<Table> table2_settled_table(const std::vector<Table2Outcome>& mixe
   t.header = {"mix", "seed", "particles", "after deposition", "after DEM", "steps", "simulated s", "ended by",
               "overlap mean / max", "DEM wall s", "million particle-steps/s"};
   for (const Table2Outcome& m : mixes)
-    for (const CaseRun& r : m.runs) {
+    for (const CaseRun& r : m.dem_runs().runs) {
       if (!r.result.report.dynamics || r.result.report.dynamics->runs.empty()) continue;
       const SettlingReport& d = *r.result.report.dynamics;
       const auto& end = d.runs.back().last.contacts;
@@ -179,7 +192,7 @@ std::optional<Table> table2_settled_table(const std::vector<Table2Outcome>& mixe
 // the DEM speed our examples just ran at, and what DEM added to them.
 std::string table2_dem_text(const std::vector<Table2Outcome>& mixes, const std::map<std::string, SeedRuns>& examples) {
   if (mixes.empty() || mixes.front().runs.empty()) return {};
-  if (std::any_of(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.dynamics.count > 0; }))
+  if (std::any_of(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.dem_runs().dynamics.count > 0; }))
     return table2_settled_text(mixes);
   const CaseRun& first = mixes.front().runs.front();
   const Material& material = first.result.report.scenario.material;
@@ -278,9 +291,9 @@ void compose_fig9(Document& doc, FigureSet& figures, const Reproduction& rep) {
   for (const Table2Outcome& m : mixes) {
     dep.x.push_back(m.row.fa_percent), dep.y.push_back(m.deposition.mean);
     dep.y_error.push_back(std::isnan(m.deposition.sd) ? 0.0 : m.deposition.sd);
-    if (m.dynamics.count) {
-      dyn.x.push_back(m.row.fa_percent), dyn.y.push_back(m.dynamics.mean);
-      dyn.y_error.push_back(std::isnan(m.dynamics.sd) ? 0.0 : m.dynamics.sd);
+    if (const SeedStatistics& settled = m.dem_runs().dynamics; settled.count) {
+      dyn.x.push_back(m.row.fa_percent), dyn.y.push_back(settled.mean);
+      dyn.y_error.push_back(std::isnan(settled.sd) ? 0.0 : settled.sd);
     }
     paper.x.push_back(m.row.fa_percent), paper.y.push_back(m.row.paper_mean), paper.y_error.push_back(m.row.paper_sd);
     exp.x.push_back(m.row.fa_percent), exp.y.push_back(m.row.experiment);
@@ -339,10 +352,13 @@ void compose_table2_figures(Document& doc, FigureSet& figures, const Reproductio
 // The settled runs of a Table 2 mix for reproduce.json: seed, cost, overlaps, how each ended.
 nlohmann::json dem_json(const Table2Outcome& m) {
   nlohmann::json runs = nlohmann::json::array();
-  for (const CaseRun& r : m.runs) {
+  for (const CaseRun& r : m.dem_runs().runs) {
     if (!r.result.report.dynamics || r.result.report.dynamics->runs.empty()) continue;
     const SettlingReport& d = *r.result.report.dynamics;
     runs.push_back({{"seed", r.result.report.scenario.seed},
+                    {"particles", particle_count(r)},
+                    {"after_deposition", r.after_deposition},
+                    {"after_dynamics", r.after_dynamics},
                     {"wall_clock_s", d.wall_clock_s()},
                     {"simulated_time_s", d.simulated_time()},
                     {"steps", d.steps()},
@@ -425,7 +441,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                                    predictions["parameters"]["cpm_residual_packing_density"].get<double>(),
                                    predictions["parameters"]["cpm_residual_packing_density_source"].get<std::string>());
     t2.rows.push_back({fmt::format("{}", m.row.mix), m.row.state, fmt::format("{:.2f}", m.row.ca_fa),
-                       fmt::format("{:.0f}", m.row.fa_percent), stat_text(m.deposition), stat_text(m.dynamics),
+                       fmt::format("{:.0f}", m.row.fa_percent), stat_text(m.deposition), stat_text(m.dem_runs().dynamics),
                        value_text(cpm("simulated")), value_text(cpm("whole_grading")), whole_grading_text(whole),
                        fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd), value_text(m.row.experiment, 3),
                        difference_text(ours, m.row.paper_mean), difference_text(ours, m.row.experiment)});
@@ -433,7 +449,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
       t2.rows.back().insert(t2.rows.back().begin() + kCalibratedColumn, calibrated_cell(*calibrated, m.row.mix));
     t2_json.push_back({{"mix", m.row.mix}, {"state", m.row.state}, {"ca_fa", m.row.ca_fa}, {"fa_percent", m.row.fa_percent},
                        {"after_deposition", m.json(&CaseRun::after_deposition)},
-                       {"after_dynamics", m.json(&CaseRun::after_dynamics)},
+                       {"after_dynamics", m.dem_runs().json(&CaseRun::after_dynamics)},
                        {"paper", {{"mean", m.row.paper_mean}, {"sd", m.row.paper_sd}}},
                        {"experiment", m.row.experiment},
                        {"particles", m.runs.empty() ? 0 : particle_count(m.runs.front())},

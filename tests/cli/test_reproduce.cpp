@@ -592,11 +592,12 @@ TEST(ReproduceCalibratedTable2, RefusesFewerThanThreeMixesBeforeAnyRun) {
   EXPECT_NE(r.output.find("phi_exp nan: expected"), std::string::npos) << r.output;
 }
 
-// `--settle-table2` settles seed 1 of each Table 2 mix by DEM; `--whole-grading` runs every mix
-// at more sand cut-offs (0.1 and 0.06 in with --quick, deposited) and carries each mix's series
-// to its whole grading. On the shrunk copy (sand cut at 0.14 in, so that each mix has three
-// cut-offs), in the quick mode (DEM cut at 0.05 s).
-TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivityStudyDeposited) {
+// `--settle-table2` deposits seed 1 of each Table 2 mix again on the protocol's bed (periodic
+// sides 4 in apart) and settles it by DEM, leaving the deposited column to the shipped bed;
+// `--whole-grading` runs every mix at more sand cut-offs (0.1 and 0.06 in with --quick,
+// deposited) and carries each mix's series to its whole grading. On the shrunk copy (sand cut
+// at 0.14 in, so that each mix has three cut-offs), in the quick mode (DEM cut at 0.05 s).
+TEST(ReproduceSettleTable2, FillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedColumnsShipped) {
   const fs::path dir = fs::temp_directory_path() / ("aggpack_settle_table2_" + std::to_string(::getpid()));
   fs::remove_all(dir);
   const fs::path examples = shrunk_examples(dir, "0.14 in");
@@ -614,13 +615,24 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
     EXPECT_EQ(mix["dem"][0]["seed"], 1);
     EXPECT_GT(mix["dem"][0]["steps"].get<double>(), 1000.0);
     EXPECT_LT(mix["dem"][0]["max_overlap_rel"].get<double>(), 0.1);
-    const auto summary =
-        nlohmann::json::parse(slurp(out / "runs" / fmt_mix_dir(mix["mix"].get<int>()) / "seed_1" / "summary.json"));
+    const std::string mix_dir = fmt_mix_dir(mix["mix"].get<int>());
+    const auto summary = nlohmann::json::parse(slurp(out / "runs" / (mix_dir + "_settled") / "seed_1" / "summary.json"));
     EXPECT_DOUBLE_EQ(summary["stages"]["dynamics"]["density"]["mean"].get<double>(),
                      mix["after_dynamics"]["mean"].get<double>());
     EXPECT_DOUBLE_EQ(summary["scenario"]["material"]["youngs_modulus_pa"].get<double>(), 5e7);
-    // A graded bed densifies as it settles.
-    EXPECT_GT(mix["after_dynamics"]["mean"].get<double>(), mix["after_deposition"]["values"][0].get<double>() + 0.005);
+    EXPECT_EQ(summary["scenario"]["container"]["sides"], "periodic");
+    EXPECT_DOUBLE_EQ(summary["scenario"]["container"]["side_m"].get<double>(), 4 * 0.0254);
+    EXPECT_NEAR(summary["stages"]["dynamics"]["skin_m"].get<double>(), 0.008 * 0.0254, 1e-15);
+    EXPECT_EQ(mix["dem"][0]["particles"], summary["particle_count"]);
+    // A graded bed densifies as it settles (against its own deposited state).
+    EXPECT_DOUBLE_EQ(mix["dem"][0]["after_deposition"].get<double>(),
+                     summary["stages"]["deposition"]["density"]["mean"].get<double>());
+    EXPECT_GT(mix["after_dynamics"]["mean"].get<double>(), mix["dem"][0]["after_deposition"].get<double>() + 0.005);
+    // The deposited column's seed 1 is the shipped bed, not settled.
+    const auto shipped = nlohmann::json::parse(slurp(out / "runs" / mix_dir / "seed_1" / "summary.json"));
+    EXPECT_EQ(shipped["scenario"]["container"]["sides"], "walls");
+    EXPECT_FALSE(shipped["stages"].contains("dynamics"));
+    EXPECT_DOUBLE_EQ(shipped["density"]["mean"].get<double>(), mix["after_deposition"]["values"][0].get<double>());
   }
   // The sensitivity study stays a comparison of deposited beds.
   for (const auto& variant : j["sensitivity"]) EXPECT_TRUE(variant["after_dynamics"].is_null()) << variant["variant"];
@@ -637,18 +649,24 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromSeedOneAndKeepsTheSensitivitySt
   EXPECT_EQ(j["sensitivity"].size(), 3u);
   EXPECT_FALSE(fs::exists(out / "runs" / "sensitivity_1"));
   EXPECT_FALSE(fs::exists(out / "runs" / "sensitivity_2"));
-  EXPECT_EQ(j["runs"], 2 + 2 + 2 * 3);  // the examples, poured, two mixes at three cut-offs; one seed
+  EXPECT_EQ(j["runs"], 2 + 2 + 2 * 3 + 2);  // the examples, poured, two mixes at three cut-offs, settled; one seed
   const std::string md = slurp(out / "report.md");
-  EXPECT_NE(md.find("The DEM column: 2 beds settled after deposition (seed 1 of each mix)"), std::string::npos);
+  EXPECT_NE(md.find("The DEM column: 2 beds settled after deposition (seed 1 of each mix), each deposited again "
+                    "for it on a bed with periodic sides (no walls), a cell of 4 x 4 in"),
+            std::string::npos)
+      << md;
+  // The protocol's skin is 0.008 in, 0.2 of the shipped sand's 0.04 in; this copy's smallest sphere is 0.1 in.
+  EXPECT_NE(md.find("and a Verlet skin of 0.08 of its diameter"), std::string::npos) << md;
   EXPECT_NE(md.find("Young's modulus of 0.05 GPa"), std::string::npos);
   // One row per settled bed, with its cost: the mix, seed 1, its particle count and its wall time.
   EXPECT_NE(md.find("| mix | seed | particles | after deposition | after DEM | steps |"), std::string::npos) << md;
   for (const auto& mix : j["table2"]) {
     EXPECT_GT(mix["dem"][0]["particle_steps_per_second"].get<double>(), 0.0);
-    EXPECT_NE(md.find(fmt::format(
-                  "| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(), mix["particles"].get<std::size_t>(),
-                  mix["after_deposition"]["values"][0].get<double>(), mix["after_dynamics"]["values"][0].get<double>(),
-                  mix["dem"][0]["steps"].get<std::size_t>())),
+    EXPECT_NE(md.find(fmt::format("| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(),
+                                  mix["dem"][0]["particles"].get<std::size_t>(),
+                                  mix["dem"][0]["after_deposition"].get<double>(),
+                                  mix["after_dynamics"]["values"][0].get<double>(),
+                                  mix["dem"][0]["steps"].get<std::size_t>())),
               std::string::npos)
         << md;
   }
