@@ -129,6 +129,7 @@ std::vector<std::pair<std::string, std::size_t>> planned_cases(const Plan& plan,
     if (fs::exists(in.pour_scenario(ex))) cases.emplace_back(ex.short_name + " poured and tapped", seeds);
   for (const Table2Row& row : in.table2) {
     cases.emplace_back(fmt::format("Table 2 mix {}", row.mix), seeds);
+    if (!plan.table2_dem.empty()) cases.emplace_back(fmt::format("Table 2 mix {} (with DEM)", row.mix), 1);
     for (const double cut : plan.table2_cuts_in)
       cases.emplace_back(fmt::format("Table 2 mix {}, sand cut at {:g} in", row.mix, cut), seeds);
   }

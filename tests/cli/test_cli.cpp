@@ -1264,6 +1264,10 @@ TEST_F(Cli, ReproduceDryRunListsTheFolderAndTheRunsAndWritesNothing) {
   // Three seeds by default; the whole-grading series adds three cut-offs for every mix.
   EXPECT_NE(run("reproduce --dry-run").output.find("runs: 60 (3 seeds per case)"), std::string::npos);
   EXPECT_NE(run("reproduce --dry-run --whole-grading").output.find("runs: 126 "), std::string::npos);
+  // Table 2's DEM protocol deposits seed 1 of every mix again on its own bed and settles it.
+  const Result settled = run("reproduce --dry-run --settle-table2");
+  EXPECT_NE(settled.output.find("runs: 68 "), std::string::npos) << settled.output;
+  EXPECT_NE(settled.output.find("  1 x Table 2 mix 3 (with DEM)\n"), std::string::npos) << settled.output;
   // A folder without the paper's tables: exit 2 naming the file.
   const Result empty = run("reproduce --dry-run --examples " + dir_.string());
   EXPECT_EQ(empty.exit_code, 2) << empty.output;
