@@ -200,11 +200,11 @@ void run_table2(const CaseRunner& cases, const std::vector<Table2Row>& table2, R
     Table2Outcome m;
     m.row = row;
     for (std::size_t s = 1; s <= cases.seeds; ++s)
-      m.add(keep_bed_if(mixes.empty() && s == 1,
-                        cases.campaign.run(fmt::format("Table 2 mix {}", row.mix), cases.table2_scenario(row.mix),
-                                           cases.no_particle_files(), s,
-                                           cases.runs_dir / fmt::format("table2_mix{}", row.mix) /
-                                               fmt::format("seed_{}", s))));
+      m.add(keep_bed_if(
+          mixes.empty() && s == 1,
+          cases.campaign.run(fmt::format("Table 2 mix {}", row.mix), cases.table2_scenario(row.mix),
+                             cases.no_particle_files(), s,
+                             cases.runs_dir / fmt::format("table2_mix{}", row.mix) / fmt::format("seed_{}", s))));
     // The DEM protocol deposits seed 1 again on its own bed, so the deposited column keeps the
     // shipped bed for every seed.
     if (!plan.table2_dem.empty())

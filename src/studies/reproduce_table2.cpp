@@ -141,10 +141,11 @@ std::string table2_settled_text(const std::vector<Table2Outcome>& mixes) {
   // Where the DEM protocol has its own bed, say which: its sides and its footprint.
   const bool own_bed = !mixes.front().settled.runs.empty();
   const std::string bed =
-      own_bed ? fmt::format(", each deposited again for it on a bed with {} of {:.3g} x {:.3g} in (the after-deposition "
-                            "column keeps the shipped bed)",
-                            container->periodic ? "periodic sides (no walls), a cell" : "walls, a container",
-                            container->length_x() / kInch, container->length_y() / kInch)
+      own_bed ? fmt::format(
+                    ", each deposited again for it on a bed with {} of {:.3g} x {:.3g} in (the after-deposition "
+                    "column keeps the shipped bed)",
+                    container->periodic ? "periodic sides (no walls), a cell" : "walls, a container",
+                    container->length_x() / kInch, container->length_y() / kInch)
               : std::string();
   return fmt::format(
       "The DEM column: {} settled after deposition{}{}, with Hertz-Mindlin contacts at a Young's modulus of {:.3g} "
@@ -160,8 +161,8 @@ std::string table2_settled_text(const std::vector<Table2Outcome>& mixes) {
                      : "the aggregate's own stiffness",
       first->time_step, first->time_step / first->rayleigh_time, first->skin / d_min, quiet->kinetic_fraction,
       quiet->density_tolerance, quiet->window,
-      cut > 0 ? fmt::format("; {} reached max_time first", counted(cut, "bed")) : std::string(), range(gain, "+.4f"), range(mean_overlap, ".1e"), range(max_overlap, ".1e"), range(wall, ".0f"),
-      range(simulated, ".2f"));
+      cut > 0 ? fmt::format("; {} reached max_time first", counted(cut, "bed")) : std::string(), range(gain, "+.4f"),
+      range(mean_overlap, ".1e"), range(max_overlap, ".1e"), range(wall, ".0f"), range(simulated, ".2f"));
 }
 
 // Each settled Table 2 bed on its own row: its size, how long it ran and how it ended, its
@@ -441,13 +442,17 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                                    predictions["parameters"]["cpm_residual_packing_density"].get<double>(),
                                    predictions["parameters"]["cpm_residual_packing_density_source"].get<std::string>());
     t2.rows.push_back({fmt::format("{}", m.row.mix), m.row.state, fmt::format("{:.2f}", m.row.ca_fa),
-                       fmt::format("{:.0f}", m.row.fa_percent), stat_text(m.deposition), stat_text(m.dem_runs().dynamics),
-                       value_text(cpm("simulated")), value_text(cpm("whole_grading")), whole_grading_text(whole),
-                       fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd), value_text(m.row.experiment, 3),
-                       difference_text(ours, m.row.paper_mean), difference_text(ours, m.row.experiment)});
+                       fmt::format("{:.0f}", m.row.fa_percent), stat_text(m.deposition),
+                       stat_text(m.dem_runs().dynamics), value_text(cpm("simulated")), value_text(cpm("whole_grading")),
+                       whole_grading_text(whole), fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd),
+                       value_text(m.row.experiment, 3), difference_text(ours, m.row.paper_mean),
+                       difference_text(ours, m.row.experiment)});
     if (calibrated)
       t2.rows.back().insert(t2.rows.back().begin() + kCalibratedColumn, calibrated_cell(*calibrated, m.row.mix));
-    t2_json.push_back({{"mix", m.row.mix}, {"state", m.row.state}, {"ca_fa", m.row.ca_fa}, {"fa_percent", m.row.fa_percent},
+    t2_json.push_back({{"mix", m.row.mix},
+                       {"state", m.row.state},
+                       {"ca_fa", m.row.ca_fa},
+                       {"fa_percent", m.row.fa_percent},
                        {"after_deposition", m.json(&CaseRun::after_deposition)},
                        {"after_dynamics", m.dem_runs().json(&CaseRun::after_dynamics)},
                        {"paper", {{"mean", m.row.paper_mean}, {"sd", m.row.paper_sd}}},

@@ -616,7 +616,8 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedCo
     EXPECT_GT(mix["dem"][0]["steps"].get<double>(), 1000.0);
     EXPECT_LT(mix["dem"][0]["max_overlap_rel"].get<double>(), 0.1);
     const std::string mix_dir = fmt_mix_dir(mix["mix"].get<int>());
-    const auto summary = nlohmann::json::parse(slurp(out / "runs" / (mix_dir + "_settled") / "seed_1" / "summary.json"));
+    const auto summary =
+        nlohmann::json::parse(slurp(out / "runs" / (mix_dir + "_settled") / "seed_1" / "summary.json"));
     EXPECT_DOUBLE_EQ(summary["stages"]["dynamics"]["density"]["mean"].get<double>(),
                      mix["after_dynamics"]["mean"].get<double>());
     EXPECT_DOUBLE_EQ(summary["scenario"]["material"]["youngs_modulus_pa"].get<double>(), 5e7);
@@ -662,11 +663,10 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedCo
   EXPECT_NE(md.find("| mix | seed | particles | after deposition | after DEM | steps |"), std::string::npos) << md;
   for (const auto& mix : j["table2"]) {
     EXPECT_GT(mix["dem"][0]["particle_steps_per_second"].get<double>(), 0.0);
-    EXPECT_NE(md.find(fmt::format("| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(),
-                                  mix["dem"][0]["particles"].get<std::size_t>(),
-                                  mix["dem"][0]["after_deposition"].get<double>(),
-                                  mix["after_dynamics"]["values"][0].get<double>(),
-                                  mix["dem"][0]["steps"].get<std::size_t>())),
+    EXPECT_NE(md.find(fmt::format(
+                  "| {} | 1 | {} | {:.4f} | {:.4f} | {} |", mix["mix"].get<int>(),
+                  mix["dem"][0]["particles"].get<std::size_t>(), mix["dem"][0]["after_deposition"].get<double>(),
+                  mix["after_dynamics"]["values"][0].get<double>(), mix["dem"][0]["steps"].get<std::size_t>())),
               std::string::npos)
         << md;
   }
