@@ -14,8 +14,9 @@ struct Subcommand {
   std::function<int()> run;
 };
 
-// --threads of the subcommands that simulate: 0 (all cores) or 1 to kMaxThreads.
-CLI::Range thread_range();
+// --threads of the subcommands that simulate: the most OpenMP threads, 0 (all cores) or 1 to
+// kMaxThreads (the DEM takes fewer when fewer are faster).
+CLI::Option* add_threads_option(CLI::App* cmd, int& threads);
 
 // run, resume and check (run_commands.cpp).
 std::vector<Subcommand> add_run_commands(CLI::App& app);

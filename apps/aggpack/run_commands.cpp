@@ -55,7 +55,7 @@ Subcommand add_run(CLI::App& app) {
   cmd->add_option("scenario", a->scenario, "Scenario file (TOML)")->required();
   auto* out_opt = cmd->add_option("--out", a->out_dir, "Output directory (overrides output.directory)");
   auto* seed_opt = cmd->add_option("--seed", a->seed, "Random seed, 0 to 2^63-1 (overrides seed)");
-  cmd->add_option("--threads", a->run.threads, "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")->check(thread_range());
+  add_threads_option(cmd, a->run.threads);
   cmd->add_option("--set", a->run.overrides.set, "Override a scenario key: key.path=value (TOML value)");
   cmd->add_option("--calibration", a->calibrations,
                   "A file aggpack calibrate wrote: with --dem, its fitted keys replace the scenario's (calibrated_by; "
@@ -93,7 +93,7 @@ Subcommand add_resume(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "resume", "Continue an interrupted or killed run from the checkpoint in its folder; same results, bit for bit");
   cmd->add_option("run_dir", a->run_dir, "The run's output folder (holding checkpoint.bin)")->required();
-  cmd->add_option("--threads", a->resume.threads, "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")->check(thread_range());
+  add_threads_option(cmd, a->resume.threads);
   auto* every_opt =
       cmd->add_option("--checkpoint-every", a->checkpoint_every, "Checkpoint at most every SECONDS from now on");
   cmd->add_flag("--quiet", a->resume.quiet, "Print nothing on success");
@@ -171,7 +171,12 @@ Subcommand add_import_lammps(CLI::App& app) {
 
 }  // namespace
 
-CLI::Range thread_range() { return CLI::Range(0, aggpack::kMaxThreads, "0 (all cores) or 1 to 256"); }
+CLI::Option* add_threads_option(CLI::App* cmd, int& threads) {
+  return cmd
+      ->add_option("--threads", threads,
+                   "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")
+      ->check(CLI::Range(0, aggpack::kMaxThreads, "0 (all cores) or 1 to 256"));
+}
 
 // A braced list is evaluated in order: the subcommands are added, and listed, in this order.
 std::vector<Subcommand> add_run_commands(CLI::App& app) { return {add_run(app), add_resume(app), add_check(app)}; }

@@ -78,7 +78,7 @@ Subcommand add_calibrate(CLI::App& app) {
   cmd->add_option("scenario", calibration.scenario, "Scenario of two sizes or more (TOML)")->required();
   cmd->add_option("--out", a->out, "The calibration file to write (JSON)")->required();
   cmd->add_option("--seeds", calibration.seeds, "Seeds per packing (default 3)")->check(CLI::Range(1, 100));
-  cmd->add_option("--threads", calibration.threads, "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")->check(thread_range());
+  add_threads_option(cmd, calibration.threads);
   cmd->add_option("--set", calibration.overrides.set, "Override a scenario key: key.path=value");
   cmd->add_flag("--quiet", calibration.quiet, "Print nothing on success");
   auto* dem = cmd->add_flag("--dem", a->by_dem,
@@ -157,7 +157,7 @@ Subcommand add_whole_grading(CLI::App& app) {
                   "A file aggpack calibrate wrote: CPM's K and beta, or (with --dem) fitted keys for every run");
   cmd->add_option("--out", a->out, "Also write the estimate as JSON to this file");
   cmd->add_option("--plot", a->plot, "Also draw the density against the volume left out to this SVG file");
-  cmd->add_option("--threads", whole.threads, "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")->check(thread_range());
+  add_threads_option(cmd, whole.threads);
   cmd->add_option("--set", whole.overrides.set, "Override a scenario key: key.path=value");
   cmd->add_flag("--quiet", whole.quiet, "Print only the estimate");
   return {cmd, [a] { return whole_grading_command(*a); }};
@@ -220,7 +220,7 @@ Subcommand add_reproduce(CLI::App& app, int argc, char** argv) {
           ->capture_default_str();
   cmd->add_flag("--dry-run", a->dry_run,
                 "Print the scenarios' folder and the runs this reproduce would make; run nothing");
-  cmd->add_option("--threads", reproduce.threads, "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")->check(thread_range());
+  add_threads_option(cmd, reproduce.threads);
   cmd->add_flag("--quiet", reproduce.quiet, "Print nothing on success, no progress line");
   return {cmd, [a, argc, argv] { return reproduce_command(*a, argc, argv); }};
 }
@@ -247,7 +247,7 @@ Subcommand add_sweep(CLI::App& app) {
                   "every run");
   auto* stop_opt =
       cmd->add_option("--stop-after", a->stop_after, "Stop each run after this stage (deposition, dynamics)");
-  cmd->add_option("--threads", sweep.threads, "most OpenMP threads (default 0: all cores; the DEM takes fewer when fewer are faster)")->check(thread_range());
+  add_threads_option(cmd, sweep.threads);
   cmd->add_flag("--resume", sweep.resume,
                 "Continue an interrupted sweep into the same --out: runs it finished or began are taken up "
                 "from their checkpoints, not run again");
