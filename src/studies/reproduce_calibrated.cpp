@@ -155,7 +155,7 @@ Plot calibrated_plot(const Reproduction& rep, const std::vector<GridCurve>& curv
   for (const Table2Outcome& m : rep.mixes) {
     lab.x.push_back(m.row.fa_percent), lab.y.push_back(m.row.experiment);
     paper.x.push_back(m.row.fa_percent), paper.y.push_back(m.row.paper_mean);
-    if (m.final_stats().count) spheres.x.push_back(m.row.fa_percent), spheres.y.push_back(m.final_stats().mean);
+    if (m.reported_stats().count) spheres.x.push_back(m.row.fa_percent), spheres.y.push_back(m.reported_stats().mean);
   }
   Plot plot;
   plot.title = "Table 2: density against the sand's share";

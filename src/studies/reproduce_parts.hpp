@@ -74,9 +74,9 @@ struct Table2Outcome : SeedRuns {
   std::vector<std::pair<double, SeedRuns>> cut_series;  // sand cut-off (in), deposited runs at it
   // The runs that give the DEM column: the protocol's own bed, else the mix's runs.
   [[nodiscard]] const SeedRuns& dem_runs() const { return settled.runs.empty() ? *this : settled; }
-  // After DEM where it ran, else after deposition (hides SeedRuns::final_stats, which cannot
-  // see the protocol's own bed).
-  [[nodiscard]] const SeedStatistics& final_stats() const {
+  // The mix's reported density: after DEM where it ran (on the protocol's own bed, which
+  // SeedRuns::final_stats cannot see), else after deposition.
+  [[nodiscard]] const SeedStatistics& reported_stats() const {
     return dem_runs().dynamics.count ? dem_runs().dynamics : deposition;
   }
   // The runs at a sand cut-off of the series, if it has it.

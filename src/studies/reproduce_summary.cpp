@@ -13,8 +13,8 @@ namespace aggpack::reproduction {
 Table2Errors table2_errors(const std::vector<Table2Outcome>& mixes) {
   Table2Errors e;
   for (const Table2Outcome& m : mixes) {
-    if (m.final_stats().count == 0) continue;
-    e.ours += 100.0 * (m.final_stats().mean - m.row.experiment) / m.row.experiment;
+    if (m.reported_stats().count == 0) continue;
+    e.ours += 100.0 * (m.reported_stats().mean - m.row.experiment) / m.row.experiment;
     e.paper += 100.0 * (m.row.paper_mean - m.row.experiment) / m.row.experiment;
     ++e.mixes;
   }

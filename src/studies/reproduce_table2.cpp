@@ -70,9 +70,9 @@ Plot grading_plot(const Table2Row& row, const SizesReport& sizes) {
 std::string trend_text(const std::vector<Table2Outcome>& mixes) {
   std::vector<double> fa, ours, paper, measured;
   for (const Table2Outcome& m : mixes) {
-    if (m.final_stats().count == 0) continue;
+    if (m.reported_stats().count == 0) continue;
     fa.push_back(m.row.fa_percent);
-    ours.push_back(m.final_stats().mean);
+    ours.push_back(m.reported_stats().mean);
     paper.push_back(m.row.paper_mean);
     measured.push_back(m.row.experiment);
   }
@@ -80,7 +80,7 @@ std::string trend_text(const std::vector<Table2Outcome>& mixes) {
   // The scatter between seeds, where there were several.
   std::optional<double> largest_sd;
   for (const Table2Outcome& m : mixes)
-    if (!std::isnan(m.final_stats().sd)) largest_sd = std::max(largest_sd.value_or(0.0), m.final_stats().sd);
+    if (!std::isnan(m.reported_stats().sd)) largest_sd = std::max(largest_sd.value_or(0.0), m.reported_stats().sd);
   // The virtual boxes and the largest particle, from the first mix's run.
   const RunReport& first = mixes.front().runs.front().result.report;
   const auto [lv_lo, lv_hi] = std::minmax_element(first.final.density.boxes.begin(), first.final.density.boxes.end(),
@@ -255,7 +255,7 @@ std::optional<Table> table2_engineers_table(const std::vector<Table2Outcome>& mi
   t.header = {"mix", "ours: voids %", "ours: dry bulk density kg/m³", "ours: lb/ft³", "experiment: voids %",
               "experiment: kg/m³", "experiment: lb/ft³"};
   for (const Table2Outcome& m : mixes) {
-    const BulkDensity ours = bulk_density(m.final_stats().mean, particle_density),
+    const BulkDensity ours = bulk_density(m.reported_stats().mean, particle_density),
                       measured = bulk_density(m.row.experiment, particle_density);
     t.rows.push_back({fmt::format("{}", m.row.mix), fmt::format("{:.1f}", ours.voids_percent),
                       fmt::format("{:.0f}", ours.kg_per_m3), fmt::format("{:.1f}", ours.lb_per_ft3),
@@ -428,7 +428,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
   nlohmann::json t2_json = nlohmann::json::array();
   std::string cpm_parameters;
   for (const Table2Outcome& m : mixes) {
-    const double ours = m.final_stats().mean;
+    const double ours = m.reported_stats().mean;
     const std::optional<WholeGradingEstimate> whole = table2_whole_grading(rep, m);
     // The analytic model beside the simulation: the first seed's predictions (the same for every seed).
     const nlohmann::json predictions =
