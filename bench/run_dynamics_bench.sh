@@ -5,7 +5,8 @@
 #     at 10^5, on two; on the very same bed file, on one core, each peer that is installed:
 #     LAMMPS `pair_style granular` (the same law), LAMMPS `gran/hertz/history` (its classic
 #     kernel) and LIGGGHTS. `rounds` rounds, interleaved; the ratio is aggpack's best over
-#     the fastest peer's best.
+#     the fastest peer's best. Beside the two-thread run, bench_core_scaling: what a second
+#     thread adds to loops that share nothing, this machine's ceiling for that ratio.
 #  2. Example 1 and Example 2 from scenario to settled bed (aggpack: deposition + DEM) against
 #     LAMMPS pouring and settling the same spheres (bench/lammps/example{1,2}_pour.in).
 # Usage: bench/run_dynamics_bench.sh [build-dir] [steps] [rounds] [counts...]
@@ -61,7 +62,7 @@ for count in "${counts[@]}"; do
     OMP_NUM_THREADS=$(nproc) "$build/bench/bench_dynamics" "$count" 10 --bed "$bed" --warmup 0 >/dev/null
   fi
   declare -A rates=()
-  one_thread=() two_threads=()
+  one_thread=() two_threads=() ceiling=()
   for round in $(seq "$rounds"); do
     line=$(ours_rate 1 "$bed" "$count")
     echo "round $round aggpack 1 thread:  $line"
@@ -70,6 +71,12 @@ for count in "${counts[@]}"; do
       line=$(ours_rate 2 "$bed" "$count")
       echo "round $round aggpack 2 threads: $line"
       two_threads+=("$(field "$line" particle_steps_per_second)")
+      # What a second thread can add on this machine right now, with nothing shared: the
+      # ceiling for the ratio above (a VM's second vCPU may not be a whole core).
+      while read -r line; do
+        echo "round $round machine, two threads / one: $line"
+        ceiling+=("$(field "$line" two_over_one)")
+      done < <(taskset -c 0-1 "$build/bench/bench_core_scaling" 1)
     fi
     for peer in "${peers[@]}"; do
       read -r rate rss <<< "$(peer_rate "$peer" "$bed")"
@@ -92,6 +99,7 @@ for count in "${counts[@]}"; do
   fi
   if [[ ${#two_threads[@]} -gt 0 ]]; then
     echo "$count spheres: two threads / one thread = $(python3 -c "print(f'{$(best "${two_threads[@]}")/$ours:.2f}')")"
+    echo "the machine's own two / one over the rounds (throughput, latency, memory, in turn): ${ceiling[*]}"
   fi
   unset rates
 done
