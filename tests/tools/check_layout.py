@@ -26,6 +26,7 @@ MODULE_DEPENDENCIES = {
     "sizes": {"core"},
     "models": {"sizes"},
     "spatial": {"core"},
+    "grains": {"core"},
     "deposition": {"core", "spatial"},
     "analysis": {"core", "spatial"},
     "dynamics": {"core", "spatial", "deposition"},

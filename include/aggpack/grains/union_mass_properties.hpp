@@ -1,0 +1,42 @@
+#pragma once
+// The mass properties of a union of overlapping spheres: the body of a rigid multi-sphere
+// grain (a clump), whose volume, centre of mass and inertia count each point once however
+// many member spheres cover it.
+#include <array>
+#include <span>
+
+#include "aggpack/core/vec3.hpp"
+
+namespace aggpack {
+
+struct MemberSphere {
+  Vec3 centre;
+  double radius = 0.0;
+};
+
+// The inertia tensor per unit density about the centre of mass, symmetric:
+// [xx, yy, zz, xy, xz, yz] with xx = ∫(y² + z²) dV and xy = -∫ x y dV (the sign convention
+// of the tensor, so that L = I ω).
+using InertiaTensor = std::array<double, 6>;
+
+struct MassProperties {
+  double volume = 0.0;
+  Vec3 centre_of_mass;
+  InertiaTensor inertia{};  // per unit density, about centre_of_mass
+};
+
+// Volume, centre of mass and inertia of the union of `spheres` (at least one, radii > 0).
+//
+// The method: the union is cut into horizontal slices; a slice is a union of discs, whose
+// area and first and second moments are exact line integrals over its boundary arcs (Green's
+// theorem: each disc's arcs outside every other disc, found by circle intersections). The
+// slices' moments are integrated over z by adaptive Gauss-Kronrod quadrature (7/15 points),
+// started on the panels between the heights where a slice's topology can change (each
+// sphere's top and bottom, each pair's intersection circle's highest and lowest points) and
+// split until each panel's error estimate is below `relative_tolerance` of the volume scale.
+// Throws std::invalid_argument for no spheres, a radius that is not positive and finite, a
+// centre that is not finite, or a tolerance outside [1e-13, 1e-2].
+[[nodiscard]] MassProperties union_mass_properties(std::span<const MemberSphere> spheres,
+                                                   double relative_tolerance = 1e-10);
+
+}  // namespace aggpack
