@@ -264,7 +264,10 @@ Subcommand add_sweep(CLI::App& app) {
             if (*stop_opt) options.stop_after = a->stop_after;
             const CalibrationArguments calibrations = calibration_arguments(a->calibrations);
             options.calibration = calibrations.cpm;
-            if (calibrations.calibrated_by) options.sets.push_back(*calibrations.calibrated_by);
+            if (calibrations.calibrated_by) {
+              options.sets.push_back(*calibrations.calibrated_by);
+              options.typed_as[*calibrations.calibrated_by] = calibrations.typed;
+            }
             aggpack::sweep(options, std::cout);
             return 0;
           }};

@@ -165,6 +165,7 @@ SweepPlan plan_sweep(const SweepOptions& options) {
   {
     ScenarioOverrides check;
     check.set = options.sets;
+    check.typed_as = options.typed_as;
     const Scenario sc = load_scenario(options.scenario, check);
     if (sc.output.frame_interval)  // its runs write no VTP files (output.formats=[])
       throw InputError(fmt::format("{}: output.frame_interval: a sweep writes no VTP files, so no frames; remove the "
@@ -182,6 +183,7 @@ SweepPlan plan_sweep(const SweepOptions& options) {
   for (const double fa : options.fa_percent) {
     ScenarioOverrides o;
     o.set = blend_sets(options, fa);
+    o.typed_as = options.typed_as;
     plan.blends.push_back(load_scenario(options.scenario, o));
     if (!plan.whole()) continue;
     plan.at_cuts.emplace_back();

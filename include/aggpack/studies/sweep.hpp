@@ -1,5 +1,6 @@
 #pragma once
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -15,6 +16,7 @@ struct SweepOptions {
   int seeds = 3;
   std::filesystem::path out = "out/sweep";
   std::vector<std::string> sets;       // --set overrides applied to every run
+  std::map<std::string, std::string> typed_as;  // a set -> the option it came from, for messages (--calibration)
   // Three or more d_min of the fine grading: each blend is simulated at each, and CPM carries the
   // series to the blend's whole grading (whole_grading.hpp); none: the scenario's own cut-off.
   std::vector<double> cut_offs;
