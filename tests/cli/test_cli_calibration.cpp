@@ -202,7 +202,8 @@ TEST_F(CliCalibration, SweepAndWholeGradingGiveItToEveryRun) {
               std::string::npos)
         << r.output;
     // The message quotes the option as typed, not the assignment it became.
-    EXPECT_NE(r.output.find("error: --calibration " + file.string() + ": calibrated_by"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("error: --calibration " + file.string() + ": calibrated_by"), std::string::npos)
+        << r.output;
   }
   EXPECT_FALSE(fs::exists(dir_ / "sweep"));
   // A scenario's own calibrated_by and --calibration: one list would replace the other.
