@@ -1,14 +1,20 @@
 #pragma once
 // Runs the aggpack executable (AGGPACK_EXE) as a user would, capturing what it prints.
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <thread>
+#include <vector>
 
 namespace aggpack::testing {
 
@@ -32,6 +38,34 @@ inline CliResult run_cli(const std::string& args) { return run_command(std::stri
 // tests/tools/check_outputs.py: the output files read by Python's csv and xml parsers.
 inline CliResult check_outputs(const std::string& args) {
   return run_command(std::string(AGGPACK_PYTHON) + " " + std::string(AGGPACK_CHECK_OUTPUTS) + " " + args);
+}
+
+// Starts aggpack with `arguments` in a child process (its output discarded), polls `ready`
+// every 10 ms until it holds (for `patience` at most), then sends the child `signal_number`
+// and waits for it. Returns its exit code (-N when signal N ended it), or nullopt when it
+// ended on its own before `ready` held.
+inline std::optional<int> signal_aggpack_when(const std::vector<std::string>& arguments,
+                                              const std::function<bool()>& ready, int signal_number,
+                                              std::chrono::milliseconds patience = std::chrono::minutes(2)) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::freopen("/dev/null", "w", stdout);
+    ::freopen("/dev/null", "w", stderr);
+    std::vector<char*> argv{const_cast<char*>(AGGPACK_EXE)};
+    for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(AGGPACK_EXE, argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  for (const auto until = std::chrono::steady_clock::now() + patience; std::chrono::steady_clock::now() < until;) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) return std::nullopt;
+    if (ready()) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ::kill(pid, signal_number);
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }
 
 inline std::string slurp(const std::filesystem::path& p) {

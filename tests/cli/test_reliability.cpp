@@ -23,6 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using aggpack::testing::run_cli;
+using aggpack::testing::signal_aggpack_when;
 
 // One bad input: the files it needs ({name, content}, written into the test folder, where
 // "@" in any text stands for that folder), the aggpack arguments, and words the message must hold.
@@ -465,22 +466,16 @@ TEST_F(Reliability, ACutOffIsQuotedAsTyped) {
 
 // A settling run stopped by a signal: it stops at the next sample, writes the bed as it stood,
 // its samples and a summary marked interrupted, and exits with 128 + the signal.
-int run_and_signal(const fs::path& scenario, const fs::path& out, int signal_number) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::freopen("/dev/null", "w", stdout);
-    ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--threads", "1", "--out", out.c_str(),
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+std::optional<int> run_and_signal(const fs::path& scenario, const fs::path& out, int signal_number) {
   // The folder appears once every check has passed; the DEM is then under way within a second.
-  for (int k = 0; k < 600 && !fs::exists(out); ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
-  ::kill(pid, signal_number);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+  std::optional<std::chrono::steady_clock::time_point> began;
+  return signal_aggpack_when(
+      {"run", scenario.string(), "--quiet", "--threads", "1", "--out", out.string()},
+      [&] {
+        if (!began && fs::exists(out)) began = std::chrono::steady_clock::now();
+        return began && std::chrono::steady_clock::now() - *began >= std::chrono::milliseconds(1500);
+      },
+      signal_number, std::chrono::seconds(30));
 }
 
 TEST_F(Reliability, SigintAndSigtermStopAtASafePointWithAnInterruptedSummary) {
@@ -491,7 +486,9 @@ TEST_F(Reliability, SigintAndSigtermStopAtASafePointWithAnInterruptedSummary) {
                              "[dynamics]\nmax_time = 100\n";
   for (const auto& [signal_number, code] : {std::pair{SIGINT, 130}, std::pair{SIGTERM, 143}}) {
     const fs::path out = dir_ / ("stopped_" + std::to_string(signal_number));
-    EXPECT_EQ(run_and_signal(scenario, out, signal_number), code);
+    const std::optional<int> got = run_and_signal(scenario, out, signal_number);
+    ASSERT_TRUE(got.has_value()) << "the run ended before it was signalled";
+    EXPECT_EQ(*got, code);
     const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
     EXPECT_TRUE(summary.at("interrupted").get<bool>());
     EXPECT_EQ(summary.at("interruption").at("signal").get<int>(), signal_number);

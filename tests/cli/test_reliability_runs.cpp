@@ -25,6 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using aggpack::testing::run_cli;
+using aggpack::testing::signal_aggpack_when;
 using aggpack::testing::slurp;
 
 class ReliabilityRuns : public ::testing::Test {
@@ -48,23 +49,14 @@ TEST_F(ReliabilityRuns, ASignalInsideALongTapStopsTheRunInsideTheTap) {
             "[container]\nside = 0.1\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 500\n[deposition]\n"
             "[dynamics]\nmax_time = 0.001\n[tapping]\ntaps = 1\nfrequency = 1\nintensity = 0.1\nrest_time = 0.6\n");
   const fs::path out = dir_ / "out";
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::freopen("/dev/null", "w", stdout);
-    ::freopen("/dev/null", "w", stderr);
-    ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--threads", "1", "--checkpoint-every", "0",
-            "--out", out.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
   // Inside the tap a safe point comes every quarter second or so; before it had none, and
   // the first checkpoint naming the tap came only once the tap was over.
-  for (int k = 0; k < 3000 && slurp(out / "checkpoint.bin").find("while tap 1 of 1") == std::string::npos; ++k)
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  ASSERT_EQ(WEXITSTATUS(status), 143);
+  const std::optional<int> code = signal_aggpack_when(
+      {"run", scenario.string(), "--quiet", "--threads", "1", "--checkpoint-every", "0", "--out", out.string()},
+      [&] { return slurp(out / "checkpoint.bin").find("while tap 1 of 1") != std::string::npos; }, SIGTERM,
+      std::chrono::seconds(30));
+  ASSERT_TRUE(code.has_value()) << "the run ended before its tap was checkpointed";
+  ASSERT_EQ(*code, 143);
   const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   const std::string stopped = summary.at("interruption").at("stopped").get<std::string>();
   std::smatch at;

@@ -475,25 +475,11 @@ TEST_F(Reproduce, ResumedAfterAKillEndsWithTheNumbersOfAnUninterruptedRun) {
   const aggpack::testing::ScratchDir scratch("aggpack_reproduce_resume_");
   const fs::path out = scratch.path() / "out";
   const fs::path runs = out / "runs";
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::freopen("/dev/null", "w", stdout);
-    ::freopen("/dev/null", "w", stderr);
-    ::execl(AGGPACK_EXE, AGGPACK_EXE, "reproduce", "--quick", "--quiet", "--threads", "1", "--out", out.c_str(),
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
   // Killed once the first poured example is done: the examples' runs finished, the rest not begun.
-  int status = 0;
-  bool ended = false;
-  while (!fs::exists(runs / "example1_poured" / "seed_1" / "summary.json") && !ended) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    ended = ::waitpid(pid, &status, WNOHANG) == pid;
-  }
-  if (!ended) {
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, &status, 0);
-  }
+  (void)aggpack::testing::signal_aggpack_when(
+      {"reproduce", "--quick", "--quiet", "--threads", "1", "--out", out.string()},
+      [&] { return fs::exists(runs / "example1_poured" / "seed_1" / "summary.json"); }, SIGKILL,
+      std::chrono::minutes(10));
   ASSERT_FALSE(fs::exists(out / "reproduce.json")) << "the reproduce ended before it was killed";
   // Each finished run with DEM kept its checkpoint, taken before its final analysis.
   ASSERT_TRUE(fs::exists(runs / "example1" / "seed_1" / "checkpoint.bin"));

@@ -26,6 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using aggpack::testing::run_cli;
+using aggpack::testing::signal_aggpack_when;
 using aggpack::testing::slurp;
 
 // Poured in two batches, settled, then tapped twice: every resumable loop (a batch falling,
@@ -122,25 +123,8 @@ class Resume : public ::testing::Test {
 
   static std::optional<int> signal_when(const std::vector<std::string>& arguments, const fs::path& out,
                                         const std::string& when, int signal_number) {
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-      ::freopen("/dev/null", "w", stdout);
-      ::freopen("/dev/null", "w", stderr);
-      std::vector<char*> argv{const_cast<char*>(AGGPACK_EXE)};
-      for (const std::string& a : arguments) argv.push_back(const_cast<char*>(a.c_str()));
-      argv.push_back(nullptr);
-      ::execv(AGGPACK_EXE, argv.data());
-      ::_exit(127);
-    }
-    int status = 0;
-    for (int k = 0; k < 12000; ++k) {  // at most two minutes
-      if (::waitpid(pid, &status, WNOHANG) == pid) return std::nullopt;
-      if (taken_at(out, when)) break;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    ::kill(pid, signal_number);
-    ::waitpid(pid, &status, 0);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+    return signal_aggpack_when(
+        arguments, [&] { return taken_at(out, when); }, signal_number);
   }
 
   // Every file of `reference` is in `resumed` with the same bytes (summary.json: the same
@@ -314,19 +298,17 @@ TEST_F(Resume, AnInterruptedRunsBedIsExportedAsTheBedWhereItStopped) {
 TEST_F(Resume, WithCheckpointsOffAnInterruptedSummarySaysThereIsNone) {
   const fs::path scenario = write_scenario("long", std::string(kLayered) + "[output]\ncheckpoint = false\n");
   const fs::path out = dir_ / "stopped";
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::freopen("/dev/null", "w", stdout);
-    ::execl(AGGPACK_EXE, AGGPACK_EXE, "run", scenario.c_str(), "--quiet", "--out", out.c_str(),
-            static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  for (int k = 0; k < 6000 && !fs::exists(out); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  ASSERT_EQ(WEXITSTATUS(status), 143);
+  // Signalled some 0.3 s after it made its folder: inside the run, with no checkpoint to take.
+  std::optional<std::chrono::steady_clock::time_point> began;
+  const std::optional<int> code = signal_aggpack_when(
+      {"run", scenario.string(), "--quiet", "--out", out.string()},
+      [&] {
+        if (!began && fs::exists(out)) began = std::chrono::steady_clock::now();
+        return began && std::chrono::steady_clock::now() - *began >= std::chrono::milliseconds(300);
+      },
+      SIGTERM);
+  ASSERT_TRUE(code.has_value()) << "the run ended before it was signalled";
+  ASSERT_EQ(*code, 143);
   EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
   const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   EXPECT_TRUE(summary.at("interruption").at("checkpoint").is_null());
