@@ -1,0 +1,177 @@
+#include "aggpack/grains/grain_shape.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+#include <utility>
+
+namespace aggpack {
+namespace {
+
+// The icosahedron on the unit sphere, its triangles anticlockwise seen from outside.
+ConvexHull unit_icosahedron() {
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  ConvexHull h;
+  for (const Vec3& v :
+       {Vec3{-1, t, 0}, Vec3{1, t, 0}, Vec3{-1, -t, 0}, Vec3{1, -t, 0}, Vec3{0, -1, t}, Vec3{0, 1, t}, Vec3{0, -1, -t},
+        Vec3{0, 1, -t}, Vec3{t, 0, -1}, Vec3{t, 0, 1}, Vec3{-t, 0, -1}, Vec3{-t, 0, 1}})
+    h.vertices.push_back(normalized(v));
+  h.triangles = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
+  return h;
+}
+
+// Each triangle split in four, the new vertices (the edges' midpoints) pushed out onto the
+// unit sphere; an edge's midpoint is made once and shared by its two triangles.
+void subdivide(ConvexHull& h) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> midpoint;
+  const auto middle = [&](std::uint32_t a, std::uint32_t b) {
+    const auto key = std::minmax(a, b);
+    const auto [it, fresh] =
+        midpoint.try_emplace({key.first, key.second}, static_cast<std::uint32_t>(h.vertices.size()));
+    if (fresh) h.vertices.push_back(normalized(h.vertices[a] + h.vertices[b]));
+    return it->second;
+  };
+  std::vector<std::array<std::uint32_t, 3>> split;
+  split.reserve(4 * h.triangles.size());
+  for (const auto& [a, b, c] : h.triangles) {
+    const std::uint32_t ab = middle(a, b), bc = middle(b, c), ca = middle(c, a);
+    split.push_back({a, ab, ca});
+    split.push_back({b, bc, ab});
+    split.push_back({c, ca, bc});
+    split.push_back({ab, bc, ca});
+  }
+  h.triangles = std::move(split);
+}
+
+// The largest sphere behind every point's tangent plane that touches point `at`'s plane at
+// that point: its centre p - r n stays r behind plane k, r (1 - n_k.n) <= n_k.(p_k - p).
+MemberSphere tangent_sphere(const ConvexSurface& surface, std::size_t at) {
+  const SurfacePoint& p = surface[at];
+  double radius = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < surface.size(); ++k) {
+    const double closing = 1.0 - dot(surface[k].normal, p.normal);
+    if (k == at || closing <= 1e-12) continue;
+    radius = std::min(radius, std::max(0.0, dot(surface[k].normal, surface[k].position - p.position)) / closing);
+  }
+  return {p.position - p.normal * radius, radius};
+}
+
+}  // namespace
+
+ConvexHull ellipsoid_hull(const Vec3& semi_axes, int subdivisions) {
+  for (int axis = 0; axis < 3; ++axis)
+    if (!(semi_axes[axis] > 0.0) || !std::isfinite(semi_axes[axis]))
+      throw std::invalid_argument("ellipsoid_hull: the semi-axes must be positive and finite");
+  if (subdivisions < 0 || subdivisions > 6)
+    throw std::invalid_argument("ellipsoid_hull: subdivisions must lie in [0, 6] (20 x 4^6 = 81920 triangles)");
+  ConvexHull h = unit_icosahedron();
+  for (int s = 0; s < subdivisions; ++s) subdivide(h);
+  for (Vec3& v : h.vertices) v = {v.x * semi_axes.x, v.y * semi_axes.y, v.z * semi_axes.z};
+  return h;
+}
+
+ConvexSurface ellipsoid_surface(const Vec3& semi_axes, int subdivisions) {
+  const ConvexHull hull = ellipsoid_hull(semi_axes, subdivisions);
+  ConvexSurface surface;
+  surface.reserve(hull.vertices.size());
+  for (const Vec3& v : hull.vertices)  // the gradient of x²/a² + y²/b² + z²/c²
+    surface.push_back({v, normalized(Vec3{v.x / (semi_axes.x * semi_axes.x), v.y / (semi_axes.y * semi_axes.y),
+                                          v.z / (semi_axes.z * semi_axes.z)})});
+  return surface;
+}
+
+std::vector<MemberSphere> fill_convex(const ConvexSurface& surface, std::size_t count) {
+  if (surface.empty() || count == 0)
+    throw std::invalid_argument("fill_convex: needs surface points and at least one sphere");
+  std::vector<MemberSphere> candidate(surface.size());
+  for (std::size_t k = 0; k < surface.size(); ++k) candidate[k] = tangent_sphere(surface, k);
+  // How far each point lies outside the spheres chosen so far (at first: unbounded).
+  std::vector<double> outside(surface.size(), std::numeric_limits<double>::infinity());
+  double largest = 0.0;
+  for (const MemberSphere& c : candidate) largest = std::max(largest, c.radius);
+  const double covered = 1e-9 * largest;  // a point on a chosen sphere, to rounding
+  std::vector<MemberSphere> spheres;
+  while (spheres.size() < count) {
+    // What a point's sphere would add: its size, unless the point is nearly covered already.
+    std::size_t pick = surface.size();
+    double best = covered;
+    for (std::size_t k = 0; k < surface.size(); ++k)
+      if (const double gain = std::min(candidate[k].radius, outside[k]); gain > best) best = gain, pick = k;
+    if (pick == surface.size()) break;  // every point is on a sphere already
+    const MemberSphere& s = candidate[pick];
+    spheres.push_back(s);
+    for (std::size_t k = 0; k < surface.size(); ++k)
+      outside[k] = std::min(outside[k], norm(surface[k].position - s.centre) - s.radius);
+  }
+  return spheres;
+}
+
+SymmetricEigen symmetric_eigen(const InertiaTensor& t) {
+  double a[3][3] = {{t[0], t[3], t[4]}, {t[3], t[1], t[5]}, {t[4], t[5], t[2]}};
+  double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const double size =
+      std::abs(t[0]) + std::abs(t[1]) + std::abs(t[2]) + std::abs(t[3]) + std::abs(t[4]) + std::abs(t[5]);
+  for (int sweep = 0; sweep < 50; ++sweep) {
+    const double off = std::abs(a[0][1]) + std::abs(a[0][2]) + std::abs(a[1][2]);
+    if (off <= 1e-15 * size) break;
+    for (int p = 0; p < 2; ++p)
+      for (int q = p + 1; q < 3; ++q) {
+        if (a[p][q] == 0.0) continue;
+        // The rotation in the (p, q) plane that zeroes a[p][q] (Numerical Recipes' jacobi).
+        const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+        const double tan = (theta >= 0.0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double c = 1.0 / std::sqrt(tan * tan + 1.0), s = tan * c;
+        for (int k = 0; k < 3; ++k) {  // columns p and q: A R
+          const double akp = a[k][p], akq = a[k][q];
+          a[k][p] = c * akp - s * akq;
+          a[k][q] = s * akp + c * akq;
+        }
+        for (int k = 0; k < 3; ++k) {  // rows p and q: R^T (A R)
+          const double apk = a[p][k], aqk = a[q][k];
+          a[p][k] = c * apk - s * aqk;
+          a[q][k] = s * apk + c * aqk;
+        }
+        for (int k = 0; k < 3; ++k) {
+          const double vkp = v[k][p], vkq = v[k][q];
+          v[k][p] = c * vkp - s * vkq;
+          v[k][q] = s * vkp + c * vkq;
+        }
+      }
+  }
+  std::array<int, 3> order{0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int i, int j) { return a[i][i] < a[j][j]; });
+  SymmetricEigen e;
+  for (int k = 0; k < 3; ++k) {
+    const int i = order[static_cast<std::size_t>(k)];
+    e.values[static_cast<std::size_t>(k)] = a[i][i];
+    e.vectors[static_cast<std::size_t>(k)] = {v[0][i], v[1][i], v[2][i]};
+  }
+  return e;
+}
+
+GrainDimensions grain_dimensions(std::span<const MemberSphere> spheres, const MassProperties& mass) {
+  if (spheres.empty()) throw std::invalid_argument("grain_dimensions: no spheres");
+  const SymmetricEigen e = symmetric_eigen(mass.inertia);
+  std::array<std::pair<double, Vec3>, 3> extent;
+  for (std::size_t k = 0; k < 3; ++k) {
+    const Vec3& u = e.vectors[k];
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (const MemberSphere& s : spheres) {
+      lo = std::min(lo, dot(u, s.centre) - s.radius);
+      hi = std::max(hi, dot(u, s.centre) + s.radius);
+    }
+    extent[k] = {hi - lo, u};
+  }
+  std::sort(extent.begin(), extent.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+  GrainDimensions d;
+  d.length = extent[0].first, d.width = extent[1].first, d.thickness = extent[2].first;
+  d.axes = {extent[0].second, extent[1].second, cross(extent[0].second, extent[1].second)};
+  return d;
+}
+
+}  // namespace aggpack
