@@ -174,4 +174,70 @@ GrainDimensions grain_dimensions(std::span<const MemberSphere> spheres, const Ma
   return d;
 }
 
+namespace {
+
+// The extents of the spheres along x, y and z.
+Vec3 extents(const std::vector<MemberSphere>& spheres) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const MemberSphere& s : spheres) {
+    lo = {std::min(lo.x, s.centre.x - s.radius), std::min(lo.y, s.centre.y - s.radius),
+          std::min(lo.z, s.centre.z - s.radius)};
+    hi = {std::max(hi.x, s.centre.x + s.radius), std::max(hi.y, s.centre.y + s.radius),
+          std::max(hi.z, s.centre.z + s.radius)};
+  }
+  return hi - lo;
+}
+
+// The spheres moved to their centre of mass and turned onto their dimensions' axes (length
+// along x), scaled to a length of 1; the mass properties carried along (volume s³, inertia
+// s⁵ Rᵀ I R), not computed again.
+GrainTemplate in_body_frame(const std::vector<MemberSphere>& spheres) {
+  const MassProperties mass = union_mass_properties(spheres, 1e-9);
+  const GrainDimensions d = grain_dimensions(spheres, mass);
+  const double scale = 1.0 / d.length;
+  GrainTemplate t;
+  for (const MemberSphere& s : spheres) {
+    const Vec3 r = s.centre - mass.centre_of_mass;
+    t.spheres.push_back({Vec3{dot(r, d.axes[0]), dot(r, d.axes[1]), dot(r, d.axes[2])} * scale, s.radius * scale});
+  }
+  const InertiaTensor& i = mass.inertia;
+  const auto apply = [&](const Vec3& v) {
+    return Vec3{i[0] * v.x + i[3] * v.y + i[4] * v.z, i[3] * v.x + i[1] * v.y + i[5] * v.z,
+                i[4] * v.x + i[5] * v.y + i[2] * v.z};
+  };
+  const auto element = [&](int a, int b) { return std::pow(scale, 5) * dot(d.axes[a], apply(d.axes[b])); };
+  t.mass.volume = mass.volume * scale * scale * scale;
+  t.mass.inertia = {element(0, 0), element(1, 1), element(2, 2), element(0, 1), element(0, 2), element(1, 2)};
+  t.dimensions = grain_dimensions(t.spheres, t.mass);
+  return t;
+}
+
+}  // namespace
+
+GrainTemplate rounded_grain(double elongation, double flatness, std::size_t count, double tolerance) {
+  if (!(elongation > 0.0 && elongation <= 1.0) || !(flatness > 0.0 && flatness <= 1.0))
+    throw std::invalid_argument("rounded_grain: elongation I/L and flatness S/I must lie in (0, 1]");
+  if (count == 0) throw std::invalid_argument("rounded_grain: a grain needs at least one sphere");
+  // The fill keeps the ellipsoid's axes as its own (it is symmetric but for the order in which
+  // equal gains are taken), so the dimensions are fitted on x, y and z; the template's own
+  // come from its principal axes.
+  Vec3 axes{1.0, elongation, elongation * flatness};
+  std::vector<MemberSphere> best;
+  double best_miss = std::numeric_limits<double>::infinity();
+  for (int attempt = 0; attempt < 30; ++attempt) {
+    std::vector<MemberSphere> spheres = fill_convex(ellipsoid_surface(axes, 4), count);
+    const Vec3 e = extents(spheres);
+    const double got_elongation = e.y / e.x, got_flatness = e.z / e.y;
+    const double miss = std::max(std::abs(got_elongation - elongation), std::abs(got_flatness - flatness));
+    if (miss < best_miss) best_miss = miss, best = std::move(spheres);
+    if (miss <= tolerance) break;
+    // Each axis corrected by the ratio it missed (the width against the length, the thickness
+    // against the width), at most by a factor of 2 at a time.
+    axes.y *= std::clamp(elongation / got_elongation, 0.5, 2.0);
+    axes.z *= std::clamp(elongation * flatness / (got_elongation * got_flatness), 0.5, 2.0);
+    axes.y = std::min(axes.y, axes.x), axes.z = std::min(axes.z, axes.y);
+  }
+  return in_body_frame(best);
+}
+
 }  // namespace aggpack

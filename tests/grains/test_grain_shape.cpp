@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "aggpack/grains/grain_shape.hpp"
@@ -107,6 +108,31 @@ TEST(GrainDimensions, FollowTheGrainWhenItTurns) {
   EXPECT_NEAR(dt.thickness, d.thickness, 1e-6);
   for (std::size_t k = 0; k < 3; ++k) EXPECT_NEAR(std::abs(dot(dt.axes[k], turn(d.axes[k]))), 1.0, 1e-6);
   EXPECT_NEAR(dot(cross(dt.axes[0], dt.axes[1]), dt.axes[2]), 1.0, 1e-12);  // right-handed
+}
+
+// A rounded grain's spheres measure the proportions asked for, in its body frame: the centre
+// of mass at the origin, the inertia diagonal, the length along x and equal to 1.
+TEST(RoundedGrain, MeasuresItsProportionsInItsBodyFrame) {
+  for (const auto& [elongation, flatness] : {std::pair{0.8, 0.9}, std::pair{0.5, 0.4}}) {
+    SCOPED_TRACE(testing::Message() << "I/L " << elongation << ", S/I " << flatness);
+    const GrainTemplate t = rounded_grain(elongation, flatness, 32);
+    EXPECT_EQ(t.spheres.size(), 32u);
+    EXPECT_NEAR(t.dimensions.length, 1.0, 1e-12);
+    EXPECT_NEAR(t.dimensions.width / t.dimensions.length, elongation, 0.005);
+    EXPECT_NEAR(t.dimensions.thickness / t.dimensions.width, flatness, 0.005);
+    EXPECT_NEAR(norm(t.mass.centre_of_mass), 0.0, 1e-9);
+    for (std::size_t k = 3; k < 6; ++k) EXPECT_NEAR(t.mass.inertia[k], 0.0, 1e-9 * t.mass.inertia[0]);
+    EXPECT_LT(t.mass.inertia[0], t.mass.inertia[1]);  // the least inertia about the length
+    EXPECT_LT(t.mass.inertia[1], t.mass.inertia[2]);
+    EXPECT_NEAR(std::abs(t.dimensions.axes[0].x), 1.0, 1e-9);
+  }
+  // A grain as wide and thick as long is the ball of diameter 1, one sphere.
+  const GrainTemplate ball = rounded_grain(1.0, 1.0, 8);
+  ASSERT_EQ(ball.spheres.size(), 1u);
+  EXPECT_NEAR(ball.mass.volume, std::numbers::pi / 6.0, 1e-9);
+  EXPECT_THROW((void)rounded_grain(0.0, 0.5, 8), std::invalid_argument);
+  EXPECT_THROW((void)rounded_grain(0.5, 1.2, 8), std::invalid_argument);
+  EXPECT_THROW((void)rounded_grain(0.5, 0.5, 0), std::invalid_argument);
 }
 
 TEST(SymmetricEigen, DiagonalisesASymmetricTensor) {

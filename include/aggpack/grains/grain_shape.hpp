@@ -58,6 +58,23 @@ struct GrainDimensions {
 
 [[nodiscard]] GrainDimensions grain_dimensions(std::span<const MemberSphere> spheres, const MassProperties& mass);
 
+// A grain template in its body frame: the centre of mass at the origin, the principal axes of
+// inertia along x (length), y (width) and z (thickness), and a length L of 1.
+struct GrainTemplate {
+  std::vector<MemberSphere> spheres;
+  MassProperties mass;         // inertia diagonal in this frame
+  GrainDimensions dimensions;  // length 1; width = I/L, thickness = S/L as achieved
+};
+
+// A rounded grain (gravel) of `count` spheres filling an ellipsoid, whose own spheres measure
+// elongation I/L and flatness S/I: the ellipsoid's semi-axes are corrected, at most 30 times,
+// until both ratios of the spheres' extents along the ellipsoid's axes are within `tolerance`,
+// and the best try is kept (the fill jumps as a new sphere changes places, so an exact fit is
+// not guaranteed: the template's dimensions, along its principal axes, say what was
+// achieved). Throws std::invalid_argument for ratios outside (0, 1] or a count of 0.
+[[nodiscard]] GrainTemplate rounded_grain(double elongation, double flatness, std::size_t count,
+                                          double tolerance = 0.005);
+
 // The eigenvalues (ascending) and unit eigenvectors of a symmetric tensor stored as
 // [xx, yy, zz, xy, xz, yz], by Jacobi rotations.
 struct SymmetricEigen {
