@@ -2,7 +2,7 @@
 # Installs the Debian packages aggpack builds with, only those that are missing.
 set -euo pipefail
 packages=(g++ cmake ninja-build pkg-config libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
-          libgtest-dev libbenchmark-dev zlib1g-dev libhwy-dev libcereal-dev libxxhash-dev python3
+          libgtest-dev libbenchmark-dev zlib1g-dev libhwy-dev libcereal-dev libxxhash-dev libqhull-dev python3
           lammps openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
+
+#include "aggpack/core/rng.hpp"
 
 namespace aggpack {
 namespace {
@@ -82,6 +84,21 @@ ConvexSurface ellipsoid_surface(const Vec3& semi_axes, int subdivisions) {
   for (const Vec3& v : hull.vertices)  // the gradient of x²/a² + y²/b² + z²/c²
     surface.push_back({v, normalized(Vec3{v.x / (semi_axes.x * semi_axes.x), v.y / (semi_axes.y * semi_axes.y),
                                           v.z / (semi_axes.z * semi_axes.z)})});
+  return surface;
+}
+
+ConvexSurface hull_surface(const ConvexHull& hull, double spacing) {
+  if (!(spacing > 0.0)) throw std::invalid_argument("hull_surface: the spacing must be positive");
+  ConvexSurface surface;
+  for (const auto& [ia, ib, ic] : hull.triangles) {
+    const Vec3 &a = hull.vertices[ia], &b = hull.vertices[ib], &c = hull.vertices[ic];
+    const Vec3 normal = normalized(cross(b - a, c - a));
+    const double side = std::max({norm(b - a), norm(c - b), norm(a - c)});
+    const int n = std::max(1, static_cast<int>(std::ceil(side / spacing)));
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j)  // the centroid of each upright sub-triangle
+        surface.push_back({a + (b - a) * ((i + 1.0 / 3.0) / n) + (c - a) * ((j + 1.0 / 3.0) / n), normal});
+  }
   return surface;
 }
 
@@ -176,18 +193,6 @@ GrainDimensions grain_dimensions(std::span<const MemberSphere> spheres, const Ma
 
 namespace {
 
-// The extents of the spheres along x, y and z.
-Vec3 extents(const std::vector<MemberSphere>& spheres) {
-  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-  for (const MemberSphere& s : spheres) {
-    lo = {std::min(lo.x, s.centre.x - s.radius), std::min(lo.y, s.centre.y - s.radius),
-          std::min(lo.z, s.centre.z - s.radius)};
-    hi = {std::max(hi.x, s.centre.x + s.radius), std::max(hi.y, s.centre.y + s.radius),
-          std::max(hi.z, s.centre.z + s.radius)};
-  }
-  return hi - lo;
-}
-
 // The spheres moved to their centre of mass and turned onto their dimensions' axes (length
 // along x), scaled to a length of 1; the mass properties carried along (volume s³, inertia
 // s⁵ Rᵀ I R), not computed again.
@@ -212,22 +217,37 @@ GrainTemplate in_body_frame(const std::vector<MemberSphere>& spheres) {
   return t;
 }
 
-}  // namespace
-
-GrainTemplate rounded_grain(double elongation, double flatness, std::size_t count, double tolerance) {
-  if (!(elongation > 0.0 && elongation <= 1.0) || !(flatness > 0.0 && flatness <= 1.0))
-    throw std::invalid_argument("rounded_grain: elongation I/L and flatness S/I must lie in (0, 1]");
-  if (count == 0) throw std::invalid_argument("rounded_grain: a grain needs at least one sphere");
-  // The fill keeps the ellipsoid's axes as its own (it is symmetric but for the order in which
-  // equal gains are taken), so the dimensions are fitted on x, y and z; the template's own
-  // come from its principal axes.
+// The spheres that `fill(axes)` makes, the axes corrected (at most 30 times) until the
+// spheres' extents along their principal axes (of their summed inertia: overlaps counted
+// twice, good enough for the axes) give I/L and S/I within `tolerance`; the best try.
+template <class Fill>
+std::vector<MemberSphere> fit_proportions(double elongation, double flatness, double tolerance, Fill fill) {
   Vec3 axes{1.0, elongation, elongation * flatness};
   std::vector<MemberSphere> best;
   double best_miss = std::numeric_limits<double>::infinity();
   for (int attempt = 0; attempt < 30; ++attempt) {
-    std::vector<MemberSphere> spheres = fill_convex(ellipsoid_surface(axes, 4), count);
-    const Vec3 e = extents(spheres);
-    const double got_elongation = e.y / e.x, got_flatness = e.z / e.y;
+    std::vector<MemberSphere> spheres = fill(axes);
+    MassProperties summed;
+    for (const MemberSphere& s : spheres) {
+      const double v = 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
+      summed.volume += v;
+      summed.centre_of_mass += s.centre * v;
+    }
+    summed.centre_of_mass *= 1.0 / summed.volume;
+    for (const MemberSphere& s : spheres) {
+      const double v = 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius,
+                   own = 0.4 * v * s.radius * s.radius;
+      const Vec3 d = s.centre - summed.centre_of_mass;
+      const InertiaTensor add{own + v * (d.y * d.y + d.z * d.z),
+                              own + v * (d.x * d.x + d.z * d.z),
+                              own + v * (d.x * d.x + d.y * d.y),
+                              -v * d.x * d.y,
+                              -v * d.x * d.z,
+                              -v * d.y * d.z};
+      for (std::size_t k = 0; k < 6; ++k) summed.inertia[k] += add[k];
+    }
+    const GrainDimensions d = grain_dimensions(spheres, summed);
+    const double got_elongation = d.width / d.length, got_flatness = d.thickness / d.width;
     const double miss = std::max(std::abs(got_elongation - elongation), std::abs(got_flatness - flatness));
     if (miss < best_miss) best_miss = miss, best = std::move(spheres);
     if (miss <= tolerance) break;
@@ -237,7 +257,45 @@ GrainTemplate rounded_grain(double elongation, double flatness, std::size_t coun
     axes.z *= std::clamp(elongation * flatness / (got_elongation * got_flatness), 0.5, 2.0);
     axes.y = std::min(axes.y, axes.x), axes.z = std::min(axes.z, axes.y);
   }
-  return in_body_frame(best);
+  return best;
+}
+
+void check_proportions(double elongation, double flatness, std::size_t count) {
+  if (!(elongation > 0.0 && elongation <= 1.0) || !(flatness > 0.0 && flatness <= 1.0))
+    throw std::invalid_argument("a grain's elongation I/L and flatness S/I must lie in (0, 1]");
+  if (count == 0) throw std::invalid_argument("a grain needs at least one sphere");
+}
+
+}  // namespace
+
+GrainTemplate rounded_grain(double elongation, double flatness, std::size_t count, double tolerance) {
+  check_proportions(elongation, flatness, count);
+  return in_body_frame(fit_proportions(elongation, flatness, tolerance, [&](const Vec3& axes) {
+    return fill_convex(ellipsoid_surface(axes, 4), count);
+  }));
+}
+
+GrainTemplate angular_grain(double elongation, double flatness, std::size_t corners, std::size_t count,
+                            std::uint64_t seed, double tolerance) {
+  check_proportions(elongation, flatness, count);
+  if (corners < 4) throw std::invalid_argument("an angular grain needs at least 4 corners");
+  Rng rng = make_rng(seed, RngPurpose::Shapes);
+  std::vector<Vec3> directions;
+  for (std::size_t k = 0; k < corners; ++k) {
+    const double z = rng.uniform(-1.0, 1.0), phi = rng.uniform(0.0, 2.0 * std::numbers::pi);
+    const double ring = std::sqrt(std::max(0.0, 1.0 - z * z));
+    directions.push_back({ring * std::cos(phi), ring * std::sin(phi), z});
+  }
+  const ConvexHull unit = convex_hull_of(directions);
+  return in_body_frame(fit_proportions(elongation, flatness, tolerance, [&](const Vec3& axes) {
+    ConvexHull scaled = unit;
+    for (Vec3& v : scaled.vertices) v = {v.x * axes.x, v.y * axes.y, v.z * axes.z};
+    // Some 2000 surface points, whatever the hull: the sub-triangles' area about A / 2000.
+    double area = 0.0;
+    for (const auto& [a, b, c] : scaled.triangles)
+      area += 0.5 * norm(cross(scaled.vertices[b] - scaled.vertices[a], scaled.vertices[c] - scaled.vertices[a]));
+    return fill_convex(hull_surface(scaled, std::sqrt(2.0 * area / 2000.0)), count);
+  }));
 }
 
 }  // namespace aggpack

@@ -135,6 +135,55 @@ TEST(RoundedGrain, MeasuresItsProportionsInItsBodyFrame) {
   EXPECT_THROW((void)rounded_grain(0.5, 0.5, 0), std::invalid_argument);
 }
 
+// The hull of a box's corners and points inside it: the box, 12 triangles facing out.
+TEST(ConvexHullOf, FindsABoxAmongItsInnerPointsAndFacesOut) {
+  std::vector<Vec3> points;
+  for (int k = 0; k < 8; ++k) points.push_back({k & 1 ? 2.0 : 0.0, k & 2 ? 1.0 : 0.0, k & 4 ? 1.0 : 0.0});
+  for (int k = 0; k < 20; ++k) points.push_back({0.1 + 0.09 * k, 0.2 + 0.03 * k, 0.9 - 0.04 * k});
+  const ConvexHull h = convex_hull_of(points);
+  EXPECT_EQ(h.vertices.size(), 8u);
+  EXPECT_EQ(h.triangles.size(), 12u);
+  double volume = 0.0;
+  for (const auto& [a, b, c] : h.triangles) volume += dot(h.vertices[a], cross(h.vertices[b], h.vertices[c])) / 6.0;
+  EXPECT_NEAR(volume, 2.0, 1e-12);
+  // The largest sphere tangent to the box at one of its points: at most half its smallest
+  // side (reached at a point on a face's middle line; the points lie within 0.1 of one),
+  // and inside the box.
+  for (const MemberSphere& s : fill_convex(hull_surface(h, 0.1), 6)) {
+    EXPECT_LE(s.radius, 0.5 + 1e-12);
+    EXPECT_GE(s.centre.x - s.radius, -1e-12);
+    EXPECT_LE(s.centre.x + s.radius, 2.0 + 1e-12);
+    EXPECT_GE(std::min(s.centre.y, s.centre.z) - s.radius, -1e-12);
+    EXPECT_LE(std::max(s.centre.y, s.centre.z) + s.radius, 1.0 + 1e-12);
+  }
+  EXPECT_GT(fill_convex(hull_surface(h, 0.1), 1)[0].radius, 0.4);
+  // Points in one plane have no hull of volume.
+  EXPECT_THROW((void)convex_hull_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.2, 0}}),
+               std::invalid_argument);
+  EXPECT_THROW((void)convex_hull_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), std::invalid_argument);
+}
+
+// An angular grain: its spheres inside its hull's planes (checked through the template's own
+// dimensions: no sphere reaches beyond the hull), its proportions as asked, the same grain
+// for the same seed and another for another seed.
+TEST(AngularGrain, MeasuresItsProportionsAndFollowsItsSeed) {
+  const GrainTemplate t = angular_grain(0.5, 0.4, 16, 16, 1);
+  EXPECT_EQ(t.spheres.size(), 16u);
+  EXPECT_NEAR(t.dimensions.length, 1.0, 1e-12);
+  EXPECT_NEAR(t.dimensions.width / t.dimensions.length, 0.5, 0.005);
+  EXPECT_NEAR(t.dimensions.thickness / t.dimensions.width, 0.4, 0.005);
+  EXPECT_NEAR(norm(t.mass.centre_of_mass), 0.0, 1e-9);
+  for (std::size_t k = 3; k < 6; ++k) EXPECT_NEAR(t.mass.inertia[k], 0.0, 1e-9 * t.mass.inertia[0]);
+  const GrainTemplate again = angular_grain(0.5, 0.4, 16, 16, 1), other = angular_grain(0.5, 0.4, 16, 16, 2);
+  ASSERT_EQ(again.spheres.size(), t.spheres.size());
+  for (std::size_t k = 0; k < t.spheres.size(); ++k) {
+    EXPECT_EQ(again.spheres[k].centre, t.spheres[k].centre);
+    EXPECT_EQ(again.spheres[k].radius, t.spheres[k].radius);
+  }
+  EXPECT_NE(other.mass.volume, t.mass.volume);
+  EXPECT_THROW((void)angular_grain(0.5, 0.4, 3, 16, 1), std::invalid_argument);
+}
+
 TEST(SymmetricEigen, DiagonalisesASymmetricTensor) {
   const InertiaTensor t{4.0, 3.0, 2.0, 0.5, -0.3, 0.8};
   const SymmetricEigen e = symmetric_eigen(t);

@@ -25,7 +25,7 @@ class Rng {
 };
 
 // Named purposes, so that adding a stage never shifts another stage's numbers.
-enum class RngPurpose : std::uint64_t { Sizes = 1, Deposition = 2, Dynamics = 3, Analysis = 4, Pour = 5 };
+enum class RngPurpose : std::uint64_t { Sizes = 1, Deposition = 2, Dynamics = 3, Analysis = 4, Pour = 5, Shapes = 6 };
 
 inline Rng make_rng(std::uint64_t seed, RngPurpose purpose) {
   return Rng(seed, static_cast<std::uint64_t>(purpose));

@@ -24,6 +24,10 @@ struct ConvexHull {
 // and finite, or subdivisions outside [0, 6].
 [[nodiscard]] ConvexHull ellipsoid_hull(const Vec3& semi_axes, int subdivisions);
 
+// The convex hull of `points` (at least 4, not all in one plane), by Qhull. Throws
+// std::invalid_argument when there is no hull of volume.
+[[nodiscard]] ConvexHull convex_hull_of(const std::vector<Vec3>& points);
+
 // A convex body as points of its surface, each with its outward unit normal: the body is
 // taken as the intersection of the half-spaces behind the tangent planes at these points.
 struct SurfacePoint {
@@ -35,6 +39,10 @@ using ConvexSurface = std::vector<SurfacePoint>;
 // the ellipsoid's own normals there. The body of its tangent planes holds the ellipsoid and
 // lies within a few 1e-3 of its smallest semi-axis outside it at subdivisions 4 (2562 points).
 [[nodiscard]] ConvexSurface ellipsoid_surface(const Vec3& semi_axes, int subdivisions);
+
+// A polyhedron's surface: points on each triangle (the centroids of a grid of sub-triangles
+// whose sides are at most `spacing`), with the triangle's normal.
+[[nodiscard]] ConvexSurface hull_surface(const ConvexHull& hull, double spacing);
 
 // `count` member spheres filling `surface`'s body, each tangent to it at one of its points
 // and as large as the tangent planes allow there (Ferellec and McDowell, Granular Matter 12,
@@ -74,6 +82,14 @@ struct GrainTemplate {
 // achieved). Throws std::invalid_argument for ratios outside (0, 1] or a count of 0.
 [[nodiscard]] GrainTemplate rounded_grain(double elongation, double flatness, std::size_t count,
                                           double tolerance = 0.005);
+
+// An angular grain (crushed stone) of `count` spheres filling the convex hull of `corners`
+// points in random directions on an ellipsoid (seeded, at least 4), whose own spheres measure
+// I/L and S/I: the ellipsoid's axes corrected as for rounded_grain (the hull's faces stay
+// the same: an axis scaling maps a hull onto the hull of the mapped points). Throws
+// std::invalid_argument as rounded_grain does, or for fewer than 4 corners.
+[[nodiscard]] GrainTemplate angular_grain(double elongation, double flatness, std::size_t corners, std::size_t count,
+                                          std::uint64_t seed, double tolerance = 0.005);
 
 // The eigenvalues (ascending) and unit eigenvectors of a symmetric tensor stored as
 // [xx, yy, zz, xy, xz, yz], by Jacobi rotations.
