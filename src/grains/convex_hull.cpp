@@ -1,5 +1,6 @@
 // The convex hull of points in 3-D, by Qhull (libqhull_r, the reentrant library; Barber,
 // Dobkin and Huhdanpaa 1996), triangulated, each triangle anticlockwise seen from outside.
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 #include <string>
@@ -15,13 +16,17 @@ namespace aggpack {
 
 ConvexHull convex_hull_of(const std::vector<Vec3>& points) {
   if (points.size() < 4) throw std::invalid_argument("convex_hull_of: a hull in 3-D needs at least 4 points");
+  for (const Vec3& p : points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+      throw std::invalid_argument("convex_hull_of: a point is not finite");
   std::vector<coordT> coordinates;
   coordinates.reserve(3 * points.size());
   for (const Vec3& p : points) coordinates.insert(coordinates.end(), {p.x, p.y, p.z});
   qhT state;
   qhT* qh = &state;
   // Qhull's own messages go nowhere: a failure is reported by its code, as an exception here.
-  FILE* quiet = std::fopen("/dev/null", "w");
+  FILE* null_device = std::fopen("/dev/null", "w");
+  FILE* quiet = null_device ? null_device : stderr;
   qh_zero(qh, quiet);
   char command[] = "qhull Qt";  // triangulated output
   const int code =
@@ -54,7 +59,7 @@ ConvexHull convex_hull_of(const std::vector<Vec3>& points) {
   qh_freeqhull(qh, !qh_ALL);
   int still_long = 0, total_long = 0;
   qh_memfreeshort(qh, &still_long, &total_long);
-  if (quiet) std::fclose(quiet);
+  if (null_device) std::fclose(null_device);
   if (code != 0)
     throw std::invalid_argument("convex_hull_of: Qhull found no hull (the points are flat or coincident), code " +
                                 std::to_string(code));

@@ -161,6 +161,7 @@ TEST(ConvexHullOf, FindsABoxAmongItsInnerPointsAndFacesOut) {
   EXPECT_THROW((void)convex_hull_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0.5, 0.2, 0}}),
                std::invalid_argument);
   EXPECT_THROW((void)convex_hull_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), std::invalid_argument);
+  EXPECT_THROW((void)convex_hull_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, std::nan("")}}), std::invalid_argument);
 }
 
 // An angular grain: its spheres inside its hull's planes (checked through the template's own
