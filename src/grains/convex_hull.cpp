@@ -1,5 +1,6 @@
 // The convex hull of points in 3-D, by Qhull (libqhull_r, the reentrant library; Barber,
 // Dobkin and Huhdanpaa 1996), triangulated, each triangle anticlockwise seen from outside.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -19,6 +20,8 @@ ConvexHull convex_hull_of(const std::vector<Vec3>& points) {
   for (const Vec3& p : points)
     if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
       throw std::invalid_argument("convex_hull_of: a point is not finite");
+  double extent = 0.0;  // the points' size, for what counts as a triangle of no area
+  for (const Vec3& p : points) extent = std::max(extent, norm(p - points.front()));
   std::vector<coordT> coordinates;
   coordinates.reserve(3 * points.size());
   for (const Vec3& p : points) coordinates.insert(coordinates.end(), {p.x, p.y, p.z});
@@ -41,6 +44,7 @@ ConvexHull convex_hull_of(const std::vector<Vec3>& points) {
       vertexT *vertex, **vertexp;
       FOREACHvertex_(facet->vertices) {
         const int id = qh_pointid(qh, vertex->point);
+        if (id < 0 || static_cast<std::size_t>(id) >= points.size()) continue;  // not an input point: none in "Qt"
         if (slot[static_cast<std::size_t>(id)] < 0) {
           slot[static_cast<std::size_t>(id)] = static_cast<int>(hull.vertices.size());
           hull.vertices.push_back(points[static_cast<std::size_t>(id)]);
@@ -52,6 +56,8 @@ ConvexHull convex_hull_of(const std::vector<Vec3>& points) {
       if (corner != 3) continue;  // "Qt" gives triangles only
       const Vec3 outward{facet->normal[0], facet->normal[1], facet->normal[2]};
       const Vec3 &a = hull.vertices[triangle[0]], &b = hull.vertices[triangle[1]], &c = hull.vertices[triangle[2]];
+      // "Qt" may split a face into triangles of no area, whose normal would be noise.
+      if (norm(cross(b - a, c - a)) <= 1e-12 * extent * extent) continue;
       if (dot(cross(b - a, c - a), outward) < 0.0) std::swap(triangle[1], triangle[2]);
       hull.triangles.push_back(triangle);
     }

@@ -94,7 +94,7 @@ ConvexSurface hull_surface(const ConvexHull& hull, double spacing) {
     const Vec3 &a = hull.vertices[ia], &b = hull.vertices[ib], &c = hull.vertices[ic];
     const Vec3 normal = normalized(cross(b - a, c - a));
     const double side = std::max({norm(b - a), norm(c - b), norm(a - c)});
-    const int n = std::max(1, static_cast<int>(std::ceil(side / spacing)));
+    const int n = std::max(1, static_cast<int>(std::min(1e3, std::ceil(side / spacing))));
     for (int i = 0; i < n; ++i)
       for (int j = 0; i + j < n; ++j)  // the centroid of each upright sub-triangle
         surface.push_back({a + (b - a) * ((i + 1.0 / 3.0) / n) + (c - a) * ((j + 1.0 / 3.0) / n), normal});
@@ -105,8 +105,15 @@ ConvexSurface hull_surface(const ConvexHull& hull, double spacing) {
 std::vector<MemberSphere> fill_convex(const ConvexSurface& surface, std::size_t count) {
   if (surface.empty() || count == 0)
     throw std::invalid_argument("fill_convex: needs surface points and at least one sphere");
+  for (const SurfacePoint& p : surface)
+    if (!std::isfinite(norm2(p.position)) || !(std::abs(norm(p.normal) - 1.0) < 1e-6))
+      throw std::invalid_argument("fill_convex: a surface point is not finite or its normal is not of unit length");
   std::vector<MemberSphere> candidate(surface.size());
-  for (std::size_t k = 0; k < surface.size(); ++k) candidate[k] = tangent_sphere(surface, k);
+  for (std::size_t k = 0; k < surface.size(); ++k) {
+    candidate[k] = tangent_sphere(surface, k);
+    if (!std::isfinite(candidate[k].radius))
+      throw std::invalid_argument("fill_convex: the surface bounds no body (no tangent plane faces a point's plane)");
+  }
   // How far each point lies outside the spheres chosen so far (at first: unbounded).
   std::vector<double> outside(surface.size(), std::numeric_limits<double>::infinity());
   double largest = 0.0;
@@ -290,7 +297,8 @@ GrainTemplate angular_grain(double elongation, double flatness, std::size_t corn
   return in_body_frame(fit_proportions(elongation, flatness, tolerance, [&](const Vec3& axes) {
     ConvexHull scaled = unit;
     for (Vec3& v : scaled.vertices) v = {v.x * axes.x, v.y * axes.y, v.z * axes.z};
-    // Some 2000 surface points, whatever the hull: the sub-triangles' area about A / 2000.
+    // About a thousand surface points whatever the hull (sub-triangles of area about A / 2000,
+    // half of them sampled).
     double area = 0.0;
     for (const auto& [a, b, c] : scaled.triangles)
       area += 0.5 * norm(cross(scaled.vertices[b] - scaled.vertices[a], scaled.vertices[c] - scaled.vertices[a]));

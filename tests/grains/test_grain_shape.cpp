@@ -120,7 +120,11 @@ TEST(RoundedGrain, MeasuresItsProportionsInItsBodyFrame) {
     EXPECT_NEAR(t.dimensions.length, 1.0, 1e-12);
     EXPECT_NEAR(t.dimensions.width / t.dimensions.length, elongation, 0.005);
     EXPECT_NEAR(t.dimensions.thickness / t.dimensions.width, flatness, 0.005);
-    EXPECT_NEAR(norm(t.mass.centre_of_mass), 0.0, 1e-9);
+    // The mass properties carried into the body frame are those of its spheres there.
+    const MassProperties again = union_mass_properties(t.spheres, 1e-8);
+    EXPECT_NEAR(again.volume, t.mass.volume, 1e-7 * t.mass.volume);
+    EXPECT_NEAR(norm(again.centre_of_mass), 0.0, 1e-7);
+    for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(again.inertia[k], t.mass.inertia[k], 1e-7 * t.mass.inertia[2]);
     for (std::size_t k = 3; k < 6; ++k) EXPECT_NEAR(t.mass.inertia[k], 0.0, 1e-9 * t.mass.inertia[0]);
     EXPECT_LT(t.mass.inertia[0], t.mass.inertia[1]);  // the least inertia about the length
     EXPECT_LT(t.mass.inertia[1], t.mass.inertia[2]);
@@ -164,17 +168,18 @@ TEST(ConvexHullOf, FindsABoxAmongItsInnerPointsAndFacesOut) {
   EXPECT_THROW((void)convex_hull_of({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, std::nan("")}}), std::invalid_argument);
 }
 
-// An angular grain: its spheres inside its hull's planes (checked through the template's own
-// dimensions: no sphere reaches beyond the hull), its proportions as asked, the same grain
-// for the same seed and another for another seed.
+// An angular grain: its proportions as asked, its mass properties those of its spheres in its
+// body frame, the same grain for the same seed and another for another seed.
 TEST(AngularGrain, MeasuresItsProportionsAndFollowsItsSeed) {
   const GrainTemplate t = angular_grain(0.5, 0.4, 16, 16, 1);
   EXPECT_EQ(t.spheres.size(), 16u);
   EXPECT_NEAR(t.dimensions.length, 1.0, 1e-12);
   EXPECT_NEAR(t.dimensions.width / t.dimensions.length, 0.5, 0.005);
   EXPECT_NEAR(t.dimensions.thickness / t.dimensions.width, 0.4, 0.005);
-  EXPECT_NEAR(norm(t.mass.centre_of_mass), 0.0, 1e-9);
-  for (std::size_t k = 3; k < 6; ++k) EXPECT_NEAR(t.mass.inertia[k], 0.0, 1e-9 * t.mass.inertia[0]);
+  const MassProperties recomputed = union_mass_properties(t.spheres, 1e-8);
+  EXPECT_NEAR(recomputed.volume, t.mass.volume, 1e-7 * t.mass.volume);
+  EXPECT_NEAR(norm(recomputed.centre_of_mass), 0.0, 1e-7);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(recomputed.inertia[k], t.mass.inertia[k], 1e-7 * t.mass.inertia[2]);
   // The seed (on grains of 4 spheres, cheaper): the same bits again, another grain for another.
   const GrainTemplate once = angular_grain(0.7, 0.6, 16, 4, 1), again = angular_grain(0.7, 0.6, 16, 4, 1),
                       other = angular_grain(0.7, 0.6, 16, 4, 2);
@@ -208,6 +213,11 @@ TEST(GrainShape, RefusesWhatCannotBeAGrain) {
   EXPECT_THROW((void)ellipsoid_hull({1.0, 0.5, 0.5}, 7), std::invalid_argument);
   EXPECT_THROW((void)fill_convex(ellipsoid_surface({1.0, 0.5, 0.5}, 1), 0), std::invalid_argument);
   EXPECT_THROW((void)fill_convex(ConvexSurface{}, 3), std::invalid_argument);
+  // A surface in one plane bounds nothing; a normal that is not a unit vector is refused.
+  const ConvexSurface flat{{{0, 0, 0}, {0, 0, 1}}, {{1, 0, 0}, {0, 0, 1}}, {{0, 1, 0}, {0, 0, 1}}};
+  EXPECT_THROW((void)fill_convex(flat, 2), std::invalid_argument);
+  const ConvexSurface unnormal{{{0, 0, 1}, {0, 0, 2}}, {{0, 0, -1}, {0, 0, -1}}};
+  EXPECT_THROW((void)fill_convex(unnormal, 2), std::invalid_argument);
   EXPECT_THROW((void)grain_dimensions({}, MassProperties{}), std::invalid_argument);
 }
 

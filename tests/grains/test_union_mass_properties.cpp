@@ -181,6 +181,19 @@ TEST(UnionMassProperties, AnAsymmetricClusterAgreesWithMonteCarlo) {
   for (std::size_t k = 0; k < 6; ++k) EXPECT_NEAR(coarse.inertia[k], fine.inertia[k], 1e-6 * fine.inertia[0]);
 }
 
+// Sizes far from 1 and spheres that only touch: lengths are taken in units of the clump, so
+// a clump of 1e-70 m is as exact as one of 1 m; tangent spheres add up.
+TEST(UnionMassProperties, TinyClumpsAndTouchingSpheres) {
+  const std::vector<MemberSphere> tiny{{{0.0, 0.0, 0.0}, 1e-70}, {{1.1e-70, 0.0, 0.0}, 0.6e-70}};
+  const Dumbbell bell(1.0, 0.6, 1.1);
+  EXPECT_NEAR(union_mass_properties(tiny).volume / 1e-210, bell.volume, 1e-9 * bell.volume);
+  const std::vector<MemberSphere> touching{{{0.0, 0.0, 0.0}, 1.0}, {{0.0, 0.0, 1.5}, 0.5}, {{1.5, 0.0, 0.0}, 0.5}};
+  EXPECT_NEAR(union_mass_properties(touching).volume, ball_volume(1.0) + 2.0 * ball_volume(0.5), 1e-9);
+  // Inside touching: a sphere of 0.5 tangent to the inside of the unit sphere adds nothing.
+  const std::vector<MemberSphere> inside{{{0.0, 0.0, 0.0}, 1.0}, {{0.5, 0.0, 0.0}, 0.5}};
+  EXPECT_NEAR(union_mass_properties(inside).volume, ball_volume(1.0), 1e-9);
+}
+
 TEST(UnionMassProperties, RefusesNoSpheresAndRadiiThatAreNotPositive) {
   EXPECT_THROW((void)union_mass_properties({}), std::invalid_argument);
   for (const double r :
@@ -190,6 +203,9 @@ TEST(UnionMassProperties, RefusesNoSpheresAndRadiiThatAreNotPositive) {
   }
   const std::vector<MemberSphere> one{{{0.0, 0.0, 0.0}, 1.0}};
   EXPECT_THROW((void)union_mass_properties(one, 0.0), std::invalid_argument);
+  EXPECT_THROW((void)union_mass_properties(one, 0.1), std::invalid_argument);
+  const std::vector<MemberSphere> lost{{{0.0, 0.0, std::numeric_limits<double>::infinity()}, 1.0}};
+  EXPECT_THROW((void)union_mass_properties(lost), std::invalid_argument);
   EXPECT_THROW((void)union_mass_properties(one, 1e-15), std::invalid_argument);
 }
 

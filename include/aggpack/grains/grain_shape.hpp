@@ -24,8 +24,8 @@ struct ConvexHull {
 // and finite, or subdivisions outside [0, 6].
 [[nodiscard]] ConvexHull ellipsoid_hull(const Vec3& semi_axes, int subdivisions);
 
-// The convex hull of `points` (at least 4, not all in one plane), by Qhull. Throws
-// std::invalid_argument when there is no hull of volume.
+// The convex hull of `points` (at least 4, finite, not all in one plane), by Qhull, without
+// the triangles of no area its triangulation may make. Throws std::invalid_argument otherwise.
 [[nodiscard]] ConvexHull convex_hull_of(const std::vector<Vec3>& points);
 
 // A convex body as points of its surface, each with its outward unit normal: the body is
@@ -53,7 +53,8 @@ using ConvexSurface = std::vector<SurfacePoint>;
 // an ellipsoid 1 : 0.6 : 0.35 gets 0.53 of its volume with 5 spheres, 0.67 with 10, 0.92 with
 // 40 (its length reached from 20 on). Fewer spheres: faster and bumpier; more: closer to the
 // body. Deterministic; fewer than `count` only when every point is already on a sphere.
-// Throws std::invalid_argument for no points or a count of 0.
+// Throws std::invalid_argument for no points, a count of 0, a point not finite or a normal
+// not of unit length, or a surface that bounds no body.
 [[nodiscard]] std::vector<MemberSphere> fill_convex(const ConvexSurface& surface, std::size_t count);
 
 // A grain's dimensions as ASTM D4791 measures them: length L, width (intermediate) I and
@@ -76,10 +77,11 @@ struct GrainTemplate {
 
 // A rounded grain (gravel) of `count` spheres filling an ellipsoid, whose own spheres measure
 // elongation I/L and flatness S/I: the ellipsoid's semi-axes are corrected, at most 30 times,
-// until both ratios of the spheres' extents along the ellipsoid's axes are within `tolerance`,
-// and the best try is kept (the fill jumps as a new sphere changes places, so an exact fit is
-// not guaranteed: the template's dimensions, along its principal axes, say what was
-// achieved). Throws std::invalid_argument for ratios outside (0, 1] or a count of 0.
+// until both ratios of the spheres' extents along their principal axes (of their summed
+// inertia, overlaps counted twice: the template's own dimensions use the union's, which may
+// differ slightly) are within `tolerance`, and the best try is kept (the fill jumps as a new
+// sphere changes places, so an exact fit is not guaranteed: the template's dimensions say
+// what was achieved). Throws std::invalid_argument for ratios outside (0, 1] or a count of 0.
 [[nodiscard]] GrainTemplate rounded_grain(double elongation, double flatness, std::size_t count,
                                           double tolerance = 0.005);
 

@@ -33,7 +33,10 @@ struct MassProperties {
 // slices' moments are integrated over z by adaptive Gauss-Kronrod quadrature (7/15 points),
 // started on the panels between the heights where a slice's topology can change (each
 // sphere's top and bottom, each pair's intersection circle's highest and lowest points) and
-// split until each panel's error estimate is below `relative_tolerance` of the volume scale.
+// split until each panel's error estimate is below its share of `relative_tolerance` (of the
+// spheres' summed volume, lengths in units of the clump's reach) or at the rounding of its
+// sums. Cost: O(n²) per slice; 32 spheres take some 0.2 s at 1e-6, 2 s at 1e-10. Throws
+// std::runtime_error if the quadrature has not converged after 4e6 slices.
 // Throws std::invalid_argument for no spheres, a radius that is not positive and finite, a
 // centre that is not finite, or a tolerance outside [1e-13, 1e-2].
 [[nodiscard]] MassProperties union_mass_properties(std::span<const MemberSphere> spheres,
