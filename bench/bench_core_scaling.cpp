@@ -88,8 +88,8 @@ void memory(Sink& sink, std::vector<std::vector<double>>& arrays, int thread, lo
 
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::atof(argv[1]) : 1.0;
-  if (!(seconds > 0.0)) {
-    std::fprintf(stderr, "bench_core_scaling: the seconds per case must be a positive number, got '%s'\n", argv[1]);
+  if (!(seconds > 0.0 && seconds <= 60.0)) {
+    std::fprintf(stderr, "bench_core_scaling: the seconds per case must be a number in (0, 60], got '%s'\n", argv[1]);
     return 2;
   }
   Sink sink;

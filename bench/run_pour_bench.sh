@@ -10,6 +10,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 rounds=${2:-2}
+[[ $rounds =~ ^[1-9][0-9]{0,2}$ ]] || { echo "run_pour_bench: rounds must be a whole number from 1 to 999, got '$rounds'" >&2; exit 2; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 command -v lmp >/dev/null || { echo "run_pour_bench: LAMMPS (lmp) is not installed: apt-get install lammps" >&2; exit 2; }

@@ -224,6 +224,30 @@ GrainTemplate in_body_frame(const std::vector<MemberSphere>& spheres) {
   return t;
 }
 
+// The spheres' mass properties as if none overlapped (each ball's own, by parallel axes):
+// cheap, and close enough for a grain's principal axes.
+MassProperties summed_mass(const std::vector<MemberSphere>& spheres) {
+  const auto ball = [](double r) { return 4.0 / 3.0 * std::numbers::pi * r * r * r; };
+  MassProperties m;
+  for (const MemberSphere& s : spheres) {
+    m.volume += ball(s.radius);
+    m.centre_of_mass += s.centre * ball(s.radius);
+  }
+  m.centre_of_mass *= 1.0 / m.volume;
+  for (const MemberSphere& s : spheres) {
+    const double v = ball(s.radius), own = 0.4 * v * s.radius * s.radius;
+    const Vec3 d = s.centre - m.centre_of_mass;
+    const InertiaTensor add{own + v * (d.y * d.y + d.z * d.z),
+                            own + v * (d.x * d.x + d.z * d.z),
+                            own + v * (d.x * d.x + d.y * d.y),
+                            -v * d.x * d.y,
+                            -v * d.x * d.z,
+                            -v * d.y * d.z};
+    for (std::size_t k = 0; k < 6; ++k) m.inertia[k] += add[k];
+  }
+  return m;
+}
+
 // The spheres that `fill(axes)` makes, the axes corrected (at most 30 times) until the
 // spheres' extents along their principal axes (of their summed inertia: overlaps counted
 // twice, good enough for the axes) give I/L and S/I within `tolerance`; the best try.
@@ -234,25 +258,7 @@ std::vector<MemberSphere> fit_proportions(double elongation, double flatness, do
   double best_miss = std::numeric_limits<double>::infinity();
   for (int attempt = 0; attempt < 30; ++attempt) {
     std::vector<MemberSphere> spheres = fill(axes);
-    MassProperties summed;
-    for (const MemberSphere& s : spheres) {
-      const double v = 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
-      summed.volume += v;
-      summed.centre_of_mass += s.centre * v;
-    }
-    summed.centre_of_mass *= 1.0 / summed.volume;
-    for (const MemberSphere& s : spheres) {
-      const double v = 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius,
-                   own = 0.4 * v * s.radius * s.radius;
-      const Vec3 d = s.centre - summed.centre_of_mass;
-      const InertiaTensor add{own + v * (d.y * d.y + d.z * d.z),
-                              own + v * (d.x * d.x + d.z * d.z),
-                              own + v * (d.x * d.x + d.y * d.y),
-                              -v * d.x * d.y,
-                              -v * d.x * d.z,
-                              -v * d.y * d.z};
-      for (std::size_t k = 0; k < 6; ++k) summed.inertia[k] += add[k];
-    }
+    const MassProperties summed = summed_mass(spheres);
     const GrainDimensions d = grain_dimensions(spheres, summed);
     const double got_elongation = d.width / d.length, got_flatness = d.thickness / d.width;
     const double miss = std::max(std::abs(got_elongation - elongation), std::abs(got_flatness - flatness));
