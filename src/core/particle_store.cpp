@@ -1,6 +1,8 @@
 #include "aggpack/core/particle_store.hpp"
 
+#include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace aggpack {
 
@@ -13,7 +15,41 @@ std::size_t ParticleStore::add(const Vec3& pos, double r, double density, std::u
   mass.push_back(sphere_mass(r, density));
   layer.push_back(layer_index);
   material.push_back(material_index);
+  if (!bodies.empty()) {
+    body.push_back(kNoBody);
+    body_offset.push_back({});
+  }
   return radius.size() - 1;
+}
+
+std::size_t ParticleStore::add_body(const Vec3& centre, const Quaternion& orientation, const RigidBodyShape& shape,
+                                    double density, std::uint32_t layer_index, std::uint8_t material_index) {
+  const Vec3& moments = shape.principal_inertia_per_density;
+  if (shape.member_centres.empty() || shape.member_centres.size() != shape.member_radii.size())
+    throw std::invalid_argument("ParticleStore::add_body: a body needs one radius per member sphere, and a member");
+  if (!(shape.volume > 0.0) || !(moments.x > 0.0) || !(moments.y > 0.0) || !(moments.z > 0.0) ||
+      !std::isfinite(shape.volume) || !std::isfinite(moments.x + moments.y + moments.z))
+    throw std::invalid_argument("ParticleStore::add_body: a body's volume and principal moments must be > 0");
+  if (bodies.empty()) {
+    body.assign(size(), kNoBody);
+    body_offset.assign(size(), {});
+  }
+  const auto index = static_cast<std::uint32_t>(bodies.size());
+  bodies.first_member.push_back(static_cast<std::uint32_t>(size()));
+  bodies.member_count.push_back(static_cast<std::uint32_t>(shape.member_centres.size()));
+  bodies.position.push_back(centre);
+  bodies.orientation.push_back(orientation);
+  bodies.velocity.push_back({});
+  bodies.angular_velocity.push_back({});
+  bodies.mass.push_back(density * shape.volume);
+  bodies.principal_inertia.push_back(density * moments);
+  for (std::size_t k = 0; k < shape.member_centres.size(); ++k) {
+    add(centre + rotate(orientation, shape.member_centres[k]), shape.member_radii[k], density, layer_index,
+        material_index);
+    body.back() = index;
+    body_offset.back() = shape.member_centres[k];
+  }
+  return index;
 }
 
 double ParticleStore::sphere_mass(double r, double density) { return density * 4.0 / 3.0 * std::numbers::pi * r * r * r; }
@@ -26,6 +62,10 @@ void ParticleStore::reserve(std::size_t n) {
   mass.reserve(n);
   layer.reserve(n);
   material.reserve(n);
+  if (!bodies.empty()) {
+    body.reserve(n);
+    body_offset.reserve(n);
+  }
 }
 
 }  // namespace aggpack

@@ -59,6 +59,7 @@ void DemSystem::reorder(const std::vector<std::uint32_t>& from) {
   permute(frozen_);
   permute(load_);
   if (!material_.empty()) permute(material_);
+  if (!body_of_.empty()) permute(body_of_);
   for (std::uint32_t s = 0; s < n_; ++s) slot_of_[user_index_[s]] = s;
 }
 
@@ -67,8 +68,21 @@ void DemSystem::build_neighbour_list() {
   // Before the grid is sized by the spheres' extent: a blown-up bed would ask for billions of cells.
   check_not_blown_up();
   const std::uint32_t n = n_;
-  if (container_.periodic)
-    for (Grain& g : grain_) g.position = container_.wrapped(g.position);
+  if (container_.periodic) {
+    // A body's centre into the box, and each member into it as an image of its place.
+    for (Body& body : body_) body.position = container_.wrapped(body.position);
+    for (std::uint32_t s = 0; s < n; ++s) {
+      Grain& g = grain_[s];
+      if (!is_member(s)) {
+        g.position = container_.wrapped(g.position);
+        continue;
+      }
+      const std::uint32_t i = user_index_[s];
+      const Vec3 unwrapped = body_[body_of_[s]].position + arm_[i];
+      g.position = container_.wrapped(unwrapped);
+      image_[i] = g.position - unwrapped;
+    }
+  }
   // The old list names the slots before the reorder: new slot s was old slot from[s].
   const std::vector<std::uint32_t> from = morton_order();
   reorder(from);
@@ -105,6 +119,7 @@ void DemSystem::find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::
     const double ri = grain_[i].radius;
     grid.for_each_near_larger(xi, ri, ri + skin_, [&](std::uint32_t j, bool same_level) {
       if (j == i || (same_level && j < i) || (frozen_[i] && frozen_[j])) return;
+      if (is_member(i) && body_of_[i] == body_of_[j]) return;  // one body: no contact
       const double reach = ri + grain_[j].radius + skin_;
       if (norm2(separation(xi, grain_[j].position)) < reach * reach) add(std::min(i, j), std::max(i, j));
     });

@@ -31,6 +31,8 @@ void DemSystem::archive_state(Archive& ar, System& s) {
   if (s.rolling_history_) ar(raw(s.roll_));
   ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
      s.rebuilds_);
+  // Likewise the rigid bodies: a store of spheres only keeps the bytes it had.
+  if (!s.p_.bodies.empty()) ar(raw(s.body_), raw(s.body_load_), raw(s.body_of_), raw(s.arm_), raw(s.image_));
 }
 
 void DemSystem::save_state(std::ostream& out) const {
@@ -108,7 +110,10 @@ void DemSystem::check_restored(const MadeWith& made) const {
     if (frozen_[s] != made.frozen_by_index[i]) fail(fmt::format("particle {} is frozen where the run has it free, or the reverse", i));
     free += frozen_[s] ? 0 : 1;
     const Grain& g = grain_[s];
-    const double inverse_inertia = frozen_[s] ? 0.0 : 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
+    // A rigid body's member has its body's mass and does not turn on its own (checked below).
+    const bool member = !p_.bodies.empty() && p_.body[i] != kNoBody;
+    const double inverse_inertia =
+        frozen_[s] || member ? 0.0 : 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
     // The store holds the grain's position, or it wrapped into a periodic box (by finish(), at
     // the end of a step: a state saved between steps), or the grain's wrap of it.
     const Vec3& stored = p_.position[i];
@@ -116,12 +121,13 @@ void DemSystem::check_restored(const MadeWith& made) const {
                             made.container.wrapped(g.position) == stored;
     if (!finite(g.position) || !same_place ||
         !(g.velocity == p_.velocity[i]) || !(g.angular_velocity == p_.angular_velocity[i]) ||
-        g.radius != p_.radius[i] || g.mass != p_.mass[i] || g.inverse_inertia != inverse_inertia)
+        g.radius != p_.radius[i] || g.mass != (member ? p_.bodies.mass[p_.body[i]] : p_.mass[i]) || g.inverse_inertia != inverse_inertia)
       fail(fmt::format("the record of particle {} is not the particle", i));
     if (!finite(listed_position_[s]) || !finite(load_[s].force) || !finite(load_[s].torque))
       fail(fmt::format("the forces or the listed position of particle {}", i));
   }
   if (free != free_count_) fail("its count of free particles");
+  check_restored_bodies();
 
   // The half neighbour list: rows of ascending entries, each a later slot or a wall.
   const std::uint32_t walls = container_.plane_count();
@@ -139,6 +145,38 @@ void DemSystem::check_restored(const MadeWith& made) const {
           (rolling_history_ && !finite(roll_[k])))
         fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
     }
+  }
+}
+
+void DemSystem::check_restored_bodies() const {
+  const auto fail = [](std::string_view what) {
+    throw InputError(fmt::format("the DEM state does not fit its run: {}", what));
+  };
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const RigidBodies& bodies = p_.bodies;
+  if (bodies.empty()) return;
+  const std::uint32_t n = n_;
+  if (body_.size() != bodies.size() || body_load_.size() != bodies.size() || body_of_.size() != n ||
+      arm_.size() != n || image_.size() != n)
+    fail("its rigid bodies' tables are not one entry per body or per particle");
+  for (std::uint32_t s = 0; s < n; ++s) {
+    const std::uint32_t i = user_index_[s];
+    if (body_of_[s] != p_.body[i]) fail(fmt::format("particle {} is of another rigid body than the run's", i));
+    if (!finite(arm_[i]) || !finite(image_[i])) fail(fmt::format("the place of particle {} in its body", i));
+  }
+  for (std::size_t b = 0; b < body_.size(); ++b) {
+    const Body& body = body_[b];
+    const Vec3& moments = bodies.principal_inertia[b];
+    const Quaternion& q = body.orientation;
+    const double q_norm = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    if (body.first_member != bodies.first_member[b] || body.member_count != bodies.member_count[b] ||
+        body.mass != bodies.mass[b] || body.inverse_inertia.x != 1.0 / moments.x ||
+        body.inverse_inertia.y != 1.0 / moments.y || body.inverse_inertia.z != 1.0 / moments.z)
+      fail(fmt::format("the record of rigid body {} is not the body", b));
+    if (!finite(body.position) || !finite(body.velocity) || !finite(body.angular_momentum) ||
+        !finite(body.angular_velocity) || !(std::abs(q_norm - 1.0) < 1e-12) || !finite(body_load_[b].force) ||
+        !finite(body_load_[b].torque))
+      fail(fmt::format("the pose, motion or load of rigid body {}", b));
   }
 }
 

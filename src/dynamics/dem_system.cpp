@@ -106,6 +106,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
     g.inverse_inertia = 1.0 / (0.4 * p_.mass[i] * p_.radius[i] * p_.radius[i]);
   }
   read_materials();
+  admit_bodies(first);
   // Sizes of the whole system: the skin (unless set, 0.1 of the smallest diameter, kept once
   // chosen), the Morton cell (the mean diameter) and the grid's expected bed volume.
   double r_min = std::numeric_limits<double>::infinity(), d_sum = 0.0, solid = 0.0;
@@ -163,6 +164,13 @@ void DemSystem::write_back() {
     p_.position[i] = grain_[s].position;
     p_.velocity[i] = grain_[s].velocity;
     p_.angular_velocity[i] = grain_[s].angular_velocity;
+  }
+  RigidBodies& bodies = p_.bodies;
+  for (std::size_t b = 0; b < body_.size(); ++b) {
+    bodies.position[b] = body_[b].position;
+    bodies.orientation[b] = body_[b].orientation;
+    bodies.velocity[b] = body_[b].velocity;
+    bodies.angular_velocity[b] = body_[b].angular_velocity;
   }
 }
 
@@ -352,7 +360,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
     for (std::uint32_t b = 0; b < blocks; ++b) {
       const std::uint32_t begin = b * kForceBlock, end = std::min(n, begin + kForceBlock);
       for (std::uint32_t i = begin; i < end; ++i)
-        load_[i] = {frozen_[i] ? Vec3{} : grain_[i].mass * settings_.gravity, {}};
+        load_[i] = {frozen_[i] || is_member(i) ? Vec3{} : grain_[i].mass * settings_.gravity, {}};
       // Whole rows at a time: gather their contacts, evaluate the law on all of them, then
       // add the results in row and entry order, the fixed order of every sum.
       for (std::uint32_t first_row = begin; first_row < end;) {
@@ -389,16 +397,18 @@ void DemSystem::compute_forces() {
         compute_forces(particle_law, std::get<Law>(model_.wall));
       },
       model_.particle);
+  if (!body_.empty()) sum_body_loads();
 }
 
 void DemSystem::kick(double half_step) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
-    if (frozen_[i]) continue;
+    if (frozen_[i] || is_member(i)) continue;
     Grain& g = grain_[i];
     g.velocity += load_[i].force * (half_step / g.mass);
     g.angular_velocity += load_[i].torque * (half_step * g.inverse_inertia);
   }
+  if (!body_.empty()) kick_bodies(half_step);
 }
 
 bool DemSystem::drift(double slack) {
@@ -407,9 +417,10 @@ bool DemSystem::drift(double slack) {
   const double reach = 0.5 * skin_ - slack;
   const double limit = reach > 0.0 ? reach * reach : -1.0;  // -1: rebuild now
   bool stale = false, lost = false;
+  if (!body_.empty()) drift_bodies(dt);  // places the members
 #pragma omp parallel for schedule(static) reduction(|| : stale, lost) if (threaded_) num_threads(threads_)
   for (std::uint32_t i = 0; i < n_; ++i) {
-    grain_[i].position += grain_[i].velocity * dt;
+    if (!is_member(i)) grain_[i].position += grain_[i].velocity * dt;
     const double moved = norm2(grain_[i].position - listed_position_[i]);
     if (moved > limit) stale = true;
     if (!std::isfinite(moved)) lost = true;
@@ -478,7 +489,7 @@ DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
     KineticEnergy sum;
     const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
     for (std::size_t i = b * kSumBlock; i < end; ++i) {
-      if (frozen_[i]) continue;
+      if (frozen_[i] || is_member(i)) continue;
       const Grain& g = grain_[i];
       sum.translational += 0.5 * g.mass * norm2(g.velocity);
       sum.rotational += 0.5 * norm2(g.angular_velocity) / g.inverse_inertia;
@@ -489,6 +500,10 @@ DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
   for (const KineticEnergy& s : partial) {
     total.translational += s.translational;
     total.rotational += s.rotational;
+  }
+  for (const Body& body : body_) {
+    total.translational += 0.5 * body.mass * norm2(body.velocity);
+    total.rotational += 0.5 * dot(body.angular_momentum, body.angular_velocity);
   }
   return total;
 }
@@ -549,6 +564,9 @@ std::size_t DemSystem::memory_bytes() const {
   std::size_t batches = 0;
   for (const ContactBatch& b : batches_) batches += b.memory_bytes();
   return grain_.capacity() * sizeof(Grain) + frozen_.capacity() + material_.capacity() +
+         body_.capacity() * sizeof(Body) + body_load_.capacity() * sizeof(ForceTorque) +
+         body_of_.capacity() * sizeof(std::uint32_t) +
+         (body_offset_.capacity() + arm_.capacity() + image_.capacity()) * sizeof(Vec3) +
          (listed_position_.capacity() + spring_.capacity() + roll_.capacity()) * sizeof(Vec3) +
          (load_.capacity() + cross_.capacity()) * sizeof(ForceTorque) +
          (user_index_.capacity() + slot_of_.capacity() + offset_.capacity() + cross_begin_.capacity() +
@@ -558,8 +576,10 @@ std::size_t DemSystem::memory_bytes() const {
 }
 
 void DemSystem::finish() {
-  if (container_.periodic)
+  if (container_.periodic) {
     for (std::uint32_t i = 0; i < n_; ++i) p_.position[i] = container_.wrapped(p_.position[i]);
+    for (Vec3& centre : p_.bodies.position) centre = container_.wrapped(centre);
+  }
 }
 
 }  // namespace aggpack

@@ -10,6 +10,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
+#include "aggpack/core/quaternion.hpp"
 #include "aggpack/dynamics/contact_batch.hpp"
 #include "aggpack/dynamics/contact_law.hpp"
 #include "aggpack/dynamics/thread_governor.hpp"
@@ -47,6 +48,16 @@ class DemBlowUp : public InputError {
 // A discrete element model of the spheres in a store: Hertz contacts with the law of
 // `model`, gravity, the container's floor and side walls (or periodic sides), velocity
 // Verlet for positions and spins. Frozen particles neither move nor feel forces.
+//
+// Rigid bodies. The store's rigid bodies (grains of several spheres) move as bodies: their
+// member spheres touch everything else through the same contacts (never each other: a body's
+// members are not listed against one another) and feel no gravity of their own; each body
+// takes its weight and the sum of its members' forces, and their torques about its centre of
+// mass. Its centre moves by the same velocity Verlet; its orientation (a unit quaternion) by
+// the kicks of its angular momentum and, between them, the free rotation of
+// rotate_freely() (NO_SQUISH's splitting, second order and symplectic). Its members are then
+// placed from its pose, with the velocity of their point of the body. A contact takes a
+// member's mass as its body's (as LAMMPS's granular styles do for rigid bodies).
 //
 // State. The system reads the store once, when it is made, into its own packed records
 // (position, radius, velocity, mass, spin, 96 bytes: what a contact reads of a grain lies
@@ -101,7 +112,12 @@ class DemSystem {
   // a frozen particle).
   [[nodiscard]] Vec3 force(std::size_t i) const { return load_[slot_of_[i]].force; }
   [[nodiscard]] Vec3 torque(std::size_t i) const { return load_[slot_of_[i]].torque; }
-  // Kinetic energy of the free particles, J, summed in a fixed order.
+  // Net force and torque (about its centre of mass) on rigid body b, gravity included. (On
+  // one of its members, force() and torque() give that member's contacts only.)
+  [[nodiscard]] Vec3 body_force(std::size_t b) const { return body_load_[b].force; }
+  [[nodiscard]] Vec3 body_torque(std::size_t b) const { return body_load_[b].torque; }
+  [[nodiscard]] std::size_t body_count() const { return body_.size(); }
+  // Kinetic energy of the free spheres and the rigid bodies, J, summed in a fixed order.
   struct KineticEnergy {
     double translational = 0.0;
     double rotational = 0.0;
@@ -139,6 +155,31 @@ class DemSystem {
     Vec3 angular_velocity;
     double inverse_inertia = 0.0;  // 1 / (2/5 m R^2), 0 when frozen
   };
+
+  // A rigid body (see the class's comment); its members are slots like any sphere's.
+  struct Body {
+    Vec3 position;                  // of the centre of mass
+    Quaternion orientation;         // body frame to space
+    Vec3 velocity;
+    Vec3 angular_momentum;          // about the centre of mass, in space
+    Vec3 angular_velocity;          // in space: of the momentum and the orientation
+    double mass = 0.0;
+    Vec3 inverse_inertia;           // of the principal moments, along the body frame's axes
+    std::uint32_t first_member = 0;  // store indices [first_member, first_member + member_count)
+    std::uint32_t member_count = 0;
+  };
+  // Whether slot s is a rigid body's member (a slot of no body is a sphere of its own).
+  [[nodiscard]] bool is_member(std::uint32_t s) const { return !body_of_.empty() && body_of_[s] != kNoBody; }
+  // Kicks the bodies' momenta by their loads for half_step, and their members' velocities.
+  void kick_bodies(double half_step);
+  // Moves the bodies for a step and places their members.
+  void drift_bodies(double dt);
+  // Sums the members' loads onto their bodies, with the bodies' weights (body_load_).
+  void sum_body_loads();
+  // Takes in the store's bodies from body_.size() on (their members from slot `first` on).
+  void admit_bodies(std::uint32_t first);
+  // Puts body b's members where its pose has them, with their points' velocities.
+  void place_members(const Body& body);
 
   // Reads the store's particles from slot n_ on (flags by store index), then rebuilds.
   void admit(const std::vector<std::uint8_t>& frozen_by_index);
@@ -196,6 +237,7 @@ class DemSystem {
     std::vector<std::uint8_t> frozen_by_index;
   };
   void check_restored(const MadeWith& made) const;
+  void check_restored_bodies() const;
 
   ParticleStore& p_;
   Container container_;
@@ -234,7 +276,16 @@ class DemSystem {
   // Per slot, the grain's material: in a run of several materials only (model_.materials > 1),
   // whose contacts take the law of their pair of materials.
   std::vector<std::uint8_t> material_;
-  void read_materials();  // material_ from the store, by the slots' user indices
+  void read_materials();
+  // The rigid bodies, in the store's order, and their net loads; empty without bodies.
+  std::vector<Body> body_;
+  std::vector<ForceTorque> body_load_;
+  std::vector<std::uint32_t> body_of_;  // per slot: its body, or kNoBody; empty without bodies
+  std::vector<Vec3> body_offset_;       // per store index: a member's centre in its body's frame
+  std::vector<Vec3> arm_;               // per store index: a member's centre from its body's, in space
+  // Per store index: the whole periods a member is shifted by from its body's centre plus its
+  // arm, chosen at each list build so that every member lies in the periodic box then.
+  std::vector<Vec3> image_;  // material_ from the store, by the slots' user indices
   // Force and torque that a cross-block entry puts on its neighbour j; slot_base_[i] is the
   // first of row i's. Slot j gathers its own, cross_[reverse_[reverse_offset_[j] ...]], in
   // ascending order of the row they come from.

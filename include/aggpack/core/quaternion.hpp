@@ -1,0 +1,43 @@
+#pragma once
+// Unit quaternions for the orientation of rigid bodies: q = (w, x, y, z) turns a vector of the
+// body frame into the space frame, v_space = q v_body q*.
+#include <cmath>
+
+#include "aggpack/core/vec3.hpp"
+
+namespace aggpack {
+
+struct Quaternion {
+  double w = 1.0, x = 0.0, y = 0.0, z = 0.0;  // the identity by default
+  constexpr bool operator==(const Quaternion&) const = default;
+};
+
+constexpr Quaternion operator*(const Quaternion& a, const Quaternion& b) {
+  return {a.w * b.w - a.x * b.x - a.y * b.y - a.z * b.z, a.w * b.x + a.x * b.w + a.y * b.z - a.z * b.y,
+          a.w * b.y - a.x * b.z + a.y * b.w + a.z * b.x, a.w * b.z + a.x * b.y - a.y * b.x + a.z * b.w};
+}
+
+constexpr Quaternion conjugate(const Quaternion& q) { return {q.w, -q.x, -q.y, -q.z}; }
+
+inline Quaternion normalized(const Quaternion& q) {
+  const double s = 1.0 / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  return {q.w * s, q.x * s, q.y * s, q.z * s};
+}
+
+// The turn by `angle` (rad, right-handed) about the unit vector `axis`.
+inline Quaternion axis_angle(const Vec3& axis, double angle) {
+  const double s = std::sin(0.5 * angle);
+  return {std::cos(0.5 * angle), axis.x * s, axis.y * s, axis.z * s};
+}
+
+// q v q* for a unit q: the body-frame vector v in the space frame.
+constexpr Vec3 rotate(const Quaternion& q, const Vec3& v) {
+  const Vec3 u{q.x, q.y, q.z};
+  const Vec3 t = 2.0 * cross(u, v);
+  return v + q.w * t + cross(u, t);
+}
+
+// q* v q: the space-frame vector v in the body frame.
+constexpr Vec3 rotate_back(const Quaternion& q, const Vec3& v) { return rotate(conjugate(q), v); }
+
+}  // namespace aggpack
