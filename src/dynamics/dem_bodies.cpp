@@ -39,7 +39,8 @@ void DemSystem::admit_bodies(std::uint32_t first) {
     // L = R I R^T w: the momentum of the store's angular velocity.
     const Vec3 spin = rotate_back(body.orientation, bodies.angular_velocity[b]);
     body.angular_momentum = rotate(body.orientation, {moments.x * spin.x, moments.y * spin.y, moments.z * spin.z});
-    body.angular_velocity = angular_velocity_of(body.orientation, body.angular_momentum, body.inverse_inertia);
+    body.rotation = rotation_matrix(body.orientation);
+    body.angular_velocity = angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia);
     for (std::uint32_t i = body.first_member; i < body.first_member + body.member_count; ++i) {
       if (p_.body[i] != b || frozen_[i])
         throw std::invalid_argument(fmt::format("DemSystem: particle {} is frozen or not body {}'s member", i, b));
@@ -50,13 +51,13 @@ void DemSystem::admit_bodies(std::uint32_t first) {
     }
     place_members(body);
     body_.push_back(body);
+    body_load_.push_back({body.mass * settings_.gravity, {}});  // a new body touches nothing
   }
-  body_load_.resize(body_.size());
 }
 
 void DemSystem::place_members(const Body& body) {
   for (std::uint32_t i = body.first_member; i < body.first_member + body.member_count; ++i) {
-    const Vec3 arm = rotate(body.orientation, body_offset_[i]);
+    const Vec3 arm = body.rotation(body_offset_[i]);
     arm_[i] = arm;
     Grain& g = grain_[slot_of_[i]];
     g.position = body.position + arm + image_[i];
@@ -71,7 +72,7 @@ void DemSystem::kick_bodies(double half_step) {
     Body& body = body_[b];
     body.velocity += body_load_[b].force * (half_step / body.mass);
     body.angular_momentum += body_load_[b].torque * half_step;
-    body.angular_velocity = angular_velocity_of(body.orientation, body.angular_momentum, body.inverse_inertia);
+    body.angular_velocity = angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia);
     for (std::uint32_t i = body.first_member; i < body.first_member + body.member_count; ++i) {
       Grain& g = grain_[slot_of_[i]];
       g.velocity = body.velocity + cross(body.angular_velocity, arm_[i]);
@@ -86,7 +87,8 @@ void DemSystem::drift_bodies(double dt) {
     Body& body = body_[b];
     body.position += body.velocity * dt;
     rotate_freely(body.orientation, body.angular_momentum, body.inverse_inertia, dt);
-    body.angular_velocity = angular_velocity_of(body.orientation, body.angular_momentum, body.inverse_inertia);
+    body.rotation = rotation_matrix(body.orientation);
+    body.angular_velocity = angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia);
     place_members(body);
   }
 }

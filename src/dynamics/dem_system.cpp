@@ -130,7 +130,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
   // must touch nothing (checked over every list entry it is in), feels its weight alone.
   const auto is_new = [&](std::uint32_t slot) { return user_index_[slot] >= first; };
   for (std::uint32_t s = 0; s < n_; ++s) {
-    if (is_new(s)) load_[s] = {frozen_[s] ? Vec3{} : grain_[s].mass * settings_.gravity, {}};
+    if (is_new(s)) load_[s] = {frozen_[s] || is_member(s) ? Vec3{} : grain_[s].mass * settings_.gravity, {}};
     for (std::uint32_t k = offset_[s]; k < offset_[s + 1]; ++k) {
       const std::uint32_t j = other_[k];
       if (!is_new(s) && (j >= n_ || !is_new(j))) continue;

@@ -40,4 +40,21 @@ constexpr Vec3 rotate(const Quaternion& q, const Vec3& v) {
 // q* v q: the space-frame vector v in the body frame.
 constexpr Vec3 rotate_back(const Quaternion& q, const Vec3& v) { return rotate(conjugate(q), v); }
 
+// The rotation of a unit quaternion as a matrix (by rows): cheaper to apply to many vectors.
+struct RotationMatrix {
+  Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  // R v: a body-frame vector in space.
+  [[nodiscard]] constexpr Vec3 operator()(const Vec3& v) const { return {dot(x, v), dot(y, v), dot(z, v)}; }
+  // R^T v: a space vector in the body frame.
+  [[nodiscard]] constexpr Vec3 transposed(const Vec3& v) const { return x * v.x + y * v.y + z * v.z; }
+};
+
+constexpr RotationMatrix rotation_matrix(const Quaternion& q) {
+  const double xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+  const double xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z, wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+  return {{1.0 - 2.0 * (yy + zz), 2.0 * (xy - wz), 2.0 * (xz + wy)},
+          {2.0 * (xy + wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz - wx)},
+          {2.0 * (xz - wy), 2.0 * (yz + wx), 1.0 - 2.0 * (xx + yy)}};
+}
+
 }  // namespace aggpack

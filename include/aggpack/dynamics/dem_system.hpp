@@ -160,6 +160,7 @@ class DemSystem {
   struct Body {
     Vec3 position;                  // of the centre of mass
     Quaternion orientation;         // body frame to space
+    RotationMatrix rotation;        // the same as a matrix
     Vec3 velocity;
     Vec3 angular_momentum;          // about the centre of mass, in space
     Vec3 angular_velocity;          // in space: of the momentum and the orientation

@@ -17,8 +17,8 @@ namespace aggpack {
 // drifting, and the angular momentum in space, which no part changes, is kept exactly.
 void rotate_freely(Quaternion& orientation, const Vec3& angular_momentum, const Vec3& inverse_inertia, double dt);
 
-// The angular velocity in space of a body of that orientation and angular momentum.
-[[nodiscard]] Vec3 angular_velocity_of(const Quaternion& orientation, const Vec3& angular_momentum,
+// The angular velocity in space of a body of that orientation (as a matrix) and angular momentum.
+[[nodiscard]] Vec3 angular_velocity_of(const RotationMatrix& orientation, const Vec3& angular_momentum,
                                        const Vec3& inverse_inertia);
 
 }  // namespace aggpack
