@@ -1,0 +1,84 @@
+#pragma once
+// What a concrete lab measures about the shape of its coarse aggregate, and the proportions
+// of generated grains that reproduce it: a flakiness index (EN 933-3), a shape index
+// (EN 933-4) or the flat-and-elongated percentage of ASTM D4791, each by mass.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "aggpack/core/rng.hpp"
+
+namespace aggpack {
+
+// A grain's proportions: elongation I/L and flatness S/I, L >= I >= S (ASTM D4791's length,
+// width and thickness).
+struct Proportions {
+  double elongation = 1.0, flatness = 1.0;
+};
+
+// How the proportions of a component's grains are spread: each ratio independently
+// triangular, `mean` ± `spread` (its peak at the mean; standard deviation spread / √6), each
+// draw clamped to [kLeastRatio, 1] (a ratio of 1: a round section). Drawn from our own
+// uniform numbers, so a seed gives the same grains with every standard library.
+struct ProportionDistribution {
+  static constexpr double kLeastRatio = 0.1;
+  double elongation_mean = 1.0, elongation_spread = 0.0;
+  double flatness_mean = 1.0, flatness_spread = 0.0;
+  [[nodiscard]] Proportions draw(Rng& rng) const;
+  // Throws InputError naming the field when a mean is outside [kLeastRatio, 1] or a spread
+  // outside [0, 0.5].
+  void check() const;
+};
+
+// The lab's measures of shape, each the percentage by mass of the grains that count.
+enum class ShapeMeasure {
+  // EN 933-3: grains whose thickness S passes the bar sieve of their size class d/D, a gap of
+  // D/2 (classes 4/5 to 63/80 mm, D = 1.25 d; the class by the intermediate dimension I).
+  FlakinessIndex,
+  // EN 933-4: grains 4 to 63 mm whose L/S exceeds 3 (non-cubical).
+  ShapeIndex,
+  // ASTM D4791: grains retained on the 4.75 mm sieve whose L/S exceeds `ratio` (2, 3 or 5).
+  FlatAndElongated,
+};
+[[nodiscard]] std::string_view measure_name(ShapeMeasure measure);
+
+struct ShapeTarget {
+  ShapeMeasure measure = ShapeMeasure::FlakinessIndex;
+  double percent = 0.0;  // by mass of the grains the measure applies to
+  double ratio = 3.0;    // L/S, FlatAndElongated only
+};
+
+// A grain's dimensions, m, and its mass (any unit: the measures are fractions of mass).
+struct GrainMeasure {
+  double length = 0.0, width = 0.0, thickness = 0.0, mass = 0.0;
+};
+
+// Whether the measure applies to a grain of this size (its class within the standard's
+// range), and whether the grain counts.
+[[nodiscard]] bool measured(ShapeMeasure measure, const GrainMeasure& grain);
+[[nodiscard]] bool counts(const ShapeTarget& target, const GrainMeasure& grain);
+
+// The measure's percentage by mass over the grains it applies to; nothing when it applies to
+// none (a sand, for a flakiness index).
+[[nodiscard]] std::optional<double> measured_percent(const ShapeTarget& target, std::span<const GrainMeasure> grains);
+
+// The distribution whose grains reproduce `target` on grains of these intermediate
+// dimensions I (m, as the grading gives them: a grain belongs to the sieve interval that I
+// passes), by mass as L I S (the grains' volume up to a factor of shape that the fill
+// makes nearly the same for all). What is fitted: for a flakiness index the flatness mean;
+// for an L/S measure both means, shifted together. The spreads stay `start`'s. The fit is
+// a bisection on `samples` grains per size drawn from one seeded stream (the same numbers
+// for every candidate, so the percentage moves only with the fitted mean).
+struct ProportionFit {
+  ProportionDistribution distribution;
+  double achieved_percent = 0.0;  // with the fitted distribution, on those grains
+  bool reached = false;           // within 0.5 percentage points of the target
+};
+[[nodiscard]] ProportionFit fit_proportions_to(const ShapeTarget& target, const ProportionDistribution& start,
+                                               std::span<const double> intermediate_sizes, std::uint64_t seed,
+                                               std::size_t samples = 200);
+
+}  // namespace aggpack
