@@ -1,5 +1,6 @@
 #include "aggpack/core/particle_store.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -28,8 +29,10 @@ std::size_t ParticleStore::add_body(const Vec3& centre, const Quaternion& orient
   if (shape.member_centres.empty() || shape.member_centres.size() != shape.member_radii.size())
     throw std::invalid_argument("ParticleStore::add_body: a body needs one radius per member sphere, and a member");
   if (!(shape.volume > 0.0) || !(moments.x > 0.0) || !(moments.y > 0.0) || !(moments.z > 0.0) ||
-      !std::isfinite(shape.volume) || !std::isfinite(moments.x + moments.y + moments.z))
-    throw std::invalid_argument("ParticleStore::add_body: a body's volume and principal moments must be > 0");
+      !std::isfinite(shape.volume) || !std::isfinite(moments.x + moments.y + moments.z) || !(shape.scale > 0.0) ||
+      !std::isfinite(shape.scale))
+    throw std::invalid_argument("ParticleStore::add_body: a body's volume, principal moments and scale must be > 0");
+  const double s = shape.scale, s3 = s * s * s;
   if (bodies.empty()) {
     body.assign(size(), kNoBody);
     body_offset.assign(size(), {});
@@ -41,15 +44,22 @@ std::size_t ParticleStore::add_body(const Vec3& centre, const Quaternion& orient
   bodies.orientation.push_back(orientation);
   bodies.velocity.push_back({});
   bodies.angular_velocity.push_back({});
-  bodies.mass.push_back(density * shape.volume);
-  bodies.principal_inertia.push_back(density * moments);
+  bodies.mass.push_back(density * shape.volume * s3);
+  bodies.principal_inertia.push_back((density * s3 * s * s) * moments);
   for (std::size_t k = 0; k < shape.member_centres.size(); ++k) {
-    add(centre + rotate(orientation, shape.member_centres[k]), shape.member_radii[k], density, layer_index,
-        material_index);
+    const Vec3 offset = s * shape.member_centres[k];
+    add(centre + rotate(orientation, offset), s * shape.member_radii[k], density, layer_index, material_index);
     body.back() = index;
-    body_offset.back() = shape.member_centres[k];
+    body_offset.back() = offset;
   }
   return index;
+}
+
+double RigidBodyShape::reach() const {
+  double farthest = 0.0;
+  for (std::size_t k = 0; k < member_centres.size() && k < member_radii.size(); ++k)
+    farthest = std::max(farthest, norm(member_centres[k]) + member_radii[k]);
+  return scale * farthest;
 }
 
 double ParticleStore::sphere_mass(double r, double density) { return density * 4.0 / 3.0 * std::numbers::pi * r * r * r; }

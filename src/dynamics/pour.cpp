@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -79,7 +80,7 @@ double top_of_bed(const ParticleStore& particles, const Container& container) {
 // Puts batch `loop.batch` in as a gas above the bed and times the next one.
 void insert_batch(DemSystem& system, ParticleStore& particles, const Container& container,
                   std::span<const double> radii, const PourSettings& settings, std::uint32_t part,
-                  const SphereMaterials& materials, PourLoop& loop) {
+                  const SphereMaterials& materials, const PouredShapes& shapes, PourLoop& loop) {
   PourReport& report = loop.report;
   const std::span<const double> batch = pour_schedule(settings, radii.size()).batch(radii, loop.batch);
   const auto t_insert = Clock::now();
@@ -87,8 +88,17 @@ void insert_batch(DemSystem& system, ParticleStore& particles, const Container& 
       batch_gas(container, top_of_bed(particles, container) + report.gap, batch, settings.solid_fraction, loop.rng);
   const auto first = static_cast<std::size_t>(batch.data() - radii.data());  // of the batch in the pour's spheres
   for (std::size_t k = 0; k < batch.size(); ++k) {
+    const Vec3 falling{0.0, 0.0, -settings.velocity};
+    if (const RigidBodyShape* shape = shapes.shape(first + k)) {
+      RigidBodyShape scaled = *shape;
+      scaled.scale = batch[k];
+      const std::size_t b = particles.add_body(gas.positions[k], random_orientation(loop.rng), scaled,
+                                               materials.density_of(first + k), part, materials.material(first + k));
+      particles.bodies.velocity[b] = falling;
+      continue;
+    }
     particles.add(gas.positions[k], batch[k], materials.density_of(first + k), part, materials.material(first + k));
-    particles.velocity.back() = {0.0, 0.0, -settings.velocity};
+    particles.velocity.back() = falling;
   }
   report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
   report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, gas.slab.bottom);
@@ -104,7 +114,10 @@ void insert_batch(DemSystem& system, ParticleStore& particles, const Container& 
 
 SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& container, std::span<const double> radii,
                   const PourSettings& settings, std::uint32_t part, const SphereMaterials& materials,
-                  const QuietCriterion& quiet, PourLoop& loop, bool resumed, const PourHooks& hooks) {
+                  const PouredShapes& shapes, const QuietCriterion& quiet, PourLoop& loop, bool resumed,
+                  const PourHooks& hooks) {
+  if (!shapes.of.empty() && shapes.of.size() != radii.size())
+    throw std::invalid_argument("pour: one shape (or none) per radius poured");
   const std::size_t steps_per_sample = quiet.steps_per_sample(system.time_step());
   const auto since_start = [&] { return system.time() - loop.start; };
   // A resumed pour continues where its batch was falling, or where the bed was settling.
@@ -112,7 +125,7 @@ SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& 
   if (!loop.settling) {
     for (; loop.batch < loop.report.batches; ++loop.batch) {
       if (!batch_in) {
-        insert_batch(system, particles, container, radii, settings, part, materials, loop);
+        insert_batch(system, particles, container, radii, settings, part, materials, shapes, loop);
         if (loop.batch + 1 == loop.report.batches) break;
       }
       batch_in = false;

@@ -336,7 +336,8 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   hooks.density = box_density(sc);
   SettleResult result;
   try {
-    result = pour(dem, particles, sc.container, radii, settings, part, materials, stage.quiet, loop, resumed, hooks);
+    result = pour(dem, particles, sc.container, radii, settings, part, materials, PouredShapes{}, stage.quiet, loop,
+                  resumed, hooks);
   } catch (const PourInsertionError& e) {
     throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
   }

@@ -17,6 +17,7 @@
 #include "aggpack/core/quaternion.hpp"
 #include "aggpack/core/rng.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/dynamics/pour.hpp"
 #include "aggpack/dynamics/rigid_rotation.hpp"
 
 namespace aggpack {
@@ -296,6 +297,62 @@ TEST(RigidBodies, AGrainAdmittedIntoARunningSystemFallsFreely) {
     EXPECT_NEAR(store.bodies.velocity[body].z, -9.81 * t, 1e-12);
     EXPECT_EQ(store.bodies.orientation[body], q);
   }
+}
+
+// A pour of grains and spheres, in turns, into a walled box: the grains come in at random
+// orientations, touching nothing, fall and settle with the spheres into a bed inside the box,
+// every member where its body's pose has it, no contact overlapping more than 1 %.
+TEST(RigidBodies, APourOfGrainsAndSpheresSettlesIntoABed) {
+  const BallsShape unit = cross_shape(0.25, 0.75, 0.5);  // reach 1
+  ASSERT_DOUBLE_EQ(unit.view().reach(), 1.0);
+  std::vector<double> radii;
+  std::vector<const RigidBodyShape*> shapes;
+  const RigidBodyShape shape = unit.view();
+  for (int k = 0; k < 80; ++k) {
+    const bool grain = k % 2 == 0;
+    radii.push_back(grain ? 0.004 : 0.002);
+    shapes.push_back(grain ? &shape : nullptr);
+  }
+  ParticleStore store;
+  const Container box = Container::square(0.04, 0.3, false);
+  DemSettings settings;
+  settings.time_step = 1e-5;
+  settings.skin = 2e-4;
+  DemSystem dem(store, box, make_contact_model(material(0.3, 0.5)), settings);
+  PourSettings pouring;
+  pouring.solid_fraction = 0.1;
+  pouring.batches = 2;
+  QuietCriterion quiet;
+  quiet.max_time = 1.5;
+  PourLoop loop = begin_pour(dem, pouring, radii, Rng(38, 5));
+  PourHooks hooks;
+  hooks.on_sample = [](const SettleSample&, std::string_view) {};
+  hooks.at_safe_point = [](std::string_view) {};
+  const SettleResult result = pour(dem, store, box, radii, pouring, 0, SphereMaterials::all_of(kDensity),
+                                   PouredShapes{shapes}, quiet, loop, false, hooks);
+  EXPECT_EQ(result.end, SettleEnd::Quiet);
+  ASSERT_EQ(store.bodies.size(), 40u);
+  EXPECT_EQ(store.size(), 40u * 4 + 40u);
+  EXPECT_LT(dem.contact_statistics().max_overlap, 0.01);
+  double top = 0.0;
+  for (std::size_t i = 0; i < store.size(); ++i) {
+    const Vec3& x = store.position[i];
+    const double r = store.radius[i];
+    EXPECT_TRUE(x.x > r * 0.9 && x.x < 0.04 - 0.9 * r && x.y > 0.9 * r && x.y < 0.04 - 0.9 * r && x.z > 0.9 * r) << i;
+    top = std::max(top, x.z + r);
+  }
+  // Loose or dense, a bed of some 19 cm^3 of solid over 16 cm^2 is a few centimetres deep.
+  EXPECT_LT(top, 0.05);
+  for (std::size_t b = 0; b < 40; ++b) {
+    EXPECT_NEAR(store.bodies.mass[b], kDensity * unit.volume * std::pow(0.004, 3), 1e-12);
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      const std::uint32_t i = store.bodies.first_member[b] + k;
+      EXPECT_NEAR(store.radius[i], 0.001, 1e-15);
+      const Vec3 place = store.bodies.position[b] + rotate(store.bodies.orientation[b], store.body_offset[i]);
+      EXPECT_LT(norm(store.position[i] - place), 1e-12);
+    }
+  }
+  EXPECT_NE(store.bodies.orientation[0], store.bodies.orientation[1]);
 }
 
 // A bed of grains and spheres in a periodic box, settling: the same bytes for one thread or

@@ -28,12 +28,16 @@ struct RigidBodies {
 };
 
 // A rigid body's shape in its body frame (centre of mass at the origin, principal axes of
-// inertia along x, y and z): its member spheres and the mass properties of their union.
+// inertia along x, y and z): its member spheres and the mass properties of their union,
+// every length multiplied by `scale` (the volume by its cube, the moments by its fifth power).
 struct RigidBodyShape {
   std::span<const Vec3> member_centres;  // m
   std::span<const double> member_radii;  // m
   double volume = 0.0;                   // of the members' union, m^3
   Vec3 principal_inertia_per_density;    // m^5
+  double scale = 1.0;
+  // The farthest point of its members from its centre of mass, m (scaled).
+  [[nodiscard]] double reach() const;
 };
 
 // Every stage reads and writes this one store. Index i is the same grain in every
@@ -59,7 +63,8 @@ struct ParticleStore {
   // Adds a rigid body of `shape` and `density` (kg/m^3), its centre of mass at `centre` and
   // turned by `orientation`, at rest: its member spheres go to the end of the store, the body
   // to the end of `bodies`. Returns the body's index. Throws std::invalid_argument for a shape
-  // without members, of member lists of two lengths, or of a volume or a moment not positive.
+  // without members, of member lists of two lengths, or of a volume, a moment or a scale not
+  // positive.
   std::size_t add_body(const Vec3& centre, const Quaternion& orientation, const RigidBodyShape& shape, double density,
                        std::uint32_t layer_index = 0, std::uint8_t material_index = 0);
   // The mass add() gives a sphere of radius r, kg.

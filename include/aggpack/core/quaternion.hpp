@@ -3,6 +3,7 @@
 // body frame into the space frame, v_space = q v_body q*.
 #include <cmath>
 
+#include "aggpack/core/rng.hpp"
 #include "aggpack/core/vec3.hpp"
 
 namespace aggpack {
@@ -28,6 +29,17 @@ inline Quaternion normalized(const Quaternion& q) {
 inline Quaternion axis_angle(const Vec3& axis, double angle) {
   const double s = std::sin(0.5 * angle);
   return {std::cos(0.5 * angle), axis.x * s, axis.y * s, axis.z * s};
+}
+
+// An orientation uniformly at random: a point drawn uniformly in the 4-ball (by rejection
+// from its cube) and pushed out onto the sphere, whose points are the rotations, uniformly.
+// Square roots only: the same bits with every standard library.
+inline Quaternion random_orientation(Rng& rng) {
+  for (;;) {
+    const Quaternion q{rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0)};
+    const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+    if (n2 <= 1.0 && n2 > 1e-6) return normalized(q);  // near 0 the direction is rounding's
+  }
 }
 
 // q v q* for a unit q: the body-frame vector v in the space frame.

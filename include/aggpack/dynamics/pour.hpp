@@ -88,6 +88,15 @@ PourLoop begin_pour(const DemSystem& system, const PourSettings& settings, std::
 // Whether a loop restored from a checkpoint is one of this pour's, on this system.
 bool fits(const PourLoop& loop, const PourReport& planned, const DemSystem& system);
 
+// What a pour puts in for each of its radii: a sphere, or a rigid grain (a body of several
+// spheres) of a shape of reach 1 (ParticleStore::add_body; its farthest point from its centre
+// of mass at 1), scaled to the radius and turned at random. The gas is the grains' bounding
+// spheres', so that no two grains touch where they come in.
+struct PouredShapes {
+  std::span<const RigidBodyShape* const> of;  // per radius of the pour, nullptr for a sphere; empty: all spheres
+  [[nodiscard]] const RigidBodyShape* shape(std::size_t k) const { return of.empty() ? nullptr : of[k]; }
+};
+
 // What a pour tells its caller: every sample (its time since the pour began; `phase` says what
 // the DEM is doing), and its safe points, where the caller may save the loop with the system
 // or stop the run by throwing. The density probe measures the bed once all batches are in.
@@ -98,13 +107,14 @@ struct PourHooks {
 };
 
 // Pours `radii` onto the bed of `system` in `container` at rest (the spheres join `particles` as free particles of
-// layer `part`, of `materials`, one per radius), then settles the bed until `quiet` holds or its
+// layer `part`, of `materials`, one per radius, or the grains of `shapes`), then settles the bed until `quiet` holds or its
 // max_time (counted from the pour's start) is reached. `loop` is begin_pour's or a restored
 // one (`resumed`): the pour continues where it stood, bit for bit. The result's times are
 // since the pour began, its steps the whole pour's; `loop.next` tells whether the last batch
 // had the time to fall its slab before max_time (the caller decides what a cut pour means).
 SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& container, std::span<const double> radii,
                   const PourSettings& settings, std::uint32_t part, const SphereMaterials& materials,
-                  const QuietCriterion& quiet, PourLoop& loop, bool resumed, const PourHooks& hooks);
+                  const PouredShapes& shapes, const QuietCriterion& quiet, PourLoop& loop, bool resumed,
+                  const PourHooks& hooks);
 
 }  // namespace aggpack
