@@ -1,6 +1,7 @@
 #include "aggpack/grains/union_mass_properties.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -65,11 +66,26 @@ Moments arc_moments(const Disc& d, double t0, double t1) {
   return m;
 }
 
+using Intervals = std::vector<std::pair<double, double>>;
+
+// The union of intervals, sorted and merged.
+Intervals merged_intervals(Intervals intervals) {
+  std::sort(intervals.begin(), intervals.end());
+  Intervals merged;
+  for (const auto& c : intervals) {
+    if (!merged.empty() && c.first <= merged.back().second)
+      merged.back().second = std::max(merged.back().second, c.second);
+    else
+      merged.push_back(c);
+  }
+  return merged;
+}
+
 // The angles of disc i's circle that lie inside some other disc, as sorted, merged
 // intervals within [0, 2 pi]; `hidden` when the whole disc lies inside another one (of two
 // identical discs the first is kept).
-std::vector<std::pair<double, double>> covered_arcs(const std::vector<Disc>& discs, std::size_t i, bool& hidden) {
-  std::vector<std::pair<double, double>> covered;
+Intervals covered_arcs(const std::vector<Disc>& discs, std::size_t i, bool& hidden) {
+  Intervals covered;
   hidden = false;
   const Disc& a = discs[i];
   for (std::size_t j = 0; j < discs.size(); ++j) {
@@ -96,15 +112,7 @@ std::vector<std::pair<double, double>> covered_arcs(const std::vector<Disc>& dis
       covered.emplace_back(lo, hi);
     }
   }
-  std::sort(covered.begin(), covered.end());
-  std::vector<std::pair<double, double>> merged;
-  for (const auto& c : covered) {
-    if (!merged.empty() && c.first <= merged.back().second)
-      merged.back().second = std::max(merged.back().second, c.second);
-    else
-      merged.push_back(c);
-  }
-  return merged;
+  return merged_intervals(std::move(covered));
 }
 
 // A slice's moments (kZ, kZZ, kXZ, kYZ from z), at height z of the spheres (in units of their reach).
@@ -146,7 +154,10 @@ constexpr std::array<double, 8> kKronrodWeight{
 constexpr std::array<double, 4> kGaussWeight{0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
                                              0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
 
+// `Slice` gives a slice's moments at a height: slice_moments's, or a clipped slice's area.
+template <class Slice>
 struct Quadrature {
+  Slice slice;
   std::span<const MemberSphere> spheres;  // scaled to reach 1 from their mean centre
   double scale;                           // the spheres' summed volume: every moment is measured against it
   double tolerance;                       // relative, per unit of the total height
@@ -164,7 +175,7 @@ struct Quadrature {
     for (int k = 0; k < 8; ++k) {
       const int sides = k == 7 ? 1 : 2;
       for (int side = 0; side < sides; ++side) {
-        const Moments f = slice_moments(spheres, centre + (side == 0 ? 1.0 : -1.0) * kKronrodNode[k] * half);
+        const Moments f = slice(spheres, centre + (side == 0 ? 1.0 : -1.0) * kKronrodNode[k] * half);
         kronrod += f * kKronrodWeight[k];
         if (k % 2 == 1) gauss += f * kGaussWeight[k / 2];
         for (int m = 0; m < kMoments; ++m) magnitude[m] += std::abs(f[m]) * kKronrodWeight[k];
@@ -172,7 +183,7 @@ struct Quadrature {
     }
     slices += 15;
     if (slices > kMaxSlices)
-      throw std::runtime_error("union_mass_properties: the quadrature did not converge (more than 4e6 slices)");
+      throw std::runtime_error("a union of spheres' quadrature did not converge (more than 4e6 slices)");
     bool converged = true;
     for (int m = 0; m < kMoments; ++m) {
       const double error = std::abs(kronrod[m] - gauss[m]) * half;
@@ -212,7 +223,177 @@ std::vector<double> panel_breaks(std::span<const MemberSphere> spheres) {
   return breaks;
 }
 
+// The part of a union of discs inside a rectangle: the area within [x0, x1] x [y0, y1].
+struct Rectangle {
+  double x0, x1, y0, y1;
+};
+
+// Adds the arc [lo, hi] (hi - lo <= 2 pi, lo from -2 pi on) to `arcs`, in [0, 2 pi).
+void add_arc(Intervals& arcs, double lo, double hi) {
+  const double from = std::fmod(lo + 2.0 * kTwoPi, kTwoPi), to = from + (hi - lo);
+  if (to > kTwoPi) {
+    arcs.emplace_back(from, kTwoPi);
+    arcs.emplace_back(0.0, to - kTwoPi);
+  } else {
+    arcs.emplace_back(from, to);
+  }
+}
+
+// Adds the angles of disc d's circle outside the rectangle to `arcs`; false when it is all
+// outside. (Each side's: where its coordinate passes the side's line, by acos or asin.)
+bool add_outside_rectangle(const Disc& d, const Rectangle& r, Intervals& arcs) {
+  const double r_inv = 1.0 / d.radius;
+  const double left = (r.x0 - d.x) * r_inv, right = (r.x1 - d.x) * r_inv;
+  const double below = (r.y0 - d.y) * r_inv, above = (r.y1 - d.y) * r_inv;
+  if (left >= 1.0 || right <= -1.0 || below >= 1.0 || above <= -1.0) return false;
+  if (left > -1.0) add_arc(arcs, std::acos(left), kTwoPi - std::acos(left));               // cos t < left
+  if (right < 1.0) add_arc(arcs, -std::acos(right), std::acos(right));                     // cos t > right
+  if (below > -1.0) add_arc(arcs, std::numbers::pi - std::asin(below), kTwoPi + std::asin(below));  // sin t < below
+  if (above < 1.0) add_arc(arcs, std::asin(above), std::numbers::pi - std::asin(above));  // sin t > above
+  return true;
+}
+
+// ½ ∮ (x dy - y dx) over the arc [t0, t1] of d, anticlockwise: its share of the area.
+double arc_area(const Disc& d, double t0, double t1) {
+  return 0.5 * (d.radius * d.radius * (t1 - t0) + d.radius * d.x * (std::sin(t1) - std::sin(t0)) -
+                d.radius * d.y * (std::cos(t1) - std::cos(t0)));
+}
+
+// How much of the segment `across` ∈ [lo, hi] at `at` on the other axis the discs cover
+// (`vertical`: the segment x = at, y ∈ [lo, hi]; else y = at, x ∈ [lo, hi]).
+double covered_length(const std::vector<Disc>& discs, bool vertical, double at, double lo, double hi) {
+  Intervals chords;
+  for (const Disc& d : discs) {
+    const double offset = vertical ? at - d.x : at - d.y, centre = vertical ? d.y : d.x;
+    if (std::abs(offset) >= d.radius) continue;
+    const double half = std::sqrt(d.radius * d.radius - offset * offset);
+    const double a = std::max(lo, centre - half), b = std::min(hi, centre + half);
+    if (b > a) chords.emplace_back(a, b);
+  }
+  double length = 0.0;
+  for (const auto& [a, b] : merged_intervals(std::move(chords))) length += b - a;
+  return length;
+}
+
+// The area of a slice of the union inside the rectangle, by Green's theorem over the clipped
+// region's boundary: the discs' arcs outside the other discs and inside the rectangle, and
+// the parts of the rectangle's sides inside the union (anticlockwise: the left side down, the
+// bottom rightwards, the right side up, the top leftwards).
+double clipped_slice_area(std::span<const MemberSphere> spheres, const Rectangle& rect, double z) {
+  std::vector<Disc> discs;
+  for (const MemberSphere& s : spheres) {
+    const double h = z - s.centre.z, r2 = s.radius * s.radius - h * h;
+    if (r2 > 0.0) discs.push_back({s.centre.x, s.centre.y, std::sqrt(r2)});
+  }
+  double area = 0.0;
+  for (std::size_t i = 0; i < discs.size(); ++i) {
+    bool hidden = false;
+    Intervals covered = covered_arcs(discs, i, hidden);
+    if (hidden || !add_outside_rectangle(discs[i], rect, covered)) continue;
+    double from = 0.0;
+    for (const auto& [lo, hi] : merged_intervals(std::move(covered))) {
+      if (lo > from) area += arc_area(discs[i], from, lo);
+      from = std::max(from, hi);
+    }
+    if (from < kTwoPi) area += arc_area(discs[i], from, kTwoPi);
+  }
+  area += 0.5 * (rect.x1 * covered_length(discs, true, rect.x1, rect.y0, rect.y1) -
+                 rect.x0 * covered_length(discs, true, rect.x0, rect.y0, rect.y1) -
+                 rect.y0 * covered_length(discs, false, rect.y0, rect.x0, rect.x1) +
+                 rect.y1 * covered_length(discs, false, rect.y1, rect.x0, rect.x1));
+  return area;
+}
+
+// Heights where a clipped slice's topology can change besides the union's own: where a
+// sphere's circle touches a side's line or passes a corner, and where a pair's
+// intersection circle crosses a side's plane.
+void add_clipping_breaks(std::span<const MemberSphere> spheres, const Rectangle& rect, std::vector<double>& breaks) {
+  const auto add_pair = [&](double centre, double reach2) {
+    if (reach2 <= 0.0) return;
+    breaks.push_back(centre - std::sqrt(reach2));
+    breaks.push_back(centre + std::sqrt(reach2));
+  };
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    const MemberSphere& a = spheres[i];
+    const double r2 = a.radius * a.radius;
+    for (const double x : {rect.x0, rect.x1}) {
+      add_pair(a.centre.z, r2 - (x - a.centre.x) * (x - a.centre.x));
+      for (const double y : {rect.y0, rect.y1})
+        add_pair(a.centre.z, r2 - (x - a.centre.x) * (x - a.centre.x) - (y - a.centre.y) * (y - a.centre.y));
+    }
+    for (const double y : {rect.y0, rect.y1}) add_pair(a.centre.z, r2 - (y - a.centre.y) * (y - a.centre.y));
+    for (std::size_t j = i + 1; j < spheres.size(); ++j) {
+      const MemberSphere& b = spheres[j];
+      const Vec3 axis = b.centre - a.centre;
+      const double d = norm(axis);
+      if (!(d < a.radius + b.radius) || !(d > std::abs(a.radius - b.radius))) continue;
+      // The ring: centre c, radius rho, in the plane of normal n, spanned by u and v.
+      const Vec3 n = axis * (1.0 / d);
+      const double along = (d * d + r2 - b.radius * b.radius) / (2.0 * d);
+      const double rho = std::sqrt(std::max(0.0, r2 - along * along));
+      const Vec3 c = a.centre + along * n;
+      const Vec3 u = normalized(std::abs(n.x) < 0.9 ? cross(n, Vec3{1, 0, 0}) : cross(n, Vec3{0, 1, 0}));
+      const Vec3 v = cross(n, u);
+      // Where c + rho (u cos t + v sin t) meets x = side (axis 0) or y = side (axis 1).
+      for (int axis_index = 0; axis_index < 2; ++axis_index)
+        for (const double side : axis_index == 0 ? std::array{rect.x0, rect.x1} : std::array{rect.y0, rect.y1}) {
+          const double p = rho * u[axis_index], q = rho * v[axis_index], amplitude = std::hypot(p, q);
+          const double want = side - c[axis_index];
+          if (!(amplitude > std::abs(want))) continue;
+          const double phase = std::atan2(q, p), spread = std::acos(want / amplitude);
+          for (const double t : {phase - spread, phase + spread})
+            breaks.push_back(c.z + rho * (u.z * std::cos(t) + v.z * std::sin(t)));
+        }
+    }
+  }
+}
+
 }  // namespace
+
+double union_volume_in_box(std::span<const MemberSphere> spheres, const Box& box, double relative_tolerance) {
+  if (spheres.empty()) throw std::invalid_argument("union_volume_in_box: no spheres");
+  if (!(relative_tolerance >= 1e-13 && relative_tolerance <= 1e-2))
+    throw std::invalid_argument("union_volume_in_box: the relative tolerance must lie in [1e-13, 1e-2]");
+  const Vec3 size = box.size();
+  if (!(size.x >= 0.0 && size.y >= 0.0 && size.z >= 0.0) || !std::isfinite(size.x + size.y + size.z))
+    throw std::invalid_argument("union_volume_in_box: a box's sides must be finite and not negative");
+  // Lengths in units of the reach from the mean centre, as for the mass properties.
+  Vec3 origin{};
+  for (const MemberSphere& s : spheres) {
+    if (!(s.radius > 0.0) || !std::isfinite(s.radius) || !std::isfinite(s.centre.x + s.centre.y + s.centre.z))
+      throw std::invalid_argument("union_volume_in_box: a member sphere must have a finite centre and radius > 0");
+    origin += s.centre * (1.0 / static_cast<double>(spheres.size()));
+  }
+  double reach = 0.0;
+  for (const MemberSphere& s : spheres) reach = std::max(reach, norm(s.centre - origin) + s.radius);
+  std::vector<MemberSphere> unit(spheres.begin(), spheres.end());
+  double volume_sum = 0.0;
+  for (MemberSphere& s : unit) {
+    s.centre = (s.centre - origin) * (1.0 / reach), s.radius /= reach;
+    volume_sum += 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
+  }
+  const Vec3 lo = (box.lo - origin) * (1.0 / reach), hi = (box.hi - origin) * (1.0 / reach);
+  const Rectangle rect{lo.x, hi.x, lo.y, hi.y};
+  std::vector<double> breaks = panel_breaks(unit);
+  // Only the heights within both the union's and the box's.
+  const double bottom = std::max(lo.z, breaks.front()), top = std::min(hi.z, breaks.back());
+  if (!(top > bottom) || rect.x1 <= rect.x0 || rect.y1 <= rect.y0) return 0.0;
+  add_clipping_breaks(unit, rect, breaks);
+  breaks.push_back(bottom);
+  breaks.push_back(top);
+  std::erase_if(breaks, [&](double z) { return z < bottom || z > top; });
+  std::sort(breaks.begin(), breaks.end());
+  breaks.erase(std::unique(breaks.begin(), breaks.end()), breaks.end());
+  const auto slice = [&](std::span<const MemberSphere> members, double z) {
+    Moments m{};
+    m[kArea] = clipped_slice_area(members, rect, z);
+    return m;
+  };
+  const Quadrature q{slice, unit, volume_sum, relative_tolerance, top - bottom};
+  double volume = 0.0;
+  for (std::size_t k = 0; k + 1 < breaks.size(); ++k) volume += q.integrate(breaks[k], breaks[k + 1], 0)[kArea];
+  return volume * reach * reach * reach;
+}
 
 MassProperties union_mass_properties(std::span<const MemberSphere> spheres, double relative_tolerance) {
   if (spheres.empty()) throw std::invalid_argument("union_mass_properties: no spheres");
@@ -237,7 +418,7 @@ MassProperties union_mass_properties(std::span<const MemberSphere> spheres, doub
     volume_sum += 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
   }
   const std::vector<double> breaks = panel_breaks(unit);
-  const Quadrature q{unit, volume_sum, relative_tolerance, breaks.back() - breaks.front()};
+  const Quadrature q{slice_moments, unit, volume_sum, relative_tolerance, breaks.back() - breaks.front()};
   Moments total{};
   for (std::size_t k = 0; k + 1 < breaks.size(); ++k) total += q.integrate(breaks[k], breaks[k + 1], 0);
   for (int m = 0; m < kMoments; ++m) total[m] *= std::pow(reach, 3 + kLengthPower[m]);  // back to lengths

@@ -5,6 +5,7 @@
 #include <array>
 #include <span>
 
+#include "aggpack/core/box.hpp"
 #include "aggpack/core/vec3.hpp"
 
 namespace aggpack {
@@ -41,5 +42,16 @@ struct MassProperties {
 // centre that is not finite, or a tolerance outside [1e-13, 1e-2].
 [[nodiscard]] MassProperties union_mass_properties(std::span<const MemberSphere> spheres,
                                                    double relative_tolerance = 1e-10);
+
+// The volume of the union of `spheres` inside `box` (each point once): what a virtual box of
+// the density analysis holds of a grain that its planes cut. The same slicing, each slice's
+// union of discs clipped to the box's rectangle (Green's theorem over the discs' arcs inside
+// it and the rectangle's sides inside the union), over the heights within the box, the
+// panels broken also where a slice's circle touches a side or passes a corner and where a
+// pair's intersection circle crosses a side's plane. `relative_tolerance` is of the spheres'
+// summed volume. Throws std::invalid_argument as union_mass_properties does, or for a box
+// whose sides are negative or not finite.
+[[nodiscard]] double union_volume_in_box(std::span<const MemberSphere> spheres, const Box& box,
+                                         double relative_tolerance = 1e-9);
 
 }  // namespace aggpack
