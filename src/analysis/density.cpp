@@ -2,11 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <fmt/format.h>
 
 #include "aggpack/analysis/sphere_box_volume.hpp"
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/quaternion.hpp"
+#include "aggpack/grains/union_mass_properties.hpp"
 
 namespace aggpack {
 
@@ -16,6 +19,57 @@ double median(std::vector<double> v) {
   const auto mid = v.begin() + static_cast<long>(v.size() / 2);
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
+}
+
+// The solid of a packing in pieces whose volume in a box is exact: each sphere of no rigid
+// body, and each rigid body (the union of its member spheres, each point once).
+struct Piece {
+  Vec3 centre;  // a sphere's centre, a body's centre of mass
+  double reach;  // the radius of the sphere about the centre that holds the piece
+  std::size_t index;  // in the store's spheres or its bodies
+  bool body;
+};
+
+double body_reach(const ParticleStore& p, std::size_t b) {
+  double reach = 0.0;
+  for (std::uint32_t i = p.bodies.first_member[b]; i < p.bodies.first_member[b] + p.bodies.member_count[b]; ++i)
+    reach = std::max(reach, norm(p.body_offset[i]) + p.radius[i]);
+  return reach;
+}
+
+// The spheres first, in the store's order (a packing of spheres sums as it always has), then the bodies.
+template <class Visit>
+void for_each_piece(const ParticleStore& p, Visit&& visit) {
+  const bool bodies = !p.bodies.empty();
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (!bodies || p.body[i] == kNoBody) visit(Piece{p.position[i], p.radius[i], i, false});
+  for (std::size_t b = 0; b < p.bodies.size(); ++b) visit(Piece{p.bodies.position[b], body_reach(p, b), b, true});
+}
+
+// Its whole volume.
+double piece_volume(const ParticleStore& p, const Piece& piece) {
+  const double r = piece.reach;
+  return piece.body ? p.bodies.volume[piece.index] : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+
+// Its volume inside `box`, the piece moved to `centre` (one of its periodic images): a
+// body's by the slicing of its union cut by the box (1e-8 of its volume), unless its
+// bounding sphere lies wholly inside the box or a box plane separates them.
+double piece_volume_in_box(const ParticleStore& p, const Piece& piece, const Vec3& centre, const Box& box) {
+  if (!piece.body) return sphere_box_volume(centre, piece.reach, box);
+  const double r = piece.reach;
+  if (centre.x + r <= box.lo.x || centre.x - r >= box.hi.x || centre.y + r <= box.lo.y || centre.y - r >= box.hi.y ||
+      centre.z + r <= box.lo.z || centre.z - r >= box.hi.z)
+    return 0.0;
+  if (centre.x - r >= box.lo.x && centre.x + r <= box.hi.x && centre.y - r >= box.lo.y && centre.y + r <= box.hi.y &&
+      centre.z - r >= box.lo.z && centre.z + r <= box.hi.z)
+    return piece_volume(p, piece);
+  const std::size_t b = piece.index;
+  const Quaternion& q = p.bodies.orientation[b];
+  std::vector<MemberSphere> members;
+  for (std::uint32_t i = p.bodies.first_member[b]; i < p.bodies.first_member[b] + p.bodies.member_count[b]; ++i)
+    members.push_back({centre + rotate(q, p.body_offset[i]), p.radius[i]});
+  return union_volume_in_box(members, box, 1e-8);
 }
 }  // namespace
 
@@ -33,11 +87,10 @@ Container bounding_container(const ParticleStore& particles) {
 
 double solid_volume_in_box(const ParticleStore& particles, const Container& container, const Box& box) {
   double volume = 0.0;
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const double r = particles.radius[i];
-    container.for_each_image(particles.position[i], r,
-                   [&](const Vec3& c) { volume += sphere_box_volume(c, r, box); });
-  }
+  for_each_piece(particles, [&](const Piece& piece) {
+    container.for_each_image(piece.centre, piece.reach,
+                             [&](const Vec3& c) { volume += piece_volume_in_box(particles, piece, c, box); });
+  });
   return volume;
 }
 
@@ -48,21 +101,21 @@ Profile vertical_profile(const ParticleStore& particles, const Container& contai
   for (std::size_t i = 0; i < particles.size(); ++i)
     top = std::max(top, particles.position[i].z + particles.radius[i]);
   const auto bins = static_cast<long>(std::max(1.0, std::ceil((top - z0) / thickness)));
-  // Each sphere adds its exact volume to the slices it reaches.
+  // Each sphere (or grain) adds its exact volume to the slices it reaches.
   std::vector<double> volume(static_cast<std::size_t>(bins), 0.0);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const double r = particles.radius[i];
-    container.for_each_image(particles.position[i], r, [&](const Vec3& c) {
+  for_each_piece(particles, [&](const Piece& piece) {
+    const double r = piece.reach;
+    container.for_each_image(piece.centre, r, [&](const Vec3& c) {
       const long first = std::max(0L, static_cast<long>(std::floor((c.z - r - z0) / thickness)));
       const long last = std::min(bins - 1, static_cast<long>(std::floor((c.z + r - z0) / thickness)));
       for (long k = first; k <= last; ++k) {
         Box slab = footprint;
         slab.lo.z = z0 + thickness * static_cast<double>(k);
         slab.hi.z = slab.lo.z + thickness;
-        volume[static_cast<std::size_t>(k)] += sphere_box_volume(c, r, slab);
+        volume[static_cast<std::size_t>(k)] += piece_volume_in_box(particles, piece, c, slab);
       }
     });
-  }
+  });
   Profile profile;
   const double slab_volume = container.length_x() * container.length_y() * thickness;
   for (long k = 0; k < bins; ++k) {
@@ -90,22 +143,22 @@ Profile wall_distance_profile(const ParticleStore& particles, const Container& c
                                  static_cast<long>(std::floor((near + r) / thickness))};
   };
   std::vector<double> volume(bins, 0.0);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Vec3& c = particles.position[i];
-    const double r = particles.radius[i];
-    if (c.z + r <= z_lo || c.z - r >= z_hi) continue;
+  for_each_piece(particles, [&](const Piece& piece) {
+    const Vec3& c = piece.centre;
+    const double r = piece.reach;
+    if (c.z + r <= z_lo || c.z - r >= z_hi) return;
     auto [first, last] = range(c, r);
     first = std::max(first, 0L);
     last = std::min(last, static_cast<long>(bins) - 1);
-    if (first > last) continue;
+    if (first > last) return;
     // Volume inside each inset square, differenced into shells.
-    double outer = sphere_box_volume(c, r, inset_box(thickness * static_cast<double>(first)));
+    double outer = piece_volume_in_box(particles, piece, c, inset_box(thickness * static_cast<double>(first)));
     for (long k = first; k <= last; ++k) {
-      const double inner = sphere_box_volume(c, r, inset_box(thickness * static_cast<double>(k + 1)));
+      const double inner = piece_volume_in_box(particles, piece, c, inset_box(thickness * static_cast<double>(k + 1)));
       volume[k] += outer - inner;
       outer = inner;
     }
-  }
+  });
   for (std::size_t k = 0; k < bins; ++k) {
     const double a = thickness * static_cast<double>(k), b = a + thickness;
     const double lx = container.length_x(), ly = container.length_y();
@@ -120,17 +173,20 @@ BedGeometry measure_bed(const ParticleStore& particles, const Container& contain
   BedGeometry bed;
   bed.floor = container.bounds.lo.z;
   if (particles.empty()) return bed;
-  const auto [rmin, rmax] = std::minmax_element(particles.radius.begin(), particles.radius.end());
-  bed.d_min = 2.0 * *rmin;
-  bed.d_max = 2.0 * *rmax;
+  // d_max: the largest sphere's or grain's (the diameter of the sphere that holds it).
+  double reach_min = std::numeric_limits<double>::infinity(), reach_max = 0.0, solid = 0.0;
+  for_each_piece(particles, [&](const Piece& piece) {
+    reach_min = std::min(reach_min, piece.reach);
+    reach_max = std::max(reach_max, piece.reach);
+    solid += piece_volume(particles, piece);
+  });
+  bed.d_min = 2.0 * reach_min;
+  bed.d_max = 2.0 * reach_max;
   for (std::size_t i = 0; i < particles.size(); ++i)
     bed.top = std::max(bed.top, particles.position[i].z + particles.radius[i]);
   // Equivalent height: a bed of the median slice fraction holding the same solid volume.
   const Profile slices = vertical_profile(particles, container, bed.d_max);
   const double bulk_fraction = median(slices.solid_fraction);
-  double solid = 0.0;
-  for (std::size_t i = 0; i < particles.size(); ++i)
-    solid += 4.0 / 3.0 * std::numbers::pi * particles.radius[i] * particles.radius[i] * particles.radius[i];
   const double footprint = container.length_x() * container.length_y();
   bed.surface = bulk_fraction > 0.0 ? std::min(bed.floor + solid / (footprint * bulk_fraction), bed.top) : bed.top;
   return bed;

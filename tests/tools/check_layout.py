@@ -28,7 +28,7 @@ MODULE_DEPENDENCIES = {
     "spatial": {"core"},
     "grains": {"core"},
     "deposition": {"core", "spatial"},
-    "analysis": {"core", "spatial"},
+    "analysis": {"core", "spatial", "grains"},
     "dynamics": {"core", "spatial", "deposition"},
     "report": {"core"},
     "io": {"core", "sizes", "deposition", "dynamics"},

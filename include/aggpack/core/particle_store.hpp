@@ -22,6 +22,7 @@ struct RigidBodies {
   std::vector<Vec3> velocity;               // of the centre of mass, m/s
   std::vector<Vec3> angular_velocity;       // rad/s, in space
   std::vector<double> mass;                 // kg, of the members' union (each point once)
+  std::vector<double> volume;               // m^3, of the members' union
   std::vector<Vec3> principal_inertia;      // kg m^2, about the body frame's axes
   [[nodiscard]] std::size_t size() const { return mass.size(); }
   [[nodiscard]] bool empty() const { return mass.empty(); }
