@@ -50,15 +50,36 @@ void subdivide(ConvexHull& h) {
   h.triangles = std::move(split);
 }
 
-// The largest sphere behind every point's tangent plane that touches point `at`'s plane at
-// that point: its centre p - r n stays r behind plane k, r (1 - n_k.n) <= n_k.(p_k - p).
-MemberSphere tangent_sphere(const ConvexSurface& surface, std::size_t at) {
-  const SurfacePoint& p = surface[at];
+// A tangent plane of the surface: n.x <= offset inside.
+struct Plane {
+  Vec3 normal;
+  double offset;
+};
+
+// The surface's distinct tangent planes: the points of a polyhedron's face share one (its
+// normal, to the bit), so a face of many points is one plane; of an ellipsoid's points, each
+// is its own. A face's offset is its points' largest n.x (they differ by rounding only).
+std::vector<Plane> tangent_planes(const ConvexSurface& surface) {
+  std::vector<Plane> planes;
+  for (const SurfacePoint& p : surface) {
+    const double offset = dot(p.normal, p.position);
+    if (!planes.empty() && planes.back().normal == p.normal) {
+      planes.back().offset = std::max(planes.back().offset, offset);
+      continue;
+    }
+    planes.push_back({p.normal, offset});
+  }
+  return planes;
+}
+
+// The largest sphere behind every tangent plane that touches point p's plane at p: its
+// centre p - r n stays r behind plane k, r (1 - n_k.n) <= offset_k - n_k.p.
+MemberSphere tangent_sphere(const std::vector<Plane>& planes, const SurfacePoint& p) {
   double radius = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 0; k < surface.size(); ++k) {
-    const double closing = 1.0 - dot(surface[k].normal, p.normal);
-    if (k == at || closing <= 1e-12) continue;
-    radius = std::min(radius, std::max(0.0, dot(surface[k].normal, surface[k].position - p.position)) / closing);
+  for (const Plane& plane : planes) {
+    const double closing = 1.0 - dot(plane.normal, p.normal);
+    if (closing <= 1e-12) continue;  // its own plane, or one parallel to it
+    radius = std::min(radius, std::max(0.0, plane.offset - dot(plane.normal, p.position)) / closing);
   }
   return {p.position - p.normal * radius, radius};
 }
@@ -108,9 +129,10 @@ std::vector<MemberSphere> fill_convex(const ConvexSurface& surface, std::size_t 
   for (const SurfacePoint& p : surface)
     if (!std::isfinite(norm2(p.position)) || !(std::abs(norm(p.normal) - 1.0) < 1e-6))
       throw std::invalid_argument("fill_convex: a surface point is not finite or its normal is not of unit length");
+  const std::vector<Plane> planes = tangent_planes(surface);
   std::vector<MemberSphere> candidate(surface.size());
   for (std::size_t k = 0; k < surface.size(); ++k) {
-    candidate[k] = tangent_sphere(surface, k);
+    candidate[k] = tangent_sphere(planes, surface[k]);
     if (!std::isfinite(candidate[k].radius))
       throw std::invalid_argument("fill_convex: the surface bounds no body (no tangent plane faces a point's plane)");
   }

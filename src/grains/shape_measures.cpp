@@ -104,6 +104,23 @@ std::optional<double> measured_percent(const ShapeTarget& target, std::span<cons
   return 100.0 * counted / all;
 }
 
+ProportionDistribution fitted_distribution(ShapeMeasure measure, const ProportionDistribution& start, double t) {
+  ProportionDistribution d = start;
+  const auto ratio = [](double v) { return std::clamp(v, ProportionDistribution::kLeastRatio, 1.0); };
+  if (measure == ShapeMeasure::FlakinessIndex) {
+    d.flatness_mean = ratio(t);
+  } else {
+    d.elongation_mean = ratio(start.elongation_mean + t);
+    d.flatness_mean = ratio(start.flatness_mean + t);
+  }
+  return d;
+}
+
+std::pair<double, double> fit_parameter_range(ShapeMeasure measure) {
+  return measure == ShapeMeasure::FlakinessIndex ? std::pair{ProportionDistribution::kLeastRatio, 1.0}
+                                                 : std::pair{-1.0, 1.0};
+}
+
 ProportionFit fit_proportions_to(const ShapeTarget& target, const ProportionDistribution& start,
                                  std::span<const double> intermediate_sizes, std::uint64_t seed, std::size_t samples) {
   start.check();
@@ -120,18 +137,7 @@ ProportionFit fit_proportions_to(const ShapeTarget& target, const ProportionDist
       for (int u = 0; u < 4; ++u) uniforms.push_back(rng.uniform());
     }
   const bool flakiness = target.measure == ShapeMeasure::FlakinessIndex;
-  // The candidate of parameter t: the flatness mean, or the shift of both means.
-  const auto candidate = [&](double t) {
-    ProportionDistribution d = start;
-    const auto ratio = [](double v) { return std::clamp(v, ProportionDistribution::kLeastRatio, 1.0); };
-    if (flakiness) {
-      d.flatness_mean = ratio(t);
-    } else {
-      d.elongation_mean = ratio(start.elongation_mean + t);
-      d.flatness_mean = ratio(start.flatness_mean + t);
-    }
-    return d;
-  };
+  const auto candidate = [&](double t) { return fitted_distribution(target.measure, start, t); };
   std::vector<GrainMeasure> grains(size_of.size());
   const auto percent_of = [&](const ProportionDistribution& d) {
     for (std::size_t k = 0; k < grains.size(); ++k) {
@@ -148,7 +154,7 @@ ProportionFit fit_proportions_to(const ShapeTarget& target, const ProportionDist
     throw InputError(fmt::format("a {} applies to no grain of these sizes ({})", measure_name(target.measure),
                                  flakiness ? "classes 4/5 to 63/80 mm" : "4 mm and up"));
   // The percentage falls as t grows (flatter and longer grains count): bisect on t.
-  double lo = flakiness ? ProportionDistribution::kLeastRatio : -1.0, hi = 1.0;
+  auto [lo, hi] = fit_parameter_range(target.measure);
   for (int step = 0; step < 60; ++step) {
     const double mid = 0.5 * (lo + hi);
     if (*percent_of(candidate(mid)) > target.percent) lo = mid;
@@ -157,7 +163,7 @@ ProportionFit fit_proportions_to(const ShapeTarget& target, const ProportionDist
   // Of the two ends of the last bracket, the closer.
   const double at_lo = *percent_of(candidate(lo)), at_hi = *percent_of(candidate(hi));
   const bool take_lo = std::abs(at_lo - target.percent) <= std::abs(at_hi - target.percent);
-  ProportionFit fit{candidate(take_lo ? lo : hi), take_lo ? at_lo : at_hi, false};
+  ProportionFit fit{candidate(take_lo ? lo : hi), take_lo ? lo : hi, take_lo ? at_lo : at_hi, false};
   fit.reached = std::abs(fit.achieved_percent - target.percent) <= 0.5;
   return fit;
 }

@@ -7,6 +7,7 @@
 #include <optional>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "aggpack/core/rng.hpp"
@@ -74,9 +75,17 @@ struct GrainMeasure {
 // for every candidate, so the percentage moves only with the fitted mean).
 struct ProportionFit {
   ProportionDistribution distribution;
+  double parameter = 0.0;         // what was fitted (fitted_distribution's t)
   double achieved_percent = 0.0;  // with the fitted distribution, on those grains
   bool reached = false;           // within 0.5 percentage points of the target
 };
+// The candidate of fit parameter t: for a flakiness index the flatness mean t, for an L/S
+// measure both of start's means shifted by t (each kept within [kLeastRatio, 1]).
+[[nodiscard]] ProportionDistribution fitted_distribution(ShapeMeasure measure, const ProportionDistribution& start,
+                                                         double t);
+// The range of t a fit searches, the percentage falling as t grows.
+[[nodiscard]] std::pair<double, double> fit_parameter_range(ShapeMeasure measure);
+
 [[nodiscard]] ProportionFit fit_proportions_to(const ShapeTarget& target, const ProportionDistribution& start,
                                                std::span<const double> intermediate_sizes, std::uint64_t seed,
                                                std::size_t samples = 200);
