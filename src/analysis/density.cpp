@@ -53,8 +53,8 @@ double piece_volume(const ParticleStore& p, const Piece& piece) {
 }
 
 // Its volume inside `box`, the piece moved to `centre` (one of its periodic images): a
-// body's by the slicing of its union cut by the box (1e-8 of its volume), unless its
-// bounding sphere lies wholly inside the box or a box plane separates them.
+// body's by the slicing of its union cut by the box (to 1e-6 of its spheres' summed volume),
+// unless its bounding sphere lies wholly inside the box or a box plane separates them.
 double piece_volume_in_box(const ParticleStore& p, const Piece& piece, const Vec3& centre, const Box& box) {
   if (!piece.body) return sphere_box_volume(centre, piece.reach, box);
   const double r = piece.reach;
@@ -69,7 +69,7 @@ double piece_volume_in_box(const ParticleStore& p, const Piece& piece, const Vec
   std::vector<MemberSphere> members;
   for (std::uint32_t i = p.bodies.first_member[b]; i < p.bodies.first_member[b] + p.bodies.member_count[b]; ++i)
     members.push_back({centre + rotate(q, p.body_offset[i]), p.radius[i]});
-  return union_volume_in_box(members, box, 1e-8);
+  return union_volume_in_box(members, box, 1e-6);
 }
 }  // namespace
 

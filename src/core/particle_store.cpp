@@ -46,6 +46,7 @@ std::size_t ParticleStore::add_body(const Vec3& centre, const Quaternion& orient
   bodies.angular_velocity.push_back({});
   bodies.mass.push_back(density * shape.volume * s3);
   bodies.volume.push_back(shape.volume * s3);
+  bodies.shape.push_back(shape.id);
   bodies.principal_inertia.push_back((density * s3 * s * s) * moments);
   for (std::size_t k = 0; k < shape.member_centres.size(); ++k) {
     const Vec3 offset = s * shape.member_centres[k];

@@ -117,12 +117,28 @@ GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const doub
   fit.reached = std::abs(best.percent - target.percent) <= 1.0;
   if (!fit.reached)
     throw InputError(fmt::format("a {} of {:.3g} % cannot be had from these proportions and sizes (the closest is "
-                                 "{:.3g} %): widen the spreads of elongation and flatness, or give more templates",
-                                 measure_name(target.measure), target.percent, fit.achieved_percent));
+                                 "{:.3g} %; each of the {} templates counts or not, so few sizes move the "
+                                 "percentage in steps): give more templates, or widen the spreads of elongation and "
+                                 "flatness",
+                                 measure_name(target.measure), target.percent, fit.achieved_percent, spec.templates));
   library.distribution = fit.distribution;
   library.fit = fit;
   library.grains = std::move(best.grains);
   return library;
+}
+
+GrainMeasure measure_body(const ParticleStore& particles, std::size_t b) {
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  const RigidBodies& bodies = particles.bodies;
+  for (std::uint32_t i = bodies.first_member[b]; i < bodies.first_member[b] + bodies.member_count[b]; ++i) {
+    const Vec3& c = particles.body_offset[i];
+    const double r = particles.radius[i];
+    lo = {std::min(lo.x, c.x - r), std::min(lo.y, c.y - r), std::min(lo.z, c.z - r)};
+    hi = {std::max(hi.x, c.x + r), std::max(hi.y, c.y + r), std::max(hi.z, c.z + r)};
+  }
+  double extent[3] = {hi.x - lo.x, hi.y - lo.y, hi.z - lo.z};
+  std::sort(extent, extent + 3);
+  return {extent[2], extent[1], extent[0], bodies.mass[b]};
 }
 
 GrainMeasure measure_grain(const LibraryGrain& grain, double width, double density) {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <limits>
 #include <numbers>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -221,19 +222,30 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
 std::string particles_csv(const ParticleStore& particles, std::span<const std::string> material_names) {
   fmt::memory_buffer out;
   const auto o = std::back_inserter(out);
-  if (material_names.empty()) {
-    fmt::format_to(o, "id,x,y,z,r\n");
-    for (std::size_t i = 0; i < particles.size(); ++i) {
-      const Vec3& p = particles.position[i];
-      fmt::format_to(o, "{},{},{},{},{}\n", i + 1, p.x, p.y, p.z, particles.radius[i]);
-    }
-    return fmt::to_string(out);
-  }
-  fmt::format_to(o, "id,x,y,z,r,material\n");
+  const bool grains = !particles.bodies.empty();
+  fmt::format_to(o, "id,x,y,z,r{}{}\n", grains ? ",grain" : "", material_names.empty() ? "" : ",material");
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Vec3& p = particles.position[i];
-    fmt::format_to(o, "{},{},{},{},{},{}\n", i + 1, p.x, p.y, p.z, particles.radius[i],
-                   material_names[particles.material.at(i)]);
+    fmt::format_to(o, "{},{},{},{},{}", i + 1, p.x, p.y, p.z, particles.radius[i]);
+    if (grains) fmt::format_to(o, ",{}", particles.body[i] == kNoBody ? 0 : std::size_t{particles.body[i]} + 1);
+    if (!material_names.empty()) fmt::format_to(o, ",{}", material_names[particles.material.at(i)]);
+    fmt::format_to(o, "\n");
+  }
+  return fmt::to_string(out);
+}
+
+std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures) {
+  fmt::memory_buffer out;
+  const auto o = std::back_inserter(out);
+  fmt::format_to(o, "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres\n");
+  const RigidBodies& b = particles.bodies;
+  for (std::size_t k = 0; k < b.size(); ++k) {
+    const Vec3& c = b.position[k];
+    const Quaternion& q = b.orientation[k];
+    const GrainMeasure& m = measures[k];
+    fmt::format_to(o, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, c.x, c.y, c.z, q.w, q.x, q.y, q.z,
+                   std::cbrt(6.0 * b.volume[k] / std::numbers::pi), m.length, m.width, m.thickness, b.mass[k],
+                   b.shape[k] + 1, b.first_member[k] + 1, b.member_count[k]);
   }
   return fmt::to_string(out);
 }

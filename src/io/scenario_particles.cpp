@@ -21,7 +21,7 @@ std::uint8_t component_material(const TomlSection& s, std::span<const std::strin
 }
 
 SizeClass read_size_class(const TomlSection& s) {
-  s.allow_only({"diameter", "count", "volume_fraction", "material"});
+  s.allow_only({"diameter", "count", "volume_fraction", "material", "shape"});
   SizeClass c;
   c.diameter = s.required(s.length("diameter", kPositive, kLargestBareGrain), "diameter", "a length such as \"0.5 in\"");
   if (const auto n = s.integer("count", 1, 1'000'000'000)) c.count = static_cast<std::size_t>(*n);
@@ -34,11 +34,13 @@ SizeClass read_size_class(const TomlSection& s) {
 
 // [[particles.classes]] into `spec`; returns each class's material.
 std::vector<std::uint8_t> read_classes(const std::vector<TomlSection>& classes, SizeSpec& spec,
-                                       std::span<const std::string> material_names) {
+                                       std::span<const std::string> material_names,
+                                       std::vector<std::optional<GrainShapeSpec>>& shapes) {
   std::vector<std::uint8_t> materials;
   for (const auto& c : classes) {
     spec.classes.push_back(read_size_class(c));
     materials.push_back(component_material(c, material_names));
+    shapes.push_back(read_grain_shape(c));
     // A diameter is one size: two classes of it cannot be of two materials.
     for (std::size_t k = 0; k + 1 < spec.classes.size(); ++k)
       if (spec.classes[k].diameter == spec.classes.back().diameter && materials[k] != materials.back())
@@ -54,7 +56,7 @@ std::vector<std::uint8_t> read_classes(const std::vector<TomlSection>& classes, 
 
 GradingSource read_grading_source(const TomlSection& s, const std::filesystem::path& scenario_dir) {
   s.allow_only({"name", "file", "length_unit", "percent_column", "sieves", "law", "law_d_max", "q", "law_d_min",
-                "d_min", "d_max", "band", "material"});
+                "d_min", "d_max", "band", "material", "shape"});
   GradingSource g;
   g.key = s.path();
   const int ways = int(s.has("name")) + int(s.has("file")) + int(s.has("sieves")) + int(s.has("law"));
@@ -127,7 +129,8 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
 
 GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& scenario_dir,
                             const Container& container, std::span<const std::string> material_names,
-                            std::vector<std::uint8_t>& component_materials) {
+                            std::vector<std::uint8_t>& component_materials,
+                            std::vector<std::optional<GrainShapeSpec>>& component_shapes) {
   GradedParticles p;
   const bool mix = s.has("coarse") || s.has("fine");
   if (mix) {
@@ -138,11 +141,13 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
     p.fine = read_grading_source(fine, scenario_dir);
     p.ca_fa = s.required(s.number("ca_fa", kPositive), "ca_fa", "the coarse/fine volume ratio, such as 1.52");
     component_materials = {component_material(coarse, material_names), component_material(fine, material_names)};
+    component_shapes = {read_grain_shape(coarse), read_grain_shape(fine)};
   } else {
     if (s.has("ca_fa")) s.fail("ca_fa", "applies only to a coarse/fine mix");
     const TomlSection grading = *s.table("grading");
     p.main = read_grading_source(grading, scenario_dir);
     component_materials = {component_material(grading, material_names)};
+    component_shapes = {read_grain_shape(grading)};
   }
   p.sampling = s.choice("sampling", kSamplingModeNames).value_or(SamplingMode::Mass);
   p.order = s.choice("order", kMixOrderNames).value_or(mix ? MixOrder::Interleaved : MixOrder::Shuffled);
@@ -172,7 +177,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
                               const Container& container, std::span<const std::string> material_names) {
   s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
                 "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance",
-                "overlap_tolerance", "soft_contacts", "timestep", "material"});
+                "overlap_tolerance", "soft_contacts", "timestep", "material", "shape"});
   ParticleSource source;
   const bool graded = s.has("grading") || s.has("coarse") || s.has("fine");
   const int ways = int(s.has("diameter")) + int(s.has("classes")) + int(s.has("from")) + int(graded);
@@ -184,7 +189,11 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
     if (s.has("material"))
       s.fail("material", "a grading's material is given in its own table ([particles.grading], [particles.coarse], "
                          "[particles.fine])");
-    source.graded = read_graded(s, scenario_dir, container, material_names, source.component_material);
+    if (s.has("shape"))
+      s.fail("shape", "a grading's grains are given in its own table ([particles.grading.shape], "
+                      "[particles.coarse.shape], [particles.fine.shape])");
+    source.graded =
+        read_graded(s, scenario_dir, container, material_names, source.component_material, source.component_shape);
     return source;
   }
   if (s.has("classes") && s.has("material"))
@@ -194,6 +203,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   for (auto k : {"sampling", "fill_height", "expected_density", "ca_fa"})
     if (s.has(k)) s.fail(k, "applies only to particles sampled from a grading");
   if (const auto file = s.string("from")) {
+    if (s.has("shape")) s.fail("shape", "a particle file holds spheres: grains are generated from sizes and poured");
     for (auto k : {"count", "solid_volume", "order"})
       if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
     const std::string unit = s.string("length_unit").value_or("m");
@@ -217,10 +227,12 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   if (const auto d = s.length("diameter", kPositive, kLargestBareGrain)) {
     if (solid_volume) s.fail("solid_volume", "monosized particles take a 'count'");
     spec.classes.push_back({*d, static_cast<std::size_t>(s.required(count, "count", "a positive integer")), {}});
+    source.component_shape = {read_grain_shape(s)};
   } else {
     const auto classes = *s.table_array("classes");
     if (classes.empty()) s.fail("classes", "expected at least one size class");
-    source.component_material = read_classes(classes, spec, material_names);
+    if (s.has("shape")) s.fail("shape", "each size class gives its own shape ([[particles.classes]] shape = {...})");
+    source.component_material = read_classes(classes, spec, material_names, source.component_shape);
     const bool by_fraction = spec.classes.front().volume_fraction.has_value();
     if (by_fraction) {
       double sum = 0.0;

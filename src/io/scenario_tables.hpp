@@ -53,6 +53,8 @@ std::vector<NamedMaterial> read_named_materials(const TomlSection& table, const 
 // The spring-dashpot rolling model needs a rolling_friction > 0 somewhere (InputError at [material]).
 void check_rolling_resistance(const TomlSection& root, const Scenario& sc);
 std::uint8_t material_index(const TomlSection& s, std::string_view key, std::span<const std::string> names);
+// A component's `shape` table (scenario_grains.cpp); none: the component is of spheres.
+std::optional<GrainShapeSpec> read_grain_shape(const TomlSection& component);
 std::vector<MaterialPairCoefficients> read_material_pairs(const std::vector<TomlSection>& entries,
                                                           std::span<const std::string> names, RollingModel rolling);
 

@@ -17,6 +17,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/particle_file.hpp"
+#include "aggpack/run/run_grains.hpp"
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/lammps/process.hpp"
 #include "aggpack/run/lammps_steps.hpp"
@@ -160,6 +161,8 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     return summary;
   }
   if (sc.output.csv) write("particles.csv", particles_csv(report.particles, material_names));
+  if (sc.output.csv && !report.particles.bodies.empty())
+    write("grains.csv", grains_csv(report.particles, measure_bodies(report.particles)));
   if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
   if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());
   if (!report.tappings.empty()) {

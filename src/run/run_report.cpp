@@ -15,6 +15,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/run/checkpoint.hpp"
 #include "aggpack/run/grading_report.hpp"
+#include "aggpack/run/run_grains.hpp"
 
 namespace aggpack {
 
@@ -418,6 +419,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
     summary["settled"] = rest->settled;
     summary["final_translational_energy_per_particle_mgd"] = rest->translational_energy_per_particle_mgd;
     summary["quiet_translational_energy_per_particle_mgd"] = rest->quiet_below;
+  }
+  if (!grain_libraries.is_null()) {
+    summary["grains"] = {{"count", particles.bodies.size()},
+                         {"components", bed_grains_json(grain_libraries, particles, grain_shape_component)},
+                         {"checkpoints", "none: a run with grains cannot be resumed yet"},
+                         {"files", "grains.csv (one row per grain), particles.csv's grain column (its spheres)"}};
   }
   summary["modelling_notes"] = modelling_notes();
   if (resumed_from) summary["resumed_from_checkpoint"] = *resumed_from;

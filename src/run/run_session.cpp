@@ -33,6 +33,23 @@ std::vector<double> drop_radii(const InitialBed& bed) {
   return radii;
 }
 
+// Grains of several spheres (a component's `shape`) are poured by aggpack's DEM: the drop and
+// roll places spheres, and the LAMMPS bridge takes spheres only so far.
+void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
+  if (!sc.particles.has_grains()) return;
+  const auto fail = [&](std::string_view what) {
+    throw InputError(fmt::format("{}: a component has a shape (grains of several spheres), and {}", sc.file.string(), what));
+  };
+  for (const Step& step : protocol.steps) {
+    if (std::holds_alternative<DepositStep>(step.kind))
+      fail("the drop-and-roll deposition places spheres only: pour grains ([pour]) instead of depositing them");
+    if (std::holds_alternative<ExportLammpsStep>(step.kind) || std::holds_alternative<ImportLammpsStep>(step.kind))
+      fail("the LAMMPS bridge takes spheres only so far: leave out the LAMMPS steps");
+  }
+  if (sc.dynamics && sc.dynamics->engine == DemEngine::Lammps)
+    fail("dynamics.engine = \"lammps\" takes spheres only so far: use aggpack's DEM");
+}
+
 // The frames' slack: a sample meant to fall on a multiple of frame_interval is not missed by a rounding.
 constexpr double kFrameSlack = 1e-6;
 }  // namespace
@@ -97,6 +114,26 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   if (initial.sizes) report_.wall_clock_s["sizes"] = prepared_s;
   context_.radii = drop_radii(initial);
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
+  check_grain_protocol(sc, protocol_);
+  if (initial.sizes) {
+    const auto t_grains = Clock::now();
+    try {
+      context_.grains = make_run_grains(sc.particles, *initial.sizes, sc.seed);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
+    }
+    if (!context_.grains.empty()) {
+      // The checks of sizes again, with each grain as the sphere that holds it (its reach): the
+      // virtual boxes' room from the walls and the bed's surface is one such diameter.
+      check_sizes(sc, context_.grains.pour_part(context_.radii, 0).radii);
+      report_.wall_clock_s["grains"] = seconds_since(t_grains);
+      report_.grain_libraries = libraries_json(context_.grains, initial.sizes->report.components);
+      report_.grain_shape_component = context_.grains.shape_component;
+    }
+  }
+  const bool grains = !context_.grains.empty();
+  if (grains && controls.resume_from)
+    throw InputError(fmt::format("{}: a run with grains cannot be resumed yet; run it again", sc.file.string()));
   context_.material_densities = material_densities(sc);
   std::string calibrated;  // the values its calibration files gave the scenario
   for (const DemCalibrationFile& c : sc.calibrations)
@@ -116,7 +153,8 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
     frame_taker_ = [this](double time, const ParticleStore& bed) { take_frames(time, bed); };
     context_.at_sample = &frame_taker_;
   }
-  if (controls.checkpoints) {
+  // A run with grains writes no checkpoint yet: its bed's bodies are not in one (summary.json says so).
+  if (controls.checkpoints && !grains) {
     Checkpoint header = controls.checkpoints->header;
     header.inputs_fingerprint = fingerprint;
     checkpointer_.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),

@@ -295,13 +295,19 @@ SettlingRun settle_bed(const Scenario& sc, ParticleStore& particles, std::uint32
 }
 
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii,
-                 const SphereMaterials& materials, std::uint32_t part,
+                 const SphereMaterials& materials, const PouredShapes& shapes, std::uint32_t part,
                  double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress) try {
   const PourSettings& settings = *sc.pour;
   const DynamicsStage& stage = *sc.dynamics;
+  // The smallest sphere, a grain's smallest member among them (its radius at reach 1, scaled).
   double r_min = std::numeric_limits<double>::infinity();
   for (const double r : particles.radius) r_min = std::min(r_min, r);
-  for (const double r : radii) r_min = std::min(r_min, r);
+  for (std::size_t k = 0; k < radii.size(); ++k) {
+    const RigidBodyShape* shape = shapes.shape(k);
+    if (!shape) r_min = std::min(r_min, radii[k]);
+    else
+      for (const double member : shape->member_radii) r_min = std::min(r_min, radii[k] * member);
+  }
   DemSetup setup = dem_setup(sc, r_min, controls.threads);
   // The skin is chosen for the smallest sphere still to come, not the smallest in the bed.
   if (!(setup.settings.skin > 0.0)) setup.settings.skin = DemSystem::default_skin(r_min);
@@ -336,8 +342,8 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
   hooks.density = box_density(sc);
   SettleResult result;
   try {
-    result = pour(dem, particles, sc.container, radii, settings, part, materials, PouredShapes{}, stage.quiet, loop,
-                  resumed, hooks);
+    result = pour(dem, particles, sc.container, radii, settings, part, materials, shapes, stage.quiet, loop, resumed,
+                  hooks);
   } catch (const PourInsertionError& e) {
     throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
   }

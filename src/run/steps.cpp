@@ -79,12 +79,15 @@ void run_step(const PourStep& step, RunContext& ctx) {
   const std::size_t n = ctx.radii.size();
   const std::size_t begin = n * step.layer / step.layers, end = n * (step.layer + 1) / step.layers;
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
+  // Grains come in by their bounding spheres' radii, each with its shape.
+  const RunGrains::PourPart part = ctx.grains.pour_part(radii, begin);
   const PourRun run =
       r.scenario.dynamics->engine == DemEngine::Lammps
           ? pour_in_lammps(r.scenario, r.particles, radii, ctx.materials(begin, end), step, ctx.simulated_time,
                            r.series, ctx.progress)
-          : pour_bed(r.scenario, r.particles, radii, ctx.materials(begin, end), step.layer, ctx.simulated_time,
-                     ctx.stage_controls(), r.series, ctx.progress);
+          : pour_bed(r.scenario, r.particles, part.radii, ctx.materials(begin, end),
+                     ctx.grains.empty() ? PouredShapes{} : PouredShapes{part.shapes}, step.layer,
+                     ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
   ctx.simulated_time += run.settling.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
   r.dynamics->runs.push_back(run.settling);

@@ -31,7 +31,7 @@ MODULE_DEPENDENCIES = {
     "analysis": {"core", "spatial", "grains"},
     "dynamics": {"core", "spatial", "deposition"},
     "report": {"core"},
-    "io": {"core", "sizes", "deposition", "dynamics"},
+    "io": {"core", "sizes", "deposition", "dynamics", "grains"},
     "lammps": {"io", "dynamics"},
     "run": {"io", "report", "analysis", "dynamics", "models", "lammps"},
     "studies": {"run"},

@@ -24,6 +24,7 @@ struct RigidBodies {
   std::vector<double> mass;                 // kg, of the members' union (each point once)
   std::vector<double> volume;               // m^3, of the members' union
   std::vector<Vec3> principal_inertia;      // kg m^2, about the body frame's axes
+  std::vector<std::uint32_t> shape;         // its shape's id (RigidBodyShape::id: a run's template)
   [[nodiscard]] std::size_t size() const { return mass.size(); }
   [[nodiscard]] bool empty() const { return mass.empty(); }
 };
@@ -37,6 +38,7 @@ struct RigidBodyShape {
   double volume = 0.0;                   // of the members' union, m^3
   Vec3 principal_inertia_per_density;    // m^5
   double scale = 1.0;
+  std::uint32_t id = 0;  // what the caller calls this shape (a run: its template's index)
   // The farthest point of its members from its centre of mass, m (scaled).
   [[nodiscard]] double reach() const;
 };

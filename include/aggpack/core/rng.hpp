@@ -25,7 +25,15 @@ class Rng {
 };
 
 // Named purposes, so that adding a stage never shifts another stage's numbers.
-enum class RngPurpose : std::uint64_t { Sizes = 1, Deposition = 2, Dynamics = 3, Analysis = 4, Pour = 5, Shapes = 6 };
+enum class RngPurpose : std::uint64_t {
+  Sizes = 1,
+  Deposition = 2,
+  Dynamics = 3,
+  Analysis = 4,
+  Pour = 5,
+  Shapes = 6,
+  GrainTemplates = 7,  // which template each grain of a run is
+};
 
 inline Rng make_rng(std::uint64_t seed, RngPurpose purpose) {
   return Rng(seed, static_cast<std::uint64_t>(purpose));

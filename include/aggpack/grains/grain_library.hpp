@@ -59,6 +59,11 @@ struct GrainLibrary {
 [[nodiscard]] GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const double> intermediate_sizes,
                                               std::uint64_t seed);
 
+// The dimensions and mass of body b of the store, as a lab measures them: L, I and S the
+// extents of its members along its body frame's axes (its principal axes, longest first for
+// the templates of a library).
+[[nodiscard]] GrainMeasure measure_body(const ParticleStore& particles, std::size_t b);
+
 // The dimensions and mass of grain `k` of the library scaled to `width`, as a lab measures them.
 [[nodiscard]] GrainMeasure measure_grain(const LibraryGrain& grain, double width, double density);
 

@@ -10,6 +10,7 @@
 #include "aggpack/core/container.hpp"
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/deposition/contact_geometry.hpp"
+#include "aggpack/grains/shape_measures.hpp"
 
 namespace aggpack {
 
@@ -46,7 +47,14 @@ ParticleStore parse_particle_text(std::string_view text, const std::string& name
 // run 1..N in store order: the numbering of particles.vtp and of the LAMMPS files (one
 // numbering across the bridge; LAMMPS has no atom 0). Given the names of the run's materials
 // (a run of several), a last column "material" names each sphere's.
+// With rigid grains, a `grain` column names each sphere's (1-based; 0 for a sphere of its own).
 std::string particles_csv(const ParticleStore& particles, std::span<const std::string> material_names = {});
+
+// grains.csv: one row per rigid grain (1-based id, as particles.csv's grain column): its centre
+// of mass (m), orientation quaternion (body frame to space; the body frame is the grain's
+// principal axes, x the longest), volume-equivalent diameter, L, I, S (m, `measures`, one per
+// grain), mass (kg), template (1-based, the run's), its first sphere's id and its sphere count.
+std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures);
 
 // "id,support_1_kind,support_1_id,...,support_3_id": what each sphere (id 1..N) came to rest
 // on in the deposition stage. A kind is sphere, floor, wall_x_low, wall_x_high, wall_y_low,

@@ -17,6 +17,7 @@
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/dynamics/tap.hpp"
 #include "aggpack/io/dem_calibration_file.hpp"
+#include "aggpack/grains/grain_library.hpp"
 #include "aggpack/io/protocol.hpp"
 #include "aggpack/io/vtk.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
@@ -61,6 +62,14 @@ struct ParticleSource {
   // The material of each component (a size class, as listed; a mix's coarse, then fine; one
   // grading), as an index of the run's materials (material_count). Empty: all [material].
   std::vector<std::uint8_t> component_material;
+  // The grains of each component (indexed as component_material), or none for spheres; empty:
+  // spheres throughout.
+  std::vector<std::optional<GrainShapeSpec>> component_shape;
+  [[nodiscard]] bool has_grains() const {
+    for (const auto& shape : component_shape)
+      if (shape) return true;
+    return false;
+  }
   // Component c's material (a particle file is one component: 0).
   [[nodiscard]] std::uint8_t material_of_component(std::size_t c) const {
     return component_material.empty() ? 0 : component_material.at(c);

@@ -81,6 +81,10 @@ struct RunReport {
   std::optional<std::string> resumed_from;        // the checkpoint's safe point, when resumed
   std::optional<std::string> checkpoint_error;    // why checkpoints stopped, when a write failed
   std::string working_directory;  // the run's, absolute: where a relative scenario.file lies (empty: unknown)
+  // Rigid grains (a component's shape): the libraries' report (libraries_json), and each
+  // template's component; empty for a run of spheres.
+  nlohmann::json grain_libraries;
+  std::vector<std::uint32_t> grain_shape_component;
 
   // The mean virtual-box density after deposition / after dynamics; NaN when not run.
   [[nodiscard]] double density_after_deposition() const;

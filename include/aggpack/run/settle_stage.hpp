@@ -63,7 +63,7 @@ struct PourRun {
   SettlingRun settling;
 };
 PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const double> radii,
-                 const SphereMaterials& materials, std::uint32_t part,
+                 const SphereMaterials& materials, const PouredShapes& shapes, std::uint32_t part,
                  double time_offset, const StageControls& controls, TimeSeries& series, Progress& progress);
 
 // Taps the bed with the scenario's [tapping], [dynamics] and [material]: each tap moves the

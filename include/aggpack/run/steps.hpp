@@ -5,6 +5,7 @@
 #include "aggpack/run/carried_dem.hpp"
 #include "aggpack/run/progress.hpp"
 #include "aggpack/run/protocol.hpp"
+#include "aggpack/run/run_grains.hpp"
 #include "aggpack/run/run_report.hpp"
 
 namespace aggpack {
@@ -21,6 +22,7 @@ struct RunContext {
   std::vector<double> radii{};                  // the drop sequence, m
   std::vector<std::uint8_t> sphere_materials{}; // the drop sequence's materials; empty: all [material]
   std::vector<double> material_densities{};     // kg/m^3, per material of the run
+  RunGrains grains{};                           // the drop sequence's grains; empty: all spheres
   double simulated_time = 0.0;                  // s of DEM so far, over all settle steps
   std::optional<std::uint32_t> deposition_stopped_at{};  // the layer whose deposition ended early
   const SampleObserver* at_sample = nullptr;    // at every DEM sample (the frames); null: nothing

@@ -1,0 +1,52 @@
+#pragma once
+// A run's grains (issue 38): each component that has a `shape` gets its library of templates,
+// and each of its particles one of them, scaled so that its intermediate dimension is the size
+// the grading gave it.
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/core/particle_store.hpp"
+#include "aggpack/dynamics/pour.hpp"
+#include "aggpack/grains/grain_library.hpp"
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/run/generate_sizes.hpp"
+
+namespace aggpack {
+
+struct RunGrains {
+  std::vector<std::optional<GrainLibrary>> libraries;  // per component; none: spheres
+  // The templates of every library, in order (views into `libraries`, which must not change).
+  std::vector<RigidBodyShape> shapes;
+  std::vector<const LibraryGrain*> shape_grain;  // per entry of `shapes`
+  std::vector<std::uint32_t> shape_component;    // per entry of `shapes`: its component
+  std::vector<std::int32_t> shape_of;  // per particle of the drop sequence: an index into shapes, -1: a sphere
+  [[nodiscard]] bool empty() const { return shape_of.empty(); }
+  // The radii a pour of particles [begin, end) of the drop sequence takes (a grain's reach at
+  // its size, a sphere's radius), and their shapes.
+  struct PourPart {
+    std::vector<double> radii;
+    std::vector<const RigidBodyShape*> shapes;
+  };
+  [[nodiscard]] PourPart pour_part(std::span<const double> sieve_radii, std::size_t begin) const;
+};
+
+// summary.json's "grains" before the run: each component's shape, its fitted proportions and
+// what its templates measure (every template at every size of the component, by mass).
+nlohmann::json libraries_json(const RunGrains& grains, const std::vector<SizesComponent>& components);
+// ... and after: what the grains of the bed measure, by component (shape_component: a body's
+// template's component), by mass as a lab would, beside the libraries' targets.
+nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleStore& bed,
+                               const std::vector<std::uint32_t>& shape_component);
+// One GrainMeasure per body of the bed (grains.csv's dimensions).
+std::vector<GrainMeasure> measure_bodies(const ParticleStore& bed);
+
+// The run's grains from its components' shapes, the generated sizes (diameters: each grain's
+// intermediate dimension) and the seed; empty when no component has a shape. Throws InputError
+// from a library (a measure that applies to none of a component's sizes or cannot be reached).
+RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed);
+
+}  // namespace aggpack

@@ -1,0 +1,55 @@
+// A component's `shape` table: its particles as rigid grains of several spheres (issue 38).
+#include <fmt/format.h>
+
+#include "scenario_tables.hpp"
+
+namespace aggpack {
+
+namespace {
+constexpr NumberRange kRatio{ProportionDistribution::kLeastRatio, 1.0, false, false};
+constexpr NumberRange kSpread{0.0, 0.5, false, false};
+constexpr NumberRange kPercent{0.0, 100.0, false, false};
+}  // namespace
+
+std::optional<GrainShapeSpec> read_grain_shape(const TomlSection& component) {
+  const std::optional<TomlSection> table = component.table("shape");
+  if (!table) return std::nullopt;
+  const TomlSection& s = *table;
+  s.allow_only({"family", "spheres", "corners", "templates", "elongation", "flatness", "spread", "elongation_spread",
+                "flatness_spread", "flakiness_index", "shape_index", "flat_elongated", "flat_elongated_ratio"});
+  GrainShapeSpec spec;
+  const std::string family =
+      s.required(s.choice("family", {"rounded", "angular"}), "family", "\"rounded\" (gravel) or \"angular\" (crushed stone)");
+  spec.family = family == "rounded" ? GrainFamily::Rounded : GrainFamily::Angular;
+  if (const auto n = s.integer("spheres", 1, 64)) spec.spheres = static_cast<std::size_t>(*n);
+  if (const auto n = s.integer("corners", 4, 200)) {
+    if (spec.family != GrainFamily::Angular) s.fail("corners", "applies only to angular grains (a hull's corners)");
+    spec.corners = static_cast<std::size_t>(*n);
+  }
+  if (const auto n = s.integer("templates", 1, 1000)) spec.templates = static_cast<std::size_t>(*n);
+  ProportionDistribution& p = spec.proportions;
+  p = {0.7, 0.1, 0.7, 0.1};
+  p.elongation_mean = s.number("elongation", kRatio).value_or(p.elongation_mean);
+  p.flatness_mean = s.number("flatness", kRatio).value_or(p.flatness_mean);
+  const double spread = s.number("spread", kSpread).value_or(0.1);
+  p.elongation_spread = s.number("elongation_spread", kSpread).value_or(spread);
+  p.flatness_spread = s.number("flatness_spread", kSpread).value_or(spread);
+  const std::optional<double> flakiness = s.number("flakiness_index", kPercent),
+                              shape_index = s.number("shape_index", kPercent),
+                              flat_elongated = s.number("flat_elongated", kPercent);
+  if (int(flakiness.has_value()) + int(shape_index.has_value()) + int(flat_elongated.has_value()) > 1)
+    s.fail(flakiness ? "flakiness_index" : "shape_index",
+           "give at most one lab measure to fit the proportions to: flakiness_index (EN 933-3), shape_index "
+           "(EN 933-4) or flat_elongated (ASTM D4791)");
+  if (s.has("flat_elongated_ratio") && !flat_elongated)
+    s.fail("flat_elongated_ratio", "applies only with flat_elongated");
+  if (flakiness) spec.target = ShapeTarget{ShapeMeasure::FlakinessIndex, *flakiness, 0.0};
+  if (shape_index) spec.target = ShapeTarget{ShapeMeasure::ShapeIndex, *shape_index, 0.0};
+  if (flat_elongated) {
+    const double ratio = s.number("flat_elongated_ratio", {1.0, 10.0, true, false}).value_or(3.0);
+    spec.target = ShapeTarget{ShapeMeasure::FlatAndElongated, *flat_elongated, ratio};
+  }
+  return spec;
+}
+
+}  // namespace aggpack

@@ -1,0 +1,134 @@
+#include "aggpack/run/run_grains.hpp"
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/rng.hpp"
+
+namespace aggpack {
+
+RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed) {
+  RunGrains grains;
+  if (!source.has_grains()) return grains;
+  const std::size_t components = source.component_shape.size();
+  grains.libraries.resize(components);
+  for (std::size_t c = 0; c < components; ++c) {
+    const std::optional<GrainShapeSpec>& spec = source.component_shape[c];
+    if (!spec) continue;
+    std::vector<double> widths;
+    for (std::size_t i = 0; i < sizes.diameters.size(); ++i)
+      if (static_cast<std::size_t>(sizes.component[i]) == c) widths.push_back(sizes.diameters[i]);
+    if (widths.empty()) continue;
+    try {
+      // Each component its own stream of shapes.
+      grains.libraries[c] = make_grain_library(*spec, widths, seed * 64 + c);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("the shape of component {} ({}): {}", c + 1,
+                                   c < sizes.report.components.size() ? sizes.report.components[c].key : "a class",
+                                   e.what()));
+    }
+  }
+  std::vector<std::size_t> first_shape(components, 0);
+  for (std::size_t c = 0; c < components; ++c) {
+    first_shape[c] = grains.shapes.size();
+    if (!grains.libraries[c]) continue;
+    for (const LibraryGrain& g : grains.libraries[c]->grains) {
+      grains.shapes.push_back(g.shape());
+      grains.shapes.back().id = static_cast<std::uint32_t>(grains.shapes.size() - 1);
+      grains.shape_grain.push_back(&g);
+      grains.shape_component.push_back(static_cast<std::uint32_t>(c));
+    }
+  }
+  // Each grain a template at random, from its own stream (adding a component's shape moves no size).
+  Rng pick = make_rng(seed, RngPurpose::GrainTemplates);
+  grains.shape_of.assign(sizes.diameters.size(), -1);
+  for (std::size_t i = 0; i < sizes.diameters.size(); ++i) {
+    const auto c = static_cast<std::size_t>(sizes.component[i]);
+    if (c >= components || !grains.libraries[c]) continue;
+    grains.shape_of[i] = static_cast<std::int32_t>(first_shape[c] + pick.below(grains.libraries[c]->grains.size()));
+  }
+  return grains;
+}
+
+nlohmann::json libraries_json(const RunGrains& grains, const std::vector<SizesComponent>& components) {
+  nlohmann::json all = nlohmann::json::array();
+  for (std::size_t c = 0; c < grains.libraries.size(); ++c) {
+    if (!grains.libraries[c]) continue;
+    const GrainLibrary& library = *grains.libraries[c];
+    const GrainShapeSpec& spec = library.spec;
+    const ProportionDistribution& d = library.distribution;
+    nlohmann::json j = {{"component", c + 1},
+                        {"family", family_name(spec.family)},
+                        {"spheres", spec.spheres},
+                        {"templates", spec.templates},
+                        {"filling", "tangent spheres, largest gain first (Ferellec and McDowell 2010)"},
+                        {"elongation", {{"mean", d.elongation_mean}, {"spread", d.elongation_spread}}},
+                        {"flatness", {{"mean", d.flatness_mean}, {"spread", d.flatness_spread}}}};
+    if (c < components.size()) j["key"] = components[c].key;
+    if (spec.family == GrainFamily::Angular) j["corners"] = spec.corners;
+    if (library.fit) {
+      const ShapeTarget& t = *spec.target;
+      j["target"] = {{"measure", measure_name(t.measure)}, {"percent", t.percent}};
+      if (t.measure == ShapeMeasure::FlatAndElongated) j["target"]["ratio"] = t.ratio;
+      j["templates_percent"] = library.fit->achieved_percent;
+      j["fitted"] = t.measure == ShapeMeasure::FlakinessIndex ? "flatness mean" : "elongation and flatness means";
+    }
+    all.push_back(j);
+  }
+  return all;
+}
+
+std::vector<GrainMeasure> measure_bodies(const ParticleStore& bed) {
+  std::vector<GrainMeasure> measures;
+  for (std::size_t b = 0; b < bed.bodies.size(); ++b) measures.push_back(measure_body(bed, b));
+  return measures;
+}
+
+nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleStore& bed,
+                               const std::vector<std::uint32_t>& shape_component) {
+  nlohmann::json out = libraries;
+  const std::vector<GrainMeasure> measures = measure_bodies(bed);
+  for (nlohmann::json& j : out) {
+    const auto c = j["component"].get<std::size_t>() - 1;
+    std::vector<GrainMeasure> grains;
+    double elongation = 0.0, flatness = 0.0;
+    for (std::size_t b = 0; b < measures.size(); ++b) {
+      if (shape_component.at(bed.bodies.shape[b]) != c) continue;
+      grains.push_back(measures[b]);
+      elongation += measures[b].width / measures[b].length;
+      flatness += measures[b].thickness / measures[b].width;
+    }
+    nlohmann::json in_bed = {{"grains", grains.size()}};
+    if (!grains.empty()) {
+      in_bed["mean_elongation"] = elongation / static_cast<double>(grains.size());
+      in_bed["mean_flatness"] = flatness / static_cast<double>(grains.size());
+    }
+    const auto percent = [&](const ShapeTarget& t) {
+      const std::optional<double> p = measured_percent(t, grains);
+      return p ? nlohmann::json(*p) : nlohmann::json(nullptr);
+    };
+    in_bed["flakiness_index_percent"] = percent({ShapeMeasure::FlakinessIndex, 0.0, 0.0});
+    in_bed["shape_index_percent"] = percent({ShapeMeasure::ShapeIndex, 0.0, 0.0});
+    in_bed["flat_elongated_3_to_1_percent"] = percent({ShapeMeasure::FlatAndElongated, 0.0, 3.0});
+    in_bed["by"] = "mass, as the standards measure; L, I, S the extents of each grain's spheres along its principal axes";
+    j["bed"] = in_bed;
+  }
+  return out;
+}
+
+RunGrains::PourPart RunGrains::pour_part(std::span<const double> sieve_radii, std::size_t begin) const {
+  PourPart part;
+  for (std::size_t k = 0; k < sieve_radii.size(); ++k) {
+    const std::int32_t s = empty() ? -1 : shape_of[begin + k];
+    if (s < 0) {
+      part.radii.push_back(sieve_radii[k]);
+      part.shapes.push_back(nullptr);
+      continue;
+    }
+    part.radii.push_back(shape_grain[static_cast<std::size_t>(s)]->reach_for_width(2.0 * sieve_radii[k]));
+    part.shapes.push_back(&shapes[static_cast<std::size_t>(s)]);
+  }
+  return part;
+}
+
+}  // namespace aggpack
