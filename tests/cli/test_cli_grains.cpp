@@ -1,0 +1,112 @@
+// Grains of several spheres as a user meets them: a component's shape in the scenario, the
+// pour, grains.csv and particles.csv's grain column, summary.json's grains; and the scenarios
+// that cannot take grains refused before any work, with the key and what to do.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "run_cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using aggpack::testing::run_cli;
+using aggpack::testing::slurp;
+
+class CliGrains : public ::testing::Test {
+ protected:
+  aggpack::testing::ScratchDir scratch_{"aggpack_cli_grains_"};
+  const fs::path& dir_ = scratch_.path();
+};
+
+// 150 rounded grains of 3 spheres (I = 8 mm) and 40 spheres of 5 mm, poured and settled.
+constexpr const char* kGrains =
+    "title = \"grains\"\nseed = 2\n[container]\nside = 0.045\nheight = 0.3\n[particles]\n"
+    "classes = [{ diameter = 0.008, count = 150, shape = { family = \"rounded\", spheres = 3, templates = 4 } }, "
+    "{ diameter = 0.005, count = 40 }]\n[material]\nyoungs_modulus = 1e7\nwall_youngs_modulus = 1e7\n"
+    "friction_particle = 0.5\n[pour]\nsolid_fraction = 0.15\n[dynamics]\nmax_time = 0.8\n[analysis]\n"
+    "box_sides = [0.006]\n";
+
+std::vector<std::vector<std::string>> csv(const fs::path& file, std::string& header) {
+  std::istringstream in(slurp(file));
+  std::getline(in, header);
+  std::vector<std::vector<std::string>> rows;
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::istringstream s(line);
+    for (std::string cell; std::getline(s, cell, ',');) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
+  std::ofstream(dir_ / "grains.toml") << kGrains;
+  const auto r =
+      run_cli("run " + (dir_ / "grains.toml").string() + " --quiet --threads 1 --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string header;
+  const auto grains = csv(dir_ / "out" / "grains.csv", header);
+  EXPECT_EQ(header, "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres");
+  ASSERT_EQ(grains.size(), 150u);
+  const auto spheres = csv(dir_ / "out" / "particles.csv", header);
+  EXPECT_EQ(header, "id,x,y,z,r,grain");
+  ASSERT_EQ(spheres.size(), 150u * 3 + 40u);
+  // Each grain's spheres name it, from its first sphere on; the others are spheres of their own.
+  std::map<std::string, int> members;
+  for (const auto& row : spheres) ++members[row.at(5)];
+  EXPECT_EQ(members["0"], 40);
+  for (const auto& g : grains) {
+    EXPECT_EQ(members[g.at(0)], 3) << g.at(0);
+    EXPECT_EQ(spheres.at(std::stoul(g.at(14)) - 1).at(5), g.at(0));
+    EXPECT_NEAR(std::stod(g.at(10)), 0.008, 1e-12);  // I: the size the grading gave
+    EXPECT_GE(std::stod(g.at(9)), std::stod(g.at(10)));
+    EXPECT_GE(std::stod(g.at(10)), std::stod(g.at(11)));
+  }
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "out" / "summary.json"));
+  const auto& g = summary.at("grains");
+  EXPECT_EQ(g.at("count"), 150);
+  EXPECT_EQ(g.at("components").at(0).at("family"), "rounded");
+  EXPECT_EQ(g.at("components").at(0).at("bed").at("grains"), 150);
+  EXPECT_TRUE(g.at("checkpoints").get<std::string>().starts_with("none"));
+  const double density = summary.at("density").at("mean").get<double>();
+  EXPECT_GT(density, 0.3);
+  EXPECT_LT(density, 0.9);
+}
+
+// Refused before any work, exit 2, naming what to change.
+TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
+  std::string deposited = kGrains;
+  deposited.replace(deposited.find("[pour]\nsolid_fraction = 0.15\n"), 29, "[deposition]\n");
+  const std::map<std::string, std::pair<std::string, std::string>> cases{
+      {"deposited", {deposited, "pour grains"}},
+      {"unreachable",
+       {"title = \"t\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\nclasses = [{ diameter = 0.009, count = 100, "
+        "shape = { family = \"rounded\", spheres = 2, templates = 1, spread = 0, flakiness_index = 50 } }]\n"
+        "[pour]\n[dynamics]\n[analysis]\nbox_sides = [0.005]\n",
+        "cannot be had"}},
+      {"two_measures",
+       {"title = \"t\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 10\nshape = { family = "
+        "\"angular\", flakiness_index = 10, shape_index = 20 }\n",
+        "at most one lab measure"}},
+      {"corners_of_a_rounded",
+       {"title = \"t\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 10\nshape = { family = "
+        "\"rounded\", corners = 10 }\n",
+        "angular grains"}},
+  };
+  for (const auto& [name, what] : cases) {
+    std::ofstream(dir_ / (name + ".toml")) << what.first;
+    const auto r = run_cli("run " + (dir_ / (name + ".toml")).string() + " --quiet --out " + (dir_ / name).string());
+    EXPECT_EQ(r.exit_code, 2) << name << ": " << r.output;
+    EXPECT_NE(r.output.find(what.second), std::string::npos) << name << ": " << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / name / "summary.json")) << name;
+  }
+}
+
+}  // namespace
