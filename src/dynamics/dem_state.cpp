@@ -175,7 +175,7 @@ void DemSystem::check_restored_bodies() const {
       fail(fmt::format("the record of rigid body {} is not the body", b));
     if (!finite(body.position) || !finite(body.velocity) || !finite(body.angular_momentum) ||
         !finite(body.angular_velocity) || !(std::abs(q_norm - 1.0) < 1e-12) || !finite(body_load_[b].force) ||
-        !finite(body_load_[b].torque))
+        !finite(body_load_[b].torque) || !(body.rotation == rotation_matrix(body.orientation)))
       fail(fmt::format("the pose, motion or load of rigid body {}", b));
   }
 }

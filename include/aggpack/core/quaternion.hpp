@@ -55,6 +55,7 @@ constexpr Vec3 rotate_back(const Quaternion& q, const Vec3& v) { return rotate(c
 // The rotation of a unit quaternion as a matrix (by rows): cheaper to apply to many vectors.
 struct RotationMatrix {
   Vec3 x{1, 0, 0}, y{0, 1, 0}, z{0, 0, 1};
+  constexpr bool operator==(const RotationMatrix&) const = default;
   // R v: a body-frame vector in space.
   [[nodiscard]] constexpr Vec3 operator()(const Vec3& v) const { return {dot(x, v), dot(y, v), dot(z, v)}; }
   // R^T v: a space vector in the body frame.
