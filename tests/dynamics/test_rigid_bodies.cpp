@@ -268,7 +268,9 @@ TEST(RigidBodies, TwoGrainsCollidingKeepMomentumByNewtonsThirdLaw) {
     EXPECT_GT(touching, 100) << "the grains never met";
     const auto [p1, l1] = momentum();
     EXPECT_LT(norm(p1 - p0), 1e-12 * norm(p0)) << friction;
-    if (friction == 0.0) EXPECT_LT(norm(l1 - l0), 1e-10 * norm(l0));
+    if (friction == 0.0) {
+      EXPECT_LT(norm(l1 - l0), 1e-10 * norm(l0));
+    }
     // They bounced: each one's velocity along the line of centres turned round.
     EXPECT_LT(store.bodies.velocity[0].x, 0.3);
   }
