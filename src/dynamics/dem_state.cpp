@@ -9,6 +9,7 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/dem_system.hpp"
+#include "aggpack/dynamics/rigid_rotation.hpp"
 #include "core/archive.hpp"
 #include "dem_system_internal.hpp"
 
@@ -177,6 +178,34 @@ void DemSystem::check_restored_bodies() const {
         !finite(body.angular_velocity) || !(std::abs(q_norm - 1.0) < 1e-12) || !finite(body_load_[b].force) ||
         !finite(body_load_[b].torque) || !(body.rotation == rotation_matrix(body.orientation)))
       fail(fmt::format("the pose, motion or load of rigid body {}", b));
+    // The store's record of the body (written back at every safe point; its centre wrapped by
+    // finish() in a periodic box), and its angular velocity the momentum's.
+    const Vec3& stored = bodies.position[b];
+    const bool same_place = body.position == stored || container_.wrapped(body.position) == stored ||
+                            body.position == container_.wrapped(stored);
+    if (!same_place || !(body.velocity == bodies.velocity[b]) || !(body.orientation == bodies.orientation[b]) ||
+        !(body.angular_velocity == bodies.angular_velocity[b]) ||
+        !(body.angular_velocity == angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia)))
+      fail(fmt::format("the record of rigid body {} is not the run's body", b));
+    // Its members where its pose has them (to rounding: a list build wraps them into the box),
+    // moving with it, each shifted by whole periods or none.
+    const double size = std::max(container_.length_x(), container_.length_y());
+    for (std::uint32_t i = body.first_member; i < body.first_member + body.member_count; ++i) {
+      const Grain& g = grain_[slot_of_[i]];
+      const Vec3& image = image_[i];
+      const auto whole_periods = [&](double shift, double period) {
+        return std::abs(shift - period * std::round(shift / period)) <= 1e-9 * period;
+      };
+      const bool images_fit = container_.periodic
+                                  ? whole_periods(image.x, container_.length_x()) &&
+                                        whole_periods(image.y, container_.length_y()) && image.z == 0.0
+                                  : image == Vec3{};
+      if (!(arm_[i] == body.rotation(body_offset_[i])) || !images_fit ||
+          !(norm(g.position - (body.position + arm_[i] + image)) <= 1e-12 * size) ||
+          !(g.velocity == body.velocity + cross(body.angular_velocity, arm_[i])) ||
+          !(g.angular_velocity == body.angular_velocity))
+        fail(fmt::format("particle {} is not where its rigid body {} has it", i, b));
+    }
   }
 }
 

@@ -61,6 +61,7 @@ std::vector<Array> vtp_arrays(const ParticleStore& particles, const VtpPointArra
   check_length(extra.coordination, "coordination");
   check_length(extra.component, "component");
   check_length(extra.material, "material");
+  check_length(extra.grain, "grain");
   std::vector<double> diameter(n), velocity, points;
   // ids 1..N, the numbering of particles.csv and of LAMMPS; the connectivity is 0-based.
   std::vector<std::int64_t> ids(n), connectivity(n), offsets(n);
@@ -88,6 +89,8 @@ std::vector<Array> vtp_arrays(const ParticleStore& particles, const VtpPointArra
         {"Int32", "component", 1, std::vector<std::int32_t>(extra.component.begin(), extra.component.end())});
   if (!extra.material.empty())
     arrays.push_back({"Int32", "material", 1, std::vector<std::int32_t>(extra.material.begin(), extra.material.end())});
+  if (!extra.grain.empty())
+    arrays.push_back({"Int32", "grain", 1, std::vector<std::int32_t>(extra.grain.begin(), extra.grain.end())});
   arrays.push_back({"Float64", "", 3, std::move(points)});
   arrays.push_back({"Int64", "connectivity", 1, std::move(connectivity)});
   arrays.push_back({"Int64", "offsets", 1, std::move(offsets)});

@@ -81,7 +81,10 @@ std::string bed_vtp(const RunReport& report, const ParticleStore& bed, std::stri
   }
   std::vector<std::int32_t> material;  // a run of several materials only
   if (material_count(sc) > 1) material.assign(bed.material.begin(), bed.material.end());
-  return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component, material});
+  std::vector<std::int32_t> grain;  // a run with grains only: each sphere's, as particles.csv's column
+  if (!bed.bodies.empty())
+    for (const std::uint32_t b : bed.body) grain.push_back(b == kNoBody ? 0 : static_cast<std::int32_t>(b) + 1);
+  return particles_vtp(bed, provenance, sc.output.vtp_encoding, {coordination, component, material, grain});
 }
 
 // The frames of the DEM (written as they were taken), the snapshots and the final bed as one

@@ -1,5 +1,7 @@
 #include "aggpack/run/run_grains.hpp"
 
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
@@ -15,10 +17,18 @@ RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& si
   for (std::size_t c = 0; c < components; ++c) {
     const std::optional<GrainShapeSpec>& spec = source.component_shape[c];
     if (!spec) continue;
-    std::vector<double> widths;
+    std::vector<double> all;
     for (std::size_t i = 0; i < sizes.diameters.size(); ++i)
-      if (static_cast<std::size_t>(sizes.component[i]) == c) widths.push_back(sizes.diameters[i]);
-    if (widths.empty()) continue;
+      if (static_cast<std::size_t>(sizes.component[i]) == c) all.push_back(sizes.diameters[i]);
+    if (all.empty()) continue;
+    // The fit's sizes: at most 256 evenly spaced quantiles of the component's (its cost and
+    // memory then do not grow with the bed).
+    std::sort(all.begin(), all.end());
+    constexpr std::size_t kFitSizes = 256;
+    std::vector<double> widths;
+    if (all.size() <= kFitSizes) widths = all;
+    else
+      for (std::size_t k = 0; k < kFitSizes; ++k) widths.push_back(all[(2 * k + 1) * all.size() / (2 * kFitSizes)]);
     try {
       // Each component its own stream of shapes.
       grains.libraries[c] = make_grain_library(*spec, widths, seed * 64 + c);

@@ -1,5 +1,6 @@
 #include "aggpack/run/run_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <limits>
@@ -451,7 +452,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
 
 std::string RunReport::console_summary(const std::filesystem::path& written_to) const {
   const Scenario& sc = scenario;
-  std::string out = fmt::format("aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed);
+  std::string out =
+      particles.bodies.empty()
+          ? fmt::format("aggpack {}: {} ({} particles, seed {})\n", kVersion, sc.title, particles.size(), sc.seed)
+          : fmt::format("aggpack {}: {} ({} grains and {} spheres of their own; {} spheres in all, seed {})\n",
+                        kVersion, sc.title, particles.bodies.size(),
+                        std::count(particles.body.begin(), particles.body.end(), kNoBody), particles.size(), sc.seed);
   auto o = std::back_inserter(out);
   if (sizes && sc.particles.graded) {
     const SizesReport& z = sizes->report;

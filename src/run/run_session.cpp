@@ -45,6 +45,9 @@ void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
       fail("the drop-and-roll deposition places spheres only: pour grains ([pour]) instead of depositing them");
     if (std::holds_alternative<ExportLammpsStep>(step.kind) || std::holds_alternative<ImportLammpsStep>(step.kind))
       fail("the LAMMPS bridge takes spheres only so far: leave out the LAMMPS steps");
+    if (const auto* settle = std::get_if<SettleStep>(&step.kind); settle && settle->layer > 0)
+      fail("a settle step of a later part freezes the parts below it, and a grain cannot be frozen yet: settle "
+           "the whole bed ([[protocol]] settle without layer)");
   }
   if (sc.dynamics && sc.dynamics->engine == DemEngine::Lammps)
     fail("dynamics.engine = \"lammps\" takes spheres only so far: use aggpack's DEM");
@@ -115,6 +118,8 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   context_.radii = drop_radii(initial);
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
   check_grain_protocol(sc, protocol_);
+  if (sc.particles.has_grains() && controls.resume_from)  // before the templates' work
+    throw InputError(fmt::format("{}: a run with grains cannot be resumed yet; run it again", sc.file.string()));
   if (initial.sizes) {
     const auto t_grains = Clock::now();
     try {
@@ -132,8 +137,6 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
     }
   }
   const bool grains = !context_.grains.empty();
-  if (grains && controls.resume_from)
-    throw InputError(fmt::format("{}: a run with grains cannot be resumed yet; run it again", sc.file.string()));
   context_.material_densities = material_densities(sc);
   std::string calibrated;  // the values its calibration files gave the scenario
   for (const DemCalibrationFile& c : sc.calibrations)

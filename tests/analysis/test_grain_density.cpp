@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "aggpack/analysis/coordination.hpp"
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/analysis/sphere_box_volume.hpp"
 #include "aggpack/core/quaternion.hpp"
@@ -98,6 +99,24 @@ TEST(GrainDensity, ProfilesAddUpToTheSolidAndTheBedSizesItsGrains) {
     in_shells += shells.solid_fraction[k] * ((0.03 - 2 * a) * (0.03 - 2 * a) - (0.03 - 2 * b) * (0.03 - 2 * b)) * 0.1;
   }
   EXPECT_NEAR(in_shells, solid, 2e-6 * solid);
+}
+
+// The spheres of a grain overlap and are not in contact; two grains whose spheres touch in two
+// places are one contact each, by grain; a sphere touching a grain's two spheres, one.
+TEST(GrainDensity, CoordinationCountsEachTouchingGrainOnce) {
+  const std::vector<Vec3> centres{{-0.002, 0, 0}, {0.002, 0, 0}};
+  const std::vector<double> radii{0.003, 0.003};
+  const RigidBodyShape rod{centres, radii, 1e-7, {1e-12, 1e-12, 1e-12}};
+  ParticleStore p;
+  p.add_body({0.05, 0.05, 0.05}, {}, rod, 2650.0);   // spheres at x = 0.048 and 0.052
+  p.add_body({0.05, 0.056, 0.05}, {}, rod, 2650.0);  // 6 mm along y: both pairs touch
+  p.add({0.05, 0.05, 0.054}, 0.0015, 2650.0);         // above the first, touching both its spheres
+  const Container container = Container::square(0.1, 0.1, false);
+  const std::vector<int> per_sphere = contact_counts(p, container, 1e-6);
+  EXPECT_EQ(per_sphere, (std::vector<int>{2, 2, 1, 1, 2}));
+  const CoordinationResult c = measure_coordination(p, container, {{0, 0, 0}, {0.1, 0.1, 0.1}}, 1e-6);
+  EXPECT_EQ(c.particles_counted, 3u);  // two grains and a sphere
+  EXPECT_DOUBLE_EQ(c.mean, (2.0 + 1.0 + 1.0) / 3.0);
 }
 
 }  // namespace

@@ -75,6 +75,12 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
   EXPECT_EQ(g.at("components").at(0).at("family"), "rounded");
   EXPECT_EQ(g.at("components").at(0).at("bed").at("grains"), 150);
   EXPECT_TRUE(g.at("checkpoints").get<std::string>().starts_with("none"));
+  // The VTP carries each sphere's grain, as particles.csv does.
+  EXPECT_NE(slurp(dir_ / "out" / "particles.vtp").find("Name=\"grain\""), std::string::npos);
+  // Coordination by grain: each touching grain or sphere once, a grain's own spheres never.
+  const double coordination = summary.at("coordination").at("mean").get<double>();
+  EXPECT_GT(coordination, 1.0);
+  EXPECT_LT(coordination, 12.0);
   const double density = summary.at("density").at("mean").get<double>();
   EXPECT_GT(density, 0.3);
   EXPECT_LT(density, 0.9);

@@ -467,6 +467,18 @@ TEST(RigidBodies, AFrozenMemberOrADamagedBodyStateIsRefused) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   std::memcpy(damaged.data() + damaged.size() - sizeof(double), &nan, sizeof(double));
   EXPECT_THROW(fresh.restore_state(damaged), InputError);
+  // Before them the arms (4), the members' body ids (4), the body's load and its record (240
+  // bytes), each list with its 8-byte length: the body's centre moved by 1 mm is refused too
+  // (finite, but not where the store has it, nor where its members are).
+  std::string moved = state;
+  const std::size_t record = moved.size() - (8 + 4 * sizeof(Vec3)) * 2 - (8 + 4 * sizeof(std::uint32_t)) -
+                             (8 + 2 * sizeof(Vec3)) - 240;
+  double x = 0.0;
+  std::memcpy(&x, moved.data() + record, sizeof x);
+  ASSERT_DOUBLE_EQ(x, 0.05);  // the body's centre, x
+  x += 1e-3;
+  std::memcpy(moved.data() + record, &x, sizeof x);
+  EXPECT_THROW(fresh.restore_state(moved), InputError);
 }
 
 }  // namespace

@@ -205,7 +205,7 @@ TEST(Vtk, BinaryPolyDataIsZlibAppendedWithTheGivenArrays) {
   ParticleStore p;
   for (int i = 0; i < 5000; ++i) p.add({0.01 * i, 0, 0}, 0.004, 2650.0);  // more than one 32 KiB block
   const std::vector<std::int32_t> coordination(p.size(), 2), component(p.size(), 1);
-  const std::string vtp = particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component, {}});
+  const std::string vtp = particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component, {}, {}});
   EXPECT_NE(vtp.find("header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\""), std::string::npos);
   EXPECT_NE(vtp.find("<DataArray type=\"Float64\" Name=\"radius\" format=\"appended\" offset=\"0\"/>"),
             std::string::npos);
@@ -220,10 +220,10 @@ TEST(Vtk, BinaryPolyDataIsZlibAppendedWithTheGivenArrays) {
   EXPECT_EQ(header[0], 2u);
   EXPECT_EQ(header[1], 32768u);
   EXPECT_EQ(header[2], 40000u - 32768u);
-  EXPECT_LT(vtp.size(), particles_vtp(p, "t", VtpEncoding::Ascii, {coordination, component, {}}).size() / 3);
-  EXPECT_EQ(vtp, particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component, {}}));  // deterministic
+  EXPECT_LT(vtp.size(), particles_vtp(p, "t", VtpEncoding::Ascii, {coordination, component, {}, {}}).size() / 3);
+  EXPECT_EQ(vtp, particles_vtp(p, "t", VtpEncoding::ZlibAppended, {coordination, component, {}, {}}));  // deterministic
   const std::vector<std::int32_t> short_array(3, 0);
-  EXPECT_THROW(particles_vtp(p, "t", VtpEncoding::ZlibAppended, {short_array, {}, {}}), std::invalid_argument);
+  EXPECT_THROW(particles_vtp(p, "t", VtpEncoding::ZlibAppended, {short_array, {}, {}, {}}), std::invalid_argument);
 }
 
 TEST(Vtk, PvdListsTheFramesWithTheirTimesOrTheirNumbersWhenTimesRepeat) {

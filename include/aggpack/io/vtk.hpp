@@ -21,10 +21,11 @@ struct VtpPointArrays {
   std::span<const std::int32_t> coordination;  // sphere-sphere contacts of each sphere
   std::span<const std::int32_t> component;     // which part of the size specification it came from
   std::span<const std::int32_t> material;      // the index of its material (summary.json names them)
+  std::span<const std::int32_t> grain;         // its rigid grain's id in grains.csv (1-based), 0: none
 };
 
 // VTK XML PolyData: one vertex per sphere, point arrays radius, diameter, id, velocity (m/s,
-// 3 components), and coordination, component and material when given.
+// 3 components), and coordination, component, material and grain when given.
 // In ParaView: Glyph filter, glyph type Sphere, scale array "diameter", scale factor 1
 // (the glyph sphere has diameter 1).
 // `provenance` (version, scenario, seed) goes into an XML comment. The bytes depend only on

@@ -18,6 +18,12 @@
 namespace aggpack {
 
 struct RunGrains {
+  RunGrains() = default;
+  // Not copied: `shapes` and `shape_grain` point into this object's own libraries.
+  RunGrains(const RunGrains&) = delete;
+  RunGrains& operator=(const RunGrains&) = delete;
+  RunGrains(RunGrains&&) = default;
+  RunGrains& operator=(RunGrains&&) = default;
   std::vector<std::optional<GrainLibrary>> libraries;  // per component; none: spheres
   // The templates of every library, in order (views into `libraries`, which must not change).
   std::vector<RigidBodyShape> shapes;
