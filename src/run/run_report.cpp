@@ -490,9 +490,9 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {}: density {:.4f}\n", length_text(box.side, sc.written_length_unit), box.density);
   const auto rest = rest_state();
-  fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} spheres\n", final.density.mean,
+  fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} {}\n", final.density.mean,
                  final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,
-                 final.coordination.particles_counted);
+                 final.coordination.particles_counted, particles.bodies.empty() ? "spheres" : "grains and spheres");
   const double grains = particle_density(sc, particles);
   fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n", describe(bulk_density(final.density.mean, grains)), grains);
   if (rest && !rest->settled)
