@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -348,6 +349,32 @@ void add_clipping_breaks(std::span<const MemberSphere> spheres, const Rectangle&
   }
 }
 
+// A clump in units of its reach from its spheres' mean centre: the moments of every order are
+// then of the size of the volume, whatever the clump's size. Throws std::invalid_argument,
+// prefixed by `who`, for a radius not positive and finite or a centre not finite.
+struct UnitClump {
+  std::vector<MemberSphere> spheres;
+  Vec3 origin;
+  double reach = 0.0, volume_sum = 0.0;  // volume_sum: the unit spheres' summed volume
+};
+UnitClump unit_clump(std::span<const MemberSphere> spheres, const char* who) {
+  UnitClump c;
+  for (const MemberSphere& s : spheres) {
+    if (!(s.radius > 0.0) || !std::isfinite(s.radius))
+      throw std::invalid_argument(std::string(who) + ": a member sphere's radius must be positive and finite");
+    if (!std::isfinite(s.centre.x) || !std::isfinite(s.centre.y) || !std::isfinite(s.centre.z))
+      throw std::invalid_argument(std::string(who) + ": a member sphere's centre must be finite");
+    c.origin += s.centre * (1.0 / static_cast<double>(spheres.size()));
+  }
+  for (const MemberSphere& s : spheres) c.reach = std::max(c.reach, norm(s.centre - c.origin) + s.radius);
+  c.spheres.assign(spheres.begin(), spheres.end());
+  for (MemberSphere& s : c.spheres) {
+    s.centre = (s.centre - c.origin) * (1.0 / c.reach), s.radius /= c.reach;
+    c.volume_sum += 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
+  }
+  return c;
+}
+
 }  // namespace
 
 double union_volume_in_box(std::span<const MemberSphere> spheres, const Box& box, double relative_tolerance) {
@@ -357,21 +384,10 @@ double union_volume_in_box(std::span<const MemberSphere> spheres, const Box& box
   const Vec3 size = box.size();
   if (!(size.x >= 0.0 && size.y >= 0.0 && size.z >= 0.0) || !std::isfinite(size.x + size.y + size.z))
     throw std::invalid_argument("union_volume_in_box: a box's sides must be finite and not negative");
-  // Lengths in units of the reach from the mean centre, as for the mass properties.
-  Vec3 origin{};
-  for (const MemberSphere& s : spheres) {
-    if (!(s.radius > 0.0) || !std::isfinite(s.radius) || !std::isfinite(s.centre.x + s.centre.y + s.centre.z))
-      throw std::invalid_argument("union_volume_in_box: a member sphere must have a finite centre and radius > 0");
-    origin += s.centre * (1.0 / static_cast<double>(spheres.size()));
-  }
-  double reach = 0.0;
-  for (const MemberSphere& s : spheres) reach = std::max(reach, norm(s.centre - origin) + s.radius);
-  std::vector<MemberSphere> unit(spheres.begin(), spheres.end());
-  double volume_sum = 0.0;
-  for (MemberSphere& s : unit) {
-    s.centre = (s.centre - origin) * (1.0 / reach), s.radius /= reach;
-    volume_sum += 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
-  }
+  const UnitClump clump = unit_clump(spheres, "union_volume_in_box");
+  const std::vector<MemberSphere>& unit = clump.spheres;
+  const Vec3 origin = clump.origin;
+  const double reach = clump.reach, volume_sum = clump.volume_sum;
   const Vec3 lo = (box.lo - origin) * (1.0 / reach), hi = (box.hi - origin) * (1.0 / reach);
   const Rectangle rect{lo.x, hi.x, lo.y, hi.y};
   std::vector<double> breaks = panel_breaks(unit);
@@ -399,24 +415,10 @@ MassProperties union_mass_properties(std::span<const MemberSphere> spheres, doub
   if (spheres.empty()) throw std::invalid_argument("union_mass_properties: no spheres");
   if (!(relative_tolerance >= 1e-13 && relative_tolerance <= 1e-2))
     throw std::invalid_argument("union_mass_properties: the relative tolerance must lie in [1e-13, 1e-2]");
-  Vec3 origin{};
-  for (const MemberSphere& s : spheres) {
-    if (!(s.radius > 0.0) || !std::isfinite(s.radius))
-      throw std::invalid_argument("union_mass_properties: a member sphere's radius must be positive and finite");
-    if (!std::isfinite(s.centre.x) || !std::isfinite(s.centre.y) || !std::isfinite(s.centre.z))
-      throw std::invalid_argument("union_mass_properties: a member sphere's centre must be finite");
-    origin += s.centre * (1.0 / static_cast<double>(spheres.size()));
-  }
-  // Lengths in units of the reach from the mean centre: the moments of every order are then
-  // of the size of the volume, whatever the clump's size.
-  double reach = 0.0;
-  for (const MemberSphere& s : spheres) reach = std::max(reach, norm(s.centre - origin) + s.radius);
-  std::vector<MemberSphere> unit(spheres.begin(), spheres.end());
-  double volume_sum = 0.0;
-  for (MemberSphere& s : unit) {
-    s.centre = (s.centre - origin) * (1.0 / reach), s.radius /= reach;
-    volume_sum += 4.0 / 3.0 * std::numbers::pi * s.radius * s.radius * s.radius;
-  }
+  const UnitClump clump = unit_clump(spheres, "union_mass_properties");
+  const std::vector<MemberSphere>& unit = clump.spheres;
+  const Vec3 origin = clump.origin;
+  const double reach = clump.reach, volume_sum = clump.volume_sum;
   const std::vector<double> breaks = panel_breaks(unit);
   const Quadrature q{slice_moments, unit, volume_sum, relative_tolerance, breaks.back() - breaks.front()};
   Moments total{};
