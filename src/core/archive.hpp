@@ -115,9 +115,17 @@ auto raw_value(T& value) {
 }
 
 template <class Archive>
+void serialize(Archive& ar, RigidBodies& b) {
+  ar(raw(b.first_member), raw(b.member_count), raw(b.position), raw(b.orientation), raw(b.velocity),
+     raw(b.angular_velocity), raw(b.mass), raw(b.volume), raw(b.principal_inertia), raw(b.shape));
+}
+
+// A store's arrays as they are; whoever restores one checks them against its run (a damaged
+// file can make arrays of any lengths and indices of any values).
+template <class Archive>
 void serialize(Archive& ar, ParticleStore& p) {
   ar(raw(p.position), raw(p.velocity), raw(p.angular_velocity), raw(p.radius), raw(p.mass), raw(p.layer),
-     raw(p.material));
+     raw(p.material), raw(p.body), raw(p.body_offset), p.bodies);
 }
 
 }  // namespace aggpack

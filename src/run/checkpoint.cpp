@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <set>
+#include <span>
 
 #include <fmt/format.h>
 
@@ -24,7 +25,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 6;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 7;  // raise when what a checkpoint holds changes
 constexpr std::array<const char*, 3> kSections{"header", "run state", "step state"};
 
 template <class Archive>
@@ -223,22 +224,80 @@ bool is_named(const std::array<EnumName<E>, N>& names, E value) {
   return std::any_of(names.begin(), names.end(), [&](const EnumName<E>& e) { return e.value == value; });
 }
 
-// A bed of the run state: one value per particle in every array, and the run's own spheres in
-// its order (`radii`: the drop sequence, of which it holds the first ones, or the particle
-// file's, all of them), each of its mass, at a finite place with a finite motion.
-void check_bed(const ParticleStore& bed, std::string_view what, const std::vector<double>& radii, bool all,
-               const SphereMaterials& materials) {
-  const std::size_t n = bed.radius.size();
-  if (bed.position.size() != n || bed.velocity.size() != n || bed.angular_velocity.size() != n ||
-      bed.mass.size() != n || bed.layer.size() != n || bed.material.size() != n)
-    throw DamagedCheckpoint(fmt::format("its {} has arrays of different lengths", what));
-  if (n > radii.size() || (all && n != radii.size()))
-    throw DamagedCheckpoint(fmt::format("its {} holds {} particles; the run has {}", what, n, radii.size()));
-  for (std::size_t i = 0; i < n; ++i)
-    if (bed.radius[i] != radii[i] || bed.material[i] != materials.material(i) ||
-        bed.mass[i] != ParticleStore::sphere_mass(radii[i], materials.density_of(i)) || !finite(bed.position[i]) ||
+// The particles a run adds, in order: the drop sequence (or the particle file's spheres), each
+// a sphere of its radius or, with grains, a grain of its shape at that scale (its reach).
+struct RunParticles {
+  std::span<const double> radii;
+  std::span<const RigidBodyShape* const> shapes;  // empty: all spheres; a null entry: a sphere
+  SphereMaterials materials;
+  [[nodiscard]] const RigidBodyShape* shape(std::size_t k) const { return shapes.empty() ? nullptr : shapes[k]; }
+};
+
+// A grain restored as `bodies` entry b from member sphere `first` on: the run's particle k as
+// the pour adds it (its members' sizes, masses and places in the body, the union's mass
+// properties, its template), its pose and motion finite, its orientation a unit quaternion.
+bool is_runs_grain(const ParticleStore& bed, std::size_t b, std::size_t first, const RunParticles& run, std::size_t k) {
+  const RigidBodyShape& shape = *run.shape(k);
+  const RigidBodies& bodies = bed.bodies;
+  const std::size_t members = shape.member_centres.size();
+  if (bodies.first_member[b] != first || bodies.member_count[b] != members || members > bed.size() - first)
+    return false;
+  ParticleStore made;  // the grain as the run adds it, at the origin
+  RigidBodyShape scaled = shape;
+  scaled.scale = run.radii[k];
+  made.add_body({}, {}, scaled, run.materials.density_of(k), 0, run.materials.material(k));
+  const Quaternion& q = bodies.orientation[b];
+  const double q_norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  if (bodies.mass[b] != made.bodies.mass[0] || bodies.volume[b] != made.bodies.volume[0] ||
+      !(bodies.principal_inertia[b] == made.bodies.principal_inertia[0]) || bodies.shape[b] != shape.id ||
+      !finite(bodies.position[b]) || !finite(bodies.velocity[b]) || !finite(bodies.angular_velocity[b]) ||
+      !(std::abs(q_norm2 - 1.0) <= 1e-6))
+    return false;
+  for (std::size_t m = 0; m < members; ++m) {
+    const std::size_t i = first + m;
+    if (bed.radius[i] != made.radius[m] || bed.mass[i] != made.mass[m] || bed.material[i] != made.material[m] ||
+        bed.body[i] != b || !(bed.body_offset[i] == made.body_offset[m]) || !finite(bed.position[i]) ||
         !finite(bed.velocity[i]) || !finite(bed.angular_velocity[i]))
-      throw DamagedCheckpoint(fmt::format("its {}: particle {} is not one of the run's", what, i));
+      return false;
+  }
+  return true;
+}
+
+// A bed of the run state: one value per sphere in every array (and per body in the bodies'),
+// and the run's own particles in its order (all of them when `all`, else the first ones), each
+// of its mass, at a finite place with a finite motion; a grain as is_runs_grain says.
+void check_bed(const ParticleStore& bed, std::string_view what, const RunParticles& run, bool all) {
+  const std::size_t n = bed.radius.size();
+  const RigidBodies& b = bed.bodies;
+  const std::size_t grains = b.mass.size();
+  const bool with_bodies = !bed.body.empty() || grains > 0;
+  if (bed.position.size() != n || bed.velocity.size() != n || bed.angular_velocity.size() != n ||
+      bed.mass.size() != n || bed.layer.size() != n || bed.material.size() != n ||
+      (with_bodies && (bed.body.size() != n || bed.body_offset.size() != n || grains == 0)) ||
+      b.first_member.size() != grains || b.member_count.size() != grains || b.position.size() != grains ||
+      b.orientation.size() != grains || b.velocity.size() != grains || b.angular_velocity.size() != grains ||
+      b.volume.size() != grains || b.principal_inertia.size() != grains || b.shape.size() != grains)
+    throw DamagedCheckpoint(fmt::format("its {} has arrays of different lengths", what));
+  std::size_t sphere = 0, grain = 0, k = 0;  // the store's next sphere and body, the run's next particle
+  for (; sphere < n; ++k) {
+    if (k >= run.radii.size())
+      throw DamagedCheckpoint(fmt::format("its {} holds more particles than the run's {}", what, run.radii.size()));
+    if (run.shape(k)) {
+      if (grain >= grains || !is_runs_grain(bed, grain, sphere, run, k))
+        throw DamagedCheckpoint(fmt::format("its {}: particle {} (a grain) is not one of the run's", what, k));
+      sphere += b.member_count[grain++];
+      continue;
+    }
+    if (bed.radius[sphere] != run.radii[k] || bed.material[sphere] != run.materials.material(k) ||
+        bed.mass[sphere] != ParticleStore::sphere_mass(run.radii[k], run.materials.density_of(k)) ||
+        (with_bodies && bed.body[sphere] != kNoBody) || !finite(bed.position[sphere]) ||
+        !finite(bed.velocity[sphere]) || !finite(bed.angular_velocity[sphere]))
+      throw DamagedCheckpoint(fmt::format("its {}: particle {} is not one of the run's", what, k));
+    ++sphere;
+  }
+  if (grain != grains) throw DamagedCheckpoint(fmt::format("its {} has grains beyond its spheres", what));
+  if (all && k != run.radii.size())
+    throw DamagedCheckpoint(fmt::format("its {} holds {} particles; the run has {}", what, k, run.radii.size()));
 }
 
 // What the run state holds beyond the beds, against the scenario: the records restored as raw
@@ -294,10 +353,13 @@ void decode_run_state(const std::string& state, RunReport& report, RunContext& c
   const std::vector<double> densities = material_densities(report.scenario);
   const std::vector<std::uint8_t> file_materials(
       from_file ? radii.size() : 0, report.scenario.particles.material_of_component(0));
-  const SphereMaterials materials{from_file ? file_materials : context.sphere_materials, densities};
-  check_bed(report.particles, "bed", radii, from_file, materials);
-  if (report.deposited) check_bed(*report.deposited, "bed after deposition", radii, from_file, materials);
-  for (const auto& [name, bed] : report.snapshots) check_bed(bed, "snapshot " + name, radii, from_file, materials);
+  // With grains, each grain's scale is its reach at its sieve size, as the pour takes it.
+  const RunGrains::PourPart poured = context.grains.pour_part(radii, 0);
+  const RunParticles run{poured.radii, context.grains.empty() ? std::span<const RigidBodyShape* const>() : poured.shapes,
+                         SphereMaterials{from_file ? file_materials : context.sphere_materials, densities}};
+  check_bed(report.particles, "bed", run, from_file);
+  if (report.deposited) check_bed(*report.deposited, "bed after deposition", run, from_file);
+  for (const auto& [name, bed] : report.snapshots) check_bed(bed, "snapshot " + name, run, from_file);
   check_reports(report, context);
   const Scenario& sc = report.scenario;
   if (!sc.dynamics && carried_dem != CarriedDem().save())

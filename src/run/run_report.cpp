@@ -424,7 +424,7 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   if (!grain_libraries.is_null()) {
     summary["grains"] = {{"count", particles.bodies.size()},
                          {"components", bed_grains_json(grain_libraries, particles, grain_shape_component)},
-                         {"checkpoints", "none: a run with grains cannot be resumed yet"},
+                         {"checkpoints", "as for spheres: each grain's rigid body is in the checkpoint, and resume goes on to the same bytes"},
                          {"files", "grains.csv (one row per grain), particles.csv's grain column (its spheres)"}};
   }
   summary["modelling_notes"] = modelling_notes();

@@ -118,8 +118,6 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   context_.radii = drop_radii(initial);
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
   check_grain_protocol(sc, protocol_);
-  if (sc.particles.has_grains() && controls.resume_from)  // before the templates' work
-    throw InputError(fmt::format("{}: a run with grains cannot be resumed yet; run it again", sc.file.string()));
   if (initial.sizes) {
     const auto t_grains = Clock::now();
     try {
@@ -136,7 +134,6 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
       report_.grain_shape_component = context_.grains.shape_component;
     }
   }
-  const bool grains = !context_.grains.empty();
   context_.material_densities = material_densities(sc);
   std::string calibrated;  // the values its calibration files gave the scenario
   for (const DemCalibrationFile& c : sc.calibrations)
@@ -156,8 +153,7 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
     frame_taker_ = [this](double time, const ParticleStore& bed) { take_frames(time, bed); };
     context_.at_sample = &frame_taker_;
   }
-  // A run with grains writes no checkpoint yet: its bed's bodies are not in one (summary.json says so).
-  if (controls.checkpoints && !grains) {
+  if (controls.checkpoints) {
     Checkpoint header = controls.checkpoints->header;
     header.inputs_fingerprint = fingerprint;
     checkpointer_.emplace(controls.checkpoints->directory, controls.checkpoints->every_seconds, std::move(header),

@@ -74,7 +74,6 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
   EXPECT_EQ(g.at("count"), 150);
   EXPECT_EQ(g.at("components").at(0).at("family"), "rounded");
   EXPECT_EQ(g.at("components").at(0).at("bed").at("grains"), 150);
-  EXPECT_TRUE(g.at("checkpoints").get<std::string>().starts_with("none"));
   // The VTP carries each sphere's grain, as particles.csv does.
   EXPECT_NE(slurp(dir_ / "out" / "particles.vtp").find("Name=\"grain\""), std::string::npos);
   // Coordination by grain (unit-tested in test_analysis): counted over grains and spheres, a

@@ -179,6 +179,50 @@ TEST_F(Resume, ARunKilledInAnyLoopOfItsProtocolResumesToTheSameBytes) {
   EXPECT_NE(summary.at("resumed_from_checkpoint").get<std::string>().find("while tap 2 of 2"), std::string::npos);
 }
 
+// A run with grains (rigid bodies of 2 spheres beside spheres of their own) killed while
+// pouring, between the pour and the taps, and while tapping, each time resumed (on one thread
+// or two), ends with the bytes of the run never stopped: the bodies' poses, motions and
+// contacts are in the checkpoint. A body changed in a resealed checkpoint is refused.
+TEST_F(Resume, ARunWithGrainsKilledInEachLoopResumesToTheSameBytes) {
+  const fs::path scenario = write_scenario(
+      "grains",
+      "seed = 6\n[container]\nside = 0.036\nheight = 0.3\n[particles]\nclasses = [{ diameter = 0.008, count = 100, "
+      "shape = { family = \"rounded\", spheres = 2, templates = 3 } }, { diameter = 0.005, count = 20 }]\n"
+      "[material]\nyoungs_modulus = 1e7\nwall_youngs_modulus = 1e7\nfriction_particle = 0.5\n[dynamics]\n"
+      "max_time = 0.6\n[analysis]\nbox_sides = [0.005]\n[pour]\nbatches = 2\nsolid_fraction = 0.15\n"
+      "[tapping]\ntaps = 1\nintensity = 3\nrest_time = 0.05\nrest_until_quiet = true\n");
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "while pouring", SIGKILL), -SIGKILL) << "the run ended while pouring";
+  const std::string threads[] = {"2", "1"};
+  const std::string kill_points[] = {"before step 3 of 3", "while tap 1 of 1"};
+  for (std::size_t k = 0; k < 2; ++k) {
+    SCOPED_TRACE("resumed and killed " + kill_points[k]);
+    ASSERT_EQ(resume_and_signal_when(out, kill_points[k], SIGKILL, threads[k]), -SIGKILL)
+        << "the resumed run ended before " << kill_points[k];
+  }
+  // The bodies' templates in the run state's bed: 100 ids of the 3 templates (not the members'
+  // counts, all 2). One changed to another template, resealed: refused.
+  const std::string intact = slurp(out / "checkpoint.bin");
+  const std::size_t shapes = find_table(intact, 100, [](const std::vector<std::uint32_t>& v, std::size_t) {
+    return std::all_of(v.begin(), v.end(), [](std::uint32_t id) { return id < 3; }) &&
+           std::any_of(v.begin(), v.end(), [&](std::uint32_t id) { return id != v.front(); });
+  });
+  ASSERT_NE(shapes, std::string::npos);
+  std::string damaged = intact;
+  damaged[shapes + 4 * 7] = static_cast<char>((damaged[shapes + 4 * 7] + 1) % 3);
+  std::ofstream(out / "checkpoint.bin", std::ios::binary | std::ios::trunc) << aggpack::resealed_checkpoint(damaged);
+  const auto refused = run_cli("resume " + out.string() + " --quiet --threads 1");
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("(a grain) is not one of the run's"), std::string::npos) << refused.output;
+  std::ofstream(out / "checkpoint.bin", std::ios::binary | std::ios::trunc) << intact;
+  const auto resumed = run_cli("resume " + out.string() + " --threads 1");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expect_same_run(reference, out);
+}
+
 // With frames (output.frame_interval), a run killed while pouring or in a tap's rest and
 // resumed (with another thread count) writes the same frames, the same bytes, and the same
 // particles.pvd as the uninterrupted run: the frames before its checkpoint are kept, the later
