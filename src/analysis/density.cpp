@@ -94,7 +94,28 @@ double solid_volume_in_box(const ParticleStore& particles, const Container& cont
   return volume;
 }
 
-Profile vertical_profile(const ParticleStore& particles, const Container& container, double thickness) {
+namespace {
+// A body's volume in `box` by its spheres' shares: its union's volume times the fraction of its
+// spheres' summed volume that lies in the box (exact sphere-box volumes). Not its exact volume
+// in the box, but smooth in its pose and some hundred times cheaper: what the surface estimate
+// of measure_bed takes (sampled at every step of the quiet criterion). A sphere's is exact.
+double piece_share_in_box(const ParticleStore& p, const Piece& piece, const Vec3& centre, const Box& box) {
+  if (!piece.body) return sphere_box_volume(centre, piece.reach, box);
+  const std::size_t b = piece.index;
+  const Quaternion& q = p.bodies.orientation[b];
+  double inside = 0.0, all = 0.0;
+  for (std::uint32_t i = p.bodies.first_member[b]; i < p.bodies.first_member[b] + p.bodies.member_count[b]; ++i) {
+    const double r = p.radius[i];
+    inside += sphere_box_volume(centre + rotate(q, p.body_offset[i]), r, box);
+    all += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  }
+  return p.bodies.volume[b] * inside / all;
+}
+
+using PieceInBox = double (*)(const ParticleStore&, const Piece&, const Vec3&, const Box&);
+
+Profile vertical_profile_by(const ParticleStore& particles, const Container& container, double thickness,
+                            PieceInBox volume_in_box) {
   const Box& footprint = container.bounds;
   const double z0 = footprint.lo.z;
   double top = z0;
@@ -112,7 +133,7 @@ Profile vertical_profile(const ParticleStore& particles, const Container& contai
         Box slab = footprint;
         slab.lo.z = z0 + thickness * static_cast<double>(k);
         slab.hi.z = slab.lo.z + thickness;
-        volume[static_cast<std::size_t>(k)] += piece_volume_in_box(particles, piece, c, slab);
+        volume[static_cast<std::size_t>(k)] += volume_in_box(particles, piece, c, slab);
       }
     });
   });
@@ -123,6 +144,11 @@ Profile vertical_profile(const ParticleStore& particles, const Container& contai
     profile.solid_fraction.push_back(volume[static_cast<std::size_t>(k)] / slab_volume);
   }
   return profile;
+}
+}  // namespace
+
+Profile vertical_profile(const ParticleStore& particles, const Container& container, double thickness) {
+  return vertical_profile_by(particles, container, thickness, piece_volume_in_box);
 }
 
 Profile wall_distance_profile(const ParticleStore& particles, const Container& container,
@@ -184,8 +210,9 @@ BedGeometry measure_bed(const ParticleStore& particles, const Container& contain
   bed.d_max = 2.0 * reach_max;
   for (std::size_t i = 0; i < particles.size(); ++i)
     bed.top = std::max(bed.top, particles.position[i].z + particles.radius[i]);
-  // Equivalent height: a bed of the median slice fraction holding the same solid volume.
-  const Profile slices = vertical_profile(particles, container, bed.d_max);
+  // Equivalent height: a bed of the median slice fraction holding the same solid volume (a
+  // grain split among the slices by its spheres' shares: an estimate, as this height is).
+  const Profile slices = vertical_profile_by(particles, container, bed.d_max, piece_share_in_box);
   const double bulk_fraction = median(slices.solid_fraction);
   const double footprint = container.length_x() * container.length_y();
   bed.surface = bulk_fraction > 0.0 ? std::min(bed.floor + solid / (footprint * bulk_fraction), bed.top) : bed.top;

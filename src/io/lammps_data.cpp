@@ -17,26 +17,46 @@
 
 namespace aggpack {
 
+namespace {
+// Where the data file puts a body's member: at its body's centre (wrapped into a periodic box)
+// plus its turned offset, so that LAMMPS, which maps it into the box itself, finds it whole
+// about the centre that the bodies file gives.
+Vec3 member_place(const ParticleStore& particles, const Container& container, std::size_t i) {
+  const std::uint32_t b = particles.body[i];
+  return container.wrapped(particles.bodies.position[b]) + rotate(particles.bodies.orientation[b], particles.body_offset[i]);
+}
+}  // namespace
+
 std::string lammps_data(const ParticleStore& particles, const Container& container, std::span<const double> densities,
                         double z_top, std::span<const std::uint8_t> frozen) {
   const Box& b = container.bounds;
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (particles.position[i].z + particles.radius[i] > z_top)
       throw std::invalid_argument("lammps_data: z_top is below a sphere's top");
+  const bool grains = !particles.bodies.empty();
   fmt::memory_buffer out;
   auto o = std::back_inserter(out);
   const bool any_frozen = std::any_of(frozen.begin(), frozen.end(), [](std::uint8_t f) { return f != 0; });
-  fmt::format_to(o, "aggpack bed for LAMMPS (atom_style sphere, SI units)\n\n{} atoms\n{} atom types\n\n",
+  fmt::format_to(o, "aggpack bed for LAMMPS ({}, SI units)\n\n{} atoms\n{} atom types\n\n",
+                 grains ? "atom_style hybrid sphere bond: a grain's spheres carry its molecule id, 0 a sphere's own"
+                        : "atom_style sphere",
                  particles.size(), densities.size() > 1 || any_frozen ? 2 * densities.size() : 1);
-  fmt::format_to(o, "{:.17g} {:.17g} xlo xhi\n{:.17g} {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n\nAtoms # sphere\n\n",
-                 b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z, z_top);
+  fmt::format_to(o, "{:.17g} {:.17g} xlo xhi\n{:.17g} {:.17g} ylo yhi\n{:.17g} {:.17g} zlo zhi\n\nAtoms # {}\n\n",
+                 b.lo.x, b.hi.x, b.lo.y, b.hi.y, b.lo.z, z_top, grains ? "hybrid" : "sphere");
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    const Vec3& p = particles.position[i];
     const std::size_t material = particles.material.empty() ? 0 : particles.material[i];
     if (material >= densities.size()) throw std::invalid_argument("lammps_data: a sphere of an unknown material");
     const std::size_t type = material + 1 + (!frozen.empty() && frozen[i] ? densities.size() : 0);
-    fmt::format_to(o, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, type, 2.0 * particles.radius[i],
-                   densities[material], p.x, p.y, p.z);
+    if (!grains) {
+      const Vec3& p = particles.position[i];
+      fmt::format_to(o, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, type, 2.0 * particles.radius[i],
+                     densities[material], p.x, p.y, p.z);
+      continue;
+    }
+    const bool member = particles.body[i] != kNoBody;
+    const Vec3 p = member ? member_place(particles, container, i) : particles.position[i];
+    fmt::format_to(o, "{} {} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {}\n", i + 1, type, p.x, p.y, p.z,
+                   2.0 * particles.radius[i], densities[material], member ? particles.body[i] + 1 : 0);
   }
   const auto moving = [&](std::size_t i) {
     return i < particles.velocity.size() && (particles.velocity[i] != Vec3{} || particles.angular_velocity[i] != Vec3{});
@@ -49,6 +69,35 @@ std::string lammps_data(const ParticleStore& particles, const Container& contain
       const Vec3 &v = particles.velocity[i], &w = particles.angular_velocity[i];
       fmt::format_to(o, "{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g}\n", i + 1, v.x, v.y, v.z, w.x, w.y, w.z);
     }
+  }
+  return fmt::to_string(out);
+}
+
+std::string lammps_rigid_bodies(const ParticleStore& particles, const Container& container) {
+  const RigidBodies& bodies = particles.bodies;
+  fmt::memory_buffer out;
+  auto o = std::back_inserter(out);
+  fmt::format_to(o, "# aggpack's grains for fix rigid/small infile (SI units): the mass, centre of mass and inertia\n"
+                    "# tensor of each grain's union of spheres (not LAMMPS's sum over its spheres, which counts\n"
+                    "# their overlaps twice).\n# id mass xcm ycm zcm ixx iyy izz ixy ixz iyz vxcm vycm vzcm lx ly lz "
+                    "ixcm iycm izcm\n{}\n",
+                 bodies.size());
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    // The inertia in space, R diag(I) R^T, and the angular momentum, that times omega.
+    const RotationMatrix r = rotation_matrix(bodies.orientation[b]);
+    const Vec3& moments = bodies.principal_inertia[b];
+    const auto inertia = [&](const Vec3& row_a, const Vec3& row_c) {
+      return row_a.x * moments.x * row_c.x + row_a.y * moments.y * row_c.y + row_a.z * moments.z * row_c.z;
+    };
+    const double ixx = inertia(r.x, r.x), iyy = inertia(r.y, r.y), izz = inertia(r.z, r.z), ixy = inertia(r.x, r.y),
+                 ixz = inertia(r.x, r.z), iyz = inertia(r.y, r.z);
+    const Vec3& w = bodies.angular_velocity[b];
+    const Vec3 l{ixx * w.x + ixy * w.y + ixz * w.z, ixy * w.x + iyy * w.y + iyz * w.z,
+                 ixz * w.x + iyz * w.y + izz * w.z};
+    const Vec3 c = container.wrapped(bodies.position[b]), &v = bodies.velocity[b];
+    fmt::format_to(o, "{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} "
+                      "{:.17g} {:.17g} {:.17g} {:.17g} {:.17g} 0 0 0\n",
+                   b + 1, bodies.mass[b], c.x, c.y, c.z, ixx, iyy, izz, ixy, ixz, iyz, v.x, v.y, v.z, l.x, l.y, l.z);
   }
   return fmt::to_string(out);
 }

@@ -234,18 +234,23 @@ std::string particles_csv(const ParticleStore& particles, std::span<const std::s
   return fmt::to_string(out);
 }
 
-std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures) {
+std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures,
+                       std::span<const SieveInterval> sieves) {
   fmt::memory_buffer out;
   const auto o = std::back_inserter(out);
-  fmt::format_to(o, "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres\n");
+  fmt::format_to(o, "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres,"
+                    "sieve_retained,sieve_passing\n");
+  const auto cell = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{}", v); };
   const RigidBodies& b = particles.bodies;
   for (std::size_t k = 0; k < b.size(); ++k) {
     const Vec3& c = b.position[k];
     const Quaternion& q = b.orientation[k];
     const GrainMeasure& m = measures[k];
-    fmt::format_to(o, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, c.x, c.y, c.z, q.w, q.x, q.y, q.z,
-                   std::cbrt(6.0 * b.volume[k] / std::numbers::pi), m.length, m.width, m.thickness, b.mass[k],
-                   b.shape[k] + 1, b.first_member[k] + 1, b.member_count[k]);
+    const SieveInterval interval = k < sieves.size() ? sieves[k] : SieveInterval{};
+    fmt::format_to(o, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, c.x, c.y, c.z, q.w, q.x, q.y,
+                   q.z, std::cbrt(6.0 * b.volume[k] / std::numbers::pi), m.length, m.width, m.thickness, b.mass[k],
+                   b.shape[k] + 1, b.first_member[k] + 1, b.member_count[k], cell(interval.retained),
+                   cell(interval.passing));
   }
   return fmt::to_string(out);
 }
@@ -292,7 +297,9 @@ PairOverlap check_particle_overlaps(const ParticleStore& particles, const Contai
   for (std::size_t i = 0; i < particles.size(); ++i) {
     const Vec3& p = particles.position[i];
     const double r = particles.radius[i];
+    const bool member = !particles.body.empty() && particles.body[i] != kNoBody;
     grid.for_each_near(p, r, [&](std::uint32_t j) {
+      if (member && particles.body[j] == particles.body[i]) return;  // a grain's own spheres overlap
       const Vec3 d = grid.separation(particles.position[j], p);
       const double distance = std::sqrt(norm2(d));
       const double smaller = std::min(r, particles.radius[j]);

@@ -272,8 +272,11 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   std::vector<std::string> material_names;
   for (std::size_t k = 0; k < material_count(sc); ++k) material_names.push_back(material_name(sc, k));
   if (const auto pairs = s.table_array("material_pairs")) sc.material_pairs = read_material_pairs(*pairs, material_names, sc.material.contact.rolling_model);
+  bool imports_beds = false;  // an import_lammps step (its file's tolerances are [particles]')
+  if (const auto steps = s.table_array("protocol"))
+    for (const TomlSection& step : *steps) imports_beds = imports_beds || step.string("step") == "import_lammps";
   sc.particles = read_particles(s.required(s.table("particles"), "particles", "a [particles] table"),
-                                file.parent_path(), sc.container, material_names);
+                                file.parent_path(), sc.container, material_names, imports_beds);
   read_stages(s, sc);
   // One contact law for the run: [dynamics] chose it for [material].
   for (NamedMaterial& m : sc.materials) m.material.contact.friction_model = sc.material.contact.friction_model;

@@ -173,8 +173,19 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
 
 }  // namespace
 
+namespace {
+// What a file of the bed may hold: overlaps of the floor and walls, of two spheres.
+void read_file_tolerances(const TomlSection& s, ParticleSource& source) {
+  source.boundary_overlap_tolerance =
+      s.number("boundary_overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.boundary_overlap_tolerance);
+  source.overlap_tolerance = s.number("overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.overlap_tolerance);
+  source.soft_contacts = s.boolean("soft_contacts").value_or(false);
+}
+}  // namespace
+
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
-                              const Container& container, std::span<const std::string> material_names) {
+                              const Container& container, std::span<const std::string> material_names,
+                              bool imports_beds) {
   s.allow_only({"diameter", "count", "classes", "solid_volume", "order", "from", "length_unit", "grading", "coarse",
                 "fine", "ca_fa", "sampling", "fill_height", "expected_density", "boundary_overlap_tolerance",
                 "overlap_tolerance", "soft_contacts", "timestep", "material", "shape"});
@@ -210,16 +221,18 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
     const auto factor = metres_per_unit(unit);
     if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
     source.file_length_unit = static_cast<double>(*factor);
-    source.boundary_overlap_tolerance =
-        s.number("boundary_overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.boundary_overlap_tolerance);
-    source.overlap_tolerance = s.number("overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.overlap_tolerance);
-    source.soft_contacts = s.boolean("soft_contacts").value_or(false);
+    read_file_tolerances(s, source);
     source.file_timestep = s.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
     source.file = input_file_at(s, "from", scenario_dir, *file, "the particle file");  // after its keys are checked
     return source;
   }
-  for (auto k : {"length_unit", "boundary_overlap_tolerance", "overlap_tolerance", "soft_contacts", "timestep"})
+  for (auto k : {"length_unit", "timestep"})
     if (s.has(k)) s.fail(k, "applies only to particles read with 'from'");
+  // The tolerances of a file of the bed: 'from', or an import_lammps step's.
+  for (auto k : {"boundary_overlap_tolerance", "overlap_tolerance", "soft_contacts"})
+    if (s.has(k) && !imports_beds)
+      s.fail(k, "applies only to particles read with 'from' or a bed taken back by an import_lammps step");
+  read_file_tolerances(s, source);
   SizeSpec spec;
   spec.order = s.choice("order", kSizeOrderNames).value_or(SizeOrder::Shuffled);
   const auto count = s.integer("count", 1, 1'000'000'000);

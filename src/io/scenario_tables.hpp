@@ -43,9 +43,12 @@ std::filesystem::path input_file_at(const TomlSection& s, std::string_view key,
                                     const std::filesystem::path& scenario_dir, const std::string& given,
                                     std::string_view what);
 
-// scenario_particles.cpp; `material_names` are the run's materials, in index order.
+// scenario_particles.cpp; `material_names` are the run's materials, in index order;
+// `imports_beds`: the protocol has an import_lammps step (a file of the bed taken back, which
+// the file tolerances then apply to with generated sizes too).
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
-                              const Container& container, std::span<const std::string> material_names);
+                              const Container& container, std::span<const std::string> material_names,
+                              bool imports_beds);
 
 // scenario_materials.cpp: [materials] (each NAME's keys over `base`, [material]), a component's
 // `key` naming one of `names` (as its index), [[material_pairs]].

@@ -122,13 +122,38 @@ std::vector<WallGroup> wall_groups(const DeckBasis& b) {
 
 // The system: units, the box from bed.data, the law between spheres, integration, gravity,
 // the neighbour list, the time step and the quantities the stopping rules read.
-void deck_system(Out o, const DeckBasis& b) {
+// The farthest a grain's sphere reaches from its centre of mass, m (0 without grains).
+double largest_reach(const ParticleStore& bed) {
+  double reach = 0.0;
+  for (std::size_t i = 0; i < bed.body.size(); ++i)
+    if (bed.body[i] != kNoBody) reach = std::max(reach, norm(bed.body_offset[i]) + bed.radius[i]);
+  return reach;
+}
+
+// The groups a bed with grains adds: `grains`, their spheres (rigid/small moves them), and
+// `free`, the mobile spheres of their own (nve/sphere moves them).
+void deck_grain_groups(Out o, const ParticleStore& bed) {
+  if (!bed.bodies.empty()) fmt::format_to(o, "group grains molecule > 0\ngroup free subtract mobile grains\n");
+}
+
+void deck_system(Out o, const DeckBasis& b, const ParticleStore& bed) {
   const Scenario& sc = b.sc;
-  fmt::format_to(o, "units si\natom_style sphere\nboundary {0} {0} fm\nnewton off\ncomm_modify vel yes\nread_data {1}\n",
-                 sc.container.periodic ? "p" : "f", LammpsDeck::kDataFile);
+  const char* boundary = sc.container.periodic ? "p" : "f";
+  if (bed.bodies.empty()) {
+    fmt::format_to(o, "units si\natom_style sphere\nboundary {0} {0} fm\nnewton off\ncomm_modify vel yes\nread_data {1}\n",
+                   boundary, LammpsDeck::kDataFile);
+  } else {
+    // Grains: molecules of spheres (rigid/small needs the atom map), and ghosts reaching across
+    // a whole grain (a grain's spheres must all be seen by the rank that owns it).
+    const double cutoff = 2.0 * largest_reach(bed) + b.skin;
+    fmt::format_to(o, "units si\natom_style hybrid sphere bond\natom_modify map array\nboundary {0} {0} fm\nnewton off\n"
+                      "comm_modify vel yes cutoff {2:.17g}\nread_data {1}\n",
+                   boundary, LammpsDeck::kDataFile, cutoff);
+  }
   const std::size_t m = b.densities.size();
   if (m == 1) {
     fmt::format_to(o, "group mobile type 1\n");
+    deck_grain_groups(o, bed);
     fmt::format_to(o, "pair_style granular\npair_coeff * * {}\n", b.law.lammps_keywords(sc.material.contact, false));
     return;
   }
@@ -137,6 +162,7 @@ void deck_system(Out o, const DeckBasis& b) {
   for (std::size_t k = 0; k < m; ++k) fmt::format_to(o, " {}", k + 1);
   fmt::format_to(o, "\n");
   for (std::size_t k = 0; k < m; ++k) fmt::format_to(o, "group mobile_{} type {}\n", material_name(sc, k), k + 1);
+  deck_grain_groups(o, bed);
   fmt::format_to(o, "pair_style granular\n");
   const std::vector<ContactParameters> contacts = material_contacts(sc);
   for (std::size_t i = 0; i < 2 * m; ++i)
@@ -145,12 +171,21 @@ void deck_system(Out o, const DeckBasis& b) {
                      b.law.lammps_keywords(lammps_pair(contacts, sc.material_pairs, i % m, j % m), false));
 }
 
-void deck_motion(Out o, const DeckBasis& b) {
+// Integration and gravity: nve/sphere for the spheres of their own; with grains, rigid/small
+// for theirs, from bodies.txt (`reinit no`: a later run's setup would put them back where the
+// file has them), gravity on each grain's centre of mass (the fix's gravity keyword: by the
+// spheres it would act on their summed, overlapping masses).
+void deck_motion(Out o, const DeckBasis& b, const ParticleStore& bed) {
   const Vec3 gravity = b.sc.dynamics->dem.gravity;
-  fmt::format_to(o, "fix integrate mobile nve/sphere\n");
+  const bool grains = !bed.bodies.empty();
+  const char* moved = grains ? "free" : "mobile";
+  fmt::format_to(o, "fix integrate {} nve/sphere\n", moved);
   if (b.g > 0.0)
-    fmt::format_to(o, "fix gravity mobile gravity {:.17g} vector {:.17g} {:.17g} {:.17g}\n", b.g, gravity.x / b.g,
+    fmt::format_to(o, "fix gravity {} gravity {:.17g} vector {:.17g} {:.17g} {:.17g}\n", moved, b.g, gravity.x / b.g,
                    gravity.y / b.g, gravity.z / b.g);
+  if (grains)
+    fmt::format_to(o, "fix rigid grains rigid/small molecule infile {} reinit no{}\n", LammpsDeck::kBodiesFile,
+                   b.g > 0.0 ? " gravity gravity" : "");
   fmt::format_to(o, "neighbor {:.17g} bin\nneigh_modify delay 0 every 1 check yes\ntimestep {:.17g}\n", b.skin, b.dt());
   // The energy per sum(m g d) of the moving spheres (m d without gravity), as aggpack's samples.
   fmt::format_to(o, "compute radius all property/atom radius\nvariable top_of atom z+c_radius\n"
@@ -203,6 +238,23 @@ double smallest_radius(std::span<const double> radii, double r_min = std::numeri
   return r_min;
 }
 
+// bed.data, and bodies.txt when the bed has grains.
+void add_bed_files(LammpsDeck& deck, const DeckBasis& b, const ParticleStore& bed, double z_top,
+                   std::span<const std::uint8_t> frozen = {}) {
+  deck.files.emplace_back(LammpsDeck::kDataFile, lammps_data(bed, b.sc.container, b.densities, z_top, frozen));
+  if (!bed.bodies.empty())
+    deck.files.emplace_back(LammpsDeck::kBodiesFile, lammps_rigid_bodies(bed, b.sc.container));
+}
+
+// What the comments say of grains, when the bed has them.
+void deck_grain_comments(Out o, const ParticleStore& bed) {
+  if (bed.bodies.empty()) return;
+  fmt::format_to(o, "# {} grains: rigid bodies of spheres (molecules; fix rigid/small), each with its union's mass,\n"
+                    "# centre of mass and inertia from {}, as in aggpack. A grain's spheres take their grain's mass\n"
+                    "# in contacts (LAMMPS's mass_rigid), as in aggpack.\n",
+                 bed.bodies.size(), LammpsDeck::kBodiesFile);
+}
+
 LammpsDeck settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32_t layer) {
   std::vector<std::uint8_t> frozen(bed.size());
   double r_min = std::numeric_limits<double>::infinity();
@@ -220,15 +272,15 @@ LammpsDeck settle_deck(const Scenario& sc, const ParticleStore& bed, std::uint32
                 quiet_rule(b, fmt::format("{:g} s simulated", sc.dynamics->quiet.max_time)));
   if (std::any_of(frozen.begin(), frozen.end(), [](std::uint8_t f) { return f != 0; }))
     fmt::format_to(o, "# The spheres of the layers below (atom type 2) are held still, as in aggpack.\n");
-  deck_system(o, b);
+  deck_grain_comments(o, bed);
+  deck_system(o, b, bed);
   deck_static_walls(o, b);
-  deck_motion(o, b);
+  deck_motion(o, b, bed);
   // One setup, then the samples without LAMMPS's per-run setup (nothing changes between them).
   fmt::format_to(o, "run 0 post no\n");
   deck_quiet_loop(o, b, "settle", sc.dynamics->quiet.max_time);
   deck_end(o);
-  out.files.emplace_back(LammpsDeck::kDataFile,
-                         lammps_data(bed, sc.container, b.densities, sc.container.bounds.hi.z, frozen));
+  add_bed_files(out, b, bed, sc.container.bounds.hi.z, frozen);
   out.files.emplace_back(out.deck_file, fmt::to_string(d));
   return out;
 }
@@ -310,18 +362,88 @@ double deck_pour_batches(Out o, const DeckBasis& b, const std::vector<double>& f
 
 // aggpack's pour (pour_bed) as a deck: the same batches of the same random gas, each lifted to
 // the bed's top plus the gap when it comes in, at the same times, then the settling.
+// A pour with grains (of them, or into a bed of them), which LAMMPS takes as one batch: the
+// gas is aggpack's (the same positions, and orientations from the same stream), put into
+// bed.data above the bed by the gap, as aggpack's pour puts it in at its start; then the
+// settling.
+LammpsDeck pour_deck_with_grains(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
+                                 std::span<const double> radii, std::span<const std::uint8_t> materials,
+                                 const PouredShapes& shapes, const DeckBasis& b, double gap, LammpsDeck out) {
+  const PourSettings& pour = *sc.pour;
+  if (pour_schedule(pour, radii.size()).batches > 1)
+    throw InputError(fmt::format("{}: pour.batches: a pour with grains (of them, or into a bed of them) goes to LAMMPS "
+                                 "in one batch, as LAMMPS's fix rigid/small takes its grains once, when it is "
+                                 "defined; expected pour.batches = 1, or aggpack's DEM",
+                                 sc.file.string()));
+  const SphereMaterials of{materials, b.densities};
+  double bed_top = sc.container.bounds.lo.z;
+  for (std::size_t i = 0; i < bed.size(); ++i) bed_top = std::max(bed_top, bed.position[i].z + bed.radius[i]);
+  Rng rng = pour_stream(sc.seed, step.layer);
+  BatchGas gas;
+  try {
+    gas = batch_gas(sc.container, bed_top + gap, radii, pour.solid_fraction, rng);
+  } catch (const PourInsertionError& e) {
+    throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
+  }
+  ParticleStore poured = bed;
+  const Vec3 falling{0.0, 0.0, -pour.velocity};
+  for (std::size_t k = 0; k < radii.size(); ++k) {
+    if (const RigidBodyShape* shape = shapes.shape(k)) {
+      RigidBodyShape scaled = *shape;
+      scaled.scale = radii[k];
+      const std::size_t grain = poured.add_body(gas.positions[k], random_orientation(rng), scaled, of.density_of(k),
+                                                step.layer, of.material(k));
+      poured.bodies.velocity[grain] = falling;
+      continue;
+    }
+    poured.add(gas.positions[k], radii[k], of.density_of(k), step.layer, of.material(k));
+    poured.velocity.back() = falling;
+  }
+  fmt::memory_buffer d;
+  Out o(d);
+  const QuietCriterion& quiet = sc.dynamics->quiet;
+  deck_comments(o, b, out.step, out.deck_file, quiet_rule(b, fmt::format("{:g} s simulated in all", quiet.max_time)));
+  fmt::format_to(o, "# The pour in one batch: bed.data holds the bed and the pour's random gas as aggpack draws it,\n"
+                    "# its slab from the bed's top plus the gap ({:.17g} m), falling at {:g} m/s.\n",
+                 gap, pour.velocity);
+  deck_grain_comments(o, poured);
+  deck_system(o, b, poured);
+  deck_static_walls(o, b);
+  deck_motion(o, b, poured);
+  fmt::format_to(o, "print \"aggpack-batch: 1 bottom {:.17g}\"\n", gas.slab.bottom);
+  fmt::format_to(o, "run 0 post no\n");
+  deck_quiet_loop(o, b, "settle", quiet.max_time);
+  deck_end(o);
+  const double r_max = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
+  add_bed_files(out, b, poured, std::max(sc.container.bounds.hi.z, gas.slab.top + 2.0 * r_max));
+  out.files.emplace_back(out.deck_file, fmt::to_string(d));
+  return out;
+}
+
 LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
-                     std::span<const double> radii, std::span<const std::uint8_t> materials) {
+                     std::span<const double> radii, std::span<const std::uint8_t> materials,
+                     const PouredShapes& shapes) {
   const PourSettings& pour = *sc.pour;
   const QuietCriterion& quiet = sc.dynamics->quiet;
   const double r_max = radii.empty() ? 0.0 : *std::max_element(radii.begin(), radii.end());
-  DeckBasis b(sc, smallest_radius(radii, smallest_radius(bed.radius)));
-  // The skin is chosen for the smallest sphere still to come, as aggpack's pour does.
+  // The time step and skin from the smallest sphere in the bed or still to come (a grain's
+  // smallest, its radius at reach 1 times the grain's reach), as aggpack's pour has them.
+  double r_min = smallest_radius(bed.radius);
+  for (std::size_t k = 0; k < radii.size(); ++k) {
+    const RigidBodyShape* shape = shapes.shape(k);
+    if (!shape) r_min = std::min(r_min, radii[k]);
+    else
+      for (const double member : shape->member_radii) r_min = std::min(r_min, radii[k] * member);
+  }
+  DeckBasis b(sc, r_min);
   const double gap = pour.gap.value_or(2.0 * r_max);
   const PourSchedule schedule = pour_schedule(pour, radii.size());
   LammpsDeck out;
   out.step = fmt::format("pour, part {} of {}", step.layer + 1, step.layers);
   out.deck_file = "pour.in";
+  const bool grains = !bed.bodies.empty() ||
+                      std::any_of(shapes.of.begin(), shapes.of.end(), [](const RigidBodyShape* s) { return s != nullptr; });
+  if (grains) return pour_deck_with_grains(sc, bed, step, radii, materials, shapes, b, gap, std::move(out));
   PourBatches batches = pour_batches(b, bed, step, radii, materials, schedule, gap);
   out.files = std::move(batches.files);
 
@@ -334,9 +456,9 @@ LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourSte
   fmt::format_to(o, "# Each pour_batch_<k>.data holds batch k's random gas as aggpack draws it, its heights from the\n"
                     "# bottom of its slab; it is lifted to the bed's top plus the gap ({:.17g} m) as it comes in.\n",
                  gap);
-  deck_system(o, b);
+  deck_system(o, b, bed);
   deck_static_walls(o, b);
-  deck_motion(o, b);
+  deck_motion(o, b, bed);
   fmt::format_to(o, "run 0 post no\n");
   const double poured_at = deck_pour_batches(o, b, batches.fall_after, gap);
   fmt::format_to(o, "run 0 post no\n");
@@ -375,7 +497,8 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
                                                      : ""));
   fmt::format_to(o, "# The container is a region moved by v_lift; LAMMPS takes its velocity from the change of\n"
                     "# position over a step (aggpack: the exact derivative).\n");
-  deck_system(o, b);
+  deck_grain_comments(o, bed);
+  deck_system(o, b, bed);
   fmt::format_to(o, "variable lift equal 0\n");
   if (c.periodic)
     fmt::format_to(o, "region container plane 0 0 {:.17g} 0 0 1 side in move NULL NULL v_lift units box\n",
@@ -386,7 +509,7 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
                    c.bounds.lo.x, c.bounds.hi.x, c.bounds.lo.y, c.bounds.hi.y, c.bounds.lo.z);
   for (const auto& [group, suffix, wall] : wall_groups(b))
     fmt::format_to(o, "fix container{} {} wall/gran/region granular {} region container\n", suffix, group, wall);
-  deck_motion(o, b);
+  deck_motion(o, b, bed);
   fmt::format_to(o, "variable quiet_samples equal 0\nvariable tap equal 1\nrun 0 post no\nlabel tap\n");
   // The tap: to the step after its end, so the container is at rest again (as aggpack's).
   fmt::format_to(o, "variable start equal $(time)\n");
@@ -414,7 +537,7 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
   fmt::format_to(o, "write_dump all custom tap_${{tap}}.dump id type x y z radius modify format float %.17g sort id\n");
   fmt::format_to(o, "variable tap equal $(v_tap+1)\nif \"${{tap}} <= {}\" then \"jump SELF tap\"\n", tapping.taps);
   deck_end(o);
-  out.files.emplace_back(LammpsDeck::kDataFile, lammps_data(bed, c, b.densities, c.bounds.hi.z, {}));
+  add_bed_files(out, b, bed, c.bounds.hi.z);
   out.files.emplace_back(out.deck_file, fmt::to_string(d));
   return out;
 }
@@ -422,10 +545,13 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
 }  // namespace
 
 LammpsDeck lammps_deck(const Scenario& sc, const ParticleStore& bed, const LammpsStep& step,
-                       std::span<const double> pour_radii, std::span<const std::uint8_t> pour_materials) {
+                       std::span<const double> pour_radii, std::span<const std::uint8_t> pour_materials,
+                       const PouredShapes& pour_shapes) {
   if (!sc.dynamics) throw InputError(fmt::format("{}: a DEM step needs [dynamics]", sc.file.string()));
   return std::visit(Overloaded{[&](const SettleStep& s) { return settle_deck(sc, bed, s.layer); },
-                               [&](const PourStep& s) { return pour_deck(sc, bed, s, pour_radii, pour_materials); },
+                               [&](const PourStep& s) {
+                                 return pour_deck(sc, bed, s, pour_radii, pour_materials, pour_shapes);
+                               },
                                [&](const TapStep&) { return tap_deck(sc, bed); }},
                     step);
 }

@@ -65,6 +65,18 @@ Camera::Projection Camera::project(const Vec3& p) const {
 }
 
 namespace {
+// What colours sphere i and where a section cuts it: a sphere its own diameter and centre; a
+// grain's sphere its grain's (the diameter of the grain's volume, its centre of mass), so a
+// grain shows in one colour and a section takes it away whole.
+double colour_diameter(const ParticleStore& particles, std::size_t i) {
+  if (particles.body.empty() || particles.body[i] == kNoBody) return 2.0 * particles.radius[i];
+  return std::cbrt(6.0 * particles.bodies.volume[particles.body[i]] / std::numbers::pi);
+}
+const Vec3& section_point(const ParticleStore& particles, std::size_t i) {
+  if (particles.body.empty() || particles.body[i] == kNoBody) return particles.position[i];
+  return particles.bodies.position[particles.body[i]];
+}
+
 // The picture at options.width (times the supersampling factor), without a legend.
 Image ray_cast(const ParticleStore& particles, const Box& frame, const RenderOptions& options, double d_lo,
                double d_hi) {
@@ -77,10 +89,10 @@ Image ray_cast(const ParticleStore& particles, const Box& frame, const RenderOpt
   const double scale = camera.pixels_per_metre();
   const std::optional<SectionPlane> section = options.cut_away ? section_plane(frame, camera.forward()) : std::nullopt;
   for (std::size_t i = 0; i < particles.size(); ++i) {
-    if (section && section->removes(particles.position[i])) continue;
+    if (section && section->removes(section_point(particles, i))) continue;
     const double r = particles.radius[i];
     const Camera::Projection c = camera.project(particles.position[i]);
-    const Rgb base = viridis(colour_position(2.0 * r, d_lo, d_hi, options.log_colour));
+    const Rgb base = viridis(colour_position(colour_diameter(particles, i), d_lo, d_hi, options.log_colour));
     const double r_px = r * scale;
     const int x0 = std::max(0, static_cast<int>(std::floor(c.column - r_px)));
     const int x1 = std::min(camera.width() - 1, static_cast<int>(std::ceil(c.column + r_px)));
@@ -141,9 +153,11 @@ double colour_position(double d, double d_lo, double d_hi, bool log_colour) {
 Image render_spheres(const ParticleStore& particles, const Box& frame, const RenderOptions& options) {
   double d_lo = options.d_lo, d_hi = options.d_hi;
   if (d_lo <= 0.0 && d_hi <= 0.0 && particles.size() > 0) {
-    const auto [lo, hi] = std::minmax_element(particles.radius.begin(), particles.radius.end());
-    d_lo = 2.0 * *lo;
-    d_hi = 2.0 * *hi;
+    d_lo = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < particles.size(); ++i) {
+      d_lo = std::min(d_lo, colour_diameter(particles, i));
+      d_hi = std::max(d_hi, colour_diameter(particles, i));
+    }
   }
   const int n = std::max(1, options.supersample);
   RenderOptions fine = options;

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <unistd.h>
 #include <variant>
+#include <vector>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
@@ -18,6 +19,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/overloaded.hpp"
+#include "aggpack/core/rigid_fit.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/deposition/gas_insertion.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
@@ -58,8 +60,13 @@ double smallest_radius(std::span<const double> radii) {
   return r_min;
 }
 
-// The positions of `dump` put in place of the store's first spheres (same radii, by id).
-void take_positions(ParticleStore& particles, const ParticleStore& dump, const std::string& name, std::size_t count) {
+// The positions of `dump` put in place of the store's first spheres (same radii, by id),
+// velocities zeroed. A grain's pose is fitted to where its spheres are (fit_rigid_pose; in a
+// periodic box each sphere taken to the image nearest its grain's first), and its spheres put
+// back exactly where that pose holds them: refused when one is farther from it than a
+// billionth of the grain's reach (the file's spheres are not this rigid grain's).
+void take_positions(ParticleStore& particles, const ParticleStore& dump, const std::string& name, std::size_t count,
+                    const Container& container) {
   if (dump.size() != count)
     throw InputError(fmt::format("{}: holds {} spheres, the bed {}", name, dump.size(), count));
   for (std::size_t i = 0; i < count; ++i) {
@@ -71,6 +78,31 @@ void take_positions(ParticleStore& particles, const ParticleStore& dump, const s
     particles.position[i] = dump.position[i];
     particles.velocity[i] = {};
     particles.angular_velocity[i] = {};
+  }
+  RigidBodies& bodies = particles.bodies;
+  std::vector<Vec3> places;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    const std::size_t first = bodies.first_member[b], members = bodies.member_count[b];
+    if (first + members > count) continue;  // a grain beyond the file's spheres keeps its place
+    places.clear();
+    double reach = 0.0;
+    for (std::size_t i = first; i < first + members; ++i) {
+      places.push_back(dump.position[first] + container.minimum_image(dump.position[i] - dump.position[first]));
+      reach = std::max(reach, norm(particles.body_offset[i]) + particles.radius[i]);
+    }
+    const RigidPose pose =
+        fit_rigid_pose(std::span<const Vec3>(particles.body_offset).subspan(first, members), places);
+    if (!(pose.largest_miss <= 1e-9 * reach))
+      throw InputError(fmt::format("{}: the spheres {} to {} of grain {} are not where one rigid grain would hold them "
+                                   "(one is {:.3g} m from its place, the grain reaching {:.3g} m): the file is not "
+                                   "of this bed",
+                                   name, first + 1, first + members, b + 1, pose.largest_miss, reach));
+    bodies.position[b] = pose.centre;
+    bodies.orientation[b] = pose.orientation;
+    bodies.velocity[b] = {};
+    bodies.angular_velocity[b] = {};
+    for (std::size_t i = first; i < first + members; ++i)
+      particles.position[i] = pose.centre + rotate(pose.orientation, particles.body_offset[i]);
   }
 }
 
@@ -184,7 +216,7 @@ SettlingRun settle_in_lammps(const Scenario& sc, ParticleStore& particles, std::
   const std::filesystem::path folder = lammps_folder(sc, fmt::format("settle_layer_{}", layer + 1));
   const std::string log = run_lammps(sc, folder, lammps_deck(sc, particles, SettleStep{layer}), progress);
   const std::filesystem::path dump = folder / LammpsDeck::kDumpFile;
-  take_positions(particles, read_lammps_dump(dump, sc).particles, dump.string(), particles.size());
+  take_positions(particles, read_lammps_dump(dump, sc).particles, dump.string(), particles.size(), sc.container);
   double r_min = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < particles.size(); ++i)
     if (particles.layer[i] >= layer) r_min = std::min(r_min, particles.radius[i]);
@@ -192,17 +224,26 @@ SettlingRun settle_in_lammps(const Scenario& sc, ParticleStore& particles, std::
 }
 
 PourRun pour_in_lammps(const Scenario& sc, ParticleStore& particles, std::span<const double> radii,
-                       const SphereMaterials& materials, const PourStep& step, double time_offset, TimeSeries& series, Progress& progress) {
+                       const SphereMaterials& materials, const PouredShapes& shapes, const PourStep& step,
+                       double time_offset, TimeSeries& series, Progress& progress) {
   const auto t0 = Clock::now();
   const std::filesystem::path folder = lammps_folder(sc, fmt::format("pour_part_{}", step.layer + 1));
-  const LammpsDeck deck = lammps_deck(sc, particles, step, radii, materials.of);
+  const LammpsDeck deck = lammps_deck(sc, particles, step, radii, materials.of, shapes);
   const std::string log = run_lammps(sc, folder, deck, progress);
   const std::filesystem::path dump_file = folder / LammpsDeck::kDumpFile;
   const LammpsBed dump = read_lammps_dump(dump_file, sc);
-  // The poured spheres come after the bed's, in the order aggpack inserts them.
-  for (std::size_t k = 0; k < radii.size(); ++k)
+  // The poured spheres and grains come after the bed's, in the order aggpack inserts them
+  // (a grain's pose is fitted to its spheres in the dump).
+  for (std::size_t k = 0; k < radii.size(); ++k) {
+    if (const RigidBodyShape* shape = shapes.shape(k)) {
+      RigidBodyShape scaled = *shape;
+      scaled.scale = radii[k];
+      particles.add_body({}, {}, scaled, materials.density_of(k), step.layer, materials.material(k));
+      continue;
+    }
     particles.add({}, radii[k], materials.density_of(k), step.layer, materials.material(k));
-  take_positions(particles, dump.particles, dump_file.string(), particles.size());
+  }
+  take_positions(particles, dump.particles, dump_file.string(), particles.size(), sc.container);
 
   const PourSettings& pour = *sc.pour;
   const PourSchedule schedule = pour_schedule(pour, radii.size());
@@ -262,12 +303,12 @@ TapReport tap_in_lammps(const Scenario& sc, ParticleStore& particles, std::size_
     if (std::sscanf(lines[k].c_str(), "aggpack-tap: %lu time %lf energy %lf", &tap, &time, &energy) != 3)
       throw InputError(fmt::format("{}: malformed line \"{}\"", (folder / LammpsDeck::kLogFile).string(), lines[k]));
     const std::filesystem::path dump = folder / fmt::format("tap_{}.dump", k + 1);
-    take_positions(after, read_lammps_dump(dump, sc).particles, dump.string(), after.size());
+    take_positions(after, read_lammps_dump(dump, sc).particles, dump.string(), after.size(), sc.container);
     append_sample(series, time_offset + time, 0, measured_sample(sc, after, 0, false, energy));
     report.samples.push_back({k + 1, time_offset + time, box_density_or_nan(sc, after), energy});
   }
   const std::filesystem::path dump = folder / LammpsDeck::kDumpFile;
-  take_positions(particles, read_lammps_dump(dump, sc).particles, dump.string(), particles.size());
+  take_positions(particles, read_lammps_dump(dump, sc).particles, dump.string(), particles.size(), sc.container);
   report.simulated_time = settled_line(log, folder).time;
   report.steps = static_cast<std::size_t>(std::llround(report.simulated_time / report.time_step));
   report.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -279,7 +320,7 @@ std::string take_positions_from_lammps(ParticleStore& particles, const std::file
   PackingFile read = read_packing_file(file, 1.0, sc.material.density, sc.limits.max_input_bytes(), timestep);
   if (read.format.rfind("LAMMPS", 0) != 0)
     throw InputError(fmt::format("{}: a {} file, not a LAMMPS dump or data file", file.string(), read.format));
-  take_positions(particles, read.particles, file.string(), particles.size());
+  take_positions(particles, read.particles, file.string(), particles.size(), sc.container);
   check_imported_bed(sc, particles, file);
   return read.format;
 }
@@ -349,6 +390,12 @@ ExportedDeck export_run_folder(const std::filesystem::path& folder, const Scenar
     throw InputError(fmt::format("{}: the scenario has no [dynamics]: the deck takes its law, time step and "
                                  "stopping rule from there",
                                  scenario_file.string()));
+  // particles.csv holds a grain's spheres, not the grain (its template and mass properties).
+  if (sc.particles.has_grains())
+    throw InputError(fmt::format("{}: a run with grains: its particles.csv holds their spheres, not the grains; hand "
+                                 "the bed to LAMMPS from the scenario instead (an export_lammps step before the DEM "
+                                 "step, or dynamics.engine = \"lammps\")",
+                                 folder.string()));
   if (tap && !sc.tapping)
     throw InputError(fmt::format("{}: --tap: the scenario has no [tapping] table for the taps",
                                  scenario_file.string()));
@@ -411,18 +458,20 @@ ExportedDeck export_scenario_step(const std::filesystem::path& scenario_file, co
   const std::size_t k = first_dem_step(sc, protocol);
   const RunReport report = run_steps_before(sc, protocol, k);
   const StepKind& kind = protocol.steps[k].kind;
-  std::span<const double> pour_radii;
+  RunGrains::PourPart part;
   std::span<const std::uint8_t> pour_materials;
   std::vector<double> radii;
   std::vector<std::uint8_t> materials;
+  RunGrains grains;
   LammpsStep step;
   if (const auto* p = std::get_if<PourStep>(&kind)) {
-    // The part of the scenario's sizes this pour step lets in.
+    // The part of the scenario's sizes this pour step lets in (a grain by its reach, with its shape).
     const GeneratedSizes sizes = generate_sizes(sc.particles, sc.seed);
     for (const double d : sizes.diameters) radii.push_back(0.5 * d);
     materials = sphere_materials(sc.particles, sizes);
+    grains = make_run_grains(sc.particles, sizes, sc.seed);
     const std::size_t begin = radii.size() * p->layer / p->layers, end = radii.size() * (p->layer + 1) / p->layers;
-    pour_radii = std::span<const double>(radii).subspan(begin, end - begin);
+    part = grains.pour_part(std::span<const double>(radii).subspan(begin, end - begin), begin);
     if (!materials.empty()) pour_materials = std::span<const std::uint8_t>(materials).subspan(begin, end - begin);
     step = *p;
   } else if (const auto* s = std::get_if<SettleStep>(&kind)) {
@@ -431,8 +480,9 @@ ExportedDeck export_scenario_step(const std::filesystem::path& scenario_file, co
     step = TapStep{};
   }
   ExportedDeck exported;
-  exported.deck = lammps_deck(sc, report.particles, step, pour_radii, pour_materials);
-  exported.poured = pour_radii.size();
+  exported.deck = lammps_deck(sc, report.particles, step, part.radii, pour_materials,
+                              grains.empty() ? PouredShapes{} : PouredShapes{part.shapes});
+  exported.poured = part.radii.size();
   exported.source = fmt::format("step {} of {} of {}", k + 1, protocol.steps.size(), sc.file.string());
   exported.spheres = report.particles.size();
   return exported;
@@ -449,9 +499,15 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
   const LammpsDeck& deck = exported.deck;
   check_output_directory(out, true);
   write_lammps_deck(out, deck);
+  // A pour with grains is one batch, in bed.data with the bed (lammps_deck).
+  const bool batch_files = std::any_of(deck.files.begin(), deck.files.end(),
+                                       [](const auto& f) { return f.first.starts_with("pour_batch_"); });
+  const std::string poured =
+      exported.poured == 0 ? std::string()
+      : batch_files        ? fmt::format(" and {} to pour in pour_batch_*.data", exported.poured)
+                           : fmt::format(" and {} to pour (in one batch, in the same file)", exported.poured);
   fmt::print(log, "aggpack: exported {} ({}): {} spheres in {}{}, the deck in {}; run it with: cd {} && lmp -in {}\n",
-             exported.source, deck.step, exported.spheres, (out / LammpsDeck::kDataFile).string(),
-             exported.poured > 0 ? fmt::format(" and {} to pour in pour_batch_*.data", exported.poured) : std::string(),
+             exported.source, deck.step, exported.spheres, (out / LammpsDeck::kDataFile).string(), poured,
              (out / deck.deck_file).string(), out.string(), deck.deck_file);
   return deck.step;
 }
@@ -459,6 +515,13 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
 RunResult import_lammps(const std::filesystem::path& file, std::optional<std::int64_t> timestep,
                         const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
   Scenario sc = load_scenario(scenario_file, options.overrides);
+  // A dump holds spheres, not the grains they make up (templates, mass properties): a bed of
+  // grains comes back within its run, where its grains are known.
+  if (sc.particles.has_grains())
+    throw InputError(fmt::format("{}: a component has a shape (grains), and import-lammps reads spheres only: take "
+                                 "LAMMPS's bed of grains back within the run (an import_lammps step after the "
+                                 "export_lammps step, or dynamics.engine = \"lammps\")",
+                                 scenario_file.string()));
   // The scenario gives the container, the material and the analysis; the bed is the file's.
   ParticleSource source;
   source.file = std::filesystem::absolute(file);

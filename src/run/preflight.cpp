@@ -59,10 +59,11 @@ std::string memory_limit_text(const Scenario& sc) {
 }
 
 // An import_lammps step's file against the bed it replaces (`bed`: its radii in the store's
-// order): a LAMMPS file, at the timestep asked for, of as many spheres with the same radii,
-// inside the container and none coincident, as run_step checks when it comes to it.
+// order; `bed_grain`: each one's grain, kNoBody, or empty without grains): a LAMMPS file, at
+// the timestep asked for, of as many spheres with the same radii, inside the container and
+// none coincident (a grain's own overlap), as run_step checks when it comes to it.
 void check_import_step(const Scenario& sc, const ImportLammpsStep& import, const std::vector<double>& bed,
-                       const std::string& where) {
+                       const std::vector<std::uint32_t>& bed_grain, const std::string& where) {
   const auto max_bytes = sc.limits.max_input_bytes();
   PackingFile read = read_packing_file(import.file, 1.0, sc.material.density, max_bytes, import.timestep);
   if (!read.format.starts_with("LAMMPS"))
@@ -80,6 +81,7 @@ void check_import_step(const Scenario& sc, const ImportLammpsStep& import, const
       throw InputError(fmt::format("{}: import_lammps.file: the radii of {} are not the bed's (its {}th smallest is "
                                    "{:.6g} m, the bed's {:.6g} m); expected the file of this bed",
                                    where, import.file.string(), i + 1, theirs[i], ours[i]));
+  if (!bed_grain.empty()) read.particles.body = bed_grain;
   check_imported_bed(sc, read.particles, import.file);
 }
 
@@ -526,10 +528,12 @@ void check_imported_bed(const Scenario& sc, ParticleStore& bed, const std::files
                                 file.string(), sc.limits.max_grid_cells);
 }
 
-void check_protocol_beds(const Scenario& sc, std::span<const double> bed_radii, std::span<const double> to_place) {
+void check_protocol_beds(const Scenario& sc, std::span<const double> bed_radii, std::span<const double> to_place,
+                         const RunGrains* grains) {
   const std::string file = sc.file.string();
   const Protocol protocol = scenario_protocol(sc);
   std::vector<double> bed(bed_radii.begin(), bed_radii.end());
+  std::vector<std::uint32_t> bed_grain;  // with grains: each sphere's particle, or kNoBody
   const std::size_t n = to_place.size();
   for (std::size_t k = 0; k < protocol.steps.size(); ++k) {
     const Step& step = protocol.steps[k];
@@ -540,12 +544,13 @@ void check_protocol_beds(const Scenario& sc, std::span<const double> bed_radii, 
         throw InputError(fmt::format("{}: part {} of {} holds no sphere ({} spheres in {} parts); expected at most {} "
                                      "parts",
                                      where, layer + 1, layers, n, layers, n));
-      bed.insert(bed.end(), to_place.begin() + static_cast<std::ptrdiff_t>(begin),
-                 to_place.begin() + static_cast<std::ptrdiff_t>(end));
+      if (grains && !grains->empty()) grains->append_spheres(to_place.subspan(begin, end - begin), begin, bed, bed_grain);
+      else bed.insert(bed.end(), to_place.begin() + static_cast<std::ptrdiff_t>(begin),
+                      to_place.begin() + static_cast<std::ptrdiff_t>(end));
     };
     std::visit(Overloaded{[&](const DepositStep& d) { place(d.layer, d.layers); },
                           [&](const PourStep& p) { place(p.layer, p.layers); },
-                          [&](const ImportLammpsStep& import) { check_import_step(sc, import, bed, where); },
+                          [&](const ImportLammpsStep& import) { check_import_step(sc, import, bed, bed_grain, where); },
                           [&](const auto&) {
                             if (bed.empty())
                               throw InputError(fmt::format("{}: it comes before any step places the spheres: the bed "

@@ -164,8 +164,13 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     return summary;
   }
   if (sc.output.csv) write("particles.csv", particles_csv(report.particles, material_names));
-  if (sc.output.csv && !report.particles.bodies.empty())
-    write("grains.csv", grains_csv(report.particles, measure_bodies(report.particles)));
+  if (sc.output.csv && !report.particles.bodies.empty()) {
+    const std::vector<GrainMeasure> measures = measure_bodies(report.particles);
+    const std::vector<SieveInterval> sieves =
+        report.sizes ? grain_sieve_intervals(report.particles, measures, report.grain_shape_component, report.sizes->report)
+                     : std::vector<SieveInterval>{};
+    write("grains.csv", grains_csv(report.particles, measures, sieves));
+  }
   if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
   if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());
   if (!report.tappings.empty()) {

@@ -94,6 +94,25 @@ std::vector<GrainMeasure> measure_bodies(const ParticleStore& bed) {
   return measures;
 }
 
+std::vector<SieveInterval> grain_sieve_intervals(const ParticleStore& bed, std::span<const GrainMeasure> measures,
+                                                 const std::vector<std::uint32_t>& shape_component,
+                                                 const SizesReport& sizes) {
+  std::vector<SieveInterval> intervals(bed.bodies.size());
+  if (sizes.method == "classes") return intervals;
+  for (std::size_t b = 0; b < intervals.size(); ++b) {
+    const std::size_t c = shape_component.at(bed.bodies.shape[b]);
+    if (c >= sizes.components.size()) continue;
+    const std::vector<Sieve>& sieves = sizes.components[c].cut.grading.sieves;  // by opening, ascending
+    // The size the grading gave, to the rounding of its measure.
+    const double width = measures[b].width * (1.0 - 1e-9);
+    const auto passing = std::lower_bound(sieves.begin(), sieves.end(), width,
+                                          [](const Sieve& s, double d) { return s.opening < d; });
+    if (passing == sieves.end() || passing == sieves.begin()) continue;  // outside the curve's sieves
+    intervals[b] = {std::prev(passing)->opening, passing->opening};
+  }
+  return intervals;
+}
+
 nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleStore& bed,
                                const std::vector<std::uint32_t>& shape_component) {
   nlohmann::json out = libraries;
@@ -139,6 +158,22 @@ RunGrains::PourPart RunGrains::pour_part(std::span<const double> sieve_radii, st
     part.shapes.push_back(&shapes[static_cast<std::size_t>(s)]);
   }
   return part;
+}
+
+void RunGrains::append_spheres(std::span<const double> sieve_radii, std::size_t begin, std::vector<double>& radii,
+                               std::vector<std::uint32_t>& grain_of) const {
+  const PourPart part = pour_part(sieve_radii, begin);
+  for (std::size_t j = 0; j < part.radii.size(); ++j) {
+    if (!part.shapes[j]) {
+      radii.push_back(part.radii[j]);
+      grain_of.push_back(kNoBody);
+      continue;
+    }
+    for (const double member : part.shapes[j]->member_radii) {  // each at its grain's reach, as the pour
+      radii.push_back(part.radii[j] * member);
+      grain_of.push_back(static_cast<std::uint32_t>(begin + j));
+    }
+  }
 }
 
 }  // namespace aggpack

@@ -33,24 +33,29 @@ std::vector<double> drop_radii(const InitialBed& bed) {
   return radii;
 }
 
-// Grains of several spheres (a component's `shape`) are poured by aggpack's DEM: the drop and
-// roll places spheres, and the LAMMPS bridge takes spheres only so far.
+// Grains of several spheres (a component's `shape`) are poured: the drop and roll places
+// spheres. A grain cannot be frozen (a settle of a later part), and LAMMPS takes a pour with
+// grains in one batch (its fix rigid/small takes its bodies once).
 void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
   if (!sc.particles.has_grains()) return;
   const auto fail = [&](std::string_view what) {
     throw InputError(fmt::format("{}: a component has a shape (grains of several spheres), and {}", sc.file.string(), what));
   };
+  const bool lammps_engine = sc.dynamics && sc.dynamics->engine == DemEngine::Lammps;
+  const bool lammps_pour = sc.pour && sc.pour->batches > 1;  // a pour LAMMPS cannot take with grains
   for (const Step& step : protocol.steps) {
     if (std::holds_alternative<DepositStep>(step.kind))
       fail("the drop-and-roll deposition places spheres only: pour grains ([pour]) instead of depositing them");
-    if (std::holds_alternative<ExportLammpsStep>(step.kind) || std::holds_alternative<ImportLammpsStep>(step.kind))
-      fail("the LAMMPS bridge takes spheres only so far: leave out the LAMMPS steps");
     if (const auto* settle = std::get_if<SettleStep>(&step.kind); settle && settle->layer > 0)
       fail("a settle step of a later part freezes the parts below it, and a grain cannot be frozen yet: settle "
            "the whole bed ([[protocol]] settle without layer)");
+    const auto* exported = std::get_if<ExportLammpsStep>(&step.kind);
+    const bool pour_to_lammps = (lammps_engine && std::holds_alternative<PourStep>(step.kind)) ||
+                                (exported && std::holds_alternative<PourStep>(exported->next));
+    if (pour_to_lammps && lammps_pour)
+      fail("pour.batches: LAMMPS's fix rigid/small takes its grains once, when it is defined, so a pour with grains "
+           "goes to LAMMPS in one batch; expected pour.batches = 1, or aggpack's DEM");
   }
-  if (sc.dynamics && sc.dynamics->engine == DemEngine::Lammps)
-    fail("dynamics.engine = \"lammps\" takes spheres only so far: use aggpack's DEM");
 }
 
 // The frames' slack: a sample meant to fall on a multiple of frame_interval is not missed by a rounding.
@@ -97,7 +102,8 @@ InitialBed initial_bed(const Scenario& sc) {
   radii.reserve(bed.sizes->diameters.size());
   for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
   check_sizes(sc, radii);
-  check_protocol_beds(sc, {}, radii);
+  // With grains, once they are made (RunSession): an import's file holds their spheres.
+  if (!sc.particles.has_grains()) check_protocol_beds(sc, {}, radii);
   return bed;
 }
 
@@ -129,6 +135,7 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
       // The checks of sizes again, with each grain as the sphere that holds it (its reach): the
       // virtual boxes' room from the walls and the bed's surface is one such diameter.
       check_sizes(sc, context_.grains.pour_part(context_.radii, 0).radii);
+      check_protocol_beds(sc, {}, context_.radii, &context_.grains);
       report_.wall_clock_s["grains"] = seconds_since(t_grains);
       report_.grain_libraries = libraries_json(context_.grains, initial.sizes->report.components);
       report_.grain_shape_component = context_.grains.shape_component;

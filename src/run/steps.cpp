@@ -81,12 +81,12 @@ void run_step(const PourStep& step, RunContext& ctx) {
   const std::span<const double> radii(ctx.radii.data() + begin, end - begin);
   // Grains come in by their bounding spheres' radii, each with its shape.
   const RunGrains::PourPart part = ctx.grains.pour_part(radii, begin);
+  const PouredShapes shapes = ctx.grains.empty() ? PouredShapes{} : PouredShapes{part.shapes};
   const PourRun run =
       r.scenario.dynamics->engine == DemEngine::Lammps
-          ? pour_in_lammps(r.scenario, r.particles, radii, ctx.materials(begin, end), step, ctx.simulated_time,
-                           r.series, ctx.progress)
-          : pour_bed(r.scenario, r.particles, part.radii, ctx.materials(begin, end),
-                     ctx.grains.empty() ? PouredShapes{} : PouredShapes{part.shapes}, step.layer,
+          ? pour_in_lammps(r.scenario, r.particles, part.radii, ctx.materials(begin, end), shapes, step,
+                           ctx.simulated_time, r.series, ctx.progress)
+          : pour_bed(r.scenario, r.particles, part.radii, ctx.materials(begin, end), shapes, step.layer,
                      ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
   ctx.simulated_time += run.settling.simulated_time;
   if (!r.dynamics) r.dynamics.emplace();
@@ -135,15 +135,16 @@ void run_step(const SnapshotStep& step, RunContext& ctx) {
 
 void run_step(const ExportLammpsStep& step, RunContext& ctx) {
   const Scenario& sc = ctx.report.scenario;
-  std::span<const double> pour_radii;
+  RunGrains::PourPart part;
   SphereMaterials pour_materials;
   if (const auto* pour = std::get_if<PourStep>(&step.next)) {
     const std::size_t n = ctx.radii.size();
     const std::size_t begin = n * pour->layer / pour->layers, end = n * (pour->layer + 1) / pour->layers;
-    pour_radii = std::span<const double>(ctx.radii.data() + begin, end - begin);
+    part = ctx.grains.pour_part(std::span<const double>(ctx.radii.data() + begin, end - begin), begin);
     pour_materials = ctx.materials(begin, end);
   }
-  const LammpsDeck deck = lammps_deck(sc, ctx.report.particles, step.next, pour_radii, pour_materials.of);
+  const LammpsDeck deck = lammps_deck(sc, ctx.report.particles, step.next, part.radii, pour_materials.of,
+                                      ctx.grains.empty() ? PouredShapes{} : PouredShapes{part.shapes});
   const std::filesystem::path folder = sc.output.directory / "lammps" / step.name;
   write_lammps_deck(folder, deck);
   ctx.report.lammps_exchanges.push_back({"export", folder.string(), deck.step, ctx.report.particles.size()});

@@ -53,7 +53,9 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::string header;
   const auto grains = csv(dir_ / "out" / "grains.csv", header);
-  EXPECT_EQ(header, "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres");
+  EXPECT_EQ(header,
+            "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres,"
+            "sieve_retained,sieve_passing");
   ASSERT_EQ(grains.size(), 150u);
   const auto spheres = csv(dir_ / "out" / "particles.csv", header);
   EXPECT_EQ(header, "id,x,y,z,r,grain");
@@ -68,6 +70,7 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
     EXPECT_NEAR(std::stod(g.at(10)), 0.008, 1e-12);  // I: the size the grading gave
     EXPECT_GE(std::stod(g.at(9)), std::stod(g.at(10)));
     EXPECT_GE(std::stod(g.at(10)), std::stod(g.at(11)));
+    EXPECT_TRUE(g.size() == 17u && g.at(16).empty());  // size classes: no sieve interval (two empty cells)
   }
   const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "out" / "summary.json"));
   const auto& g = summary.at("grains");
@@ -90,6 +93,9 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
 
 // Refused before any work, exit 2, naming what to change.
 TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
+  std::string in_batches_to_lammps = kGrains;
+  in_batches_to_lammps.replace(in_batches_to_lammps.find("[pour]\n"), 7, "[pour]\nbatches = 2\n");
+  in_batches_to_lammps.replace(in_batches_to_lammps.find("[dynamics]\n"), 11, "[dynamics]\nengine = \"lammps\"\n");
   std::string deposited = kGrains;
   deposited.replace(deposited.find("[pour]\nsolid_fraction = 0.15\n"), 29, "[deposition]\n");
   const std::map<std::string, std::pair<std::string, std::string>> cases{
@@ -103,6 +109,7 @@ TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
        {"title = \"t\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 10\nshape = { family = "
         "\"angular\", flakiness_index = 10, shape_index = 20 }\n",
         "at most one lab measure"}},
+      {"lammps_pour_in_batches", {in_batches_to_lammps, "expected pour.batches = 1"}},
       {"corners_of_a_rounded",
        {"title = \"t\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 10\nshape = { family = "
         "\"rounded\", corners = 10 }\n",
@@ -115,6 +122,21 @@ TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
     EXPECT_NE(r.output.find(what.second), std::string::npos) << name << ": " << r.output;
     EXPECT_FALSE(fs::exists(dir_ / name / "summary.json")) << name;
   }
+  // A LAMMPS dump or a finished run's particles.csv holds spheres, not grains: the bridge's
+  // commands outside a run refuse a scenario with grains, saying how to hand the bed over.
+  std::ofstream(dir_ / "grains.toml") << kGrains;
+  std::ofstream(dir_ / "some.dump") << "ITEM: TIMESTEP\n0\n";
+  const auto i = run_cli("import-lammps " + (dir_ / "some.dump").string() + " --scenario " +
+                         (dir_ / "grains.toml").string() + " --quiet --out " + (dir_ / "imported").string());
+  EXPECT_EQ(i.exit_code, 2) << i.output;
+  EXPECT_NE(i.output.find("import-lammps reads spheres only"), std::string::npos) << i.output;
+  fs::create_directories(dir_ / "finished");
+  std::ofstream(dir_ / "finished" / "summary.json") << "{\"scenario_file\": \"" << (dir_ / "grains.toml").string()
+                                                    << "\"}";
+  std::ofstream(dir_ / "finished" / "particles.csv") << "id,x,y,z,r,grain\n";
+  const auto e = run_cli("export-lammps " + (dir_ / "finished").string() + " --out " + (dir_ / "exported").string());
+  EXPECT_EQ(e.exit_code, 2) << e.output;
+  EXPECT_NE(e.output.find("its particles.csv holds their spheres, not the grains"), std::string::npos) << e.output;
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // (`lmp`, Debian's lammps, installed by the README's test command) on one rank and on two
 // (`mpirun`, openmpi-bin), imported back, and compared with aggpack settling the same bed.
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <iterator>
@@ -21,6 +22,7 @@ namespace {
 namespace fs = std::filesystem;
 using aggpack::testing::run_cli;
 using aggpack::testing::run_command;
+using aggpack::testing::slurp;
 
 // 300 spheres of 1 cm, deposited, then settled until quiet (about 0.45 s simulated).
 constexpr const char* kSmallBed =
@@ -547,3 +549,96 @@ TEST_F(LammpsBridge, APourOfThreeMaterialsIsADeckOfTypesGroupsAndWallsPerMateria
 }
 
 }  // namespace
+
+namespace {
+
+// 300 rounded grains of one template (3 spheres; I = 8 mm, L:I:S = 1 : 0.6 : 0.48), poured in
+// one batch into a box with walls and settled.
+constexpr const char* kGrainPour =
+    "title = \"grains to LAMMPS\"\nseed = 4\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.008\n"
+    "count = 300\nshape = { family = \"rounded\", spheres = 3, templates = 1, elongation = 0.6, flatness = 0.8, "
+    "spread = 0 }\n[material]\nyoungs_modulus = 1e7\nwall_youngs_modulus = 1e7\nfriction_particle = 0.5\n[pour]\n"
+    "batches = 1\nsolid_fraction = 0.15\n[dynamics]\nmax_time = 1.0\n[analysis]\nbox_sides = [0.008]\n";
+
+// The bed's density between one d_max above the floor and one below its surface: the mean of
+// the vertical profile's slices there, each the whole footprint (one small virtual box is a
+// sample of a few grains, the slices of the bed's whole width).
+double interior_density(const nlohmann::json& summary) {
+  const auto& bed = summary.at("bed");
+  const auto& profile = summary.at("profiles").at("vertical");
+  const double lo = bed.at("floor_m").get<double>() + bed.at("d_max_m").get<double>();
+  const double hi = bed.at("surface_m").get<double>() - bed.at("d_max_m").get<double>();
+  double sum = 0.0;
+  int slices = 0;
+  for (std::size_t k = 0; k < profile.at("z_m").size(); ++k) {
+    const double z = profile.at("z_m")[k].get<double>();
+    if (z < lo || z > hi) continue;
+    sum += profile.at("solid_fraction")[k].get<double>();
+    ++slices;
+  }
+  EXPECT_GE(slices, 5);
+  return slices > 0 ? sum / slices : 0.0;
+}
+
+}  // namespace
+
+// Issue 38: a pour of grains handed to LAMMPS (fix rigid/small, each grain's union mass
+// properties from bodies.txt) from the same start as aggpack's (the same gas of the same
+// grains at the same orientations) ends as dense, and LAMMPS's bed comes back grain by grain.
+// A pour is chaotic: two engines make two random beds of one law. Over four seeds of this
+// scenario (3 to 6) LAMMPS's interior density was above aggpack's by +0.0045, +0.0027,
+// -0.0005 and +0.0021; with periodic sides and 500 grains by +0.0048, +0.0003, +0.0057 and
+// +0.0096 (docs/validation.md): the sign of the spheres' pour bias (+0.0018), not found yet.
+// This seed: measured 0.5767 (aggpack) and 0.5794 (LAMMPS).
+TEST_F(LammpsBridge, APourOfGrainsEndsAsDenseInLammpsAndComesBackGrainByGrain) {
+  const fs::path scenario = dir_ / "grains.toml";
+  std::ofstream(scenario) << kGrainPour;
+  const auto own = run_summary(scenario, dir_ / "own", "");
+  const auto handed = run_summary(scenario, dir_ / "handed", "--set dynamics.engine='\"lammps\"'");
+  ASSERT_FALSE(own.is_null());
+  ASSERT_FALSE(handed.is_null());
+  const fs::path deck = dir_ / "handed" / "lammps" / "pour_part_1";
+  const std::string pour = slurp(deck / "pour.in");
+  EXPECT_NE(pour.find("fix rigid grains rigid/small molecule infile bodies.txt reinit no gravity gravity"),
+            std::string::npos);
+  EXPECT_TRUE(fs::exists(deck / "bodies.txt"));
+  EXPECT_EQ(handed.at("grains").at("count"), 300);
+  const double aggpack = interior_density(own), lammps = interior_density(handed);
+  EXPECT_NEAR(lammps, aggpack, 0.005);
+  EXPECT_GT(aggpack, 0.5);  // a bed, not a gas
+
+  // LAMMPS's bed taken back by an import_lammps step after aggpack's own pour of the same
+  // grains: each grain's pose fitted to its spheres, the bed analysed as the LAMMPS run's. Soft
+  // (E = 1e7 Pa), the bed's contacts are deeper than a file's default tolerances (a grain's
+  // sphere bears its grain's weight): the scenario gives them for the file it takes back.
+  std::string taking_back = kGrainPour;
+  taking_back.replace(taking_back.find("[material]"), 0, "boundary_overlap_tolerance = 0.05\nsoft_contacts = true\n");
+  const std::string settled = (deck / "settled.dump").string();
+  const fs::path back = dir_ / "back.toml";
+  std::ofstream(back) << taking_back << "[[protocol]]\nstep = \"pour\"\n[[protocol]]\nstep = \"import_lammps\"\nfile = \""
+                      << settled << "\"\n";
+  const auto taken = run_summary(back, dir_ / "back", "");
+  ASSERT_FALSE(taken.is_null());
+  EXPECT_NEAR(interior_density(taken), lammps, 1e-12);
+  EXPECT_EQ(taken.at("grains").at("count"), 300);
+
+  // A dump whose grain's sphere has moved 1 mm off its grain is refused, naming the grain.
+  std::string dump = slurp(deck / "settled.dump");
+  const std::size_t atoms = dump.find("ITEM: ATOMS");
+  const std::size_t row = dump.find('\n', atoms) + 1;  // atom 1: the first sphere of grain 1
+  std::istringstream fields(dump.substr(row, dump.find('\n', row) - row));
+  std::string id, type;
+  double x = 0.0;
+  fields >> id >> type >> x;
+  const std::size_t x_at = dump.find(' ', dump.find(' ', row) + 1) + 1;
+  char moved_x[32];
+  std::snprintf(moved_x, sizeof moved_x, "%.17g", x + 1e-3);
+  dump.replace(x_at, dump.find(' ', x_at) - x_at, moved_x);
+  std::ofstream(dir_ / "moved.dump") << dump;
+  const fs::path moved = dir_ / "moved.toml";
+  std::ofstream(moved) << taking_back << "[[protocol]]\nstep = \"pour\"\n[[protocol]]\nstep = \"import_lammps\"\nfile = \""
+                       << (dir_ / "moved.dump").string() << "\"\n";
+  const auto r = run_cli("run " + moved.string() + " --quiet --out " + (dir_ / "moved").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("of grain 1 are not where one rigid grain would hold them"), std::string::npos) << r.output;
+}

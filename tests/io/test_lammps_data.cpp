@@ -129,6 +129,68 @@ constexpr const char* kDump =
     "ITEM: TIMESTEP\n5000\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff fm\n0 0.3\n0 0.3\n0 0.5\n"
     "ITEM: ATOMS radius z y x type id vx\n0.01 0.01 0.2 0.2 1 2 0\n0.02 0.02 0.1 0.1 1 1 0\n";
 
+// A bed with a grain: the hybrid rows (its spheres of molecule 1 at its pose, the sphere of
+// its own of molecule 0) and bodies.txt's record, whose inertia tensor in space turns each of
+// the grain's principal axes into its moment times that axis, and whose angular momentum is
+// that tensor times the angular velocity.
+TEST(LammpsData, AGrainIsAMoleculeWithItsUnionsMassPropertiesInTheBodiesFile) {
+  ParticleStore bed;
+  const std::vector<Vec3> centres{{-0.002, 0.0, 0.0}, {0.003, 0.0, 0.0}};
+  const std::vector<double> radii{0.002, 0.0015};
+  RigidBodyShape shape{centres, radii, 5e-8, {1e-10, 3e-10, 3.5e-10}, 1.0, 0};
+  const Quaternion q = normalized(Quaternion{0.9, 0.1, -0.3, 0.2});
+  bed.add({0.02, 0.02, 0.005}, 0.003, 2000.0);
+  const std::size_t b = bed.add_body({0.01, 0.012, 0.004}, q, shape, 2000.0);
+  bed.bodies.velocity[b] = {0.0, 0.0, -1.0};
+  bed.bodies.angular_velocity[b] = {3.0, -2.0, 1.0};
+  const Container box = Container::square(0.03, 0.1, false);
+  const double densities[] = {2000.0};
+  std::istringstream data(lammps_data(bed, box, densities, 0.1));
+  std::vector<std::vector<double>> rows;
+  for (std::string line; std::getline(data, line);) {
+    std::istringstream in(line);
+    std::vector<double> v;
+    for (double x; in >> x;) v.push_back(x);
+    if (v.size() == 8) rows.push_back(v);
+  }
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0][7], 0.0);  // the sphere of its own
+  for (std::size_t k = 1; k < 3; ++k) {
+    EXPECT_EQ(rows[k][7], 1.0);
+    EXPECT_NEAR(rows[k][2], bed.position[k].x, 1e-17);
+    EXPECT_NEAR(rows[k][4], bed.position[k].z, 1e-17);
+    EXPECT_EQ(rows[k][5], 2.0 * radii[k - 1]);
+  }
+  std::istringstream bodies(lammps_rigid_bodies(bed, box));
+  std::string line;
+  std::vector<double> v;
+  while (std::getline(bodies, line))
+    if (!line.empty() && line[0] != '#' && v.empty()) {
+      EXPECT_EQ(line, "1");  // the count
+      std::getline(bodies, line);
+      std::istringstream in(line);
+      for (double x; in >> x;) v.push_back(x);
+    }
+  ASSERT_EQ(v.size(), 20u);
+  EXPECT_EQ(v[0], 1.0);
+  EXPECT_EQ(v[1], bed.bodies.mass[b]);
+  EXPECT_EQ(v[2], 0.01);
+  const double i[3][3] = {{v[5], v[8], v[9]}, {v[8], v[6], v[10]}, {v[9], v[10], v[7]}};
+  const auto times = [&](const Vec3& a) {
+    return Vec3{i[0][0] * a.x + i[0][1] * a.y + i[0][2] * a.z, i[1][0] * a.x + i[1][1] * a.y + i[1][2] * a.z,
+                i[2][0] * a.x + i[2][1] * a.y + i[2][2] * a.z};
+  };
+  const Vec3& moments = bed.bodies.principal_inertia[b];
+  const Vec3 axes[] = {rotate(q, {1, 0, 0}), rotate(q, {0, 1, 0}), rotate(q, {0, 0, 1})};
+  const double m[] = {moments.x, moments.y, moments.z};
+  for (int k = 0; k < 3; ++k) EXPECT_LT(norm(times(axes[k]) - m[k] * axes[k]), 1e-12 * moments.z) << k;
+  EXPECT_EQ(v[13], -1.0);
+  const Vec3 l = times(bed.bodies.angular_velocity[b]);
+  EXPECT_NEAR(v[14], l.x, 1e-12 * norm(l));
+  EXPECT_NEAR(v[15], l.y, 1e-12 * norm(l));
+  EXPECT_NEAR(v[16], l.z, 1e-12 * norm(l));
+}
+
 TEST(LammpsDump, ReadsTheLastSnapshotOrTheOneAskedForInIdOrder) {
   ASSERT_TRUE(is_lammps_dump(kDump));
   const LammpsBed last = parse_lammps_dump(kDump, "bed.dump", 1.0, 2650.0);

@@ -1,4 +1,6 @@
 #include <cmath>
+#include <numbers>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -70,6 +72,40 @@ TEST(Render, CutAwayShowsTheSectionBehindTheFrontHalf) {
   };
   EXPECT_LT(seen(false).r, seen(false).b);  // the front sphere hides the back one
   EXPECT_GT(seen(true).r, seen(true).b);    // cut away: the back sphere shows
+}
+
+// A grain shows in its grain's colour (the diameter of its volume), not its spheres' own, and
+// a section takes it whole: its centre of mass behind the plane keeps its sphere in front of
+// the plane, which hides a small sphere behind it.
+TEST(Render, AGrainIsOneColourAndASectionCutsItWhole) {
+  const Box frame{{0, 0, 0}, {1, 1, 1}};
+  RenderOptions options;
+  options.width = 300;
+  options.elevation_deg = 0.0;
+  options.azimuth_deg = -90.0;  // camera on the -y side, looking along +y; the section plane y = 0.5
+  const std::vector<Vec3> centres{{-0.15, 0.0, 0.0}, {0.15, 0.0, 0.0}};
+  const std::vector<double> radii{0.05, 0.1};
+  // Its volume: that of a sphere of diameter 0.15, halfway along the colour map's 0.1 to 0.2.
+  const double d = 0.15, volume = std::numbers::pi / 6.0 * d * d * d;
+  const RigidBodyShape shape{centres, radii, volume, {1e-3, 2e-3, 2e-3}, 1.0, 0};
+  ParticleStore particles;
+  particles.add({0.1, 0.5, 0.9}, 0.05, 1000.0);  // d 0.1: the blue end
+  particles.add({0.9, 0.5, 0.9}, 0.1, 1000.0);   // d 0.2: the yellow end
+  // Turned 45 degrees about z: its large sphere at (0.606, 0.414), in front of the plane; its
+  // centre of mass at y = 0.52, behind it.
+  particles.add_body({0.5, 0.52, 0.5}, axis_angle({0, 0, 1}, -std::numbers::pi / 4.0), shape, 1000.0);
+  const Vec3 front = particles.position[3];
+  particles.add({front.x, 0.85, 0.5}, 0.05, 1000.0);  // blue, behind the grain's front sphere
+  const Camera camera(frame, options);
+  const auto seen = [&](bool cut) {
+    options.cut_away = cut;
+    const auto c = camera.project(front);
+    return render_spheres(particles, frame, options).at(static_cast<int>(c.column), static_cast<int>(c.row));
+  };
+  const Rgb grain = seen(false);
+  const Rgb middle = viridis(0.5);  // shading scales the three channels alike
+  EXPECT_NEAR(static_cast<double>(grain.g) / grain.b, static_cast<double>(middle.g) / middle.b, 0.05);
+  EXPECT_EQ(seen(true), grain);  // not the blue sphere behind it
 }
 
 // A section frames the half of the box that is left: the whole box left an empty band below

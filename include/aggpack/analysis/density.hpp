@@ -17,8 +17,9 @@ double solid_volume_in_box(const ParticleStore& particles, const Container& cont
 
 // Where the bed is: the floor is the container's; the free surface is the equivalent
 // height floor + V_solid / (A_footprint * phi_bulk), phi_bulk the median solid fraction of
-// horizontal slices one d_max thick (capped at the highest sphere top). A rough top layer
-// counts by how full it is.
+// horizontal slices one d_max thick (capped at the highest sphere top; a grain split among
+// the slices by its spheres' shares of their summed volume). A rough top layer counts by how
+// full it is.
 struct BedGeometry {
   double floor = 0.0;    // m
   double surface = 0.0;  // m

@@ -17,9 +17,19 @@ namespace aggpack {
 // Atom type m + 1 for a sphere of material m (of `densities`, kg/m^3, one per material); M + m + 1
 // for the spheres flagged in `frozen` (a deck holds them still), 2M types in all (one material
 // and nothing frozen: type 1 alone).
+// A bed with rigid bodies (grains) is written for `atom_style hybrid sphere bond` instead
+// (columns id type x y z diameter density molecule): a grain's spheres carry its index + 1 as
+// their molecule id, a sphere of its own 0; lammps_rigid_bodies gives the grains' mass
+// properties.
 std::string lammps_data(const ParticleStore& particles, const Container& container, std::span<const double> densities,
                         double z_top,
                         std::span<const std::uint8_t> frozen = {});
+
+// The `infile` of `fix rigid/small molecule` for the store's bodies (molecule id = body index
+// + 1, in lammps_data's file): each one's mass, centre of mass (wrapped into a periodic box),
+// inertia tensor in space, velocity and angular momentum, so that LAMMPS moves each grain with
+// its union's mass properties, as aggpack does.
+std::string lammps_rigid_bodies(const ParticleStore& particles, const Container& container);
 
 // What a LAMMPS file gave: the spheres (in the order of their atom ids: id k is store index
 // k - 1 when the ids are 1..N), and where they came from.

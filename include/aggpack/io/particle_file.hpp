@@ -2,6 +2,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -53,8 +54,16 @@ std::string particles_csv(const ParticleStore& particles, std::span<const std::s
 // grains.csv: one row per rigid grain (1-based id, as particles.csv's grain column): its centre
 // of mass (m), orientation quaternion (body frame to space; the body frame is the grain's
 // principal axes, x the longest), volume-equivalent diameter, L, I, S (m, `measures`, one per
-// grain), mass (kg), template (1-based, the run's), its first sphere's id and its sphere count.
-std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures);
+// grain), mass (kg), template (1-based, the run's), its first sphere's id and its sphere count,
+// and the sieves (m) its I lies between (`sieves`, one per grain, or empty; empty cells without).
+// The sieves between which a grain's intermediate dimension I lies, m: it passes `passing`
+// and is retained on `retained` (NaN for a grain of a size class, which has no sieves).
+struct SieveInterval {
+  double retained = std::numeric_limits<double>::quiet_NaN();
+  double passing = std::numeric_limits<double>::quiet_NaN();
+};
+std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures,
+                       std::span<const SieveInterval> sieves);
 
 // "id,support_1_kind,support_1_id,...,support_3_id": what each sphere (id 1..N) came to rest
 // on in the deposition stage. A kind is sphere, floor, wall_x_low, wall_x_high, wall_y_low,
@@ -65,7 +74,9 @@ std::string supports_csv(std::span<const Supports> supports);
 // A bed read from a file: coincident spheres are refused; overlapping pairs deeper than
 // `tolerance` x the smaller radius are refused with the worst pair (unless the file comes from
 // a soft-contact DEM, `soft_contacts`, which accepts any overlap short of one centre inside the
-// other sphere). Returns the deepest overlap found / smaller radius (0 when none).
+// other sphere). The spheres of one rigid grain (the same `body`, when the store has the
+// array) overlap as they are meant to: not checked against each other. Returns the deepest
+// overlap found / smaller radius (0 when none).
 struct PairOverlap {
   double depth_over_radius = 0.0;
   std::size_t i = 0, j = 0;  // the worst pair (data rows i + 1 and j + 1)

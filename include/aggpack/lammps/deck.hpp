@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "aggpack/core/particle_store.hpp"
+#include "aggpack/dynamics/pour.hpp"
 #include "aggpack/io/dem_setup.hpp"
 #include "aggpack/io/protocol.hpp"
 #include "aggpack/io/scenario.hpp"
@@ -27,6 +28,11 @@ using LammpsStep = DemStep;
 //    the gap when it comes in) and pour.in;
 //  - tap: bed.data and tap.in, the container (floor and walls) a moving region of
 //    `fix wall/gran/region`; the deck writes tap_<k>.dump after each tap's rest.
+// Grains (a bed with rigid bodies, or a pour of them): the data file is of `atom_style hybrid
+// sphere bond`, each grain's spheres one molecule, moved as a rigid body by `fix rigid/small
+// molecule` with the union's mass properties from bodies.txt (lammps_rigid_bodies) and gravity
+// at its centre of mass; a pour of grains, or into a bed of them, is one batch, in bed.data
+// (rigid/small takes its bodies once, when it is defined).
 // Every deck ends by writing settled.dump, and runs unchanged with `lmp -in <deck>` and under
 // mpirun.
 struct LammpsDeck {
@@ -34,16 +40,19 @@ struct LammpsDeck {
   std::string deck_file;  // settle.in, pour.in or tap.in
   std::vector<std::pair<std::string, std::string>> files;  // name, contents: the data files and the deck
   static constexpr const char* kDataFile = "bed.data";
+  static constexpr const char* kBodiesFile = "bodies.txt";  // with grains only
   static constexpr const char* kDumpFile = "settled.dump";
   static constexpr const char* kLogFile = "lammps.log";
   [[nodiscard]] const std::string& text(const std::string& name) const;  // std::out_of_range if absent
 };
 
 // The deck of `step` on `bed` (as it is before the step). A pour step takes the radii of its
-// part of the drop sequence and their materials (indices; empty: all [material]); the others
-// take none.
+// part of the drop sequence (a grain's: its reach at its size), their materials (indices;
+// empty: all [material]) and their shapes (PouredShapes: a shape of reach 1, or none for a
+// sphere); the others take none. InputError for a pour of several batches with grains.
 LammpsDeck lammps_deck(const Scenario& scenario, const ParticleStore& bed, const LammpsStep& step,
-                       std::span<const double> pour_radii = {}, std::span<const std::uint8_t> pour_materials = {});
+                       std::span<const double> pour_radii = {}, std::span<const std::uint8_t> pour_materials = {},
+                       const PouredShapes& pour_shapes = {});
 
 // Each of the deck's files written atomically into `folder` (made if missing).
 void write_lammps_deck(const std::filesystem::path& folder, const LammpsDeck& deck);

@@ -56,8 +56,9 @@ class Camera {
 };
 
 // Spheres ray-cast exactly (depth-buffered, Lambert-shaded), coloured by diameter with
-// viridis, seen by a camera framing `frame` (usually the container). With `legend`, the
-// image is taller by kLegendHeight: see add_legend.
+// viridis, seen by a camera framing `frame` (usually the container). A grain's spheres take
+// its colour (the diameter of its volume) and a section cuts it away whole (by its centre of
+// mass). With `legend`, the image is taller by kLegendHeight: see add_legend.
 Image render_spheres(const ParticleStore& particles, const Box& frame, const RenderOptions& options);
 
 // The strip add_legend puts below a picture, in pixels.

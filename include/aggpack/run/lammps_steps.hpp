@@ -25,7 +25,8 @@ namespace aggpack {
 SettlingRun settle_in_lammps(const Scenario& scenario, ParticleStore& particles, std::uint32_t layer,
                              double time_offset, TimeSeries& series, Progress& progress);
 PourRun pour_in_lammps(const Scenario& scenario, ParticleStore& particles, std::span<const double> radii,
-                       const SphereMaterials& materials, const PourStep& step, double time_offset, TimeSeries& series, Progress& progress);
+                       const SphereMaterials& materials, const PouredShapes& shapes, const PourStep& step,
+                       double time_offset, TimeSeries& series, Progress& progress);
 TapReport tap_in_lammps(const Scenario& scenario, ParticleStore& particles, std::size_t tapping_index,
                         double time_offset, TimeSeries& series, Progress& progress);
 

@@ -3,6 +3,7 @@
 #include <span>
 
 #include "aggpack/io/scenario.hpp"
+#include "aggpack/run/run_grains.hpp"
 
 namespace aggpack {
 
@@ -44,8 +45,10 @@ void check_imported_bed(const Scenario& scenario, ParticleStore& bed, const std:
 // with, then the parts of `to_place` (the generated sizes) each deposit or pour step adds. A
 // part with no sphere, a step on an empty bed, or an import_lammps file that is not of the bed
 // (format, timestep, count, radii, positions) is refused before any work.
+// With `grains` (non-empty), the particles of `to_place` that are grains place their spheres
+// (an import's file holds those, a grain's own overlapping as they are meant to).
 void check_protocol_beds(const Scenario& scenario, std::span<const double> bed_radii,
-                         std::span<const double> to_place);
+                         std::span<const double> to_place, const RunGrains* grains = nullptr);
 
 // The output folder: an existing directory that can be written, or a path where one can be
 // made. With `create`, makes it and writes and removes a probe file (what `run` does before

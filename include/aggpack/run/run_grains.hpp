@@ -12,6 +12,7 @@
 #include "aggpack/core/particle_store.hpp"
 #include "aggpack/dynamics/pour.hpp"
 #include "aggpack/grains/grain_library.hpp"
+#include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/generate_sizes.hpp"
 
@@ -38,6 +39,11 @@ struct RunGrains {
     std::vector<const RigidBodyShape*> shapes;
   };
   [[nodiscard]] PourPart pour_part(std::span<const double> sieve_radii, std::size_t begin) const;
+  // The spheres that the particles [begin, begin + size) of the drop sequence place, appended
+  // to `radii`, and to `grain_of` what each belongs to: a grain its spheres (the particle's
+  // index), a sphere itself (kNoBody).
+  void append_spheres(std::span<const double> sieve_radii, std::size_t begin, std::vector<double>& radii,
+                      std::vector<std::uint32_t>& grain_of) const;
 };
 
 // summary.json's "grains" before the run: each component's shape, its fitted proportions and
@@ -49,6 +55,11 @@ nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleSt
                                const std::vector<std::uint32_t>& shape_component);
 // One GrainMeasure per body of the bed (grains.csv's dimensions).
 std::vector<GrainMeasure> measure_bodies(const ParticleStore& bed);
+// Per body, the sieves of its component's grading between which its intermediate dimension
+// (`measures`' width, the size the grading gave it) lies; none for a component of size classes.
+std::vector<SieveInterval> grain_sieve_intervals(const ParticleStore& bed, std::span<const GrainMeasure> measures,
+                                                 const std::vector<std::uint32_t>& shape_component,
+                                                 const SizesReport& sizes);
 
 // The run's grains from its components' shapes, the generated sizes (diameters: each grain's
 // intermediate dimension) and the seed; empty when no component has a shape. Throws InputError
