@@ -16,7 +16,7 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 scenario=bench/scenarios/grains_pour_300.toml
 echo "machine: $(nproc) cores, $(lscpu | sed -n 's/^Model name: *//p'), $(date -u +%Y-%m-%d)"
-echo "build: $(git describe --always --dirty), binary $build/aggpack; $(lmp -h | sed -n 's/^Large-scale.*- \(.*\)$/LAMMPS \1/p')"
+echo "build: $(git describe --always --dirty), binary $build/aggpack; LAMMPS $(lmp -h | sed -n 's/^Large-scale[^-]*- //p')"
 "$build/aggpack" export-lammps "$scenario" --out "$tmp/deck" >/dev/null
 
 seconds_since() { awk -v a="$1" -v b="$(date +%s.%N)" 'BEGIN {printf "%.2f\n", b - a}'; }
