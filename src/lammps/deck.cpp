@@ -120,8 +120,6 @@ std::vector<WallGroup> wall_groups(const DeckBasis& b) {
   return groups;
 }
 
-// The system: units, the box from bed.data, the law between spheres, integration, gravity,
-// the neighbour list, the time step and the quantities the stopping rules read.
 // The farthest a grain's sphere reaches from its centre of mass, m (0 without grains).
 double largest_reach(const ParticleStore& bed) {
   double reach = 0.0;
@@ -136,6 +134,8 @@ void deck_grain_groups(Out o, const ParticleStore& bed) {
   if (!bed.bodies.empty()) fmt::format_to(o, "group grains molecule > 0\ngroup free subtract mobile grains\n");
 }
 
+// The system: units, the box from bed.data, the law between spheres, integration, gravity,
+// the neighbour list, the time step and the quantities the stopping rules read.
 void deck_system(Out o, const DeckBasis& b, const ParticleStore& bed) {
   const Scenario& sc = b.sc;
   const char* boundary = sc.container.periodic ? "p" : "f";
@@ -238,6 +238,14 @@ double smallest_radius(std::span<const double> radii, double r_min = std::numeri
   return r_min;
 }
 
+// The highest sphere surface of the bed, m (the floor for an empty one): where aggpack's pour
+// puts a batch's slab, the gap above.
+double top_of_bed(const ParticleStore& bed, const Container& container) {
+  double top = container.bounds.lo.z;
+  for (std::size_t i = 0; i < bed.size(); ++i) top = std::max(top, bed.position[i].z + bed.radius[i]);
+  return top;
+}
+
 // bed.data, and bodies.txt when the bed has grains.
 void add_bed_files(LammpsDeck& deck, const DeckBasis& b, const ParticleStore& bed, double z_top,
                    std::span<const std::uint8_t> frozen = {}) {
@@ -303,9 +311,7 @@ PourBatches pour_batches(const DeckBasis& b, const ParticleStore& bed, const Pou
   const std::size_t batches = schedule.batches;
   PourBatches out;
   Rng rng = pour_stream(sc.seed, step.layer);
-  double bed_top = sc.container.bounds.lo.z;
-  for (std::size_t i = 0; i < bed.size(); ++i) bed_top = std::max(bed_top, bed.position[i].z + bed.radius[i]);
-  out.highest = bed_top;
+  out.highest = top_of_bed(bed, sc.container);
   out.fall_after.assign(batches, 0.0);
   for (std::size_t k = 0; k < batches; ++k) {
     const std::span<const double> batch = schedule.batch(radii, k);
@@ -360,8 +366,6 @@ double deck_pour_batches(Out o, const DeckBasis& b, const std::vector<double>& f
   return time;
 }
 
-// aggpack's pour (pour_bed) as a deck: the same batches of the same random gas, each lifted to
-// the bed's top plus the gap when it comes in, at the same times, then the settling.
 // A pour with grains (of them, or into a bed of them), which LAMMPS takes as one batch: the
 // gas is aggpack's (the same positions, and orientations from the same stream), put into
 // bed.data above the bed by the gap, as aggpack's pour puts it in at its start; then the
@@ -376,12 +380,10 @@ LammpsDeck pour_deck_with_grains(const Scenario& sc, const ParticleStore& bed, c
                                  "defined; expected pour.batches = 1, or aggpack's DEM",
                                  sc.file.string()));
   const SphereMaterials of{materials, b.densities};
-  double bed_top = sc.container.bounds.lo.z;
-  for (std::size_t i = 0; i < bed.size(); ++i) bed_top = std::max(bed_top, bed.position[i].z + bed.radius[i]);
   Rng rng = pour_stream(sc.seed, step.layer);
   BatchGas gas;
   try {
-    gas = batch_gas(sc.container, bed_top + gap, radii, pour.solid_fraction, rng);
+    gas = batch_gas(sc.container, top_of_bed(bed, sc.container) + gap, radii, pour.solid_fraction, rng);
   } catch (const PourInsertionError& e) {
     throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
   }
@@ -420,6 +422,8 @@ LammpsDeck pour_deck_with_grains(const Scenario& sc, const ParticleStore& bed, c
   return out;
 }
 
+// aggpack's pour (pour_bed) as a deck: the same batches of the same random gas, each lifted to
+// the bed's top plus the gap when it comes in, at the same times, then the settling.
 LammpsDeck pour_deck(const Scenario& sc, const ParticleStore& bed, const PourStep& step,
                      std::span<const double> radii, std::span<const std::uint8_t> materials,
                      const PouredShapes& shapes) {
