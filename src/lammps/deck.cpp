@@ -67,8 +67,12 @@ void deck_comments(Out o, const DeckBasis& b, const std::string& step, const std
   fmt::format_to(o, "# aggpack {}: the {} step of {}, seed {}, handed to LAMMPS.\n", kVersion, step, sc.file.string(),
                  sc.seed);
   fmt::format_to(o, "# Run it unchanged: lmp -in {0}   or   mpirun -np N lmp -in {0}\n", deck_file);
-  fmt::format_to(o, "# Then: aggpack import-lammps {} --scenario <the scenario> --out <folder>\n",
-                 LammpsDeck::kDumpFile);
+  if (sc.particles.has_grains())  // a dump holds spheres: the run knows the grains they make up
+    fmt::format_to(o, "# Then: take {} back within the run, by an import_lammps step (file = \"{}\")\n",
+                   LammpsDeck::kDumpFile, LammpsDeck::kDumpFile);
+  else
+    fmt::format_to(o, "# Then: aggpack import-lammps {} --scenario <the scenario> --out <folder>\n",
+                   LammpsDeck::kDumpFile);
   fmt::format_to(o, "# aggpack's law: {}\n", b.law.describe(sc.material.contact));
   fmt::format_to(o, "# Differences of definition: {}\n", b.law.lammps_differences);
   fmt::format_to(o, "# Stopping rule: {}\n", stopping_rule);
@@ -192,7 +196,11 @@ void deck_motion(Out o, const DeckBasis& b, const ParticleStore& bed) {
                     "compute top all reduce max v_top_of\n");
   fmt::format_to(o, "variable weight_of atom mass*{:.17g}*2*c_radius\ncompute weight mobile reduce sum v_weight_of\n",
                  b.g > 0.0 ? b.g : 1.0);
-  fmt::format_to(o, "compute translational mobile ke\nvariable energy equal c_translational/(c_weight+1e-300)\n");
+  if (grains)  // a grain's translational energy is its union's mass times its centre's speed, as aggpack's
+    fmt::format_to(o, "compute translational_free free ke\ncompute translational_grains all ke/rigid rigid\n"
+                      "variable energy equal (c_translational_free+c_translational_grains)/(c_weight+1e-300)\n");
+  else
+    fmt::format_to(o, "compute translational mobile ke\nvariable energy equal c_translational/(c_weight+1e-300)\n");
   // Thermo output at the end of every run keeps the computes current for the checks between runs.
   fmt::format_to(o, "thermo_style custom step time atoms v_energy c_top\nthermo {}\n", 100 * b.steps_per_sample);
 }

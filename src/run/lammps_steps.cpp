@@ -63,7 +63,8 @@ double smallest_radius(std::span<const double> radii) {
 // The positions of `dump` put in place of the store's first spheres (same radii, by id),
 // velocities zeroed. A grain's pose is fitted to where its spheres are (fit_rigid_pose; in a
 // periodic box each sphere taken to the image nearest its grain's first), and its spheres put
-// back exactly where that pose holds them: refused when one is farther from it than a
+// back exactly where that pose holds them (wrapped into a periodic box, the centre too):
+// refused when one is farther from it than a
 // billionth of the grain's reach (the file's spheres are not this rigid grain's).
 void take_positions(ParticleStore& particles, const ParticleStore& dump, const std::string& name, std::size_t count,
                     const Container& container) {
@@ -97,12 +98,13 @@ void take_positions(ParticleStore& particles, const ParticleStore& dump, const s
                                    "(one is {:.3g} m from its place, the grain reaching {:.3g} m): the file is not "
                                    "of this bed",
                                    name, first + 1, first + members, b + 1, pose.largest_miss, reach));
-    bodies.position[b] = pose.centre;
+    // Each wrapped into a periodic box, as aggpack's own DEM leaves them at a step's end.
+    bodies.position[b] = container.wrapped(pose.centre);
     bodies.orientation[b] = pose.orientation;
     bodies.velocity[b] = {};
     bodies.angular_velocity[b] = {};
     for (std::size_t i = first; i < first + members; ++i)
-      particles.position[i] = pose.centre + rotate(pose.orientation, particles.body_offset[i]);
+      particles.position[i] = container.wrapped(pose.centre + rotate(pose.orientation, particles.body_offset[i]));
   }
 }
 
@@ -505,7 +507,9 @@ std::string export_lammps(const std::filesystem::path& scenario_or_run, const Sc
   const std::string poured =
       exported.poured == 0 ? std::string()
       : batch_files        ? fmt::format(" and {} to pour in pour_batch_*.data", exported.poured)
-                           : fmt::format(" and {} to pour (in one batch, in the same file)", exported.poured);
+                           : fmt::format(" and {} particles to pour (grains and spheres, in one batch, in the same "
+                                         "file)",
+                                         exported.poured);
   fmt::print(log, "aggpack: exported {} ({}): {} spheres in {}{}, the deck in {}; run it with: cd {} && lmp -in {}\n",
              exported.source, deck.step, exported.spheres, (out / LammpsDeck::kDataFile).string(), poured,
              (out / deck.deck_file).string(), out.string(), deck.deck_file);

@@ -17,7 +17,7 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/protocol.hpp"
-#include "aggpack/run/generate_sizes.hpp"
+#include "aggpack/run/run_grains.hpp"  // and generate_sizes.hpp
 #include "aggpack/spatial/multilevel_grid.hpp"
 
 namespace aggpack {
@@ -533,7 +533,7 @@ void check_protocol_beds(const Scenario& sc, std::span<const double> bed_radii, 
   const std::string file = sc.file.string();
   const Protocol protocol = scenario_protocol(sc);
   std::vector<double> bed(bed_radii.begin(), bed_radii.end());
-  std::vector<std::uint32_t> bed_grain;  // with grains: each sphere's particle, or kNoBody
+  std::vector<std::uint32_t> bed_grain(grains && !grains->empty() ? bed.size() : 0, kNoBody);  // with grains
   const std::size_t n = to_place.size();
   for (std::size_t k = 0; k < protocol.steps.size(); ++k) {
     const Step& step = protocol.steps[k];

@@ -40,6 +40,7 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
   Scenario sc = load_scenario(scenario_file, overrides);
   check_output_directory(sc.output.directory, false);
   const InitialBed bed = initial_bed(sc);
+  (void)checked_grains(sc, scenario_protocol(sc), bed);  // their templates made: a second or so
   if (sc.deposition || sc.pour) return sc;  // the boxes can only be placed in the bed once made
   analyse_bed(sc, bed.particles);  // box placement errors surface here
   return sc;

@@ -1,6 +1,7 @@
 #include "aggpack/run/run_grains.hpp"
 
 #include <algorithm>
+#include <iterator>
 
 #include <fmt/format.h>
 

@@ -107,6 +107,23 @@ InitialBed initial_bed(const Scenario& sc) {
   return bed;
 }
 
+RunGrains checked_grains(const Scenario& sc, const Protocol& protocol, const InitialBed& bed) {
+  check_grain_protocol(sc, protocol);
+  RunGrains grains;
+  if (!bed.sizes) return grains;
+  try {
+    grains = make_run_grains(sc.particles, *bed.sizes, sc.seed);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
+  }
+  if (grains.empty()) return grains;
+  // The virtual boxes' room from the walls and the bed's surface is one such diameter.
+  const std::vector<double> radii = drop_radii(bed);
+  check_sizes(sc, grains.pour_part(radii, 0).radii);
+  check_protocol_beds(sc, {}, radii, &grains);
+  return grains;
+}
+
 RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress& progress)
     : scenario_(sc), controls_(controls), progress_(progress), protocol_(run_protocol(sc, controls)),
       context_{.report = report_, .progress = progress, .threads = controls.threads, .stop = controls.stop} {
@@ -123,23 +140,12 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   if (initial.sizes) report_.wall_clock_s["sizes"] = prepared_s;
   context_.radii = drop_radii(initial);
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
-  check_grain_protocol(sc, protocol_);
-  if (initial.sizes) {
-    const auto t_grains = Clock::now();
-    try {
-      context_.grains = make_run_grains(sc.particles, *initial.sizes, sc.seed);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
-    }
-    if (!context_.grains.empty()) {
-      // The checks of sizes again, with each grain as the sphere that holds it (its reach): the
-      // virtual boxes' room from the walls and the bed's surface is one such diameter.
-      check_sizes(sc, context_.grains.pour_part(context_.radii, 0).radii);
-      check_protocol_beds(sc, {}, context_.radii, &context_.grains);
-      report_.wall_clock_s["grains"] = seconds_since(t_grains);
-      report_.grain_libraries = libraries_json(context_.grains, initial.sizes->report.components);
-      report_.grain_shape_component = context_.grains.shape_component;
-    }
+  const auto t_grains = Clock::now();
+  context_.grains = checked_grains(sc, protocol_, initial);
+  if (!context_.grains.empty()) {
+    report_.wall_clock_s["grains"] = seconds_since(t_grains);
+    report_.grain_libraries = libraries_json(context_.grains, initial.sizes->report.components);
+    report_.grain_shape_component = context_.grains.shape_component;
   }
   context_.material_densities = material_densities(sc);
   std::string calibrated;  // the values its calibration files gave the scenario

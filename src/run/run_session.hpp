@@ -28,6 +28,12 @@ struct InitialBed {
 };
 InitialBed initial_bed(const Scenario& sc);
 
+// The run's grains (none without a component's shape), checked before any work as the spheres
+// were in initial_bed: the protocol can take them (no deposit, no frozen grain, one batch to
+// LAMMPS), the sizes with each grain as the sphere that holds it, and the protocol's beds with
+// each grain's spheres. What `run` and `check` both do.
+RunGrains checked_grains(const Scenario& sc, const Protocol& protocol, const InitialBed& bed);
+
 // The final analysis refused a bed that a DEM made (a virtual cube that does not fit it, which
 // is known only once the bed is made): the refusal, with the bed, for a run into a folder to keep.
 class BedNotAnalysed : public InputError {

@@ -1,8 +1,8 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
-#include <optional>
 #include <limits>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -51,17 +51,18 @@ ParticleStore parse_particle_text(std::string_view text, const std::string& name
 // With rigid grains, a `grain` column names each sphere's (1-based; 0 for a sphere of its own).
 std::string particles_csv(const ParticleStore& particles, std::span<const std::string> material_names = {});
 
+// The sieves between which a grain's intermediate dimension I lies, m: it passes `passing`
+// (I <= passing) and is retained on `retained` (NaN for a grain of a size class: no sieves).
+struct SieveInterval {
+  double retained = std::numeric_limits<double>::quiet_NaN();
+  double passing = std::numeric_limits<double>::quiet_NaN();
+};
+
 // grains.csv: one row per rigid grain (1-based id, as particles.csv's grain column): its centre
 // of mass (m), orientation quaternion (body frame to space; the body frame is the grain's
 // principal axes, x the longest), volume-equivalent diameter, L, I, S (m, `measures`, one per
 // grain), mass (kg), template (1-based, the run's), its first sphere's id and its sphere count,
 // and the sieves (m) its I lies between (`sieves`, one per grain, or empty; empty cells without).
-// The sieves between which a grain's intermediate dimension I lies, m: it passes `passing`
-// and is retained on `retained` (NaN for a grain of a size class, which has no sieves).
-struct SieveInterval {
-  double retained = std::numeric_limits<double>::quiet_NaN();
-  double passing = std::numeric_limits<double>::quiet_NaN();
-};
 std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures,
                        std::span<const SieveInterval> sieves);
 

@@ -3,9 +3,10 @@
 #include <span>
 
 #include "aggpack/io/scenario.hpp"
-#include "aggpack/run/run_grains.hpp"
 
 namespace aggpack {
+
+struct RunGrains;
 
 // The checks of everything a run can know before computing. `aggpack check` and the start of
 // `aggpack run` call the same functions, so they refuse the same inputs with the same words;
