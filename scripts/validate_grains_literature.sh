@@ -14,7 +14,8 @@
 # seed 1; the density is the vertical profile's mean between one d_max
 # above the floor and one below the surface (the whole footprint each slice). Two runs side
 # by side, one core each (about 2 minutes each). Writes OUT_DIR/results.md (one row per run)
-# and exits 1 when the frictionless curve does not rise above the spheres' to a maximum at an
+# and OUT_DIR/results.svg (the frictionless curve, the literature's marks beside it), and
+# exits 1 when the frictionless curve does not rise above the spheres' to a maximum at an
 # aspect ratio from 1.25 to 2 and fall by aspect 3, or when the angular grains do not pack
 # looser than the spheres with friction. Usage:
 #   bash scripts/validate_grains_literature.sh [OUT_DIR]   (default out/validate_grains_literature)
@@ -72,6 +73,32 @@ with open(f"{out}/results.md", "w") as f:
     f.write("\n".join(rows) + "\n")
 print(open(f"{out}/results.md").read())
 curve = [("1", density["spheres_frictionless"])] + [(a, density[f"aspect_{a}"]) for a in ("1.25", "1.5", "2", "2.5", "3")]
+# The curve as a picture, the literature's marks beside it: results.svg.
+W, H, L, B = 480, 320, 60, 40  # size, left and bottom margins (px)
+x = lambda a: L + (float(a) - 1.0) / 2.0 * (W - L - 20)
+y = lambda phi: H - B - (phi - 0.60) / 0.15 * (H - B - 20)
+svg = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{H}" font-family="sans-serif" font-size="11">',
+       f'<rect width="{W}" height="{H}" fill="white"/>',
+       f'<line x1="{L}" y1="{H - B}" x2="{W - 20}" y2="{H - B}" stroke="black"/>',
+       f'<line x1="{L}" y1="{H - B}" x2="{L}" y2="20" stroke="black"/>']
+for a in ("1", "1.5", "2", "2.5", "3"):
+    svg.append(f'<text x="{x(a):.1f}" y="{H - B + 14}" text-anchor="middle">{a}</text>')
+for phi in (0.60, 0.65, 0.70, 0.75):
+    svg.append(f'<text x="{L - 6}" y="{y(phi) + 4:.1f}" text-anchor="end">{phi:.2f}</text>')
+svg.append(f'<text x="{(L + W) / 2}" y="{H - 8}" text-anchor="middle">aspect ratio L/I (prolate, I = S)</text>')
+svg.append(f'<text x="14" y="{H / 2}" transform="rotate(-90 14 {H / 2})" text-anchor="middle">density, frictionless</text>')
+points = " ".join(f"{x(a):.1f},{y(phi):.1f}" for a, phi in curve)
+svg.append(f'<polyline points="{points}" fill="none" stroke="#1f77b4" stroke-width="2"/>')
+svg += [f'<circle cx="{x(a):.1f}" cy="{y(phi):.1f}" r="3" fill="#1f77b4"/>' for a, phi in curve]
+# Literature: spheres at 0.64; the spheroids' maximum 0.70-0.71 near aspect 1.5; ellipsoids' 0.735.
+svg.append(f'<rect x="{x("1") - 4:.1f}" y="{y(0.64) - 4:.1f}" width="8" height="8" fill="none" stroke="#d62728"/>')
+svg.append(f'<line x1="{x("1.5"):.1f}" y1="{y(0.71):.1f}" x2="{x("1.5"):.1f}" y2="{y(0.70):.1f}" stroke="#d62728" stroke-width="6"/>')
+svg.append(f'<line x1="{x("1.25"):.1f}" y1="{y(0.735):.1f}" x2="{x("1.75"):.1f}" y2="{y(0.735):.1f}" stroke="#d62728" stroke-dasharray="4 3"/>')
+svg.append(f'<text x="{W - 24}" y="34" text-anchor="end" fill="#1f77b4">aggpack, poured (7 spheres a grain)</text>')
+svg.append(f'<text x="{W - 24}" y="50" text-anchor="end" fill="#d62728">jammed: spheres 0.64, spheroids 0.70-0.71,</text>')
+svg.append(f'<text x="{W - 24}" y="64" text-anchor="end" fill="#d62728">ellipsoids 0.735 (dashed); Donev 2004, Man 2005</text>')
+svg.append("</svg>")
+open(f"{out}/results.svg", "w").write("\n".join(svg) + "\n")
 best = max(curve, key=lambda c: c[1])
 checks = {
     "the frictionless maximum lies above the spheres' density": best[1] > curve[0][1],
