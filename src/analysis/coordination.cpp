@@ -51,6 +51,21 @@ std::vector<int> contact_counts(const ParticleStore& particles, const Container&
   return counts;
 }
 
+std::vector<int> grain_contact_counts(const ParticleStore& particles, const Container& container,
+                                      double relative_tolerance) {
+  std::vector<std::vector<std::size_t>> partners(particles.bodies.size());
+  const auto member = [&](std::size_t i) { return !particles.bodies.empty() && particles.body[i] != kNoBody; };
+  for_each_contact(particles, container, relative_tolerance, member, [&](std::size_t i, std::size_t j) {
+    partners[particles.body[i]].push_back(piece_of(particles, j));
+  });
+  std::vector<int> counts(partners.size(), 0);
+  for (std::size_t b = 0; b < partners.size(); ++b) {
+    std::sort(partners[b].begin(), partners[b].end());
+    counts[b] = static_cast<int>(std::unique(partners[b].begin(), partners[b].end()) - partners[b].begin());
+  }
+  return counts;
+}
+
 CoordinationResult measure_coordination(const ParticleStore& particles, const Container& container,
                                         const Box& region, double relative_tolerance) {
   CoordinationResult result;

@@ -235,11 +235,11 @@ std::string particles_csv(const ParticleStore& particles, std::span<const std::s
 }
 
 std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures,
-                       std::span<const SieveInterval> sieves) {
+                       std::span<const SieveInterval> sieves, std::span<const int> coordination) {
   fmt::memory_buffer out;
   const auto o = std::back_inserter(out);
   fmt::format_to(o, "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres,"
-                    "sieve_retained,sieve_passing\n");
+                    "sieve_retained,sieve_passing,coordination\n");
   const auto cell = [](double v) { return std::isnan(v) ? std::string() : fmt::format("{}", v); };
   const RigidBodies& b = particles.bodies;
   for (std::size_t k = 0; k < b.size(); ++k) {
@@ -247,10 +247,10 @@ std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeas
     const Quaternion& q = b.orientation[k];
     const GrainMeasure& m = measures[k];
     const SieveInterval interval = k < sieves.size() ? sieves[k] : SieveInterval{};
-    fmt::format_to(o, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, c.x, c.y, c.z, q.w, q.x, q.y,
-                   q.z, std::cbrt(6.0 * b.volume[k] / std::numbers::pi), m.length, m.width, m.thickness, b.mass[k],
-                   b.shape[k] + 1, b.first_member[k] + 1, b.member_count[k], cell(interval.retained),
-                   cell(interval.passing));
+    fmt::format_to(o, "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n", k + 1, c.x, c.y, c.z, q.w, q.x,
+                   q.y, q.z, std::cbrt(6.0 * b.volume[k] / std::numbers::pi), m.length, m.width, m.thickness,
+                   b.mass[k], b.shape[k] + 1, b.first_member[k] + 1, b.member_count[k], cell(interval.retained),
+                   cell(interval.passing), coordination[k]);
   }
   return fmt::to_string(out);
 }

@@ -170,7 +170,9 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     const std::vector<SieveInterval> sieves =
         report.sizes ? grain_sieve_intervals(report.particles, measures, report.grain_shape_component, report.sizes->report)
                      : std::vector<SieveInterval>{};
-    write("grains.csv", grains_csv(report.particles, measures, sieves));
+    const std::vector<int> coordination =
+        grain_contact_counts(report.particles, sc.container, sc.analysis.contact_tolerance);
+    write("grains.csv", grains_csv(report.particles, measures, sieves, coordination));
   }
   if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
   if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());

@@ -117,6 +117,8 @@ TEST(GrainDensity, CoordinationCountsEachTouchingGrainOnce) {
   const CoordinationResult c = measure_coordination(p, container, {{0, 0, 0}, {0.1, 0.1, 0.1}}, 1e-6);
   EXPECT_EQ(c.particles_counted, 3u);  // two grains and a sphere
   EXPECT_DOUBLE_EQ(c.mean, (2.0 + 1.0 + 1.0) / 3.0);
+  // Per grain: the first touches the second grain and the sphere, the second the first only.
+  EXPECT_EQ(grain_contact_counts(p, container, 1e-6), (std::vector<int>{2, 1}));
 }
 
 }  // namespace

@@ -55,7 +55,7 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
   const auto grains = csv(dir_ / "out" / "grains.csv", header);
   EXPECT_EQ(header,
             "id,x,y,z,qw,qx,qy,qz,volume_diameter,length,width,thickness,mass,template,first_sphere,spheres,"
-            "sieve_retained,sieve_passing");
+            "sieve_retained,sieve_passing,coordination");
   ASSERT_EQ(grains.size(), 150u);
   const auto spheres = csv(dir_ / "out" / "particles.csv", header);
   EXPECT_EQ(header, "id,x,y,z,r,grain");
@@ -70,7 +70,9 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
     EXPECT_NEAR(std::stod(g.at(10)), 0.008, 1e-12);  // I: the size the grading gave
     EXPECT_GE(std::stod(g.at(9)), std::stod(g.at(10)));
     EXPECT_GE(std::stod(g.at(10)), std::stod(g.at(11)));
-    EXPECT_TRUE(g.size() == 17u && g.at(16).empty());  // size classes: no sieve interval (two empty cells)
+    ASSERT_EQ(g.size(), 19u);
+    EXPECT_TRUE(g.at(16).empty() && g.at(17).empty());  // size classes: no sieve interval
+    EXPECT_LE(std::stoi(g.at(18)), 12);                 // its grains and spheres touched, each once
   }
   const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "out" / "summary.json"));
   const auto& g = summary.at("grains");

@@ -27,5 +27,9 @@ CoordinationResult measure_coordination(const ParticleStore& particles, const Co
 // per-particle output.
 std::vector<int> contact_counts(const ParticleStore& particles, const Container& container,
                                 double relative_tolerance);
+// Contact count of every rigid grain, by grain: each other grain or sphere it touches once,
+// however many of their spheres touch (grains.csv's coordination).
+std::vector<int> grain_contact_counts(const ParticleStore& particles, const Container& container,
+                                      double relative_tolerance);
 
 }  // namespace aggpack

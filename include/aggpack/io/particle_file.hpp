@@ -62,9 +62,10 @@ struct SieveInterval {
 // of mass (m), orientation quaternion (body frame to space; the body frame is the grain's
 // principal axes, x the longest), volume-equivalent diameter, L, I, S (m, `measures`, one per
 // grain), mass (kg), template (1-based, the run's), its first sphere's id and its sphere count,
-// and the sieves (m) its I lies between (`sieves`, one per grain, or empty; empty cells without).
+// the sieves (m) its I lies between (`sieves`, one per grain, or empty; empty cells without),
+// and its coordination (grain_contact_counts: the grains and spheres it touches).
 std::string grains_csv(const ParticleStore& particles, std::span<const GrainMeasure> measures,
-                       std::span<const SieveInterval> sieves);
+                       std::span<const SieveInterval> sieves, std::span<const int> coordination);
 
 // "id,support_1_kind,support_1_id,...,support_3_id": what each sphere (id 1..N) came to rest
 // on in the deposition stage. A kind is sphere, floor, wall_x_low, wall_x_high, wall_y_low,
