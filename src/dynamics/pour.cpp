@@ -88,17 +88,10 @@ void insert_batch(DemSystem& system, ParticleStore& particles, const Container& 
       batch_gas(container, top_of_bed(particles, container) + report.gap, batch, settings.solid_fraction, loop.rng);
   const auto first = static_cast<std::size_t>(batch.data() - radii.data());  // of the batch in the pour's spheres
   for (std::size_t k = 0; k < batch.size(); ++k) {
-    const Vec3 falling{0.0, 0.0, -settings.velocity};
-    if (const RigidBodyShape* shape = shapes.shape(first + k)) {
-      RigidBodyShape scaled = *shape;
-      scaled.scale = batch[k];
-      const std::size_t b = particles.add_body(gas.positions[k], random_orientation(loop.rng), scaled,
-                                               materials.density_of(first + k), part, materials.material(first + k));
-      particles.bodies.velocity[b] = falling;
-      continue;
-    }
-    particles.add(gas.positions[k], batch[k], materials.density_of(first + k), part, materials.material(first + k));
-    particles.velocity.back() = falling;
+    const RigidBodyShape* shape = shapes.shape(first + k);
+    // An orientation drawn for a grain only: a pour of spheres keeps its stream.
+    add_poured(particles, gas.positions[k], batch[k], shape, shape ? random_orientation(loop.rng) : Quaternion{},
+               {0.0, 0.0, -settings.velocity}, materials.density_of(first + k), part, materials.material(first + k));
   }
   report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
   report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, gas.slab.bottom);
@@ -111,6 +104,20 @@ void insert_batch(DemSystem& system, ParticleStore& particles, const Container& 
 }
 
 }  // namespace
+
+void add_poured(ParticleStore& store, const Vec3& at, double radius, const RigidBodyShape* shape,
+                const Quaternion& orientation, const Vec3& velocity, double density, std::uint32_t layer,
+                std::uint8_t material) {
+  if (!shape) {
+    store.add(at, radius, density, layer, material);
+    store.velocity.back() = velocity;
+    return;
+  }
+  RigidBodyShape scaled = *shape;
+  scaled.scale = radius;
+  const std::size_t b = store.add_body(at, orientation, scaled, density, layer, material);
+  store.bodies.velocity[b] = velocity;
+}
 
 SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& container, std::span<const double> radii,
                   const PourSettings& settings, std::uint32_t part, const SphereMaterials& materials,

@@ -396,18 +396,10 @@ LammpsDeck pour_deck_with_grains(const Scenario& sc, const ParticleStore& bed, c
     throw InputError(fmt::format("{}: pour.solid_fraction: {}", sc.file.string(), e.what()));
   }
   ParticleStore poured = bed;
-  const Vec3 falling{0.0, 0.0, -pour.velocity};
   for (std::size_t k = 0; k < radii.size(); ++k) {
-    if (const RigidBodyShape* shape = shapes.shape(k)) {
-      RigidBodyShape scaled = *shape;
-      scaled.scale = radii[k];
-      const std::size_t grain = poured.add_body(gas.positions[k], random_orientation(rng), scaled, of.density_of(k),
-                                                step.layer, of.material(k));
-      poured.bodies.velocity[grain] = falling;
-      continue;
-    }
-    poured.add(gas.positions[k], radii[k], of.density_of(k), step.layer, of.material(k));
-    poured.velocity.back() = falling;
+    const RigidBodyShape* shape = shapes.shape(k);  // orientations drawn as aggpack's pour draws them
+    add_poured(poured, gas.positions[k], radii[k], shape, shape ? random_orientation(rng) : Quaternion{},
+               {0.0, 0.0, -pour.velocity}, of.density_of(k), step.layer, of.material(k));
   }
   fmt::memory_buffer d;
   Out o(d);

@@ -243,9 +243,7 @@ bool is_runs_grain(const ParticleStore& bed, std::size_t b, std::size_t first, c
   if (bodies.first_member[b] != first || bodies.member_count[b] != members || members > bed.size() - first)
     return false;
   ParticleStore made;  // the grain as the run adds it, at the origin
-  RigidBodyShape scaled = shape;
-  scaled.scale = run.radii[k];
-  made.add_body({}, {}, scaled, run.materials.density_of(k), 0, run.materials.material(k));
+  add_poured(made, {}, run.radii[k], &shape, {}, {}, run.materials.density_of(k), 0, run.materials.material(k));
   const Quaternion& q = bodies.orientation[b];
   const double q_norm2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
   if (bodies.mass[b] != made.bodies.mass[0] || bodies.volume[b] != made.bodies.volume[0] ||

@@ -236,15 +236,9 @@ PourRun pour_in_lammps(const Scenario& sc, ParticleStore& particles, std::span<c
   const LammpsBed dump = read_lammps_dump(dump_file, sc);
   // The poured spheres and grains come after the bed's, in the order aggpack inserts them
   // (a grain's pose is fitted to its spheres in the dump).
-  for (std::size_t k = 0; k < radii.size(); ++k) {
-    if (const RigidBodyShape* shape = shapes.shape(k)) {
-      RigidBodyShape scaled = *shape;
-      scaled.scale = radii[k];
-      particles.add_body({}, {}, scaled, materials.density_of(k), step.layer, materials.material(k));
-      continue;
-    }
-    particles.add({}, radii[k], materials.density_of(k), step.layer, materials.material(k));
-  }
+  for (std::size_t k = 0; k < radii.size(); ++k)
+    add_poured(particles, {}, radii[k], shapes.shape(k), {}, {}, materials.density_of(k), step.layer,
+               materials.material(k));
   take_positions(particles, dump.particles, dump_file.string(), particles.size(), sc.container);
 
   const PourSettings& pour = *sc.pour;

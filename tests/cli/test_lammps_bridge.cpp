@@ -10,6 +10,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -228,13 +229,18 @@ nlohmann::json run_summary(const fs::path& scenario, const fs::path& out, const 
   return r.exit_code == 0 ? nlohmann::json::parse(std::ifstream(out / "summary.json")) : nlohmann::json();
 }
 
+// The scenario run by aggpack's DEM into dir/own and handed to LAMMPS into dir/handed: their
+// summaries (null for a run that failed).
+std::pair<nlohmann::json, nlohmann::json> run_own_and_handed(const fs::path& scenario, const fs::path& dir) {
+  return {run_summary(scenario, dir / "own", ""), run_summary(scenario, dir / "handed", "--set dynamics.engine='\"lammps\"'")};
+}
+
 // A pour and a tapping handed to LAMMPS: the same batches of the same gas as aggpack's pour,
 // the container moved as aggpack's taps move it.
 TEST_F(LammpsBridge, APourAndATappingRunInLammpsAsInAggpack) {
   const fs::path scenario = dir_ / "pour_tap.toml";
   std::ofstream(scenario) << kPourAndTap;
-  const auto own = run_summary(scenario, dir_ / "own", "");
-  const auto handed = run_summary(scenario, dir_ / "handed", "--set dynamics.engine='\"lammps\"'");
+  const auto [own, handed] = run_own_and_handed(scenario, dir_);
   ASSERT_FALSE(own.is_null());
   ASSERT_FALSE(handed.is_null());
   const auto &own_pour = own.at("stages").at("pour"), &lmp_pour = handed.at("stages").at("pour");
@@ -294,8 +300,7 @@ constexpr const char* kRollingPour =
 TEST_F(LammpsBridge, APourWithSpringDashpotRollingEndsAsDenseInLammps) {
   const fs::path scenario = dir_ / "rolling.toml";
   std::ofstream(scenario) << kRollingPour;
-  const auto own = run_summary(scenario, dir_ / "own", "");
-  const auto handed = run_summary(scenario, dir_ / "handed", "--set dynamics.engine='\"lammps\"'");
+  const auto [own, handed] = run_own_and_handed(scenario, dir_);
   ASSERT_FALSE(own.is_null());
   ASSERT_FALSE(handed.is_null());
   std::ifstream deck(dir_ / "handed" / "lammps" / "pour_part_1" / "pour.in");
@@ -593,8 +598,7 @@ double interior_density(const nlohmann::json& summary) {
 TEST_F(LammpsBridge, APourOfGrainsEndsAsDenseInLammpsAndComesBackGrainByGrain) {
   const fs::path scenario = dir_ / "grains.toml";
   std::ofstream(scenario) << kGrainPour;
-  const auto own = run_summary(scenario, dir_ / "own", "");
-  const auto handed = run_summary(scenario, dir_ / "handed", "--set dynamics.engine='\"lammps\"'");
+  const auto [own, handed] = run_own_and_handed(scenario, dir_);
   ASSERT_FALSE(own.is_null());
   ASSERT_FALSE(handed.is_null());
   const fs::path deck = dir_ / "handed" / "lammps" / "pour_part_1";

@@ -97,6 +97,13 @@ struct PouredShapes {
   [[nodiscard]] const RigidBodyShape* shape(std::size_t k) const { return of.empty() ? nullptr : of[k]; }
 };
 
+// Adds one poured particle to `store` at `at`, moving at `velocity`: a sphere of `radius`, or
+// with a `shape` (of reach 1) a grain of it at reach `radius`, turned by `orientation`. The one
+// way a pour, its LAMMPS deck, the bed LAMMPS returns and a checkpoint's check add them.
+void add_poured(ParticleStore& store, const Vec3& at, double radius, const RigidBodyShape* shape,
+                const Quaternion& orientation, const Vec3& velocity, double density, std::uint32_t layer,
+                std::uint8_t material);
+
 // What a pour tells its caller: every sample (its time since the pour began; `phase` says what
 // the DEM is doing), and its safe points, where the caller may save the loop with the system
 // or stop the run by throwing. The density probe measures the bed once all batches are in.
