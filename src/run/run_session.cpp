@@ -42,7 +42,7 @@ void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
     throw InputError(fmt::format("{}: a component has a shape (grains of several spheres), and {}", sc.file.string(), what));
   };
   const bool lammps_engine = sc.dynamics && sc.dynamics->engine == DemEngine::Lammps;
-  const bool lammps_pour = sc.pour && sc.pour->batches > 1;  // a pour LAMMPS cannot take with grains
+  const bool several_batches = sc.pour && sc.pour->batches > 1;  // LAMMPS cannot take that with grains
   for (const Step& step : protocol.steps) {
     if (std::holds_alternative<DepositStep>(step.kind))
       fail("the drop-and-roll deposition places spheres only: pour grains ([pour]) instead of depositing them");
@@ -52,7 +52,7 @@ void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
     const auto* exported = std::get_if<ExportLammpsStep>(&step.kind);
     const bool pour_to_lammps = (lammps_engine && std::holds_alternative<PourStep>(step.kind)) ||
                                 (exported && std::holds_alternative<PourStep>(exported->next));
-    if (pour_to_lammps && lammps_pour)
+    if (pour_to_lammps && several_batches)
       fail("pour.batches: LAMMPS's fix rigid/small takes its grains once, when it is defined, so a pour with grains "
            "goes to LAMMPS in one batch; expected pour.batches = 1, or aggpack's DEM");
   }
@@ -102,7 +102,7 @@ InitialBed initial_bed(const Scenario& sc) {
   radii.reserve(bed.sizes->diameters.size());
   for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
   check_sizes(sc, radii);
-  // With grains, once they are made (RunSession): an import's file holds their spheres.
+  // With grains, once they are made (checked_grains): an import's file holds their spheres.
   if (!sc.particles.has_grains()) check_protocol_beds(sc, {}, radii);
   return bed;
 }
