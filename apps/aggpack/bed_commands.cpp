@@ -13,6 +13,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze.hpp"
+#include "aggpack/io/shape_option.hpp"
 #include "aggpack/run/grading_report.hpp"
 #include "aggpack/run/predictions.hpp"
 #include "arguments.hpp"
@@ -121,7 +122,7 @@ Subcommand add_analyze(CLI::App& app) {
 Subcommand add_grading(CLI::App& app) {
   struct Arguments {
     aggpack::GradingQuery query;
-    std::string unit, d_min, d_max;
+    std::string unit, d_min, d_max, shape;
     bool json = false, list = false;
   };
   const auto a = std::make_shared<Arguments>();
@@ -135,8 +136,14 @@ Subcommand add_grading(CLI::App& app) {
   cmd->add_option("--length-unit", a->unit,
                   "Unit of a bare 'opening' column in files (none by default: such a column is refused)");
   cmd->add_flag("--json", a->json, "Print machine-readable JSON");
+  auto* shape_opt = cmd->add_option(
+      "--shape", a->shape,
+      "The grading's grains, as a component's shape table: e.g. 'family=\"angular\", flakiness_index=18'; prints "
+      "what the generated grains measure beside the target");
+  cmd->add_option("--seed", a->query.seed, "Seed of the sizes and grains --shape draws (default 1, as a run's)")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--list", a->list, "List the shipped gradings and bands");
-  return {cmd, [a, d_min_opt, d_max_opt] {
+  return {cmd, [a, d_min_opt, d_max_opt, shape_opt] {
             aggpack::GradingQuery& query = a->query;
             if (a->list) {
               for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);
@@ -154,6 +161,7 @@ Subcommand add_grading(CLI::App& app) {
             }
             if (*d_min_opt) query.d_min = length_argument(a->d_min, "--d-min");
             if (*d_max_opt) query.d_max = length_argument(a->d_max, "--d-max");
+            if (*shape_opt) query.shape = aggpack::read_shape_option(a->shape, "--shape");
             const auto description = aggpack::describe_grading(query);
             if (a->json) std::cout << aggpack::to_json(description).dump(2) << "\n";
             else fmt::print("{}", aggpack::format_grading(description));

@@ -51,12 +51,16 @@ std::vector<LibraryGrain> draw_templates(const GrainShapeSpec& spec, const Propo
 
 // The target's percentage over the templates as they came out (their fill's own proportions):
 // every template at every size, by mass, as a component whose grains pick templates at random.
-double library_percent(const std::vector<LibraryGrain>& grains, const ShapeTarget& target,
-                       std::span<const double> sizes) {
+std::vector<GrainMeasure> measure_templates(const std::vector<LibraryGrain>& grains, std::span<const double> sizes) {
   std::vector<GrainMeasure> all;
   for (const double width : sizes)
     for (const LibraryGrain& g : grains) all.push_back(measure_grain(g, width, 1.0));
-  return measured_percent(target, all).value_or(0.0);
+  return all;
+}
+
+double library_percent(const std::vector<LibraryGrain>& grains, const ShapeTarget& target,
+                       std::span<const double> sizes) {
+  return measured_percent(target, measure_templates(grains, sizes)).value_or(0.0);
 }
 
 }  // namespace
@@ -125,6 +129,19 @@ GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const doub
   library.fit = fit;
   library.grains = std::move(best.grains);
   return library;
+}
+
+std::vector<double> library_fit_sizes(std::vector<double> sizes) {
+  std::sort(sizes.begin(), sizes.end());
+  constexpr std::size_t kFitSizes = 256;
+  if (sizes.size() <= kFitSizes) return sizes;
+  std::vector<double> quantiles;
+  for (std::size_t k = 0; k < kFitSizes; ++k) quantiles.push_back(sizes[(2 * k + 1) * sizes.size() / (2 * kFitSizes)]);
+  return quantiles;
+}
+
+std::vector<GrainMeasure> measure_library(const GrainLibrary& library, std::span<const double> intermediate_sizes) {
+  return measure_templates(library.grains, intermediate_sizes);
 }
 
 GrainMeasure measure_body(const ParticleStore& particles, std::size_t b) {

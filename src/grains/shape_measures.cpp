@@ -104,6 +104,25 @@ std::optional<double> measured_percent(const ShapeTarget& target, std::span<cons
   return 100.0 * counted / all;
 }
 
+ShapeStatistics shape_statistics(std::span<const GrainMeasure> grains) {
+  ShapeStatistics s;
+  s.grains = grains.size();
+  for (const GrainMeasure& g : grains) {
+    s.mean_elongation += g.width / g.length;
+    s.mean_flatness += g.thickness / g.width;
+  }
+  if (!grains.empty()) {
+    s.mean_elongation /= static_cast<double>(grains.size());
+    s.mean_flatness /= static_cast<double>(grains.size());
+  }
+  s.flakiness_index = measured_percent({ShapeMeasure::FlakinessIndex, 0.0, 0.0}, grains);
+  s.shape_index = measured_percent({ShapeMeasure::ShapeIndex, 0.0, 0.0}, grains);
+  s.flat_elongated_2 = measured_percent({ShapeMeasure::FlatAndElongated, 0.0, 2.0}, grains);
+  s.flat_elongated_3 = measured_percent({ShapeMeasure::FlatAndElongated, 0.0, 3.0}, grains);
+  s.flat_elongated_5 = measured_percent({ShapeMeasure::FlatAndElongated, 0.0, 5.0}, grains);
+  return s;
+}
+
 ProportionDistribution fitted_distribution(ShapeMeasure measure, const ProportionDistribution& start, double t) {
   ProportionDistribution d = start;
   const auto ratio = [](double v) { return std::clamp(v, ProportionDistribution::kLeastRatio, 1.0); };

@@ -1,6 +1,8 @@
 // A component's `shape` table: its particles as rigid grains of several spheres (issue 38).
 #include <fmt/format.h>
 
+#include "aggpack/core/error.hpp"
+#include "aggpack/io/shape_option.hpp"
 #include "scenario_tables.hpp"
 
 namespace aggpack {
@@ -50,6 +52,25 @@ std::optional<GrainShapeSpec> read_grain_shape(const TomlSection& component) {
     spec.target = ShapeTarget{ShapeMeasure::FlatAndElongated, *flat_elongated, ratio};
   }
   return spec;
+}
+
+GrainShapeSpec read_shape_option(std::string_view text, std::string_view option) {
+  std::string inside(text);
+  const auto first = inside.find_first_not_of(" \t");
+  if (first == std::string::npos || inside[first] != '{') inside = "{" + inside + "}";
+  const std::string quoted = fmt::format("{} '{}'", option, text);
+  toml::table root;
+  try {
+    root = toml::parse("shape = " + inside);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}: not a TOML inline table ({}); expected, for example, "
+                                 "'family = \"angular\", flakiness_index = 18'",
+                                 quoted, e.description()));
+  }
+  if (!root["shape"].is_table())
+    throw InputError(fmt::format("{}: expected a table of the shape's keys, for example 'family = \"rounded\"'", quoted));
+  const ScenarioOrigin origin{std::string(option), {{"shape", quoted}}};
+  return *read_grain_shape(TomlSection(root, "", origin));
 }
 
 }  // namespace aggpack

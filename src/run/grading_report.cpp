@@ -8,6 +8,8 @@
 #include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/rng.hpp"
+#include "aggpack/run/run_grains.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
 
 namespace aggpack {
@@ -49,6 +51,87 @@ nlohmann::json curve_json(const Grading& g) {
   j["snapped_sieves"] = snapped_sieves_json(g);
   if (!g.snapped.empty()) j["snapped_note"] = snapped_sieves_text(g.snapped);
   return j;
+}
+
+// The sample a run's grains are fitted on: as many sizes as make the quantiles of
+// library_fit_sizes steady (each quantile then the median of 16 draws).
+constexpr std::size_t kShapeSample = 4096;
+
+GradingShape grading_shape(const GrainShapeSpec& spec, const Grading& grading, const GradingQuery& q) {
+  const GradingSampler sampler(cut_grading(grading, q.d_min, q.d_max, "--d-min/--d-max"), SamplingMode::Mass);
+  Rng rng = make_rng(q.seed, RngPurpose::Sizes);
+  std::vector<double> sizes(kShapeSample);
+  for (double& d : sizes) d = sampler.draw(rng);
+  GradingShape shape{{}, q.seed, sizes.size(), library_fit_sizes(std::move(sizes)), {}};
+  try {
+    shape.library = make_grain_library(spec, shape.fit_sizes, q.seed * 64);  // a run's first component's stream
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("--shape: the grains of {}: {}", grading.name, e.what()));
+  }
+  const std::vector<GrainMeasure> measures = measure_library(shape.library, shape.fit_sizes);
+  shape.templates = shape_statistics(measures);
+  if (spec.target) shape.target_measured = measured_percent(*spec.target, measures);
+  return shape;
+}
+
+nlohmann::json shape_json(const GradingShape& s) {
+  const GrainShapeSpec& spec = s.library.spec;
+  const ProportionDistribution& d = s.library.distribution;
+  nlohmann::json j = {{"family", family_name(spec.family)},
+                      {"spheres", spec.spheres},
+                      {"templates", spec.templates},
+                      {"filling", "tangent spheres, largest gain first (Ferellec and McDowell 2010)"},
+                      {"elongation", {{"mean", d.elongation_mean}, {"spread", d.elongation_spread}}},
+                      {"flatness", {{"mean", d.flatness_mean}, {"spread", d.flatness_spread}}},
+                      {"seed", s.seed},
+                      {"sizes_sampled", s.sampled},
+                      {"sizes_measured", s.fit_sizes.size()},
+                      {"measured", shape_statistics_json(s.templates)}};
+  if (spec.family == GrainFamily::Angular) j["corners"] = spec.corners;
+  if (spec.target) {
+    j["target"] = {{"measure", measure_name(spec.target->measure)}, {"percent", spec.target->percent}};
+    if (spec.target->measure == ShapeMeasure::FlatAndElongated) j["target"]["ratio"] = spec.target->ratio;
+    j["target"]["measured_percent"] = s.target_measured ? nlohmann::json(*s.target_measured) : nlohmann::json(nullptr);
+    j["fitted"] = spec.target->measure == ShapeMeasure::FlakinessIndex ? "flatness mean" : "elongation and flatness means";
+  }
+  return j;
+}
+
+std::string format_shape(const GradingShape& s) {
+  const GrainShapeSpec& spec = s.library.spec;
+  const ProportionDistribution& d = s.library.distribution;
+  std::string out = fmt::format(
+      "grains: {} ({}), {} spheres each, {} templates; elongation I/L {:.3f} +- {:.2f}, flatness S/I {:.3f} "
+      "+- {:.2f} ({})\n",
+      family_name(spec.family),
+      spec.family == GrainFamily::Angular ? fmt::format("a random convex hull of {} corners", spec.corners)
+                                          : std::string("an ellipsoid"),
+      spec.spheres, spec.templates, d.elongation_mean, d.elongation_spread, d.flatness_mean, d.flatness_spread,
+      !spec.target ? "as given"
+      : spec.target->measure == ShapeMeasure::FlakinessIndex ? "flatness fitted"
+                                                              : "both fitted");
+  const ShapeStatistics& m = s.templates;
+  const auto row = [&](std::string_view name, const std::optional<double>& value, std::optional<ShapeTarget> as) {
+    const bool targeted = spec.target && as && spec.target->measure == as->measure &&
+                          (as->measure != ShapeMeasure::FlatAndElongated || spec.target->ratio == as->ratio);
+    std::string line = fmt::format("  {:<32} {:>9} {:>9}", name, value ? fmt::format("{:.1f}", *value) : "-",
+                                   targeted ? fmt::format("{:.1f}", spec.target->percent) : "");
+    line.erase(line.find_last_not_of(' ') + 1);
+    out += line + "\n";
+  };
+  out += fmt::format("  {:<32} {:>9} {:>9}\n", "measure (% by mass)", "templates", "target");
+  row("flakiness index (EN 933-3)", m.flakiness_index, ShapeTarget{ShapeMeasure::FlakinessIndex, 0, 0});
+  row("shape index (EN 933-4)", m.shape_index, ShapeTarget{ShapeMeasure::ShapeIndex, 0, 0});
+  row("flat and elongated 2:1 (D4791)", m.flat_elongated_2, ShapeTarget{ShapeMeasure::FlatAndElongated, 0, 2});
+  row("flat and elongated 3:1 (D4791)", m.flat_elongated_3, ShapeTarget{ShapeMeasure::FlatAndElongated, 0, 3});
+  row("flat and elongated 5:1 (D4791)", m.flat_elongated_5, ShapeTarget{ShapeMeasure::FlatAndElongated, 0, 5});
+  if (spec.target && spec.target->measure == ShapeMeasure::FlatAndElongated && spec.target->ratio != 2.0 &&
+      spec.target->ratio != 3.0 && spec.target->ratio != 5.0)
+    row(fmt::format("flat and elongated {:g}:1 (D4791)", spec.target->ratio), s.target_measured, spec.target);
+  out += fmt::format("  every template at {} sizes drawn from the grading by mass (seed {}), as a run's grains; "
+                     "'-': the standard measures no grain of these sizes\n",
+                     s.fit_sizes.size(), s.seed);
+  return out;
 }
 }  // namespace
 
@@ -95,6 +178,7 @@ GradingDescription describe_grading(const GradingQuery& q) {
                                    fmt::join(named_band_names(), ", ")));
     d.band_check = check_against_band(checked, *d.band);
   }
+  if (q.shape) d.shape = grading_shape(*q.shape, main, q);
   return d;
 }
 
@@ -113,6 +197,7 @@ nlohmann::json to_json(const GradingDescription& d) {
     j["band"] = band_check_json(*d.band, d.band_check);
     j["band"]["checked"] = d.checked().name;
   }
+  if (d.shape) j["shape"] = shape_json(*d.shape);
   return j;
 }
 
@@ -136,6 +221,7 @@ std::string format_grading(const GradingDescription& d) {
     out += fmt::format("cut-offs: {:.4g} to {:.4g} mm kept; {:.2f} % of the volume below and {:.2f} % above removed, "
                        "the rest renormalised proportionally\n",
                        1e3 * d.cut->d_lo, 1e3 * d.cut->d_hi, 100 * d.cut->cut_below, 100 * d.cut->cut_above);
+  if (d.shape) out += format_shape(*d.shape);
   if (d.band) {
     out += fmt::format("band {} for {}: {}\n", d.band->name, d.checked().name,
                        d.band_check.all_inside() ? "inside at every sieve" : "OUTSIDE at some sieves");

@@ -22,14 +22,7 @@ RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& si
     for (std::size_t i = 0; i < sizes.diameters.size(); ++i)
       if (static_cast<std::size_t>(sizes.component[i]) == c) all.push_back(sizes.diameters[i]);
     if (all.empty()) continue;
-    // The fit's sizes: at most 256 evenly spaced quantiles of the component's (its cost and
-    // memory then do not grow with the bed).
-    std::sort(all.begin(), all.end());
-    constexpr std::size_t kFitSizes = 256;
-    std::vector<double> widths;
-    if (all.size() <= kFitSizes) widths = all;
-    else
-      for (std::size_t k = 0; k < kFitSizes; ++k) widths.push_back(all[(2 * k + 1) * all.size() / (2 * kFitSizes)]);
+    const std::vector<double> widths = library_fit_sizes(std::move(all));
     try {
       // Each component its own stream of shapes.
       grains.libraries[c] = make_grain_library(*spec, widths, seed * 64 + c);
@@ -114,6 +107,22 @@ std::vector<SieveInterval> grain_sieve_intervals(const ParticleStore& bed, std::
   return intervals;
 }
 
+nlohmann::json shape_statistics_json(const ShapeStatistics& s) {
+  const auto percent = [](const std::optional<double>& p) { return p ? nlohmann::json(*p) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"grains", s.grains}};
+  if (s.grains > 0) {
+    j["mean_elongation"] = s.mean_elongation;
+    j["mean_flatness"] = s.mean_flatness;
+  }
+  j["flakiness_index_percent"] = percent(s.flakiness_index);
+  j["shape_index_percent"] = percent(s.shape_index);
+  j["flat_elongated_2_to_1_percent"] = percent(s.flat_elongated_2);
+  j["flat_elongated_3_to_1_percent"] = percent(s.flat_elongated_3);
+  j["flat_elongated_5_to_1_percent"] = percent(s.flat_elongated_5);
+  j["by"] = "mass, as the standards measure; L, I, S the extents of each grain's spheres along its principal axes";
+  return j;
+}
+
 nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleStore& bed,
                                const std::vector<std::uint32_t>& shape_component) {
   nlohmann::json out = libraries;
@@ -121,27 +130,9 @@ nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleSt
   for (nlohmann::json& j : out) {
     const auto c = j["component"].get<std::size_t>() - 1;
     std::vector<GrainMeasure> grains;
-    double elongation = 0.0, flatness = 0.0;
-    for (std::size_t b = 0; b < measures.size(); ++b) {
-      if (shape_component.at(bed.bodies.shape[b]) != c) continue;
-      grains.push_back(measures[b]);
-      elongation += measures[b].width / measures[b].length;
-      flatness += measures[b].thickness / measures[b].width;
-    }
-    nlohmann::json in_bed = {{"grains", grains.size()}};
-    if (!grains.empty()) {
-      in_bed["mean_elongation"] = elongation / static_cast<double>(grains.size());
-      in_bed["mean_flatness"] = flatness / static_cast<double>(grains.size());
-    }
-    const auto percent = [&](const ShapeTarget& t) {
-      const std::optional<double> p = measured_percent(t, grains);
-      return p ? nlohmann::json(*p) : nlohmann::json(nullptr);
-    };
-    in_bed["flakiness_index_percent"] = percent({ShapeMeasure::FlakinessIndex, 0.0, 0.0});
-    in_bed["shape_index_percent"] = percent({ShapeMeasure::ShapeIndex, 0.0, 0.0});
-    in_bed["flat_elongated_3_to_1_percent"] = percent({ShapeMeasure::FlatAndElongated, 0.0, 3.0});
-    in_bed["by"] = "mass, as the standards measure; L, I, S the extents of each grain's spheres along its principal axes";
-    j["bed"] = in_bed;
+    for (std::size_t b = 0; b < measures.size(); ++b)
+      if (shape_component.at(bed.bodies.shape[b]) == c) grains.push_back(measures[b]);
+    j["bed"] = shape_statistics_json(shape_statistics(grains));
   }
   return out;
 }

@@ -141,4 +141,25 @@ TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
   EXPECT_NE(e.output.find("its particles.csv holds their spheres, not the grains"), std::string::npos) << e.output;
 }
 
+// `aggpack grading --shape`: what the grains of a grading would measure, beside the target, in
+// words and in JSON; a shape the scenario reader refuses is refused the same way (exit 2).
+TEST_F(CliGrains, GradingShowsWhatItsGrainsMeasureBesideTheTarget) {
+  const std::string stone = "grading fu2003_table1_coarse --d-min '0.1 in' --shape 'family=\"angular\", spheres=4, ";
+  auto r = run_cli(stone + "flakiness_index=18' --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto shape = nlohmann::json::parse(r.output).at("shape");
+  EXPECT_EQ(shape["target"]["measure"], "flakiness index (EN 933-3)");
+  EXPECT_NEAR(shape["measured"]["flakiness_index_percent"].get<double>(), 18.0, 1.0);
+  EXPECT_EQ(shape["fitted"], "flatness mean");
+  EXPECT_EQ(shape["target"]["measured_percent"], shape["measured"]["flakiness_index_percent"]);
+  r = run_cli(stone + "templates=24, spread=0.2, flat_elongated=10, flat_elongated_ratio=2.5'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("flat and elongated 2.5:1 (D4791)"), std::string::npos) << "its own row: " << r.output;
+  EXPECT_NE(r.output.find("10.0\n"), std::string::npos) << "the target beside its row: " << r.output;
+  r = run_cli(stone + "flakiness_index=18, shape_index=5'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--shape 'family="), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("at most one lab measure"), std::string::npos) << r.output;
+}
+
 }  // namespace

@@ -46,6 +46,30 @@ TEST(ShapeMeasures, ThePercentageIsByMassOfTheGrainsMeasured) {
   EXPECT_FALSE(measured_percent(kFlakiness, sand).has_value());
 }
 
+// Four grains whose every measure is counted by hand: the mean proportions by number, each
+// standard's percentage by mass of the grains it applies to.
+TEST(ShapeMeasures, StatisticsReportEveryStandardByMassAndTheMeanProportionsByNumber) {
+  const std::vector<GrainMeasure> grains{
+      {60e-3, 15e-3, 10e-3, 1.0},  // L/S 6, class 12.5/16 (gap 8 mm): not flaky; counted at 2, 3 and 5:1
+      {25e-3, 20e-3, 8e-3, 2.0},   // L/S 3.125, class 20/25 (gap 10 mm): flaky; 2 and 3:1
+      {12e-3, 10e-3, 9e-3, 4.0},   // L/S 1.33, class 10/12.5 (gap 6.3 mm): counted by nothing
+      {2e-3, 1e-3, 0.1e-3, 8.0},   // a sand grain: below every standard's range
+  };
+  const ShapeStatistics s = shape_statistics(grains);
+  EXPECT_EQ(s.grains, 4u);
+  EXPECT_DOUBLE_EQ(s.mean_elongation, (0.25 + 0.8 + 10.0 / 12.0 + 0.5) / 4.0);
+  EXPECT_DOUBLE_EQ(s.mean_flatness, (10.0 / 15.0 + 0.4 + 0.9 + 0.1) / 4.0);
+  EXPECT_DOUBLE_EQ(*s.flakiness_index, 100.0 * 2.0 / 7.0);
+  EXPECT_DOUBLE_EQ(*s.shape_index, 100.0 * 3.0 / 7.0);
+  EXPECT_DOUBLE_EQ(*s.flat_elongated_2, 100.0 * 3.0 / 7.0);
+  EXPECT_DOUBLE_EQ(*s.flat_elongated_3, 100.0 * 3.0 / 7.0);
+  EXPECT_DOUBLE_EQ(*s.flat_elongated_5, 100.0 * 1.0 / 7.0);
+  const std::vector<GrainMeasure> sand{grains.back()};
+  const ShapeStatistics only_sand = shape_statistics(sand);
+  EXPECT_FALSE(only_sand.flakiness_index || only_sand.shape_index || only_sand.flat_elongated_3);
+  EXPECT_EQ(shape_statistics({}).grains, 0u);
+}
+
 // Grains drawn from a distribution: their percentage by mass, as a lab would measure it.
 double drawn_percent(const ShapeTarget& target, const ProportionDistribution& d, const std::vector<double>& sizes) {
   Rng rng(2026, 12);  // another stream than the fit's

@@ -59,6 +59,15 @@ struct GrainLibrary {
 [[nodiscard]] GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const double> intermediate_sizes,
                                               std::uint64_t seed);
 
+// The intermediate sizes a library is fitted on, from all the sizes of its component: at most
+// 256 evenly spaced quantiles (the fit's cost then does not grow with the bed).
+[[nodiscard]] std::vector<double> library_fit_sizes(std::vector<double> sizes);
+
+// Every template of the library at every one of these intermediate sizes, as a lab measures
+// them (mass per unit density): a component whose grains pick templates at random, by mass.
+[[nodiscard]] std::vector<GrainMeasure> measure_library(const GrainLibrary& library,
+                                                        std::span<const double> intermediate_sizes);
+
 // The dimensions and mass of body b of the store, as a lab measures them: L, I and S the
 // extents of its members along its body frame's axes (its principal axes, longest first for
 // the templates of a library).

@@ -66,6 +66,16 @@ struct GrainMeasure {
 // none (a sand, for a flakiness index).
 [[nodiscard]] std::optional<double> measured_percent(const ShapeTarget& target, std::span<const GrainMeasure> grains);
 
+// What a set of grains measures, as a lab would report it: the mean proportions (by number)
+// and each standard's percentage by mass (none where it applies to no grain).
+struct ShapeStatistics {
+  std::size_t grains = 0;
+  double mean_elongation = 0.0, mean_flatness = 0.0;  // I/L and S/I
+  std::optional<double> flakiness_index, shape_index;  // EN 933-3, EN 933-4
+  std::optional<double> flat_elongated_2, flat_elongated_3, flat_elongated_5;  // ASTM D4791 at 2:1, 3:1, 5:1
+};
+[[nodiscard]] ShapeStatistics shape_statistics(std::span<const GrainMeasure> grains);
+
 // The distribution whose grains reproduce `target` on grains of these intermediate
 // dimensions I (m, as the grading gives them: a grain belongs to the sieve interval that I
 // passes), by mass as L I S (the grains' volume up to a factor of shape that the fill

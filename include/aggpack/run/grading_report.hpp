@@ -1,10 +1,12 @@
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/grains/grain_library.hpp"
 #include "aggpack/sizes/grading.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
 
@@ -19,6 +21,8 @@ struct GradingQuery {
   std::optional<std::string> band;      // a shipped band to check the grading (or the mix) against
   std::optional<double> d_min, d_max;   // cut-offs, m
   std::optional<double> length_unit;    // metres per unit of a bare `opening` column in files
+  std::optional<GrainShapeSpec> shape;  // --shape: the grading's (the coarse one's) grains
+  std::uint64_t seed = 1;               // of the sizes and templates --shape draws
 };
 
 // A shipped grading by name, or a CSV sieve analysis (`length_unit` metres per unit of a bare
@@ -34,6 +38,18 @@ nlohmann::json band_check_json(const Band& band, const BandCheck& check);
 nlohmann::json snapped_sieves_json(const Grading& grading);
 std::string snapped_sieves_text(const std::vector<SnappedSieve>& snapped);
 
+// With --shape: the grains a run of the grading would make (its first component's, seeded as
+// a run's), and what they measure. The sizes are a sample of the grading (cut at --d-min and
+// --d-max) as a run draws them, by mass.
+struct GradingShape {
+  GrainLibrary library;
+  std::uint64_t seed = 1;
+  std::size_t sampled = 0;         // sizes drawn
+  std::vector<double> fit_sizes;   // the intermediate sizes fitted on and measured at, m
+  ShapeStatistics templates;       // every template at every one of those sizes, by mass
+  std::optional<double> target_measured;  // the target's own measure (its ratio) over the same grains
+};
+
 // What `aggpack grading` found: the grading, the fine one and their blend, the cut-offs and
 // the band check.
 struct GradingDescription {
@@ -43,6 +59,7 @@ struct GradingDescription {
   std::optional<GradingCut> cut;     // with --d-min or --d-max, of the checked curve
   std::optional<Band> band;          // with --band
   BandCheck band_check;
+  std::optional<GradingShape> shape;  // with --shape
   // The curve the cut-offs and the band apply to: the blend with --mix, else the grading.
   [[nodiscard]] const Grading& checked() const { return mix ? *mix : grading; }
 };

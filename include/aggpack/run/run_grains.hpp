@@ -49,6 +49,11 @@ struct RunGrains {
 // summary.json's "grains" before the run: each component's shape, its fitted proportions and
 // what its templates measure (every template at every size of the component, by mass).
 nlohmann::json libraries_json(const RunGrains& grains, const std::vector<SizesComponent>& components);
+// What a set of grains measures ({ grains, mean_elongation, mean_flatness,
+// flakiness_index_percent, shape_index_percent, flat_elongated_{2,3,5}_to_1_percent, by }; null
+// where a standard measures none of them): the bed's grains in summary.json, the templates in
+// `aggpack grading --shape`.
+nlohmann::json shape_statistics_json(const ShapeStatistics& statistics);
 // ... and after: what the grains of the bed measure, by component (shape_component: a body's
 // template's component), by mass as a lab would, beside the libraries' targets.
 nlohmann::json bed_grains_json(const nlohmann::json& libraries, const ParticleStore& bed,
