@@ -21,12 +21,12 @@ jobs=${3:-1}
 mkdir -p "$out"
 export OMP_NUM_THREADS=1
 names=()
+# Seed by seed, both families at a time: a study stopped early still has pairs to compare.
 for spheres in 6 16; do
-  for family in angular rounded; do
-    templates=64
-    for seed in $seeds; do
+  for seed in $seeds; do
+    for family in angular rounded; do
       names+=("${family}_${spheres}_seed$seed")
-      echo "${family}_${spheres}_seed$seed $seed $family $spheres $templates"
+      echo "${family}_${spheres}_seed$seed $seed $family $spheres 64"
     done
   done
 done > "$out/runs.txt"
@@ -41,8 +41,8 @@ export exe out
 xargs -P "$jobs" -L 1 bash -c 'run_one "$@"' _ < "$out/runs.txt"
 
 python3 - "$out" "${names[@]}" <<'PY'
-import json, statistics, sys
-out, names = sys.argv[1], sys.argv[2:]
+import json, os, statistics, sys
+out, names = sys.argv[1], [n for n in sys.argv[2:] if os.path.exists(f"{sys.argv[1]}/{n}/summary.json")]
 def measure(name):
     s = json.load(open(f"{out}/{name}/summary.json"))
     bed, v = s["bed"], s["profiles"]["vertical"]
@@ -57,7 +57,9 @@ lines += ["", "| spheres a grain | crushed: boxes / interior (mean ± sd) | grav
           "| --- | --- | --- | --- | --- |"]
 fmt = lambda xs: f"{statistics.mean(xs):.4f} ± {statistics.stdev(xs):.4f}" if len(xs) > 1 else f"{xs[0]:.4f}"
 for spheres in ("6", "16"):
-    seeds = [n.split("seed")[1] for n in names if n.startswith(f"angular_{spheres}_")]
+    seeds = [n.split("seed")[1] for n in names if n.startswith(f"angular_{spheres}_") and f"rounded_{spheres}_seed{n.split('seed')[1]}" in m]
+    if not seeds:
+        continue
     a = [m[f"angular_{spheres}_seed{s}"] for s in seeds]
     r = [m[f"rounded_{spheres}_seed{s}"] for s in seeds]
     gb = [y[0] - x[0] for x, y in zip(a, r)]

@@ -211,6 +211,9 @@ Subcommand add_reproduce(CLI::App& app, int argc, char** argv) {
   cmd->add_flag("--calibrated-table2", reproduce.calibrated_table2,
                 "Also predict Table 2 from one calibration mix: every mix poured with stone and sand at 4 values of "
                 "the sand's rolling friction on a reduced bed (about 40 minutes a seed on two cores)");
+  cmd->add_flag("--shaped-table2", reproduce.shaped_table2,
+                "Also run Table 2 with shape: every mix poured on one reduced bed with its stone as spheres and as "
+                "rigid grains of crushed stone (flakiness 18 %) (hours a seed on two cores: docs/validation.md)");
   cmd->add_flag("--resume", reproduce.resume,
                 "Continue an interrupted reproduce into the same --out: runs it finished or began are taken "
                 "up from their checkpoints, not run again");

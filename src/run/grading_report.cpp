@@ -62,7 +62,7 @@ GradingShape grading_shape(const GrainShapeSpec& spec, const Grading& grading, c
   Rng rng = make_rng(q.seed, RngPurpose::Sizes);
   std::vector<double> sizes(kShapeSample);
   for (double& d : sizes) d = sampler.draw(rng);
-  GradingShape shape{{}, q.seed, sizes.size(), library_fit_sizes(std::move(sizes)), {}};
+  GradingShape shape{{}, q.seed, sizes.size(), library_fit_sizes(std::move(sizes)), {}, std::nullopt};
   try {
     shape.library = make_grain_library(spec, shape.fit_sizes, q.seed * 64);  // a run's first component's stream
   } catch (const InputError& e) {

@@ -18,6 +18,59 @@ namespace aggpack {
 namespace reproduction {
 namespace {
 
+// Table 2 from one calibration mix: the sand's rolling friction is the unknown (the stone's is
+// the literature's). The bed is reduced so that the study takes about 40 minutes a seed on two
+// cores (docs/validation.md, "Table 2 from one calibration mix").
+CalibratedTable2Plan calibrated_plan(bool quick) {
+  CalibratedTable2Plan c{"table2_mix3_stone_sand.toml", "sand", {0.0, 0.1, 0.2, 0.35}, {}, {}};
+  c.bed = {"particles.fine.d_min=\"0.1 in\"", "container.side=\"4 in\"", "container.height=\"10 in\"",
+           "particles.fill_height=\"4 in\"", "analysis.box_sides=[\"1.4 in\", \"1.5 in\", \"1.6 in\"]"};
+  c.bed_label = "REDUCED: stone and sand cut at 0.1 in, a 4 in container filled to 4 in, cubes of 1.4-1.6 in";
+  if (quick) {
+    c.values = {0.0, 0.35};
+    c.bed = {"particles.fine.d_min=\"0.25 in\"", "particles.coarse.d_min=\"0.25 in\"",
+             "container.side=\"3 in\"",          "container.height=\"7 in\"",
+             "particles.fill_height=\"3 in\"",   "analysis.box_sides=[\"1 in\", \"1.1 in\"]"};
+    c.bed_label = "QUICK: stone and sand cut at 0.25 in, a 3 in container filled to 3 in, cubes of 1-1.1 in";
+  }
+  return c;
+}
+
+// Table 2 with shape: the stone as rigid grains of a typical crushed stone (docs/validation.md,
+// "Table 2 with shape"). The grains' length sets the boxes' margins, so the bed is taller than
+// the calibrated study's, and periodic (no lateral margin); the stone is cut at #4 (its smallest
+// grains' members set the time step) and the sand at 0.1 in, the rest carried by CPM.
+ShapedTable2Plan shaped_plan(bool quick) {
+  ShapedTable2Plan s{"table2_mix3_stone_sand.toml",
+                     "{ family = \"angular\", spheres = 6, templates = 12, flakiness_index = 18 }",
+                     "angular grains (random convex hulls of 12 corners) of 6 spheres, 12 templates, fitted to a "
+                     "flakiness index of 18 % (EN 933-3; a typical crushed stone, inside EN 12620's category FI20, "
+                     "not a measurement of the paper's stones)",
+                     {"container.sides=\"periodic\"", "container.side=\"4 in\"", "container.height=\"12 in\"",
+                      "particles.fill_height=\"7 in\"", "particles.coarse.d_min=\"0.187 in\"",
+                      "particles.fine.d_min=\"0.1 in\"", "analysis.box_sides=[\"1.2 in\", \"1.3 in\", \"1.4 in\"]"},
+                     "REDUCED: stone cut at #4 (0.187 in) and sand at 0.1 in, periodic sides 4 in apart filled to "
+                     "7 in, cubes of 1.2-1.4 in"};
+  if (quick) {
+    s.shape = "{ family = \"angular\", spheres = 2, templates = 4, elongation = 0.7, flatness = 0.7 }";
+    s.shape_label = "QUICK: angular grains of 2 spheres, 4 templates, I/L and S/I 0.7 ± 0.1";
+    s.bed = {"container.sides=\"periodic\"",
+             "container.side=\"3 in\"",
+             "container.height=\"8 in\"",
+             "particles.fill_height=\"3.5 in\"",
+             "particles.coarse.d_min=\"0.3 in\"",
+             "particles.coarse.d_max=\"0.5 in\"",
+             "particles.fine.d_min=\"0.3 in\"",
+             "analysis.box_sides=[\"0.6 in\"]",
+             "pour.batches=1",
+             "dynamics.max_time=0.6"};
+    s.bed_label =
+        "QUICK: stone cut to 0.3-0.5 in and sand at 0.3 in, periodic sides 3 in apart filled to 3.5 in, "
+        "one batch, a cube of 0.6 in, the pour cut at 0.6 s";
+  }
+  return s;
+}
+
 // What each mode runs. The quick mode exercises every table and figure in a few minutes.
 Plan make_plan(const ReproduceOptions& o) {
   Plan p;
@@ -60,23 +113,8 @@ Plan make_plan(const ReproduceOptions& o) {
   // is what narrows the band, and costs some 30 s a run).
   if (o.whole_grading)
     p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
-  // Table 2 from one calibration mix: the sand's rolling friction is the unknown (the stone's is
-  // the literature's). The bed is reduced so that the study takes about 40 minutes a seed on two
-  // cores (docs/validation.md, "Table 2 from one calibration mix").
-  if (o.calibrated_table2) {
-    CalibratedTable2Plan c{"table2_mix3_stone_sand.toml", "sand", {0.0, 0.1, 0.2, 0.35}, {}, {}};
-    c.bed = {"particles.fine.d_min=\"0.1 in\"", "container.side=\"4 in\"", "container.height=\"10 in\"",
-             "particles.fill_height=\"4 in\"", "analysis.box_sides=[\"1.4 in\", \"1.5 in\", \"1.6 in\"]"};
-    c.bed_label = "REDUCED: stone and sand cut at 0.1 in, a 4 in container filled to 4 in, cubes of 1.4-1.6 in";
-    if (o.quick) {
-      c.values = {0.0, 0.35};
-      c.bed = {"particles.fine.d_min=\"0.25 in\"", "particles.coarse.d_min=\"0.25 in\"",
-               "container.side=\"3 in\"",          "container.height=\"7 in\"",
-               "particles.fill_height=\"3 in\"",   "analysis.box_sides=[\"1 in\", \"1.1 in\"]"};
-      c.bed_label = "QUICK: stone and sand cut at 0.25 in, a 3 in container filled to 3 in, cubes of 1-1.1 in";
-    }
-    p.calibrated_table2 = std::move(c);
-  }
+  if (o.calibrated_table2) p.calibrated_table2 = calibrated_plan(o.quick);
+  if (o.shaped_table2) p.shaped_table2 = shaped_plan(o.quick);
   if (o.quick) {
     p.example_sets = {"dynamics.max_time=0.25"};
     p.sensitivity = {shipped, cut(0.1), cut(0.06)};
@@ -105,8 +143,15 @@ std::string calibrated_label(const CalibratedTable2Plan& c, int mix, double valu
   return fmt::format("Table 2 mix {}, stone and sand, {} rolling friction {:g}", mix, c.material, value);
 }
 
-// The calibrated study's scenario and mixes, checked before any run.
+std::string shaped_label(int mix, bool grains) {
+  return fmt::format("Table 2 mix {}, stone and sand, the stone as {}", mix, grains ? "grains" : "spheres");
+}
+
+// The calibrated and shaped studies' scenario and mixes, checked before any run.
 void check_calibrated_inputs(const Plan& plan, const ReproduceInputs& in) {
+  if (plan.shaped_table2 && !fs::exists(in.examples / plan.shaped_table2->scenario))
+    throw InputError(fmt::format("reproduce --shaped-table2: {} is missing: the study pours every Table 2 mix from it",
+                                 (in.examples / plan.shaped_table2->scenario).string()));
   if (!plan.calibrated_table2) return;
   if (!fs::exists(in.examples / plan.calibrated_table2->scenario))
     throw InputError(
@@ -142,6 +187,9 @@ std::vector<std::pair<std::string, std::size_t>> planned_cases(const Plan& plan,
     for (const Table2Row& row : in.table2)
       for (const double value : plan.calibrated_table2->values)
         cases.emplace_back(calibrated_label(*plan.calibrated_table2, row.mix, value), seeds);
+  if (plan.shaped_table2)
+    for (const Table2Row& row : in.table2)
+      for (const bool grains : {false, true}) cases.emplace_back(shaped_label(row.mix, grains), seeds);
   return cases;
 }
 
@@ -280,6 +328,29 @@ void run_calibrated_table2(const CaseRunner& cases, const std::vector<Table2Row>
   }
 }
 
+// Table 2 with shape: every mix with its stone as spheres and as grains, on one bed, over the seeds.
+void run_shaped_table2(const CaseRunner& cases, const std::vector<Table2Row>& table2, Reproduction& rep) {
+  if (!cases.plan.shaped_table2) return;
+  const ShapedTable2Plan& plan = *cases.plan.shaped_table2;
+  for (const Table2Row& row : table2) {
+    ShapedMix mix{row, {}, {}};
+    for (const bool grains : {false, true}) {
+      std::vector<std::string> sets = cases.no_particle_files();
+      sets.insert(sets.end(), plan.bed.begin(), plan.bed.end());
+      sets.push_back(fmt::format("particles.ca_fa={:.17g}", row.ca_fa));
+      if (grains) sets.push_back("particles.coarse.shape=" + plan.shape);
+      SeedRuns& runs = grains ? mix.grains : mix.spheres;
+      for (std::size_t s = 1; s <= cases.seeds; ++s)
+        runs.add(keep_bed_if(false,
+                             cases.campaign.run(shaped_label(row.mix, grains), cases.examples / plan.scenario, sets, s,
+                                                cases.runs_dir / "shaped_table2" /
+                                                    fmt::format("mix{}_{}", row.mix, grains ? "grains" : "spheres") /
+                                                    fmt::format("seed_{}", s))));
+    }
+    rep.shaped.push_back(std::move(mix));
+  }
+}
+
 // Runs every case of the plan: Examples 1 and 2, the Table 2 mixes and the sensitivity variants.
 Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   const Plan plan = make_plan(options);
@@ -295,6 +366,7 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   run_table2(cases, inputs.table2, rep);
   run_sensitivity(cases, rep);
   run_calibrated_table2(cases, inputs.table2, rep);
+  run_shaped_table2(cases, inputs.table2, rep);
   rep.runs = campaign.runs_done();
   rep.resumed_runs = campaign.runs_resumed();
   rep.kept_checkpoints = campaign.kept_checkpoints();
@@ -342,6 +414,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   compose_table2(doc, figures, result, rep);
   compose_sensitivity(doc, result, rep);
   compose_calibrated_table2(doc, figures, result, rep);
+  compose_shaped_table2(doc, figures, result, rep);
   compose_notes(doc, rep);
   result["aggpack_version"] = kVersion;
   result["mode"] = options.quick ? "quick" : "full";

@@ -109,6 +109,17 @@ struct CalibratedTable2Plan {
   std::string bed_label;             // those in words, for the report
 };
 
+// Table 2 with shape (--shaped-table2): every mix poured by the DEM from the stone-and-sand
+// scenario on one reduced bed, twice: its stone as spheres, and as rigid grains of a stated
+// shape (the sand stays spheres), each carried to its whole grading as the calibrated study's.
+struct ShapedTable2Plan {
+  std::string scenario;          // in the examples folder
+  std::string shape;             // the stone's shape table, as particles.coarse.shape takes it
+  std::string shape_label;       // that in words, with where its values come from
+  std::vector<std::string> bed;  // the overrides that make the (reduced) bed, for both runs
+  std::string bed_label;         // those in words, for the report
+};
+
 // What each mode runs. The quick mode exercises every table and figure in a few minutes.
 struct Plan {
   int seeds;
@@ -119,12 +130,19 @@ struct Plan {
   std::string tapping_label;              // that protocol in words
   std::vector<SensitivityCase> sensitivity;
   std::optional<CalibratedTable2Plan> calibrated_table2;
+  std::optional<ShapedTable2Plan> shaped_table2;
 };
 
 // A Table 2 mix of the calibrated study: its runs at each grid value, in the plan's order.
 struct CalibratedMix {
   Table2Row row;
   std::vector<SeedRuns> at_value;
+};
+
+// A Table 2 mix of the shaped study: its runs with the stone as spheres and as grains.
+struct ShapedMix {
+  Table2Row row;
+  SeedRuns spheres, grains;
 };
 
 // What a reproduction ran: every case's runs over seeds.
@@ -136,6 +154,7 @@ struct Reproduction {
   std::vector<Table2Outcome> mixes;
   std::vector<Variant> variants;             // of the sensitivity mix, in the plan's order
   std::vector<CalibratedMix> calibrated;     // --calibrated-table2, in Table 2's order
+  std::vector<ShapedMix> shaped;             // --shaped-table2, in Table 2's order
   std::size_t runs = 0;
   std::size_t resumed_runs = 0;  // continued from an interrupted reproduce's checkpoints
   std::vector<fs::path> kept_checkpoints;  // removed once the report is written
@@ -237,6 +256,11 @@ std::optional<LeaveOneOutStudy> calibrated_study(const Reproduction& rep);
 // mix", or why nothing was predicted.
 std::string calibrated_cell(const LeaveOneOutStudy& study, int mix);
 void compose_calibrated_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep);
+
+// reproduce_shaped.cpp: Table 2 with the stone as rigid grains (--shaped-table2).
+// Table 2's column of the grains carried to the whole grading: "0.7412 ± 0.0021", or "—".
+std::string shaped_cell(const Reproduction& rep, int mix);
+void compose_shaped_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep);
 
 // reproduce_sensitivity.cpp: how Table 2 mix 3 moves with the choices the paper leaves open.
 // How the density moves with the sand cut-off, from the variants of the cut-off series.

@@ -387,7 +387,10 @@ std::string table2_caption(const Reproduction& rep, const std::string& cpm_param
          "." +
          (calibrated ? " Stone and sand, calibrated on one mix: the median choice's prediction (band), from the "
                        "section \"Table 2 predicted from one calibration mix\" below."
-                     : "");
+                     : "") +
+         (rep.shaped.empty() ? ""
+                             : " Stone as grains: the stone as rigid grains of crushed stone, carried to the whole "
+                               "grading, nothing calibrated, from the section \"Table 2 with shape\" below.");
 }
 
 }  // namespace
@@ -415,16 +418,19 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
   const std::vector<Variant>& variants = rep.variants;
   auto& b = doc.blocks;
   const Table2Errors errors = table2_errors(mixes);
-  // Table 2.
   b.emplace_back(Heading{2, "Table 2: eight concrete aggregate blends"});
   Table t2;
   t2.header = {"mix", "state", "Ca/Fa", "Fa %", "ours after deposition", "ours after DEM", "CPM as simulated",
                "CPM whole grading", "whole grading (band)", "paper (computed)", "experiment", "ours - paper",
                "ours - experiment"};
-  // --calibrated-table2: the median calibration mix's predictions beside the spheres'.
+  // --calibrated-table2's median predictions and --shaped-table2's grains, before "paper (computed)".
   const std::optional<LeaveOneOutStudy> calibrated = calibrated_study(rep);
-  constexpr std::ptrdiff_t kCalibratedColumn = 9;  // before "paper (computed)"
-  if (calibrated) t2.header.insert(t2.header.begin() + kCalibratedColumn, "stone and sand, calibrated on one mix");
+  const auto study_columns = [&](std::vector<std::string>& row, std::string calibrated_text, std::string shaped_text) {
+    auto at = row.begin() + 9;
+    if (!rep.shaped.empty()) at = row.insert(at, std::move(shaped_text));
+    if (calibrated) row.insert(at, std::move(calibrated_text));
+  };
+  study_columns(t2.header, "stone and sand, calibrated on one mix", "stone as grains (shape), carried");
   nlohmann::json t2_json = nlohmann::json::array();
   std::string cpm_parameters;
   for (const Table2Outcome& m : mixes) {
@@ -447,8 +453,7 @@ void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, c
                        whole_grading_text(whole), fmt::format("{:.3f} ± {:.3f}", m.row.paper_mean, m.row.paper_sd),
                        value_text(m.row.experiment, 3), difference_text(ours, m.row.paper_mean),
                        difference_text(ours, m.row.experiment)});
-    if (calibrated)
-      t2.rows.back().insert(t2.rows.back().begin() + kCalibratedColumn, calibrated_cell(*calibrated, m.row.mix));
+    study_columns(t2.rows.back(), calibrated ? calibrated_cell(*calibrated, m.row.mix) : "", shaped_cell(rep, m.row.mix));
     t2_json.push_back({{"mix", m.row.mix},
                        {"state", m.row.state},
                        {"ca_fa", m.row.ca_fa},

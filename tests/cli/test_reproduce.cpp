@@ -824,3 +824,51 @@ TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
 }
 
 }  // namespace
+
+// --shaped-table2: every mix poured on one bed with its stone as spheres and as grains, each
+// carried to its whole grading as its own run's predictions say; the study's errors and slope
+// recomputed here from the runs' files, and Table 2's column beside the others.
+TEST(ReproduceShapedTable2, PoursEachMixWithItsStoneAsSpheresAndAsGrainsAndCarriesBoth) {
+  const aggpack::testing::ScratchDir scratch("aggpack_shaped_table2_");
+  const fs::path examples = shrunk_examples(scratch.path(), "0.14 in");
+  const fs::path out = scratch.path() / "out";
+  const Result r = run("reproduce --quick --shaped-table2 --threads 2 --examples " + examples.string() + " --out " +
+                       out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto j = nlohmann::json::parse(slurp(out / "reproduce.json"));
+  const auto& study = j["shaped_table2"];
+  ASSERT_EQ(study["mixes"].size(), 2u);
+  EXPECT_EQ(study["calibrated"], false);
+  std::vector<double> fa, grains_carried, measured;
+  for (const auto& m : study["mixes"]) {
+    const int mix = m["mix"];
+    for (const char* stone : {"spheres", "grains"}) {
+      const auto summary = nlohmann::json::parse(
+          slurp(out / "runs" / "shaped_table2" / fmt::format("mix{}_{}", mix, stone) / "seed_1" / "summary.json"));
+      EXPECT_EQ(summary.contains("grains"), std::string(stone) == "grains") << mix << " " << stone;
+      EXPECT_EQ(summary["scenario"]["container"]["sides"], "periodic");
+      const auto& cpm = summary["predictions"];
+      const double carried = summary["density"]["mean"].get<double>() +
+                             cpm["whole_grading"]["cpm"]["density"].get<double>() -
+                             cpm["simulated"]["cpm"]["density"].get<double>();
+      EXPECT_DOUBLE_EQ(m[stone]["carried"][0].get<double>(), carried) << mix << " " << stone;
+      EXPECT_DOUBLE_EQ(m[stone]["at_cut"][0].get<double>(), summary["density"]["mean"].get<double>());
+      if (std::string(stone) == "grains") {
+        EXPECT_GT(summary["grains"]["count"].get<int>(), 0);
+        grains_carried.push_back(carried);
+      }
+    }
+    fa.push_back(m["fa_percent"]);
+    measured.push_back(m["measured"]);
+  }
+  const double mae = (std::abs(grains_carried[0] - measured[0]) + std::abs(grains_carried[1] - measured[1])) / 2.0;
+  EXPECT_NEAR(study["grains"]["mean_absolute_error"].get<double>(), mae, 1e-12);
+  const double slope = 10.0 * (grains_carried[1] - grains_carried[0]) / (fa[1] - fa[0]);
+  EXPECT_NEAR(study["grains"]["slope_per_10"].get<double>(), slope, 1e-9);
+  const std::string md = slurp(out / "report.md");
+  EXPECT_NE(md.find("## Table 2 with shape: the stone as rigid grains"), std::string::npos);
+  EXPECT_NE(md.find("stone as grains (shape), carried"), std::string::npos) << "Table 2's column";
+  EXPECT_NE(md.find(fmt::format("{:.4f}", grains_carried[0])), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(out / "figures" / "table2_shaped.svg"));
+  EXPECT_TRUE(fs::exists(out / "figures" / "table2_shaped.csv"));
+}

@@ -15,6 +15,7 @@ struct ReproduceOptions {
   bool settle_table2 = false;              // also settle seed 1 of every Table 2 mix by DEM (hours)
   bool whole_grading = false;              // also run every Table 2 mix at more sand cut-offs, for its whole grading
   bool calibrated_table2 = false;          // also predict Table 2 from one calibration mix (stone and sand)
+  bool shaped_table2 = false;              // also run Table 2 with the stone as rigid grains of a stated shape
   bool resume = false;                     // continue the runs an interrupted reproduce into `out` left checkpoints of
   std::filesystem::path out = "out/reproduce";
   std::filesystem::path examples;          // the shipped scenarios and fu2003_table2.csv
