@@ -122,7 +122,7 @@ Subcommand add_analyze(CLI::App& app) {
 Subcommand add_grading(CLI::App& app) {
   struct Arguments {
     aggpack::GradingQuery query;
-    std::string unit, d_min, d_max, shape;
+    std::string unit, d_min, d_max, shape, seed;
     bool json = false, list = false;
   };
   const auto a = std::make_shared<Arguments>();
@@ -140,10 +140,11 @@ Subcommand add_grading(CLI::App& app) {
       "--shape", a->shape,
       "The grading's grains, as a component's shape table: e.g. 'family=\"angular\", flakiness_index=18'; prints "
       "what the generated grains measure beside the target");
-  cmd->add_option("--seed", a->query.seed, "Seed of the sizes and grains --shape draws (default 1, as a run's)")
-      ->check(CLI::PositiveNumber);
+  auto* seed_opt =
+      cmd->add_option("--seed", a->seed, "Seed of the sizes and grains --shape draws, 0 to 2^63-1 (default 1)")
+          ->needs(shape_opt);
   cmd->add_flag("--list", a->list, "List the shipped gradings and bands");
-  return {cmd, [a, d_min_opt, d_max_opt, shape_opt] {
+  return {cmd, [a, d_min_opt, d_max_opt, shape_opt, seed_opt] {
             aggpack::GradingQuery& query = a->query;
             if (a->list) {
               for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);
@@ -162,6 +163,7 @@ Subcommand add_grading(CLI::App& app) {
             if (*d_min_opt) query.d_min = length_argument(a->d_min, "--d-min");
             if (*d_max_opt) query.d_max = length_argument(a->d_max, "--d-max");
             if (*shape_opt) query.shape = aggpack::read_shape_option(a->shape, "--shape");
+            if (*seed_opt) query.seed = seed_argument(a->seed);
             const auto description = aggpack::describe_grading(query);
             if (a->json) std::cout << aggpack::to_json(description).dump(2) << "\n";
             else fmt::print("{}", aggpack::format_grading(description));

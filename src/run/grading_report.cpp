@@ -62,38 +62,22 @@ GradingShape grading_shape(const GrainShapeSpec& spec, const Grading& grading, c
   Rng rng = make_rng(q.seed, RngPurpose::Sizes);
   std::vector<double> sizes(kShapeSample);
   for (double& d : sizes) d = sampler.draw(rng);
-  GradingShape shape{{}, q.seed, sizes.size(), library_fit_sizes(std::move(sizes)), {}, std::nullopt};
+  GradingShape shape{{}, q.seed, sizes.size(), library_fit_sizes(std::move(sizes)), {}};
   try {
     shape.library = make_grain_library(spec, shape.fit_sizes, q.seed * 64);  // a run's first component's stream
   } catch (const InputError& e) {
     throw InputError(fmt::format("--shape: the grains of {}: {}", grading.name, e.what()));
   }
-  const std::vector<GrainMeasure> measures = measure_library(shape.library, shape.fit_sizes);
-  shape.templates = shape_statistics(measures);
-  if (spec.target) shape.target_measured = measured_percent(*spec.target, measures);
+  shape.templates = shape_statistics(measure_library(shape.library, shape.fit_sizes));
   return shape;
 }
 
 nlohmann::json shape_json(const GradingShape& s) {
-  const GrainShapeSpec& spec = s.library.spec;
-  const ProportionDistribution& d = s.library.distribution;
-  nlohmann::json j = {{"family", family_name(spec.family)},
-                      {"spheres", spec.spheres},
-                      {"templates", spec.templates},
-                      {"filling", "tangent spheres, largest gain first (Ferellec and McDowell 2010)"},
-                      {"elongation", {{"mean", d.elongation_mean}, {"spread", d.elongation_spread}}},
-                      {"flatness", {{"mean", d.flatness_mean}, {"spread", d.flatness_spread}}},
-                      {"seed", s.seed},
-                      {"sizes_sampled", s.sampled},
-                      {"sizes_measured", s.fit_sizes.size()},
-                      {"measured", shape_statistics_json(s.templates)}};
-  if (spec.family == GrainFamily::Angular) j["corners"] = spec.corners;
-  if (spec.target) {
-    j["target"] = {{"measure", measure_name(spec.target->measure)}, {"percent", spec.target->percent}};
-    if (spec.target->measure == ShapeMeasure::FlatAndElongated) j["target"]["ratio"] = spec.target->ratio;
-    j["target"]["measured_percent"] = s.target_measured ? nlohmann::json(*s.target_measured) : nlohmann::json(nullptr);
-    j["fitted"] = spec.target->measure == ShapeMeasure::FlakinessIndex ? "flatness mean" : "elongation and flatness means";
-  }
+  nlohmann::json j = library_json(s.library);
+  j["seed"] = s.seed;
+  j["sizes_sampled"] = s.sampled;
+  j["sizes_measured"] = s.fit_sizes.size();
+  j["measured"] = shape_statistics_json(s.templates);
   return j;
 }
 
@@ -127,7 +111,8 @@ std::string format_shape(const GradingShape& s) {
   row("flat and elongated 5:1 (D4791)", m.flat_elongated_5, ShapeTarget{ShapeMeasure::FlatAndElongated, 0, 5});
   if (spec.target && spec.target->measure == ShapeMeasure::FlatAndElongated && spec.target->ratio != 2.0 &&
       spec.target->ratio != 3.0 && spec.target->ratio != 5.0)
-    row(fmt::format("flat and elongated {:g}:1 (D4791)", spec.target->ratio), s.target_measured, spec.target);
+    row(fmt::format("flat and elongated {:g}:1 (D4791)", spec.target->ratio), s.library.fit->achieved_percent,
+        spec.target);
   out += fmt::format("  every template at {} sizes drawn from the grading by mass (seed {}), as a run's grains; "
                      "'-': the standard measures no grain of these sizes\n",
                      s.fit_sizes.size(), s.seed);

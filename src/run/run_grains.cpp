@@ -54,29 +54,33 @@ RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& si
   return grains;
 }
 
+nlohmann::json library_json(const GrainLibrary& library) {
+  const GrainShapeSpec& spec = library.spec;
+  const ProportionDistribution& d = library.distribution;
+  nlohmann::json j = {{"family", family_name(spec.family)},
+                      {"spheres", spec.spheres},
+                      {"templates", spec.templates},
+                      {"filling", "tangent spheres, largest gain first (Ferellec and McDowell 2010)"},
+                      {"elongation", {{"mean", d.elongation_mean}, {"spread", d.elongation_spread}}},
+                      {"flatness", {{"mean", d.flatness_mean}, {"spread", d.flatness_spread}}}};
+  if (spec.family == GrainFamily::Angular) j["corners"] = spec.corners;
+  if (library.fit) {
+    const ShapeTarget& t = *spec.target;
+    j["target"] = {{"measure", measure_name(t.measure)}, {"percent", t.percent}};
+    if (t.measure == ShapeMeasure::FlatAndElongated) j["target"]["ratio"] = t.ratio;
+    j["templates_percent"] = library.fit->achieved_percent;
+    j["fitted"] = t.measure == ShapeMeasure::FlakinessIndex ? "flatness mean" : "elongation and flatness means";
+  }
+  return j;
+}
+
 nlohmann::json libraries_json(const RunGrains& grains, const std::vector<SizesComponent>& components) {
   nlohmann::json all = nlohmann::json::array();
   for (std::size_t c = 0; c < grains.libraries.size(); ++c) {
     if (!grains.libraries[c]) continue;
-    const GrainLibrary& library = *grains.libraries[c];
-    const GrainShapeSpec& spec = library.spec;
-    const ProportionDistribution& d = library.distribution;
-    nlohmann::json j = {{"component", c + 1},
-                        {"family", family_name(spec.family)},
-                        {"spheres", spec.spheres},
-                        {"templates", spec.templates},
-                        {"filling", "tangent spheres, largest gain first (Ferellec and McDowell 2010)"},
-                        {"elongation", {{"mean", d.elongation_mean}, {"spread", d.elongation_spread}}},
-                        {"flatness", {{"mean", d.flatness_mean}, {"spread", d.flatness_spread}}}};
+    nlohmann::json j = {{"component", c + 1}};
     if (c < components.size()) j["key"] = components[c].key;
-    if (spec.family == GrainFamily::Angular) j["corners"] = spec.corners;
-    if (library.fit) {
-      const ShapeTarget& t = *spec.target;
-      j["target"] = {{"measure", measure_name(t.measure)}, {"percent", t.percent}};
-      if (t.measure == ShapeMeasure::FlatAndElongated) j["target"]["ratio"] = t.ratio;
-      j["templates_percent"] = library.fit->achieved_percent;
-      j["fitted"] = t.measure == ShapeMeasure::FlakinessIndex ? "flatness mean" : "elongation and flatness means";
-    }
+    j.update(library_json(*grains.libraries[c]));
     all.push_back(j);
   }
   return all;

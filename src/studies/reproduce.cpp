@@ -39,35 +39,35 @@ CalibratedTable2Plan calibrated_plan(bool quick) {
 // Table 2 with shape: the stone as rigid grains of a typical crushed stone (docs/validation.md,
 // "Table 2 with shape"). The grains' length sets the boxes' margins, so the bed is taller than
 // the calibrated study's, and periodic (no lateral margin); the stone is cut at #4 (its smallest
-// grains' members set the time step) and the sand at 0.1 in, the rest carried by CPM.
+// grains' members set the time step) and the sand at 0.1 in, the rest carried by CPM. The
+// grains' stone has no rolling friction: the spheres' 0.2 stands in for the shape they have.
 ShapedTable2Plan shaped_plan(bool quick) {
-  ShapedTable2Plan s{"table2_mix3_stone_sand.toml",
-                     "{ family = \"angular\", spheres = 6, templates = 12, flakiness_index = 18 }",
-                     "angular grains (random convex hulls of 12 corners) of 6 spheres, 12 templates, fitted to a "
-                     "flakiness index of 18 % (EN 933-3; a typical crushed stone, inside EN 12620's category FI20, "
-                     "not a measurement of the paper's stones)",
-                     {"container.sides=\"periodic\"", "container.side=\"4 in\"", "container.height=\"12 in\"",
-                      "particles.fill_height=\"7 in\"", "particles.coarse.d_min=\"0.187 in\"",
-                      "particles.fine.d_min=\"0.1 in\"", "analysis.box_sides=[\"1.2 in\", \"1.3 in\", \"1.4 in\"]"},
-                     "REDUCED: stone cut at #4 (0.187 in) and sand at 0.1 in, periodic sides 4 in apart filled to "
-                     "7 in, cubes of 1.2-1.4 in"};
+  ShapedTable2Plan s;
+  s.scenario = "table2_mix3_stone_sand.toml";
+  s.shape = "{ family = \"angular\", spheres = 6, templates = 12, flakiness_index = 18 }";
+  s.shape_label =
+      "angular grains (random convex hulls of 12 corners) of 6 spheres, 12 templates, fitted to a flakiness index of "
+      "18 % (EN 933-3: a typical crushed stone, inside EN 12620's category FI20, not a measurement of the paper's "
+      "stones), their rolling friction 0 (the spheres' μ_r 0.2 stands in for the shape the grains have); 6 spheres "
+      "make a bumpy grain rather than an angular one, the affordable compromise (docs/validation.md)";
+  s.bed = {"container.sides=\"periodic\"",         "container.side=\"4 in\"",
+           "container.height=\"12 in\"",           "particles.fill_height=\"7 in\"",
+           "particles.coarse.d_min=\"0.187 in\"",  "particles.fine.d_min=\"0.1 in\"",
+           "analysis.box_sides=[\"1.2 in\", \"1.3 in\", \"1.4 in\"]"};
+  s.bed_label = "REDUCED: stone cut at #4 (0.187 in) and sand at 0.1 in, periodic sides 4 in apart filled to 7 in, "
+                "cubes of 1.2-1.4 in";
   if (quick) {
     s.shape = "{ family = \"angular\", spheres = 2, templates = 4, elongation = 0.7, flatness = 0.7 }";
-    s.shape_label = "QUICK: angular grains of 2 spheres, 4 templates, I/L and S/I 0.7 ± 0.1";
-    s.bed = {"container.sides=\"periodic\"",
-             "container.side=\"3 in\"",
-             "container.height=\"8 in\"",
-             "particles.fill_height=\"3.5 in\"",
-             "particles.coarse.d_min=\"0.3 in\"",
-             "particles.coarse.d_max=\"0.5 in\"",
-             "particles.fine.d_min=\"0.3 in\"",
-             "analysis.box_sides=[\"0.6 in\"]",
-             "pour.batches=1",
-             "dynamics.max_time=0.6"};
-    s.bed_label =
-        "QUICK: stone cut to 0.3-0.5 in and sand at 0.3 in, periodic sides 3 in apart filled to 3.5 in, "
-        "one batch, a cube of 0.6 in, the pour cut at 0.6 s";
+    s.shape_label = "QUICK: angular grains of 2 spheres, 4 templates, I/L and S/I 0.7 ± 0.1, rolling friction 0";
+    s.bed = {"container.sides=\"periodic\"",      "container.side=\"3 in\"",
+             "container.height=\"8 in\"",         "particles.fill_height=\"3.5 in\"",
+             "particles.coarse.d_min=\"0.3 in\"", "particles.coarse.d_max=\"0.5 in\"",
+             "particles.fine.d_min=\"0.3 in\"",   "analysis.box_sides=[\"0.6 in\"]",
+             "pour.batches=1",                     "dynamics.max_time=0.6"};
+    s.bed_label = "QUICK: stone cut to 0.3-0.5 in and sand at 0.3 in, periodic sides 3 in apart filled to 3.5 in, "
+                  "one batch, a cube of 0.6 in, the pour cut at 0.6 s";
   }
+  s.grains_sets = {"particles.coarse.shape=" + s.shape, "materials.stone.rolling_friction=0"};
   return s;
 }
 
@@ -148,10 +148,13 @@ std::string shaped_label(int mix, bool grains) {
 }
 
 // The calibrated and shaped studies' scenario and mixes, checked before any run.
-void check_calibrated_inputs(const Plan& plan, const ReproduceInputs& in) {
+void check_study_inputs(const Plan& plan, const ReproduceInputs& in) {
   if (plan.shaped_table2 && !fs::exists(in.examples / plan.shaped_table2->scenario))
     throw InputError(fmt::format("reproduce --shaped-table2: {} is missing: the study pours every Table 2 mix from it",
                                  (in.examples / plan.shaped_table2->scenario).string()));
+  if (plan.shaped_table2 && in.table2.size() < 2)
+    throw InputError(fmt::format("reproduce --shaped-table2: {} has {} mix(es); a slope against Fa needs two or more",
+                                 (in.examples / "fu2003_table2.csv").string(), in.table2.size()));
   if (!plan.calibrated_table2) return;
   if (!fs::exists(in.examples / plan.calibrated_table2->scenario))
     throw InputError(
@@ -338,7 +341,7 @@ void run_shaped_table2(const CaseRunner& cases, const std::vector<Table2Row>& ta
       std::vector<std::string> sets = cases.no_particle_files();
       sets.insert(sets.end(), plan.bed.begin(), plan.bed.end());
       sets.push_back(fmt::format("particles.ca_fa={:.17g}", row.ca_fa));
-      if (grains) sets.push_back("particles.coarse.shape=" + plan.shape);
+      if (grains) sets.insert(sets.end(), plan.grains_sets.begin(), plan.grains_sets.end());
       SeedRuns& runs = grains ? mix.grains : mix.spheres;
       for (std::size_t s = 1; s <= cases.seeds; ++s)
         runs.add(keep_bed_if(false,
@@ -355,7 +358,7 @@ void run_shaped_table2(const CaseRunner& cases, const std::vector<Table2Row>& ta
 Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
   const Plan plan = make_plan(options);
   const ReproduceInputs inputs = read_inputs(options.examples);
-  check_calibrated_inputs(plan, inputs);
+  check_study_inputs(plan, inputs);
   Campaign campaign(options.threads, options.quiet, log, total_runs(planned_cases(plan, inputs)),
                     options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
   const CaseRunner cases{campaign, plan, inputs.examples, options.out / "runs", static_cast<std::size_t>(plan.seeds)};
@@ -383,7 +386,7 @@ using namespace reproduction;  // the parts of the report, private to this file 
 ReproducePlan plan_reproduce(const ReproduceOptions& options) {
   const Plan plan = make_plan(options);
   const ReproduceInputs inputs = read_inputs(options.examples);
-  check_calibrated_inputs(plan, inputs);
+  check_study_inputs(plan, inputs);
   ReproducePlan p;
   p.examples = fs::absolute(options.examples).lexically_normal();
   p.seeds = plan.seeds;

@@ -116,6 +116,7 @@ struct ShapedTable2Plan {
   std::string scenario;          // in the examples folder
   std::string shape;             // the stone's shape table, as particles.coarse.shape takes it
   std::string shape_label;       // that in words, with where its values come from
+  std::vector<std::string> grains_sets;  // the overrides of the grains' runs (the shape among them)
   std::vector<std::string> bed;  // the overrides that make the (reduced) bed, for both runs
   std::string bed_label;         // those in words, for the report
 };

@@ -31,8 +31,7 @@ std::optional<double> bed_flakiness(const SeedRuns& grains) {
   if (grains.runs.empty()) return std::nullopt;
   const nlohmann::json& s = grains.runs.front().result.summary;
   if (!s.contains("grains")) return std::nullopt;
-  const nlohmann::json& bed = s["grains"]["components"].at(0)["bed"];
-  const nlohmann::json& f = bed["flakiness_index_percent"];
+  const nlohmann::json& f = s.at("grains").at("components").at(0).at("bed").at("flakiness_index_percent");
   return f.is_number() ? std::optional<double>(f.get<double>()) : std::nullopt;
 }
 
@@ -206,14 +205,16 @@ void compose_shaped_table2(Document& doc, FigureSet& figures, nlohmann::json& re
       "Every Table 2 mix poured by the DEM from {} with its own Ca/Fa, twice on one bed: its stone as spheres, and "
       "as {}; the sand stays spheres. The bed: {}. Over {}. Each bed is carried to its whole grading by CPM's own "
       "increment, simulated + CPM(whole grading) − CPM(simulated distribution), with CPM's spheres ({}). Nothing "
-      "is calibrated: every mix is a prediction from the stated shape and materials.",
+      "is calibrated: every mix is a prediction from the stated shape and the scenario's materials (the "
+      "literature's values for stone and sand).",
       plan.scenario, plan.shape_label, plan.bed_label,
       counted(rep.shaped.front().grains.runs.size(), "seed"), cpm_parameters_text(rep))});
   b.emplace_back(shaped_table(rep, study));
   b.emplace_back(Paragraph{outcome_text(study)});
   const std::string fig = figures.add("table2_shaped.svg", shaped_plot(study));
-  b.emplace_back(Figure{fig, "Density against Fa: the experiments (black), the same bed with the stone as spheres "
-                             "(blue) and as grains (red), at the cut (dashed) and carried to the whole grading."});
+  b.emplace_back(Figure{fig, "Density against Fa: the experiments (black), the same REDUCED bed with the stone as "
+                             "spheres (blue) and as grains (red), at the cut (dashed) and carried to the whole "
+                             "grading."});
   result["shaped_table2"] = study_json(rep, study);
 }
 

@@ -389,8 +389,9 @@ std::string table2_caption(const Reproduction& rep, const std::string& cpm_param
                        "section \"Table 2 predicted from one calibration mix\" below."
                      : "") +
          (rep.shaped.empty() ? ""
-                             : " Stone as grains: the stone as rigid grains of crushed stone, carried to the whole "
-                               "grading, nothing calibrated, from the section \"Table 2 with shape\" below.");
+                             : " Stone as grains: the stone as rigid grains of crushed stone on a REDUCED bed, carried "
+                               "to the whole grading, nothing calibrated, from the section \"Table 2 with shape\" "
+                               "below.");
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ TEST(ShapeMeasures, ThePercentageIsByMassOfTheGrainsMeasured) {
 TEST(ShapeMeasures, StatisticsReportEveryStandardByMassAndTheMeanProportionsByNumber) {
   const std::vector<GrainMeasure> grains{
       {60e-3, 15e-3, 10e-3, 1.0},  // L/S 6, class 12.5/16 (gap 8 mm): not flaky; counted at 2, 3 and 5:1
-      {25e-3, 20e-3, 8e-3, 2.0},   // L/S 3.125, class 20/25 (gap 10 mm): flaky; 2 and 3:1
+      {25e-3, 20e-3, 8e-3, 2.0},   // L/S 3.125, class 20/25 (gap 12.5 mm): flaky; 2 and 3:1
       {12e-3, 10e-3, 9e-3, 4.0},   // L/S 1.33, class 10/12.5 (gap 6.3 mm): counted by nothing
       {2e-3, 1e-3, 0.1e-3, 8.0},   // a sand grain: below every standard's range
   };
@@ -66,7 +66,8 @@ TEST(ShapeMeasures, StatisticsReportEveryStandardByMassAndTheMeanProportionsByNu
   EXPECT_DOUBLE_EQ(*s.flat_elongated_5, 100.0 * 1.0 / 7.0);
   const std::vector<GrainMeasure> sand{grains.back()};
   const ShapeStatistics only_sand = shape_statistics(sand);
-  EXPECT_FALSE(only_sand.flakiness_index || only_sand.shape_index || only_sand.flat_elongated_3);
+  EXPECT_FALSE(only_sand.flakiness_index || only_sand.shape_index || only_sand.flat_elongated_2 ||
+               only_sand.flat_elongated_3 || only_sand.flat_elongated_5);
   EXPECT_EQ(shape_statistics({}).grains, 0u);
 }
 

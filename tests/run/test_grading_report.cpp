@@ -36,6 +36,7 @@ TEST(GradingShape, TheGeneratedGrainsMeasureTheTargetTheyWereFittedTo) {
   // Another target moves the fitted flatness the way the standard says: flakier, flatter.
   const GradingDescription flakier =
       with_shape("fu2003_table1_coarse", "family = \"angular\", spheres = 4, flakiness_index = 40");
+  ASSERT_TRUE(flakier.shape && flakier.shape->templates.flakiness_index);
   EXPECT_LT(flakier.shape->library.distribution.flatness_mean, d.shape->library.distribution.flatness_mean);
   EXPECT_NEAR(*flakier.shape->templates.flakiness_index, 40.0, 1.0);
 }
@@ -45,11 +46,13 @@ TEST(GradingShape, TheGeneratedGrainsMeasureTheTargetTheyWereFittedTo) {
 TEST(GradingShape, GivenProportionsAreMeasuredAsGiven) {
   const GradingDescription needles =
       with_shape("fu2003_table1_coarse", "family = \"rounded\", spheres = 8, elongation = 0.2, spread = 0");
+  ASSERT_TRUE(needles.shape && needles.shape->templates.shape_index && needles.shape->templates.flat_elongated_3);
   EXPECT_DOUBLE_EQ(*needles.shape->templates.shape_index, 100.0);
   EXPECT_DOUBLE_EQ(*needles.shape->templates.flat_elongated_3, 100.0);
   EXPECT_FALSE(needles.shape->library.fit);
   const GradingDescription round =
       with_shape("fu2003_table1_coarse", "family = \"rounded\", spheres = 1, elongation = 1, flatness = 1, spread = 0");
+  ASSERT_TRUE(round.shape && round.shape->templates.flakiness_index && round.shape->templates.flat_elongated_2);
   EXPECT_DOUBLE_EQ(*round.shape->templates.flakiness_index, 0.0);
   EXPECT_DOUBLE_EQ(*round.shape->templates.flat_elongated_2, 0.0);
   EXPECT_NEAR(round.shape->templates.mean_elongation, 1.0, 1e-9);

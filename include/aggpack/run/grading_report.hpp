@@ -38,16 +38,16 @@ nlohmann::json band_check_json(const Band& band, const BandCheck& check);
 nlohmann::json snapped_sieves_json(const Grading& grading);
 std::string snapped_sieves_text(const std::vector<SnappedSieve>& snapped);
 
-// With --shape: the grains a run of the grading would make (its first component's, seeded as
-// a run's), and what they measure. The sizes are a sample of the grading (cut at --d-min and
-// --d-max) as a run draws them, by mass.
+// With --shape: grains as a run of the grading makes them (drawn and fitted as its first
+// component's, from the same seed), and what they measure. The sizes are the command's own
+// sample of the grading (cut at --d-min and --d-max), drawn by mass: a run fits on its own
+// sample, so its templates may differ slightly.
 struct GradingShape {
   GrainLibrary library;
   std::uint64_t seed = 1;
   std::size_t sampled = 0;         // sizes drawn
   std::vector<double> fit_sizes;   // the intermediate sizes fitted on and measured at, m
-  ShapeStatistics templates;       // every template at every one of those sizes, by mass
-  std::optional<double> target_measured;  // the target's own measure (its ratio) over the same grains
+  ShapeStatistics templates;       // every template at every one of those sizes (percentages by mass)
 };
 
 // What `aggpack grading` found: the grading, the fine one and their blend, the cut-offs and

@@ -46,6 +46,10 @@ struct RunGrains {
                       std::vector<std::uint32_t>& grain_of) const;
 };
 
+// A library's shape as summary.json and `aggpack grading --shape --json` give it: family,
+// spheres, templates, filling, elongation, flatness, corners (angular), and with a lab measure
+// target, templates_percent (the measure over the templates at the fit's sizes) and fitted.
+nlohmann::json library_json(const GrainLibrary& library);
 // summary.json's "grains" before the run: each component's shape, its fitted proportions and
 // what its templates measure (every template at every size of the component, by mass).
 nlohmann::json libraries_json(const RunGrains& grains, const std::vector<SizesComponent>& components);
