@@ -10,13 +10,14 @@
 #   bash scripts/validate_gravel_crushed.sh [OUT_DIR] [SEEDS] [JOBS]
 #   (defaults: out/validate_gravel_crushed, "1 2 3", 1 run at a time; AGGPACK_EXE: another binary)
 # Writes OUT_DIR/results.md: one row per run, then per filling the mean over seeds and the
-# gap gravel - crushed stone seed by seed. Runs already finished (their summary.json) are kept.
+# gap gravel - crushed stone seed by seed. Runs already finished are kept; stopped ones run again.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-exe=${AGGPACK_EXE:-$PWD/build/aggpack}  # AGGPACK_EXE: a copy, to rebuild while it runs
-out=${1:-out/validate_gravel_crushed}
+repo=$(cd "$(dirname "$0")/.." && pwd)
+out=$(realpath -m "${1:-$repo/out/validate_gravel_crushed}")
+exe=$(realpath -m "${AGGPACK_EXE:-$repo/build/aggpack}")  # AGGPACK_EXE: a copy, to rebuild while it runs
 seeds=${2:-1 2 3}
 jobs=${3:-1}
+cd "$repo"
 [ -x "$exe" ] || { echo "validate_gravel_crushed.sh: no $exe; build first (bash scripts/build.sh)" >&2; exit 2; }
 mkdir -p "$out"
 export OMP_NUM_THREADS=1
@@ -30,26 +31,31 @@ for spheres in 6 16; do
     done
   done
 done > "$out/runs.txt"
-run_one() {  # name seed family spheres templates
-  [ -f "$out/$1/summary.json" ] && return 0
+run_one() {  # name seed family spheres templates; a finished run is kept, a stopped one run again
+  [ -f "$out/$1/summary.json" ] && ! grep -q '"interrupted": true' "$out/$1/summary.json" && return 0
   "$exe" run examples/grains_crushed_stone.toml --quiet --threads 1 --overwrite --seed "$2" --set 'output.formats=[]' \
     --set "particles.classes=[{ diameter = \"0.5 in\", count = 700, shape = { family = \"$3\", spheres = $4, templates = $5, flakiness_index = 18 } }]" \
     --out "$out/$1"
 }
 export -f run_one
 export exe out
-xargs -P "$jobs" -L 1 bash -c 'run_one "$@"' _ < "$out/runs.txt"
+status=0
+xargs -P "$jobs" -L 1 bash -c 'run_one "$@"' _ < "$out/runs.txt" || status=$?  # tabulate what finished anyway
 
 python3 - "$out" "${names[@]}" <<'PY'
 import json, os, statistics, sys
-out, names = sys.argv[1], [n for n in sys.argv[2:] if os.path.exists(f"{sys.argv[1]}/{n}/summary.json")]
+def finished(out, n):
+    path = f"{out}/{n}/summary.json"
+    return os.path.exists(path) and not json.load(open(path)).get("interrupted", False)
+out, names = sys.argv[1], [n for n in sys.argv[2:] if finished(sys.argv[1], n)]
 def measure(name):
     s = json.load(open(f"{out}/{name}/summary.json"))
     bed, v = s["bed"], s["profiles"]["vertical"]
     lo, hi = bed["floor_m"] + bed["d_max_m"], bed["surface_m"] - bed["d_max_m"]
     slices = [f for z, f in zip(v["z_m"], v["solid_fraction"]) if lo <= z <= hi]
-    flaky = s["grains"]["components"][0]["bed"]["flakiness_index_percent"]
-    return s["density"]["mean"], sum(slices) / len(slices), flaky, s["stages"]["dynamics"]["ended_by"], s["wall_clock_s"]["total"]
+    flaky = s["grains"]["components"][0]["bed"]["flakiness_index_percent"] or float("nan")
+    interior = sum(slices) / len(slices) if slices else float("nan")
+    return s["density"]["mean"], interior, flaky, s["stages"]["dynamics"]["ended_by"], s["wall_clock_s"]["total"]
 m = {n: measure(n) for n in names}
 lines = ["| run | boxes | interior | flakiness of the bed | ended | wall clock, one core |", "| --- | --- | --- | --- | --- | --- |"]
 lines += [f"| {n} | {b:.4f} | {i:.4f} | {f:.1f} % | {e} | {w:.0f} s |" for n, (b, i, f, e, w) in m.items()]
@@ -70,3 +76,4 @@ for spheres in ("6", "16"):
 open(f"{out}/results.md", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 PY
+exit $status
