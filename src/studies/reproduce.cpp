@@ -44,9 +44,9 @@ CalibratedTable2Plan calibrated_plan(bool quick) {
 ShapedTable2Plan shaped_plan(bool quick) {
   ShapedTable2Plan s;
   s.scenario = "table2_mix3_stone_sand.toml";
-  s.shape = "{ family = \"angular\", spheres = 6, templates = 12, flakiness_index = 18 }";
+  s.shape = "{ family = \"angular\", spheres = 6, templates = 32, flakiness_index = 18 }";
   s.shape_label =
-      "angular grains (random convex hulls of 12 corners) of 6 spheres, 12 templates, fitted to a flakiness index of "
+      "angular grains (random convex hulls of 12 corners) of 6 spheres, 32 templates, fitted to a flakiness index of "
       "18 % (EN 933-3: a typical crushed stone, inside EN 12620's category FI20, not a measurement of the paper's "
       "stones), their rolling friction 0 (the spheres' μ_r 0.2 stands in for the shape the grains have); 6 spheres "
       "make a bumpy grain rather than an angular one, the affordable compromise (docs/validation.md)";
