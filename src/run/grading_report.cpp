@@ -95,9 +95,10 @@ std::string format_shape(const GradingShape& s) {
       : spec.target->measure == ShapeMeasure::FlakinessIndex ? "flatness fitted"
                                                               : "both fitted");
   const ShapeStatistics& m = s.templates;
-  const auto row = [&](std::string_view name, const std::optional<double>& value, std::optional<ShapeTarget> as) {
-    const bool targeted = spec.target && as && spec.target->measure == as->measure &&
-                          (as->measure != ShapeMeasure::FlatAndElongated || spec.target->ratio == as->ratio);
+  // A measure's row, the target beside it when it is the target's measure (and ratio).
+  const auto row = [&](std::string_view name, const std::optional<double>& value, const ShapeTarget& as) {
+    const bool targeted = spec.target && spec.target->measure == as.measure &&
+                          (as.measure != ShapeMeasure::FlatAndElongated || spec.target->ratio == as.ratio);
     std::string line = fmt::format("  {:<32} {:>9} {:>9}", name, value ? fmt::format("{:.1f}", *value) : "-",
                                    targeted ? fmt::format("{:.1f}", spec.target->percent) : "");
     line.erase(line.find_last_not_of(' ') + 1);
@@ -112,7 +113,7 @@ std::string format_shape(const GradingShape& s) {
   if (spec.target && spec.target->measure == ShapeMeasure::FlatAndElongated && spec.target->ratio != 2.0 &&
       spec.target->ratio != 3.0 && spec.target->ratio != 5.0)
     row(fmt::format("flat and elongated {:g}:1 (D4791)", spec.target->ratio), s.library.fit->achieved_percent,
-        spec.target);
+        *spec.target);
   out += fmt::format("  every template at {} sizes drawn from the grading by mass (seed {}), as a run's grains; "
                      "'-': the standard measures no grain of these sizes\n",
                      s.fit_sizes.size(), s.seed);
