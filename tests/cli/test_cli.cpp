@@ -1246,7 +1246,7 @@ TEST(CliEngineersQuantities, VoidsAndBulkDensityStandBesideEveryDensity) {
 
 // `reproduce --dry-run` (issue 34): the folder it reads and the runs it would make, per case
 // and in all, from the plan the campaign runs; nothing written. The quick plan is the 14 runs
-// of reproduce_quick_and_sweep.
+// of reproduce_quick.
 TEST_F(Cli, ReproduceDryRunListsTheFolderAndTheRunsAndWritesNothing) {
   const Result quick = run("reproduce --quick --dry-run --examples " + std::string(AGGPACK_EXAMPLES) + " --out " +
                            (dir_ / "reproduce").string());

@@ -580,16 +580,32 @@ TEST(ReproduceCalibratedTable2, RefusesFewerThanThreeMixesBeforeAnyRun) {
 
 // `--settle-table2` deposits seed 1 of each Table 2 mix again on the protocol's bed (periodic
 // sides 4 in apart) and settles it by DEM, leaving the deposited column to the shipped bed;
-// `--whole-grading` runs every mix at more sand cut-offs (0.1 and 0.06 in with --quick,
-// deposited) and carries each mix's series to its whole grading. On the shrunk copy (sand cut
-// at 0.14 in, so that each mix has three cut-offs), in the quick mode (DEM cut at 0.05 s).
-TEST(ReproduceSettleTable2, FillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedColumnsShipped) {
-  const fs::path dir = fs::temp_directory_path() / ("aggpack_settle_table2_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  const fs::path examples = shrunk_examples(dir, "0.14 in");
-  const fs::path out = dir / "out";
-  const Result r = run("reproduce --quick --settle-table2 --whole-grading --threads 2 --examples " + examples.string() +
-                       " --out " + out.string());
+// The studies that add runs to a reproduce, on the shrunk copy of the examples (two mixes, sand
+// cut at 0.14 in, so that each mix has three cut-offs), in the quick mode (DEM cut at 0.05 s):
+// one reproduce runs them all, and each test reads its part (the examples' runs they share
+// would cost a minute a test).
+class ReproduceStudies : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("aggpack_reproduce_studies_" + std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    const fs::path examples = shrunk_examples(dir_, "0.14 in");
+    result_ = run("reproduce --quick --settle-table2 --whole-grading --shaped-table2 --threads 2 --examples " +
+                  examples.string() + " --out " + (dir_ / "out").string());
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static fs::path dir_;
+  static Result result_;
+};
+fs::path ReproduceStudies::dir_;
+Result ReproduceStudies::result_;
+
+// `--settle-table2` settles seed 1 of every mix by DEM; `--whole-grading` runs every mix at more
+// sand cut-offs (0.1 and 0.06 in with --quick, deposited) and carries each mix's series to its
+// whole grading.
+TEST_F(ReproduceStudies, SettleFillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedColumnsShipped) {
+  const fs::path out = dir_ / "out";
+  const Result& r = result_;
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("Table 2 mix 3 (with DEM)"), std::string::npos) << r.output;
   const auto j = nlohmann::json::parse(slurp(out / "reproduce.json"));
@@ -636,7 +652,8 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedCo
   EXPECT_EQ(j["sensitivity"].size(), 3u);
   EXPECT_FALSE(fs::exists(out / "runs" / "sensitivity_1"));
   EXPECT_FALSE(fs::exists(out / "runs" / "sensitivity_2"));
-  EXPECT_EQ(j["runs"], 2 + 2 + 2 * 3 + 2);  // the examples, poured, two mixes at three cut-offs, settled; one seed
+  // The examples, poured, two mixes at three cut-offs, settled, and each mix's two shaped beds; one seed.
+  EXPECT_EQ(j["runs"], 2 + 2 + 2 * 3 + 2 + 2 * 2);
   const std::string md = slurp(out / "report.md");
   EXPECT_NE(md.find("The DEM column: 2 beds settled after deposition (seed 1 of each mix), each deposited again "
                     "for it on a bed with periodic sides (no walls), a cell of 4 x 4 in"),
@@ -656,7 +673,50 @@ TEST(ReproduceSettleTable2, FillsTheDemColumnFromItsOwnBedAndKeepsTheDepositedCo
               std::string::npos)
         << md;
   }
-  fs::remove_all(dir);
+}
+
+// --shaped-table2: every mix poured on one bed with its stone as spheres and as grains, each
+// carried to its whole grading as its own run's predictions say; the study's errors and slope
+// recomputed here from the runs' files, and Table 2's column beside the others.
+TEST_F(ReproduceStudies, ShapedTable2PoursEachMixWithItsStoneAsSpheresAndAsGrainsAndCarriesBoth) {
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(result_.exit_code, 0) << result_.output;
+  const auto j = nlohmann::json::parse(slurp(out / "reproduce.json"));
+  const auto& study = j["shaped_table2"];
+  ASSERT_EQ(study["mixes"].size(), 2u);
+  EXPECT_EQ(study["calibrated"], false);
+  std::vector<double> fa, grains_carried, measured;
+  for (const auto& m : study["mixes"]) {
+    const int mix = m["mix"];
+    for (const char* stone : {"spheres", "grains"}) {
+      const auto summary = nlohmann::json::parse(
+          slurp(out / "runs" / "shaped_table2" / fmt::format("mix{}_{}", mix, stone) / "seed_1" / "summary.json"));
+      EXPECT_EQ(summary.contains("grains"), std::string(stone) == "grains") << mix << " " << stone;
+      EXPECT_EQ(summary["scenario"]["container"]["sides"], "periodic");
+      const auto& cpm = summary["predictions"];
+      const double carried = summary["density"]["mean"].get<double>() +
+                             cpm["whole_grading"]["cpm"]["density"].get<double>() -
+                             cpm["simulated"]["cpm"]["density"].get<double>();
+      EXPECT_DOUBLE_EQ(m[stone]["carried"][0].get<double>(), carried) << mix << " " << stone;
+      EXPECT_DOUBLE_EQ(m[stone]["at_cut"][0].get<double>(), summary["density"]["mean"].get<double>());
+      if (std::string(stone) == "grains") {
+        EXPECT_GT(summary["grains"]["count"].get<int>(), 0);
+        grains_carried.push_back(carried);
+      }
+    }
+    fa.push_back(m["fa_percent"]);
+    measured.push_back(m["measured"]);
+  }
+  const double mae = (std::abs(grains_carried[0] - measured[0]) + std::abs(grains_carried[1] - measured[1])) / 2.0;
+  EXPECT_NEAR(study["grains"]["mean_absolute_error"].get<double>(), mae, 1e-12);
+  const double slope = 10.0 * (grains_carried[1] - grains_carried[0]) / (fa[1] - fa[0]);
+  EXPECT_NEAR(study["grains"]["slope_per_10"].get<double>(), slope, 1e-9);
+  const std::string md = slurp(out / "report.md");
+  EXPECT_NE(md.find("## Table 2 with shape: the stone as rigid grains"), std::string::npos);
+  EXPECT_NE(md.find("stone as grains (shape), carried"), std::string::npos) << "Table 2's column";
+  EXPECT_NE(md.find(fmt::format("{:.4f}", grains_carried[0])), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(out / "figures" / "table2_shaped.svg"));
+  EXPECT_TRUE(fs::exists(out / "figures" / "table2_shaped.csv"));
 }
 
 class Sweep : public ::testing::Test {
@@ -824,51 +884,3 @@ TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
 }
 
 }  // namespace
-
-// --shaped-table2: every mix poured on one bed with its stone as spheres and as grains, each
-// carried to its whole grading as its own run's predictions say; the study's errors and slope
-// recomputed here from the runs' files, and Table 2's column beside the others.
-TEST(ReproduceShapedTable2, PoursEachMixWithItsStoneAsSpheresAndAsGrainsAndCarriesBoth) {
-  const aggpack::testing::ScratchDir scratch("aggpack_shaped_table2_");
-  const fs::path examples = shrunk_examples(scratch.path(), "0.14 in");
-  const fs::path out = scratch.path() / "out";
-  const Result r = run("reproduce --quick --shaped-table2 --threads 2 --examples " + examples.string() + " --out " +
-                       out.string());
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  const auto j = nlohmann::json::parse(slurp(out / "reproduce.json"));
-  const auto& study = j["shaped_table2"];
-  ASSERT_EQ(study["mixes"].size(), 2u);
-  EXPECT_EQ(study["calibrated"], false);
-  std::vector<double> fa, grains_carried, measured;
-  for (const auto& m : study["mixes"]) {
-    const int mix = m["mix"];
-    for (const char* stone : {"spheres", "grains"}) {
-      const auto summary = nlohmann::json::parse(
-          slurp(out / "runs" / "shaped_table2" / fmt::format("mix{}_{}", mix, stone) / "seed_1" / "summary.json"));
-      EXPECT_EQ(summary.contains("grains"), std::string(stone) == "grains") << mix << " " << stone;
-      EXPECT_EQ(summary["scenario"]["container"]["sides"], "periodic");
-      const auto& cpm = summary["predictions"];
-      const double carried = summary["density"]["mean"].get<double>() +
-                             cpm["whole_grading"]["cpm"]["density"].get<double>() -
-                             cpm["simulated"]["cpm"]["density"].get<double>();
-      EXPECT_DOUBLE_EQ(m[stone]["carried"][0].get<double>(), carried) << mix << " " << stone;
-      EXPECT_DOUBLE_EQ(m[stone]["at_cut"][0].get<double>(), summary["density"]["mean"].get<double>());
-      if (std::string(stone) == "grains") {
-        EXPECT_GT(summary["grains"]["count"].get<int>(), 0);
-        grains_carried.push_back(carried);
-      }
-    }
-    fa.push_back(m["fa_percent"]);
-    measured.push_back(m["measured"]);
-  }
-  const double mae = (std::abs(grains_carried[0] - measured[0]) + std::abs(grains_carried[1] - measured[1])) / 2.0;
-  EXPECT_NEAR(study["grains"]["mean_absolute_error"].get<double>(), mae, 1e-12);
-  const double slope = 10.0 * (grains_carried[1] - grains_carried[0]) / (fa[1] - fa[0]);
-  EXPECT_NEAR(study["grains"]["slope_per_10"].get<double>(), slope, 1e-9);
-  const std::string md = slurp(out / "report.md");
-  EXPECT_NE(md.find("## Table 2 with shape: the stone as rigid grains"), std::string::npos);
-  EXPECT_NE(md.find("stone as grains (shape), carried"), std::string::npos) << "Table 2's column";
-  EXPECT_NE(md.find(fmt::format("{:.4f}", grains_carried[0])), std::string::npos) << md;
-  EXPECT_TRUE(fs::exists(out / "figures" / "table2_shaped.svg"));
-  EXPECT_TRUE(fs::exists(out / "figures" / "table2_shaped.csv"));
-}
