@@ -40,10 +40,15 @@ void DemSystem::admit_bodies(std::uint32_t first) {
     const Vec3 spin = rotate_back(body.orientation, bodies.angular_velocity[b]);
     body.angular_momentum = rotate(body.orientation, {moments.x * spin.x, moments.y * spin.y, moments.z * spin.z});
     body.rotation = rotation_matrix(body.orientation);
+    // A body is frozen whole (a layer below the one that settles) or not at all; a frozen one
+    // stands still, its members with it.
+    const bool frozen = frozen_[body.first_member] != 0;
+    if (frozen) body.velocity = body.angular_momentum = {};
     body.angular_velocity = angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia);
     for (std::uint32_t i = body.first_member; i < body.first_member + body.member_count; ++i) {
-      if (p_.body[i] != b || frozen_[i])
-        throw std::invalid_argument(fmt::format("DemSystem: particle {} is frozen or not body {}'s member", i, b));
+      if (p_.body[i] != b || (frozen_[i] != 0) != frozen)
+        throw std::invalid_argument(
+            fmt::format("DemSystem: particle {} is not body {}'s member, or is frozen where its body is not", i, b));
       Grain& g = grain_[i];
       g.mass = body.mass;
       g.inverse_inertia = 0.0;  // a member does not turn on its own
@@ -51,7 +56,7 @@ void DemSystem::admit_bodies(std::uint32_t first) {
     }
     place_members(body);
     body_.push_back(body);
-    body_load_.push_back({body.mass * settings_.gravity, {}});  // a new body touches nothing
+    body_load_.push_back({frozen ? Vec3{} : body.mass * settings_.gravity, {}});  // a new body touches nothing
   }
 }
 
@@ -70,6 +75,7 @@ void DemSystem::kick_bodies(double half_step) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::size_t b = 0; b < body_.size(); ++b) {
     Body& body = body_[b];
+    if (is_frozen_body(body)) continue;
     body.velocity += body_load_[b].force * (half_step / body.mass);
     body.angular_momentum += body_load_[b].torque * half_step;
     body.angular_velocity = angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia);
@@ -85,6 +91,7 @@ void DemSystem::drift_bodies(double dt) {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::size_t b = 0; b < body_.size(); ++b) {
     Body& body = body_[b];
+    if (is_frozen_body(body)) continue;
     body.position += body.velocity * dt;
     rotate_freely(body.orientation, body.angular_momentum, body.inverse_inertia, dt);
     body.rotation = rotation_matrix(body.orientation);
@@ -97,6 +104,10 @@ void DemSystem::sum_body_loads() {
 #pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
   for (std::size_t b = 0; b < body_.size(); ++b) {
     const Body& body = body_[b];
+    if (is_frozen_body(body)) {
+      body_load_[b] = {};
+      continue;
+    }
     Vec3 force = body.mass * settings_.gravity, torque{};
     for (std::uint32_t i = body.first_member; i < body.first_member + body.member_count; ++i) {
       const ForceTorque& member = load_[slot_of_[i]];

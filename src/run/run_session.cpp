@@ -34,8 +34,8 @@ std::vector<double> drop_radii(const InitialBed& bed) {
 }
 
 // Grains of several spheres (a component's `shape`) are poured: the drop and roll places
-// spheres. A grain cannot be frozen (a settle of a later part), and LAMMPS takes a pour with
-// grains in one batch (its fix rigid/small takes its bodies once).
+// spheres. LAMMPS takes a pour with grains in one batch (its fix rigid/small takes its bodies
+// once), and settles none with the parts below frozen (its deck would integrate them).
 void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
   if (!sc.particles.has_grains()) return;
   const auto fail = [&](std::string_view what) {
@@ -46,10 +46,11 @@ void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
   for (const Step& step : protocol.steps) {
     if (std::holds_alternative<DepositStep>(step.kind))
       fail("the drop-and-roll deposition places spheres only: pour grains ([pour]) instead of depositing them");
-    if (const auto* settle = std::get_if<SettleStep>(&step.kind); settle && settle->layer > 0)
-      fail("a settle step of a later part freezes the parts below it, and a grain cannot be frozen yet: settle "
-           "the whole bed ([[protocol]] settle without layer)");
     const auto* exported = std::get_if<ExportLammpsStep>(&step.kind);
+    const auto* settle = exported ? std::get_if<SettleStep>(&exported->next) : std::get_if<SettleStep>(&step.kind);
+    if (settle && settle->layer > 0 && (lammps_engine || exported))
+      fail("a settle step of a later part holds the parts below it still, and LAMMPS's fix rigid/small would move "
+           "their grains: settle it in aggpack's DEM (no dynamics.engine = \"lammps\", no export_lammps step)");
     const bool pour_to_lammps = (lammps_engine && std::holds_alternative<PourStep>(step.kind)) ||
                                 (exported && std::holds_alternative<PourStep>(exported->next));
     if (pour_to_lammps && several_batches)

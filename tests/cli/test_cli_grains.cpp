@@ -93,11 +93,57 @@ TEST_F(CliGrains, APourOfGrainsWritesEachGrainAndItsSpheres) {
   EXPECT_LT(density, 0.9);
 }
 
+// The paper's layer-by-layer method with grains: each half poured, then settled with the half
+// below held still (a pour moves the bed it falls on; the settle of the upper half does not).
+// The lower half's spheres end where the pour of the upper half left them, to the byte (a
+// snapshot taken then against the final particles.csv), and the second settle counts them as
+// frozen.
+TEST_F(CliGrains, ALayeredPourOfGrainsSettlesEachHalfWithTheOneBelowHeldStill) {
+  std::string layered = kGrains;
+  layered += "[[protocol]]\nstep = \"pour\"\nlayers = 2\nlayer = 0\n[[protocol]]\nstep = \"settle\"\n"
+             "[[protocol]]\nstep = \"pour\"\nlayers = 2\nlayer = 1\n[[protocol]]\nstep = \"snapshot\"\n"
+             "name = \"poured\"\n[[protocol]]\nstep = \"settle\"\nlayer = 1\n";
+  std::ofstream(dir_ / "layered.toml") << layered;
+  const auto r =
+      run_cli("run " + (dir_ / "layered.toml").string() + " --quiet --threads 1 --out " + (dir_ / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(std::ifstream(dir_ / "out" / "summary.json"));
+  const auto& runs = summary.at("stages").at("dynamics").at("runs");
+  ASSERT_EQ(runs.size(), 4u);  // each pour's DEM and each settle
+  for (std::size_t k = 0; k < 3; ++k) EXPECT_EQ(runs[k].at("particles_frozen"), 0) << k;
+  const std::size_t lower = runs[3].at("particles_frozen");
+  std::string header;
+  const auto poured = csv(dir_ / "out" / "particles_poured.csv", header);
+  const auto all = csv(dir_ / "out" / "particles.csv", header);
+  ASSERT_EQ(all.size(), 150u * 2 + 40u);
+  ASSERT_EQ(poured.size(), all.size());
+  EXPECT_EQ(runs[3].at("particles_settled"), all.size() - lower);
+  EXPECT_GT(lower, 100u);
+  EXPECT_LT(lower, all.size() - 100u);
+  std::size_t members = 0, moved = 0;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    if (i < lower) {
+      EXPECT_EQ(all[i], poured[i]) << "sphere " << i + 1 << " of the lower half moved in the upper half's settle";
+      members += all[i].at(5) != "0" ? 1 : 0;
+    } else {
+      moved += all[i] != poured[i] ? 1 : 0;
+    }
+  }
+  EXPECT_GT(members, 50u) << "the lower half has grains";
+  EXPECT_GT(moved, (all.size() - lower) / 2) << "the upper half settled";
+  EXPECT_EQ(summary.at("grains").at("count"), 150);
+}
+
 // Refused before any work, exit 2, naming what to change.
 TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
   std::string in_batches_to_lammps = kGrains;
   in_batches_to_lammps.replace(in_batches_to_lammps.find("[pour]\n"), 7, "[pour]\nbatches = 2\n");
   in_batches_to_lammps.replace(in_batches_to_lammps.find("[dynamics]\n"), 11, "[dynamics]\nengine = \"lammps\"\n");
+  std::string layered_in_lammps = kGrains;
+  layered_in_lammps.replace(layered_in_lammps.find("[dynamics]\n"), 11, "[dynamics]\nengine = \"lammps\"\n");
+  layered_in_lammps += "[[protocol]]\nstep = \"pour\"\nlayers = 2\nlayer = 0\n[[protocol]]\nstep = \"settle\"\n"
+                       "[[protocol]]\nstep = \"pour\"\nlayers = 2\nlayer = 1\n[[protocol]]\nstep = \"settle\"\n"
+                       "layer = 1\n";
   std::string deposited = kGrains;
   deposited.replace(deposited.find("[pour]\nsolid_fraction = 0.15\n"), 29, "[deposition]\n");
   const std::map<std::string, std::pair<std::string, std::string>> cases{
@@ -112,6 +158,7 @@ TEST_F(CliGrains, ScenariosThatCannotTakeGrainsAreRefused) {
         "\"angular\", flakiness_index = 10, shape_index = 20 }\n",
         "at most one lab measure"}},
       {"lammps_pour_in_batches", {in_batches_to_lammps, "expected pour.batches = 1"}},
+      {"lammps_layered_settle", {layered_in_lammps, "settle it in aggpack's DEM"}},
       {"corners_of_a_rounded",
        {"title = \"t\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 10\nshape = { family = "
         "\"rounded\", corners = 10 }\n",

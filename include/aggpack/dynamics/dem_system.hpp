@@ -171,6 +171,8 @@ class DemSystem {
   };
   // Whether slot s is a rigid body's member (a slot of no body is a sphere of its own).
   [[nodiscard]] bool is_member(std::uint32_t s) const { return !body_of_.empty() && body_of_[s] != kNoBody; }
+  // Whether a body is frozen: its members are, all of them (checked when it is admitted).
+  [[nodiscard]] bool is_frozen_body(const Body& body) const { return frozen_[slot_of_[body.first_member]] != 0; }
   // Kicks the bodies' momenta by their loads for half_step, and their members' velocities.
   void kick_bodies(double half_step);
   // Moves the bodies for a step and places their members.
