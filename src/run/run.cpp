@@ -38,12 +38,16 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
   Scenario sc = load_scenario(scenario_file, overrides);
+  check_loaded_scenario(sc);
+  return sc;
+}
+
+void check_loaded_scenario(const Scenario& sc) {
   check_output_directory(sc.output.directory, false);
   const InitialBed bed = initial_bed(sc);
   (void)checked_grains(sc, scenario_protocol(sc), bed);  // their templates made: a second or so
-  if (sc.deposition || sc.pour) return sc;  // the boxes can only be placed in the bed once made
-  analyse_bed(sc, bed.particles);  // box placement errors surface here
-  return sc;
+  if (sc.deposition || sc.pour) return;  // the boxes can only be placed in the bed once made
+  analyse_bed(sc, bed.particles);        // box placement errors surface here
 }
 
 RunReport run(const Scenario& sc, const RunControls& controls, Progress& progress) {
@@ -327,8 +331,12 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
 }  // namespace
 
 RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log) {
+  return run_scenario_text(read_scenario_text(scenario_file), scenario_file, options, log);
+}
+
+RunResult run_scenario_text(const std::string& text, const std::filesystem::path& scenario_file,
+                            const RunOptions& options, std::ostream& log) {
   const auto t_start = Clock::now();
-  const std::string text = read_scenario_text(scenario_file);
   const Scenario sc = parse_scenario(text, scenario_file, options.overrides);
   Checkpoint header;
   header.version = kVersion;

@@ -89,6 +89,11 @@ struct RunResult {
 // `aggpack run`: loads the scenario, runs it, writes the outputs and prints the result lines
 // to `log` (unless quiet). Nothing is written when the input is bad.
 RunResult run_scenario(const std::filesystem::path& scenario_file, const RunOptions& options, std::ostream& log);
+// The same on a scenario's text in memory (the Python module's scenarios): `scenario_file`
+// names it in messages, anchors its relative paths and is recorded in its checkpoint, which
+// keeps the text, so that resume_run continues it as it does a file's run.
+RunResult run_scenario_text(const std::string& text, const std::filesystem::path& scenario_file,
+                            const RunOptions& options, std::ostream& log);
 
 // The same for a scenario made in memory (aggpack import-lammps); it writes no checkpoint (it
 // has no scenario text for resume to make it again from).
@@ -103,5 +108,7 @@ RunResult resume_run(const std::filesystem::path& run_directory, const RunOption
 
 // Validates a scenario (and the particle file it names) without running or writing.
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides);
+// The same checks on a scenario already read (its particle file, grains, output folder, boxes).
+void check_loaded_scenario(const Scenario& scenario);
 
 }  // namespace aggpack

@@ -1,0 +1,21 @@
+// The Python module's parts, each binding one concern of the library; module.cpp puts them
+// together. Every C++ exception that reaches Python is InputError (a ValueError) for bad
+// input, KeyboardInterrupt for a stopped run, or RuntimeError naming what failed.
+#pragma once
+#include <pybind11/pybind11.h>
+
+#include <nlohmann/json.hpp>
+
+namespace aggpack::python {
+
+namespace py = pybind11;
+
+void bind_scenario(py::module_& m);
+void bind_bed(py::module_& m);
+void bind_run(py::module_& m);
+
+// JSON values to Python's (dict, list, str, int, float, bool, None) and back.
+py::object to_python(const nlohmann::json& value);
+nlohmann::json to_json(const py::handle& value);
+
+}  // namespace aggpack::python

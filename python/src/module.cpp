@@ -1,0 +1,14 @@
+// The Python module `aggpack._aggpack`: the library's scenarios, runs, beds and errors
+// (aggpack/__init__.py re-exports them). README, "Python".
+#include "aggpack/core/error.hpp"
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_aggpack, m) {
+  namespace py = pybind11;
+  m.doc() = "aggpack: random packings of polydisperse spheres and grains, and the packing density of aggregates.";
+  // Bad input: a ValueError with the CLI's exit-2 message.
+  py::register_exception<aggpack::InputError>(m, "InputError", PyExc_ValueError);
+  aggpack::python::bind_scenario(m);
+  aggpack::python::bind_bed(m);
+  aggpack::python::bind_run(m);
+}

@@ -1,0 +1,232 @@
+// aggpack.run, aggpack.resume, aggpack.write_outputs and the Report they return. The GIL is
+// released while the library works; SIGINT and SIGTERM stop the run at its next safe point, as
+// in the CLI, and raise KeyboardInterrupt with the partial report as its `report`.
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "aggpack/core/stop_request.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/run/analyze.hpp"
+#include "aggpack/run/output_folder.hpp"
+#include "aggpack/run/run.hpp"
+#include "bindings.hpp"
+#include "python_bed.hpp"
+#include "python_scenario.hpp"
+
+namespace aggpack::python {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// What a run gave: its report and, for a run into a folder, the summary.json it wrote there.
+struct PyReport {
+  std::shared_ptr<const RunReport> report;
+  std::optional<nlohmann::json> written_summary;
+  std::optional<std::filesystem::path> output_directory;
+  double wall_clock_s = 0.0;
+};
+
+std::shared_ptr<PyBed> bed_of(const std::shared_ptr<const RunReport>& owner, const ParticleStore& store) {
+  return std::make_shared<PyBed>(PyBed{std::shared_ptr<const ParticleStore>(owner, &store)});
+}
+
+// The one piece of global state, as in the CLI: a signal handler can reach nothing else.
+StopRequest g_stop;  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
+extern "C" void request_stop(int signal_number) { g_stop.request(signal_number); }
+
+// While it lives: SIGINT and SIGTERM ask the run to stop at its next safe point, and the GIL
+// is released; then Python's own handlers are back.
+class LibraryWork {
+ public:
+  LibraryWork() {
+    g_stop.clear();
+    old_int_ = std::signal(SIGINT, request_stop);
+    old_term_ = std::signal(SIGTERM, request_stop);
+  }
+  ~LibraryWork() {
+    std::signal(SIGINT, old_int_);
+    std::signal(SIGTERM, old_term_);
+  }
+  LibraryWork(const LibraryWork&) = delete;
+  LibraryWork& operator=(const LibraryWork&) = delete;
+
+ private:
+  void (*old_int_)(int) = nullptr;
+  void (*old_term_)(int) = nullptr;
+  py::gil_scoped_release released_;  // last: taken back before the handlers are put back
+};
+
+// An interrupted run: KeyboardInterrupt with the report of what it did (and, for a run into
+// a folder, where its checkpoint is: aggpack.resume(folder) continues it).
+py::object finished(PyReport result) {
+  const auto& stop = result.report->interrupted;
+  py::object report = py::cast(std::move(result));
+  if (!stop) return report;
+  std::string message = "aggpack: interrupted by signal " + std::to_string(stop->signal_number) + " " + stop->where;
+  if (stop->checkpoint && !report.attr("output_directory").is_none())
+    message += "; continue with aggpack.resume(" + py::repr(report.attr("output_directory")).cast<std::string>() + ")";
+  py::object error = py::module_::import("builtins").attr("KeyboardInterrupt")(message);
+  error.attr("report") = report;
+  PyErr_SetObject(PyExc_KeyboardInterrupt, error.ptr());
+  throw py::error_already_set();
+}
+
+RunOptions options_of(int threads, const std::optional<std::string>& stop_after, bool overwrite) {
+  RunOptions options;
+  options.threads = threads;
+  options.stop_after = stop_after;
+  options.quiet = true;
+  options.stop = &g_stop;
+  options.overwrite = overwrite;
+  return options;
+}
+
+PyReport from_result(RunResult&& r) {
+  PyReport out;
+  out.report = std::make_shared<const RunReport>(std::move(r.report));
+  out.written_summary = std::move(r.summary);
+  out.output_directory = r.output_directory;
+  out.wall_clock_s = r.wall_clock_s;
+  return out;
+}
+
+py::object run_scenario_from_python(const PyScenario& scenario, const std::optional<std::filesystem::path>& out,
+                                    int threads, const std::optional<std::string>& stop_after, bool overwrite) {
+  const auto t0 = Clock::now();
+  PyReport result;
+  {
+    LibraryWork work;
+    if (out) {
+      RunOptions options = options_of(threads, stop_after, overwrite);
+      options.overrides = scenario.overrides;
+      options.overrides.output_directory = *out;
+      std::ostringstream log;
+      result = from_result(run_scenario_text(scenario.text, scenario.file, options, log));
+    } else {
+      RunControls controls;
+      controls.threads = threads;
+      controls.stop_after = stop_after;
+      controls.stop = &g_stop;
+      Progress silent;
+      result.report = std::make_shared<const RunReport>(run(scenario.parsed, controls, silent));
+      result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+  }
+  return finished(std::move(result));
+}
+
+}  // namespace
+
+void bind_run(py::module_& m) {
+  py::class_<PyReport>(m, "Report", R"doc(What a run produced: its densities, beds, notes and summary.
+
+`summary()` is the dict summary.json holds (for a run into a folder, the very one written
+there). The beds (`bed`, `deposited`, `snapshots`) are aggpack.Bed objects whose arrays are
+views into this report's data.)doc")
+      .def("summary",
+           [](const PyReport& r) {
+             return to_python(r.written_summary ? *r.written_summary : r.report->summary_json(0.0, r.wall_clock_s));
+           },
+           "summary.json's dict (README, \"Output files\").")
+      .def_property_readonly("density", [](const PyReport& r) { return r.report->final.density.mean; },
+                             "The final bed's mean virtual-box density (solid fraction).")
+      .def_property_readonly("analysis", [](const PyReport& r) { return to_python(to_json(r.report->final)); },
+                             "The final analysis as summary.json gives it: the density of each virtual box and their "
+                             "mean, the bed's floor and surface, the coordination, the profiles.")
+      .def_property_readonly("density_after_deposition",
+                             [](const PyReport& r) { return r.report->density_after_deposition(); },
+                             "The mean density after deposition (NaN when there was none).")
+      .def_property_readonly("density_after_dynamics",
+                             [](const PyReport& r) { return r.report->density_after_dynamics(); },
+                             "The mean density after the last DEM stage (NaN when no DEM ran).")
+      .def_property_readonly("notes", [](const PyReport& r) { return r.report->modelling_notes(); },
+                             "Every modelling choice the results depend on, in words (summary.json's modelling_notes).")
+      .def_property_readonly("predictions", [](const PyReport& r) { return to_python(to_json(r.report->predictions())); },
+                             "The analytic models on the run's sizes (summary.json's predictions).")
+      .def_property_readonly("wall_clock", [](const PyReport& r) { return r.report->wall_clock_s; },
+                             "Seconds per stage.")
+      .def_property_readonly("simulated_time", [](const PyReport& r) { return r.report->simulated_time; },
+                             "Seconds of simulated time, every DEM step's.")
+      .def_property_readonly("interrupted",
+                             [](const PyReport& r) -> py::object {
+                               if (!r.report->interrupted) return py::none();
+                               const Interruption& i = *r.report->interrupted;
+                               py::dict d;
+                               d["signal"] = i.signal_number;
+                               d["where"] = i.where;
+                               d["steps_completed"] = i.steps_completed;
+                               d["steps_total"] = i.steps_total;
+                               d["checkpoint"] = i.checkpoint;
+                               return d;
+                             },
+                             "None, or what an interrupted run had done (a dict).")
+      .def_property_readonly("output_directory", [](const PyReport& r) { return r.output_directory; },
+                             "The folder a run into a folder wrote; None for a run in memory.")
+      .def_property_readonly("bed", [](const PyReport& r) { return bed_of(r.report, r.report->particles); },
+                             "The final bed (aggpack.Bed).")
+      .def_property_readonly("deposited",
+                             [](const PyReport& r) -> py::object {
+                               if (!r.report->deposited) return py::none();
+                               return py::cast(bed_of(r.report, *r.report->deposited));
+                             },
+                             "The bed after deposition, when a DEM then moved it; else None.")
+      .def_property_readonly("snapshots",
+                             [](const PyReport& r) {
+                               py::dict d;
+                               for (const auto& [name, bed] : r.report->snapshots) d[py::str(name)] = bed_of(r.report, bed);
+                               return d;
+                             },
+                             "The beds of the snapshot steps, by name.")
+      .def("__repr__", [](const PyReport& r) {
+        return "<aggpack.Report '" + r.report->scenario.title + "': density " +
+               std::to_string(r.report->final.density.mean) + ", " + std::to_string(r.report->particles.size()) +
+               " spheres>";
+      });
+
+  m.def("run", &run_scenario_from_python, py::arg("scenario"), py::kw_only(), py::arg("out") = py::none(),
+        py::arg("threads") = 0, py::arg("stop_after") = py::none(), py::arg("overwrite") = false,
+        R"doc(Runs a scenario and returns its aggpack.Report.
+
+With `out`, runs as `aggpack run --out OUT` does: the outputs and checkpoints in that folder
+(refused if it holds files no aggpack run wrote, unless `overwrite`), the report's summary()
+the summary.json written. Without, runs in memory and writes nothing (write_outputs writes the
+report later). `threads`: OpenMP threads (0: all cores); the results are the same bytes for
+any count. `stop_after`: end after a stage ("deposition"), as --stop-after. Ctrl-C (SIGINT) or
+SIGTERM stops the run at its next safe point and raises KeyboardInterrupt, whose `report` is
+what the run had done; a run into a folder leaves its checkpoint there for aggpack.resume.)doc");
+  m.def(
+      "resume",
+      [](const std::filesystem::path& folder, int threads) {
+        PyReport result;
+        {
+          LibraryWork work;
+          std::ostringstream log;
+          result = from_result(resume_run(folder, options_of(threads, std::nullopt, false), log));
+        }
+        return finished(std::move(result));
+      },
+      py::arg("folder"), py::kw_only(), py::arg("threads") = 0,
+      "Continues the run whose checkpoint is in `folder`, as `aggpack resume` does: its outputs are those the run "
+      "would have written uninterrupted, bit for bit.");
+  m.def(
+      "write_outputs",
+      [](const PyReport& r, const std::filesystem::path& folder, bool overwrite) {
+        check_output_folder_contents(folder, overwrite);
+        return to_python(write_outputs(*r.report, folder, r.wall_clock_s));
+      },
+      py::arg("report"), py::arg("folder"), py::kw_only(), py::arg("overwrite") = false,
+      "Writes a report's outputs into `folder` as `aggpack run` does (particles.csv, summary.json, ...; README, "
+      "\"Output files\") and returns the summary written. A folder holding files no aggpack run wrote is refused "
+      "unless `overwrite`.");
+  m.attr("__version__") = kVersion;
+}
+
+}  // namespace aggpack::python

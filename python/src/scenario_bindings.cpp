@@ -1,0 +1,142 @@
+// aggpack.Scenario: a scenario from a file, from TOML text or from a dict of the same keys,
+// with the CLI's --set overrides and --seed, validated as `aggpack check` validates it.
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/run/run.hpp"
+#include "bindings.hpp"
+#include "python_scenario.hpp"
+
+namespace aggpack::python {
+namespace {
+
+ScenarioOverrides overrides_of(const std::vector<std::string>& set, std::optional<std::uint64_t> seed) {
+  ScenarioOverrides overrides;
+  overrides.set = set;
+  overrides.seed = seed;
+  return overrides;
+}
+
+// A dict's value as TOML: tables, arrays (of tables too), strings, numbers and booleans.
+toml::array toml_array(const py::handle& list, const std::string& key);
+toml::table toml_table(const py::dict& dict, const std::string& key);
+
+template <class Put>
+void put_value(const py::handle& value, const std::string& key, Put&& put) {
+  if (py::isinstance<py::bool_>(value)) put(value.cast<bool>());
+  else if (py::isinstance<py::int_>(value)) put(value.cast<std::int64_t>());
+  else if (py::isinstance<py::float_>(value)) put(value.cast<double>());
+  else if (py::isinstance<py::str>(value)) put(value.cast<std::string>());
+  else if (py::isinstance<py::dict>(value)) put(toml_table(value.cast<py::dict>(), key));
+  else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) put(toml_array(value, key));
+  else
+    throw InputError("scenario dict: " + key + ": expected a dict, list, str, number or bool, not " +
+                     py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+}
+
+toml::table toml_table(const py::dict& dict, const std::string& key) {
+  toml::table table;
+  for (const auto& [name, value] : dict) {
+    if (!py::isinstance<py::str>(name)) throw InputError("scenario dict: " + key + ": every key must be a str");
+    const std::string k = name.cast<std::string>();
+    const std::string path = key.empty() ? k : key + "." + k;
+    if (value.is_none()) continue;  // None: the key is not given
+    put_value(value, path, [&](auto&& v) { table.insert_or_assign(k, std::forward<decltype(v)>(v)); });
+  }
+  return table;
+}
+
+toml::array toml_array(const py::handle& list, const std::string& key) {
+  toml::array array;
+  std::size_t i = 0;
+  for (const auto& item : list) {
+    put_value(item, key + "[" + std::to_string(i++) + "]",
+              [&](auto&& v) { array.push_back(std::forward<decltype(v)>(v)); });
+  }
+  return array;
+}
+
+}  // namespace
+
+PyScenario PyScenario::from_text(std::string text, const std::filesystem::path& file, const std::vector<std::string>& set,
+                                 std::optional<std::uint64_t> seed) {
+  PyScenario s;
+  s.text = std::move(text);
+  s.file = std::filesystem::absolute(file);
+  s.overrides = overrides_of(set, seed);
+  s.parsed = parse_scenario(s.text, s.file, s.overrides);
+  return s;
+}
+
+PyScenario PyScenario::with(const std::vector<std::string>& set, std::optional<std::uint64_t> seed) const {
+  std::vector<std::string> all = overrides.set;
+  all.insert(all.end(), set.begin(), set.end());
+  return from_text(text, file, all, seed ? seed : overrides.seed);
+}
+
+std::string toml_text(const py::dict& dict) {
+  std::ostringstream out;
+  out << toml_table(dict, "");
+  return out.str() + "\n";
+}
+
+void bind_scenario(py::module_& m) {
+  py::class_<PyScenario>(m, "Scenario", R"doc(A scenario: the container, the particles, the protocol and the outputs of a run.
+
+Made from a file (Scenario.from_file), from TOML text (Scenario.from_toml) or from a dict of
+the same keys (Scenario.from_dict); the keys are the scenario file's (README, "Scenario
+reference"). `set` takes the CLI's --set assignments ("dynamics.max_time=0.5"), `seed` its
+--seed. Bad input raises aggpack.InputError with the CLI's message (the file, the key, what is
+wrong and what is expected).)doc")
+      .def_static(
+          "from_file",
+          [](const std::filesystem::path& path, const std::vector<std::string>& set, std::optional<std::uint64_t> seed) {
+            return PyScenario::from_text(read_scenario_text(path), path, set, seed);
+          },
+          py::arg("path"), py::kw_only(), py::arg("set") = std::vector<std::string>{}, py::arg("seed") = py::none(),
+          "Reads a scenario file (relative paths in it are taken from its folder).")
+      .def_static("from_toml", &PyScenario::from_text, py::arg("text"), py::kw_only(),
+                  py::arg("name") = std::filesystem::path("scenario.toml"), py::arg("set") = std::vector<std::string>{},
+                  py::arg("seed") = py::none(),
+                  "A scenario from TOML text. `name` is the file it is said to be in messages; relative paths in it "
+                  "are taken from the current folder (or from `name`'s folder, if it has one).")
+      .def_static(
+          "from_dict",
+          [](const py::dict& dict, const std::filesystem::path& name, const std::vector<std::string>& set,
+             std::optional<std::uint64_t> seed) { return PyScenario::from_text(toml_text(dict), name, set, seed); },
+          py::arg("scenario"), py::kw_only(), py::arg("name") = std::filesystem::path("scenario.toml"),
+          py::arg("set") = std::vector<std::string>{}, py::arg("seed") = py::none(),
+          "A scenario from a dict of the scenario file's keys (nested dicts for its tables, a list of dicts for "
+          "[[protocol]]; None leaves a key out). Equal to the same scenario written as TOML.")
+      .def("with_overrides", &PyScenario::with, py::arg("set") = std::vector<std::string>{}, py::kw_only(),
+           py::arg("seed") = py::none(),
+           "A copy with more --set assignments (after this one's) and, if given, another seed.")
+      .def("check", [](const PyScenario& s) { check_loaded_scenario(s.parsed); },
+           "Checks what `aggpack check` checks beyond reading: the particle file, the grains' templates, the output "
+           "folder and the virtual boxes. Raises InputError; returns None when all is well.")
+      .def("to_dict", [](const PyScenario& s) { return to_python(aggpack::to_json(s.parsed)); },
+           "The scenario as aggpack read it, every default filled in, in SI units (summary.json's `scenario`).")
+      .def_property_readonly("text", [](const PyScenario& s) { return s.text; }, "The TOML text it was read from.")
+      .def_property_readonly("file", [](const PyScenario& s) { return s.file; }, "The file it is, or is said to be.")
+      .def_property_readonly("overrides", [](const PyScenario& s) { return s.overrides.set; }, "Its --set assignments.")
+      .def_property_readonly("seed", [](const PyScenario& s) { return s.parsed.seed; }, "The random seed of its run.")
+      .def_property_readonly("title", [](const PyScenario& s) { return s.parsed.title; })
+      .def("__eq__", [](const PyScenario& a, const PyScenario& b) {
+        return aggpack::to_json(a.parsed) == aggpack::to_json(b.parsed);
+      })
+      .def("__repr__", [](const PyScenario& s) {
+        return "<aggpack.Scenario '" + s.parsed.title + "' from " + s.file.string() + ", seed " +
+               std::to_string(s.parsed.seed) + ">";
+      });
+  m.def("toml_text", &toml_text, py::arg("scenario"), "The TOML text Scenario.from_dict reads for a dict.");
+}
+
+}  // namespace aggpack::python
