@@ -116,7 +116,9 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
       controls.stop_after = stop_after;
       controls.stop = &g_stop;
       Progress silent;
-      result.report = std::make_shared<const RunReport>(run(scenario.parsed, controls, silent));
+      RunReport report = run(scenario.parsed, controls, silent);
+      report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
+      result.report = std::make_shared<const RunReport>(std::move(report));
       result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
     }
   }

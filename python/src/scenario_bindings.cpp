@@ -70,7 +70,7 @@ PyScenario PyScenario::from_text(std::string text, const std::filesystem::path& 
                                  std::optional<std::uint64_t> seed) {
   PyScenario s;
   s.text = std::move(text);
-  s.file = std::filesystem::absolute(file);
+  s.file = file;
   s.overrides = overrides_of(set, seed);
   s.parsed = parse_scenario(s.text, s.file, s.overrides);
   return s;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The house rules of docs/ARCHITECTURE.md, checked on the sources:
 
-- no file under src/, include/ or apps/ longer than MAX_FILE_LINES lines;
+- no file under src/, include/, apps/ or python/src/ longer than MAX_FILE_LINES lines;
 - no function longer than MAX_FUNCTION_LINES lines (from its opening brace's line to its
   closing brace's, lambdas inside counted with it);
 - every `#include "aggpack/<module>/..."` of a module names itself or a module below it
@@ -102,7 +102,7 @@ def module_of(path, root):
 def main():
     root = pathlib.Path(sys.argv[1]).resolve()
     breaches = []
-    sources = [p for d in ("src", "include", "apps") for p in sorted((root / d).rglob("*"))
+    sources = [p for d in ("src", "include", "apps", "python/src") for p in sorted((root / d).rglob("*"))
                if p.suffix in (".cpp", ".hpp", ".in")]
     for path in sources:
         text = path.read_text(encoding="utf-8")

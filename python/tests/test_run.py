@@ -1,0 +1,153 @@
+"""Runs from Python against `aggpack run` on the same scenario and seed; the bed's arrays."""
+import gc
+import json
+import os
+import signal
+import threading
+
+import numpy as np
+import pytest
+
+import aggpack
+from conftest import EXAMPLES, cli
+
+# Example 1 cut short: deposition, then a tenth of a second of DEM.
+SHORT = ["dynamics.max_time=0.1"]
+
+# Keys of summary.json that time the machine, not the run.
+TIMING = {"wall_clock_s", "particles_per_second", "particle_steps_per_second", "steps_on_fewer_threads", "threads",
+          "memory_bytes_per_particle"}
+
+
+def without_timing(value):
+    """A summary without what times the machine, and without its output folder."""
+    if isinstance(value, dict):
+        return {k: without_timing(v) for k, v in value.items() if k not in TIMING and k != "directory"}
+    if isinstance(value, list):
+        return [without_timing(v) for v in value]
+    return value
+
+
+@pytest.fixture(scope="module")
+def cli_run(tmp_path_factory):
+    """Example 1, cut short, run by the CLI: what the Python runs must give."""
+    out = tmp_path_factory.mktemp("cli") / "example1"
+    cli("run", EXAMPLES / "example1.toml", "--quiet", "--threads", "1", "--set", SHORT[0], "--out", out)
+    return out
+
+
+def test_a_run_into_a_folder_writes_what_the_cli_writes(tmp_path, examples, cli_run):
+    s = aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT)
+    report = aggpack.run(s, out=tmp_path / "py", threads=2)
+    assert report.output_directory == tmp_path / "py"
+    assert (tmp_path / "py" / "particles.csv").read_bytes() == (cli_run / "particles.csv").read_bytes()
+    assert (tmp_path / "py" / "timeseries.csv").read_bytes() == (cli_run / "timeseries.csv").read_bytes()
+    written = json.loads((tmp_path / "py" / "summary.json").read_text())
+    assert report.summary() == written
+    assert without_timing(written) == without_timing(json.loads((cli_run / "summary.json").read_text()))
+    assert not (tmp_path / "py" / "checkpoint.bin").exists()  # a finished run's is removed
+
+
+def test_a_run_in_memory_gives_the_clis_numbers_and_writes_its_bytes_later(tmp_path, examples, cli_run):
+    report = aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1)
+    assert report.output_directory is None
+    assert not any(tmp_path.iterdir())
+    cli_summary = json.loads((cli_run / "summary.json").read_text())
+    assert report.density == cli_summary["density"]["mean"]
+    assert report.density_after_deposition == cli_summary["stages"]["deposition"]["density"]["mean"]
+    assert report.notes == cli_summary["modelling_notes"]
+    assert report.analysis["density"] == cli_summary["density"]
+    summary = report.summary()
+    assert without_timing(summary) == without_timing(cli_summary)
+    written = aggpack.write_outputs(report, tmp_path / "later")
+    assert (tmp_path / "later" / "particles.csv").read_bytes() == (cli_run / "particles.csv").read_bytes()
+    assert without_timing(written) == without_timing(cli_summary)
+    # A folder of someone else's files is refused, as the CLI refuses it.
+    (tmp_path / "theirs").mkdir()
+    (tmp_path / "theirs" / "notes.txt").write_text("mine")
+    with pytest.raises(aggpack.InputError, match="notes.txt"):
+        aggpack.write_outputs(report, tmp_path / "theirs")
+
+
+def test_the_beds_arrays_are_particles_csv(cli_run, examples):
+    report = aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1)
+    table = np.loadtxt(cli_run / "particles.csv", delimiter=",", skiprows=1)
+    bed = report.bed
+    assert len(bed) == bed.count == table.shape[0] == 1733
+    assert bed.positions.shape == (1733, 3) and bed.positions.dtype == np.float64
+    assert bed.radii.shape == (1733,) and bed.radii.dtype == np.float64
+    assert bed.velocities.shape == (1733, 3)
+    assert bed.materials.dtype == np.uint8 and bed.layers.dtype == np.uint32
+    assert np.array_equal(bed.positions, table[:, 1:4])
+    assert np.array_equal(bed.radii, table[:, 4])
+    assert bed.grains is None and bed.grain_count == 0
+    assert np.array_equal(report.deposited.radii, bed.radii)
+    assert not np.array_equal(report.deposited.positions, bed.positions)  # the DEM moved it
+
+
+def test_a_view_is_read_only_and_outlives_its_report(examples):
+    report = aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml"), stop_after="deposition", threads=1)
+    positions = report.bed.positions
+    copies = report.bed.copy()
+    assert not positions.flags.writeable and not positions.flags.owndata
+    with pytest.raises(ValueError):
+        positions[0, 0] = 1.0
+    copies["positions"][0, 0] = 1.0  # a copy is the user's
+    del report
+    gc.collect()
+    assert positions[0, 0] != 1.0
+    assert np.array_equal(positions[1:], copies["positions"][1:])
+
+
+# 150 rounded grains of 2 spheres (I = 8 mm) and 40 spheres of 5 mm, poured and settled.
+GRAINS = {
+    "title": "grains", "seed": 2,
+    "container": {"side": 0.045, "height": 0.3},
+    "particles": {"classes": [
+        {"diameter": 0.008, "count": 150, "shape": {"family": "rounded", "spheres": 2, "templates": 3}},
+        {"diameter": 0.005, "count": 40}]},
+    "material": {"youngs_modulus": 1e7, "wall_youngs_modulus": 1e7, "friction_particle": 0.5},
+    "pour": {"solid_fraction": 0.15},
+    "dynamics": {"max_time": 0.8},
+    "analysis": {"box_sides": [0.006]},
+}
+
+
+def test_grains_come_with_their_sphere_to_grain_map(tmp_path):
+    report = aggpack.run(aggpack.Scenario.from_dict(GRAINS), out=tmp_path / "grains", threads=1)
+    bed = report.bed
+    assert bed.grain_count == 150
+    grains = bed.grains
+    assert grains.shape == (len(bed),) == (340,) and grains.dtype == np.uint32
+    members = grains[grains != aggpack.NO_GRAIN]
+    assert len(members) == 300
+    assert np.array_equal(np.bincount(members), np.full(150, 2))
+    # particles.csv's grain column is this + 1, 0 for a sphere of its own.
+    column = np.loadtxt(tmp_path / "grains" / "particles.csv", delimiter=",", skiprows=1)[:, 5].astype(np.int64)
+    assert np.array_equal(column, np.where(grains == aggpack.NO_GRAIN, 0, grains.astype(np.int64) + 1))
+    table = np.loadtxt(tmp_path / "grains" / "grains.csv", delimiter=",", skiprows=1, usecols=range(9))
+    assert np.array_equal(bed.grain_positions, table[:, 1:4])
+    assert np.array_equal(bed.grain_orientations, table[:, 4:8])
+    q = bed.grain_orientations
+    assert np.allclose(np.einsum("ij,ij->i", q, q), 1.0, atol=1e-12)
+    assert np.allclose(np.cbrt(6.0 / np.pi * bed.grain_volumes), table[:, 8], rtol=1e-12)
+
+
+def test_ctrl_c_stops_at_a_safe_point_and_resume_gives_the_uninterrupted_bytes(tmp_path, examples, cli_run):
+    s = aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT)
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as stopped:
+            aggpack.run(s, out=tmp_path / "run", threads=1)
+    finally:
+        timer.cancel()
+    partial = stopped.value.report
+    assert partial.interrupted["signal"] == signal.SIGINT
+    assert partial.interrupted["checkpoint"]
+    assert "aggpack.resume" in str(stopped.value)
+    assert (tmp_path / "run" / "checkpoint.bin").exists()
+    assert partial.summary()["interrupted"] is True
+    resumed = aggpack.resume(tmp_path / "run", threads=2)
+    assert resumed.interrupted is None
+    assert (tmp_path / "run" / "particles.csv").read_bytes() == (cli_run / "particles.csv").read_bytes()

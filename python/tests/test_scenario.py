@@ -1,0 +1,81 @@
+"""Scenarios from a file, TOML text or a dict, and bad input raised as the CLI says it."""
+import tomllib
+
+import pytest
+
+import aggpack
+from conftest import cli
+
+
+def test_a_dict_of_the_files_keys_is_the_same_scenario_as_the_file(examples):
+    for name in ("example1.toml", "example2.toml", "grains_crushed_stone.toml", "table2_mix3_stone_sand.toml"):
+        path = examples / name
+        from_file = aggpack.Scenario.from_file(path)
+        with open(path, "rb") as f:
+            as_dict = tomllib.load(f)
+        from_dict = aggpack.Scenario.from_dict(as_dict, name=path)
+        assert from_dict == from_file, name
+        assert from_dict.to_dict() == from_file.to_dict()
+        from_text = aggpack.Scenario.from_toml(path.read_text(), name=path)
+        assert from_text == from_file, name
+
+
+def test_overrides_and_seed_are_the_clis(examples):
+    s = aggpack.Scenario.from_file(examples / "example1.toml", set=["particles.count=100"], seed=7)
+    assert s.seed == 7
+    assert s.to_dict()["particles"]["classes"][0]["count"] == 100
+    t = s.with_overrides(["dynamics.max_time=0.5"])
+    assert t.overrides == ["particles.count=100", "dynamics.max_time=0.5"]
+    assert t.seed == 7
+    assert t.to_dict()["dynamics"]["max_time_s"] == 0.5
+    assert s.to_dict()["dynamics"]["max_time_s"] == 2.0  # the first one unchanged
+
+
+BAD = {
+    "unknown_key": 'title = "t"\n[container]\nside = 0.1\nheight = 0.2\nsiez = 3\n[particles]\ndiameter = 0.01\ncount = 5\n',
+    "negative_side": 'title = "t"\n[container]\nside = -0.1\nheight = 0.2\n[particles]\ndiameter = 0.01\ncount = 5\n',
+    "bad_unit": 'title = "t"\n[container]\nside = "3 furlongs"\nheight = 0.2\n[particles]\ndiameter = 0.01\ncount = 5\n',
+    "not_toml": 'title = "t"\n[container\n',
+    "no_particles": 'title = "t"\n[container]\nside = 0.1\nheight = 0.2\n',
+}
+
+
+@pytest.mark.parametrize("name", sorted(BAD))
+def test_bad_input_raises_input_error_with_the_clis_message(tmp_path, name):
+    path = tmp_path / f"{name}.toml"
+    path.write_text(BAD[name])
+    code, printed = cli("check", path, check=False)
+    assert code == 2, printed
+    with pytest.raises(aggpack.InputError) as raised:
+        aggpack.Scenario.from_file(path)
+    assert isinstance(raised.value, ValueError)
+    message = str(raised.value)
+    assert message and message in printed, f"{message!r} not in {printed!r}"
+    with pytest.raises(aggpack.InputError) as from_text:
+        aggpack.Scenario.from_toml(BAD[name], name=path)
+    assert str(from_text.value) == message
+
+
+def test_a_dict_value_toml_cannot_hold_is_refused_naming_its_key():
+    with pytest.raises(aggpack.InputError, match=r"container\.side: expected a dict, list, str, number or bool, not object"):
+        aggpack.Scenario.from_dict({"title": "t", "container": {"side": object()}})
+
+
+def test_check_finds_what_reading_cannot(tmp_path):
+    # A bed from a file, read without fault, whose virtual cube does not fit it: only check()
+    # (as `aggpack check`) places the boxes.
+    rows = ["id,x,y,z,r"]
+    for k in range(8 * 9 * 9):  # a simple cubic lattice of 1 cm spheres, 16 cm deep
+        i, j, l = k % 9, k // 9 % 9, k // 81
+        rows.append(f"{k + 1},{0.02 + 0.02 * i},{0.02 + 0.02 * j},{0.01 + 0.02 * l},0.01")
+    (tmp_path / "bed.csv").write_text("\n".join(rows) + "\n")
+    text = ('title = "t"\n[container]\nside = 0.2\nheight = 0.2\n[particles]\nfrom = "bed.csv"\n'
+            '[analysis]\nbox_sides = [0.5]\n')
+    (tmp_path / "p.toml").write_text(text)
+    p = aggpack.Scenario.from_toml(text, name=tmp_path / "p.toml")
+    with pytest.raises(aggpack.InputError) as raised:
+        p.check()
+    code, printed = cli("check", tmp_path / "p.toml", check=False)
+    assert code == 2
+    assert str(raised.value) in printed
+    assert aggpack.Scenario.from_toml(text.replace("[0.5]", "[0.05]"), name=tmp_path / "p.toml").check() is None
