@@ -125,9 +125,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
   return finished(std::move(result));
 }
 
-}  // namespace
-
-void bind_run(py::module_& m) {
+void bind_report(py::module_& m) {
   py::class_<PyReport>(m, "Report", R"doc(What a run produced: its densities, beds, notes and summary.
 
 `summary()` is the dict summary.json holds (for a run into a folder, the very one written
@@ -192,7 +190,12 @@ views into this report's data.)doc")
                std::to_string(r.report->final.density.mean) + ", " + std::to_string(r.report->particles.size()) +
                " spheres>";
       });
+}
 
+}  // namespace
+
+void bind_run(py::module_& m) {
+  bind_report(m);
   m.def("run", &run_scenario_from_python, py::arg("scenario"), py::kw_only(), py::arg("out") = py::none(),
         py::arg("threads") = 0, py::arg("stop_after") = py::none(), py::arg("overwrite") = false,
         R"doc(Runs a scenario and returns its aggpack.Report.
