@@ -13,6 +13,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze.hpp"
+#include "aggpack/run/analyze_bed.hpp"
 #include "aggpack/io/shape_option.hpp"
 #include "aggpack/run/grading_report.hpp"
 #include "aggpack/run/predictions.hpp"
@@ -35,53 +36,27 @@ int analyze_command(const AnalyzeArguments& a) {
   const auto& [file, unit, boxes, cubes, tolerance, overlap_tolerance, soft_contacts, json, timestep] = a;
   const auto factor = aggpack::metres_per_unit(unit);
   if (!factor) throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd", unit));
-  if (boxes.size() + cubes.size() > aggpack::kMaxAnalysisBoxes)
-    throw aggpack::InputError(fmt::format("--box, --cube: {} boxes; expected at most {} (each is a pass over every "
-                                          "sphere)",
-                                          boxes.size() + cubes.size(), aggpack::kMaxAnalysisBoxes));
+  aggpack::BedAnalysisOptions options;
+  options.tolerance = tolerance;
+  options.overlap_tolerance = overlap_tolerance;
+  options.soft_contacts = soft_contacts;
+  options.boxes_named = "--box, --cube";
+  options.tolerance_named = "--tolerance";
+  // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
+  for (const auto& b : boxes) options.boxes.push_back(box_argument(b, *factor));
+  for (const auto& c : cubes) options.cube_sides.push_back(length_argument(c, "--cube", *factor));
+  if (options.boxes.size() + options.cube_sides.size() > aggpack::kMaxAnalysisBoxes)  // before the file is read
+    (void)aggpack::analyze_bed({}, options, file);
   const aggpack::PackingFile packing =
       aggpack::read_packing_file(file, static_cast<double>(*factor), 1.0, aggpack::kDefaultMaxInputFileBytes, timestep);
   const aggpack::ParticleStore& particles = packing.particles;
-  const auto container = aggpack::bounding_container(particles);
-  const aggpack::RunLimits limits;  // the defaults: analyze has no scenario to raise them
-  const auto overlap = aggpack::check_particle_overlaps(particles, container, overlap_tolerance, soft_contacts, file,
-                                                        limits.max_grid_cells);
-  const auto [r_min, r_max] = std::minmax_element(particles.radius.begin(), particles.radius.end());
-  if (!particles.empty() &&
-      !(aggpack::contact_reach_diameters(tolerance, *r_min, *r_max) <= aggpack::kMaxContactReachDiameters))
-    throw aggpack::InputError(fmt::format(
-        "--tolerance {}: the smallest sphere of {} (radius {:.4g} m) would look for contacts {:.4g} of its diameters "
-        "away; expected at most {:g}, a tolerance of at most {:.4g}",
-        tolerance, file, *r_min, aggpack::contact_reach_diameters(tolerance, *r_min, *r_max),
-        aggpack::kMaxContactReachDiameters,
-        tolerance * aggpack::kMaxContactReachDiameters / aggpack::contact_reach_diameters(tolerance, *r_min, *r_max)));
-  aggpack::AnalysisRequest request;
-  request.contact_tolerance = tolerance;
-  request.max_profile_bins = limits.max_profile_bins;
-  request.max_grid_cells = limits.max_grid_cells;
-  // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
-  for (const auto& b : boxes) request.boxes.push_back(box_argument(b, *factor));
-  for (const auto& c : cubes) request.cube_sides.push_back(length_argument(c, "--cube", *factor));
-  const auto report = [&] {
-    try {
-      return aggpack::analyze_packing(particles, container, request);
-    } catch (const aggpack::InputError& e) {
-      throw aggpack::InputError(fmt::format("{}: {}", file, e.what()));
-    }
-  }();
+  const aggpack::BedAnalysis analysis = aggpack::analyze_bed(particles, options, file);
+  const aggpack::PackingReport& report = analysis.report;
+  const aggpack::PairOverlap& overlap = analysis.overlap;
   if (json) {
-    auto j = aggpack::to_json(report);
-    j["aggpack_version"] = aggpack::kVersion;
+    auto j = aggpack::to_json(analysis, particles.size(), soft_contacts);
     j["file"] = file;
     j["format"] = packing.format;
-    j["particle_count"] = particles.size();
-    if (overlap.depth_over_radius > 1e-6) {
-      j["largest_pair_overlap_rel"] = overlap.depth_over_radius;
-      j["soft_contacts"] = soft_contacts;
-    }
-    const auto& cb = container.bounds;
-    j["container"] = {{"lo", {cb.lo.x, cb.lo.y, cb.lo.z}}, {"hi", {cb.hi.x, cb.hi.y, cb.hi.z}}, {"periodic", false},
-                      {"note", "bounding box of the spheres"}};
     std::cout << j.dump(2) << "\n";
     return 0;
   }
