@@ -19,10 +19,13 @@ from ._aggpack import (  # noqa: F401
     Report,
     Scenario,
     __version__,
+    analyze,
+    read_bed,
     resume,
     run,
     toml_text,
     write_outputs,
 )
 
-__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "resume", "run", "toml_text", "write_outputs"]
+__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "read_bed", "resume", "run", "toml_text",
+           "write_outputs"]

@@ -102,6 +102,11 @@ as the view itself lives. `copy()` gives writable copies.)doc")
             return copies;
           },
           "Writable copies of every array, by name, as a dict.")
+      .def_property_readonly("source", [](const PyBed& b) { return b.source; },
+                             "What the bed is: a file's path, \"the run's bed\", \"the bed from arrays\".")
+      .def_property_readonly("format", [](const PyBed& b) { return b.format; },
+                             "A file's format as read (\"CSV\", \"LAMMPS dump, timestep 1000 (the last of 3)\"); "
+                             "empty for a bed of no file.")
       .def("__repr__", [](const PyBed& b) {
         return "<aggpack.Bed of " + std::to_string(b.store->size()) + " spheres" +
                (b.store->bodies.empty() ? std::string() : ", " + std::to_string(b.store->bodies.size()) + " grains") +

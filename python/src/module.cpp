@@ -11,4 +11,5 @@ PYBIND11_MODULE(_aggpack, m) {
   aggpack::python::bind_scenario(m);
   aggpack::python::bind_bed(m);
   aggpack::python::bind_run(m);
+  aggpack::python::bind_analysis(m);
 }

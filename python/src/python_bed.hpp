@@ -3,6 +3,7 @@
 // views into the store, read-only, each keeping the Bed, and so the store, alive.
 #pragma once
 #include <memory>
+#include <string>
 
 #include "aggpack/core/particle_store.hpp"
 
@@ -10,6 +11,8 @@ namespace aggpack::python {
 
 struct PyBed {
   std::shared_ptr<const ParticleStore> store;  // may alias its owner's (a report's) lifetime
+  std::string source;  // what it is, in messages: a file's path, "the run's bed", "the bed from arrays"
+  std::string format;  // a file's ("CSV", "LAMMPS dump, timestep 1000 (the last of 3)", ...); empty otherwise
 };
 
 }  // namespace aggpack::python
