@@ -19,6 +19,6 @@ bash scripts/build.sh "${werror[@]}"
 OMP_NUM_THREADS=1 OMP_WAIT_POLICY=PASSIVE ctest --test-dir build --output-on-failure --parallel 2 --label-exclude long
 if [ "${AGGPACK_SKIP_SANITIZE:-}" != "1" ]; then
   cmake --preset sanitize "${werror[@]}" >/dev/null
-  cmake --build --preset sanitize
+  cmake --build --preset sanitize --target unit_tests  # not the validation runs' executables
   ctest --preset sanitize-unit
 fi
