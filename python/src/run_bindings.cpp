@@ -79,6 +79,24 @@ py::object finished(PyReport result) {
   throw py::error_already_set();
 }
 
+// The library's progress handed to a Python callable (called with the GIL taken, a few times a
+// second at most) as a dict; none: silent. An exception it raises ends the run with it.
+Progress progress_to(const py::object& callback) {
+  if (callback.is_none()) return Progress{};
+  if (!PyCallable_Check(callback.ptr())) throw py::type_error("progress: expected a callable or None");
+  return Progress([callback](const ProgressUpdate& u) {
+    py::gil_scoped_acquire held;
+    py::dict d;
+    d["run"] = u.run;
+    d["stage"] = u.stage;
+    d["fields"] = u.fields;
+    d["done"] = u.done;
+    d["seconds_left"] = u.seconds_left;
+    d["seconds_left_is_bound"] = u.seconds_left_is_bound;
+    callback(d);
+  });
+}
+
 RunOptions options_of(int threads, const std::optional<std::string>& stop_after, bool overwrite) {
   RunOptions options;
   options.threads = threads;
@@ -99,13 +117,16 @@ PyReport from_result(RunResult&& r) {
 }
 
 py::object run_scenario_from_python(const PyScenario& scenario, const std::optional<std::filesystem::path>& out,
-                                    int threads, const std::optional<std::string>& stop_after, bool overwrite) {
+                                    int threads, const std::optional<std::string>& stop_after, bool overwrite,
+                                    const py::object& progress_callback) {
   const auto t0 = Clock::now();
+  Progress progress = progress_to(progress_callback);
   PyReport result;
   {
     LibraryWork work;
     if (out) {
       RunOptions options = options_of(threads, stop_after, overwrite);
+      options.progress = &progress;
       options.overrides = scenario.overrides;
       options.overrides.output_directory = *out;
       std::ostringstream log;
@@ -115,8 +136,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
       controls.threads = threads;
       controls.stop_after = stop_after;
       controls.stop = &g_stop;
-      Progress silent;
-      RunReport report = run(scenario.parsed, controls, silent);
+      RunReport report = run(scenario.parsed, controls, progress);
       report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
       result.report = std::make_shared<const RunReport>(std::move(report));
       result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -198,6 +218,7 @@ void bind_run(py::module_& m) {
   bind_report(m);
   m.def("run", &run_scenario_from_python, py::arg("scenario"), py::kw_only(), py::arg("out") = py::none(),
         py::arg("threads") = 0, py::arg("stop_after") = py::none(), py::arg("overwrite") = false,
+        py::arg("progress") = py::none(),
         R"doc(Runs a scenario and returns its aggpack.Report.
 
 With `out`, runs as `aggpack run --out OUT` does: the outputs and checkpoints in that folder
@@ -206,19 +227,25 @@ the summary.json written. Without, runs in memory and writes nothing (write_outp
 report later). `threads`: OpenMP threads (0: all cores); the results are the same bytes for
 any count. `stop_after`: end after a stage ("deposition"), as --stop-after. Ctrl-C (SIGINT) or
 SIGTERM stops the run at its next safe point and raises KeyboardInterrupt, whose `report` is
-what the run had done; a run into a folder leaves its checkpoint there for aggpack.resume.)doc");
+what the run had done; a run into a folder leaves its checkpoint there for aggpack.resume.
+`progress`: a callable given a dict a few times a second at most (what the CLI's progress line
+shows: `run`, `stage`, `fields`, `done` in [0, 1], `seconds_left`, `seconds_left_is_bound`);
+an exception it raises ends the run with that exception.)doc");
   m.def(
       "resume",
-      [](const std::filesystem::path& folder, int threads) {
+      [](const std::filesystem::path& folder, int threads, const py::object& progress_callback) {
+        Progress progress = progress_to(progress_callback);
         PyReport result;
         {
           LibraryWork work;
           std::ostringstream log;
-          result = from_result(resume_run(folder, options_of(threads, std::nullopt, false), log));
+          RunOptions options = options_of(threads, std::nullopt, false);
+          options.progress = &progress;
+          result = from_result(resume_run(folder, options, log));
         }
         return finished(std::move(result));
       },
-      py::arg("folder"), py::kw_only(), py::arg("threads") = 0,
+      py::arg("folder"), py::kw_only(), py::arg("threads") = 0, py::arg("progress") = py::none(),
       "Continues the run whose checkpoint is in `folder`, as `aggpack resume` does: its outputs are those the run "
       "would have written uninterrupted, bit for bit.");
   m.def(

@@ -151,3 +151,22 @@ def test_ctrl_c_stops_at_a_safe_point_and_resume_gives_the_uninterrupted_bytes(t
     resumed = aggpack.resume(tmp_path / "run", threads=2)
     assert resumed.interrupted is None
     assert (tmp_path / "run" / "particles.csv").read_bytes() == (cli_run / "particles.csv").read_bytes()
+
+
+def test_progress_reaches_a_callback_and_its_exception_ends_the_run(examples):
+    seen = []
+    aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1, progress=seen.append)
+    assert seen, "no progress in a run of a second or more"
+    assert {u["stage"] for u in seen} <= {"deposition", "dynamics", "analysis"}
+    assert all(0.0 <= u["done"] <= 1.0 and isinstance(u["fields"], list) for u in seen)
+
+    class Enough(Exception):
+        pass
+
+    def stop(update):
+        raise Enough(update["stage"])
+
+    with pytest.raises(Enough):
+        aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1, progress=stop)
+    with pytest.raises(TypeError, match="progress: expected a callable"):
+        aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), progress=3)

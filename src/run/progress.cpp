@@ -107,7 +107,7 @@ void Progress::start_stage(std::string stage) {
   time_left_.reset();
 }
 
-bool Progress::due() const { return out_ && Clock::now() - last_print_ >= kMinInterval; }
+bool Progress::due() const { return (out_ || listener_) && Clock::now() - last_print_ >= kMinInterval; }
 
 void Progress::update(const std::vector<std::string>& fields, double done, TimeLeft kind) {
   if (!due()) return;
@@ -122,6 +122,10 @@ void Progress::update(const std::vector<std::string>& fields, double done, TimeL
     time_left_kind_ = kind;
     time_left_ = smoothed_time_left(time_left_, since, elapsed * (1.0 - done) / done);
     time_left = fmt::format("{} {} left", kind == TimeLeft::AtMost ? "at most" : "about", duration_text(*time_left_));
+  }
+  if (listener_) {
+    listener_({run_, stage_, fields, done, time_left_, time_left_kind_ == TimeLeft::AtMost});
+    return;
   }
   if (left_in_all_)
     time_left += time_left.empty() ? fmt::format("about {} left in all", duration_text(*left_in_all_))

@@ -1,5 +1,6 @@
 #pragma once
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <ostream>
 #include <string>
@@ -12,9 +13,21 @@ namespace aggpack {
 // the terminal's width (a wrapped line would leave a stale copy behind at every refresh):
 // fields are dropped from the least important end until it does. Does nothing when disabled
 // (not a terminal, or --quiet), so callers never need to check.
+// One refresh of the line as values, for a listener instead of a terminal (the Python module's
+// progress callback).
+struct ProgressUpdate {
+  std::string run, stage;
+  std::vector<std::string> fields;      // most important first
+  double done = 0.0;                    // of the stage, in [0, 1] (0: not known)
+  std::optional<double> seconds_left;   // smoothed, as the line shows it; none yet
+  bool seconds_left_is_bound = false;   // an upper bound (a settle that stops when quiet)
+};
+
 class Progress {
  public:
   Progress() = default;  // disabled
+  // Each refresh handed to `listener` (at most a few a second), nothing printed.
+  explicit Progress(std::function<void(const ProgressUpdate&)> listener) : listener_(std::move(listener)) {}
   // `columns`: the terminal's width; by default asked of the terminal at every refresh (it
   // may be resized), else $COLUMNS, else 80.
   explicit Progress(std::ostream& terminal, std::optional<int> columns = std::nullopt)
@@ -58,6 +71,7 @@ class Progress {
   using Clock = std::chrono::steady_clock;
   [[nodiscard]] int columns() const;
   std::ostream* out_ = nullptr;
+  std::function<void(const ProgressUpdate&)> listener_;
   std::optional<int> columns_;
   std::string run_, stage_;
   Clock::time_point stage_start_{}, last_print_{};
