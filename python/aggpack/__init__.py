@@ -20,6 +20,8 @@ from ._aggpack import (  # noqa: F401
     Scenario,
     __version__,
     analyze,
+    grading,
+    predict,
     read_bed,
     resume,
     run,
@@ -27,5 +29,5 @@ from ._aggpack import (  # noqa: F401
     write_outputs,
 )
 
-__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "read_bed", "resume", "run", "toml_text",
-           "write_outputs"]
+__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "grading", "predict", "read_bed", "resume",
+           "run", "toml_text", "write_outputs"]

@@ -14,6 +14,7 @@ void bind_scenario(py::module_& m);
 void bind_bed(py::module_& m);
 void bind_run(py::module_& m);
 void bind_analysis(py::module_& m);  // after bind_bed: it adds to Bed
+void bind_models(py::module_& m);
 
 // JSON values to Python's (dict, list, str, int, float, bool, None) and back.
 py::object to_python(const nlohmann::json& value);

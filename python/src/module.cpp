@@ -12,4 +12,5 @@ PYBIND11_MODULE(_aggpack, m) {
   aggpack::python::bind_bed(m);
   aggpack::python::bind_run(m);
   aggpack::python::bind_analysis(m);
+  aggpack::python::bind_models(m);
 }
