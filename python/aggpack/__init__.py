@@ -20,7 +20,9 @@ from ._aggpack import (  # noqa: F401
     Scenario,
     __version__,
     analyze,
+    export_lammps,
     grading,
+    import_lammps,
     predict,
     read_bed,
     resume,
@@ -29,5 +31,5 @@ from ._aggpack import (  # noqa: F401
     write_outputs,
 )
 
-__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "grading", "predict", "read_bed", "resume",
-           "run", "toml_text", "write_outputs"]
+__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "export_lammps", "grading", "import_lammps",
+           "predict", "read_bed", "resume", "run", "toml_text", "write_outputs"]

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/run/run.hpp"
+
 namespace aggpack::python {
 
 namespace py = pybind11;
@@ -15,6 +17,10 @@ void bind_bed(py::module_& m);
 void bind_run(py::module_& m);
 void bind_analysis(py::module_& m);  // after bind_bed: it adds to Bed
 void bind_models(py::module_& m);
+void bind_lammps(py::module_& m);  // after bind_run: it returns Reports
+
+// A finished run into a folder as an aggpack.Report (the GIL held).
+py::object report_of(RunResult&& result);
 
 // JSON values to Python's (dict, list, str, int, float, bool, None) and back.
 py::object to_python(const nlohmann::json& value);

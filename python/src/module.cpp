@@ -13,4 +13,5 @@ PYBIND11_MODULE(_aggpack, m) {
   aggpack::python::bind_run(m);
   aggpack::python::bind_analysis(m);
   aggpack::python::bind_models(m);
+  aggpack::python::bind_lammps(m);
 }

@@ -214,6 +214,8 @@ views into this report's data.)doc")
 
 }  // namespace
 
+py::object report_of(RunResult&& result) { return py::cast(from_result(std::move(result))); }
+
 void bind_run(py::module_& m) {
   bind_report(m);
   m.def("run", &run_scenario_from_python, py::arg("scenario"), py::kw_only(), py::arg("out") = py::none(),

@@ -1,0 +1,92 @@
+// aggpack.export_lammps and aggpack.import_lammps: the CLI's bridge commands from Python. They
+// read their scenario from its file (a checkpoint, a deck and an imported run record where it
+// lies), so a Scenario made from text or a dict is refused, with what to do.
+#include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/io/scenario.hpp"
+#include "aggpack/run/lammps_steps.hpp"
+#include "aggpack/run/run.hpp"
+#include "bindings.hpp"
+#include "python_scenario.hpp"
+
+namespace aggpack::python {
+namespace {
+
+// A scenario file (a path, or a Scenario read from its file, whose overrides come along) or,
+// for export, a run's folder.
+struct FileAndOverrides {
+  std::filesystem::path path;
+  std::vector<std::string> set;
+};
+
+FileAndOverrides file_of(const py::object& scenario, const std::vector<std::string>& set, const char* function) {
+  if (!py::isinstance<PyScenario>(scenario)) return {scenario.cast<std::filesystem::path>(), set};
+  const auto& s = scenario.cast<const PyScenario&>();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(s.file, ec) || read_scenario_text(s.file) != s.text)
+    throw InputError(fmt::format("{}: the scenario '{}' was not read from its file {}; {} reads a scenario file: write "
+                                 "scenario.text to a file and give its path",
+                                 function, s.parsed.title, s.file.string(), function));
+  std::vector<std::string> all = s.overrides.set;
+  all.insert(all.end(), set.begin(), set.end());
+  return {s.file, all};
+}
+
+}  // namespace
+
+void bind_lammps(py::module_& m) {
+  m.def(
+      "export_lammps",
+      [](const py::object& scenario_or_run, const std::filesystem::path& out, bool tap, const std::vector<std::string>& set) {
+        const FileAndOverrides source = file_of(scenario_or_run, set, "export_lammps");
+        ScenarioOverrides overrides;
+        overrides.set = source.set;
+        py::gil_scoped_release released;
+        std::ostringstream log;
+        return export_lammps(source.path, overrides, out, tap, log);
+      },
+      py::arg("scenario_or_run"), py::arg("out"), py::kw_only(), py::arg("tap") = false,
+      py::arg("set") = std::vector<std::string>{},
+      R"doc(Writes a bed and a LAMMPS deck into `out`, as `aggpack export-lammps` does; returns the step exported.
+
+`scenario_or_run`: a scenario file's path (or a Scenario read from its file): the steps before
+its first DEM step are run and that step's deck written; or a finished run's folder: its final
+bed and a deck that settles it (`tap`: taps it). `set`: --set assignments. README, "Running
+larger beds on many cores or a cluster".)doc");
+  m.def(
+      "import_lammps",
+      [](const std::filesystem::path& file, const py::object& scenario, const std::filesystem::path& out,
+         std::optional<std::int64_t> timestep, const std::vector<std::string>& set) {
+        const FileAndOverrides source = file_of(scenario, set, "import_lammps");
+        RunOptions options;
+        options.quiet = true;
+        options.overrides.set = source.set;
+        options.overrides.output_directory = out;
+        std::ostringstream log;
+        py::object report;
+        {
+          py::gil_scoped_release released;
+          RunResult result = import_lammps(file, timestep, source.path, options, log);
+          py::gil_scoped_acquire held;
+          report = report_of(std::move(result));
+        }
+        return report;
+      },
+      py::arg("file"), py::kw_only(), py::arg("scenario"), py::arg("out"), py::arg("timestep") = py::none(),
+      py::arg("set") = std::vector<std::string>{},
+      "Analyses the spheres of a LAMMPS dump (its last snapshot, or `timestep`'s) or data file in a scenario's "
+      "container with its analysis settings, as `aggpack import-lammps` does, writing aggpack's outputs into `out`; "
+      "returns the run's aggpack.Report.");
+}
+
+}  // namespace aggpack::python
