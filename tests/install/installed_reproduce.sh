@@ -27,7 +27,7 @@ cmake --install "$build_dir" --prefix "$prefix" > "$scratch/install.log" || fail
 
 installed_examples=$prefix/share/aggpack/examples
 for shipped in "$source_dir"/examples/*; do
-  [ -f "$installed_examples/$(basename "$shipped")" ] || fail "$(basename "$shipped") of examples/ is not installed in $installed_examples"
+  [ -e "$installed_examples/$(basename "$shipped")" ] || fail "$(basename "$shipped") of examples/ is not installed in $installed_examples"
 done
 
 mkdir "$scratch/elsewhere"
