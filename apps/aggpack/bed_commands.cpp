@@ -45,8 +45,7 @@ int analyze_command(const AnalyzeArguments& a) {
   // Bare numbers in --box and --cube are in the file's unit, like the file's own numbers.
   for (const auto& b : boxes) options.boxes.push_back(box_argument(b, *factor));
   for (const auto& c : cubes) options.cube_sides.push_back(length_argument(c, "--cube", *factor));
-  if (options.boxes.size() + options.cube_sides.size() > aggpack::kMaxAnalysisBoxes)  // before the file is read
-    (void)aggpack::analyze_bed({}, options, file);
+  aggpack::check_box_count(options);  // before the file is read
   const aggpack::PackingFile packing =
       aggpack::read_packing_file(file, static_cast<double>(*factor), 1.0, aggpack::kDefaultMaxInputFileBytes, timestep);
   const aggpack::ParticleStore& particles = packing.particles;

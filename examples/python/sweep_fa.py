@@ -4,7 +4,7 @@
     PYTHONPATH=build/python /usr/bin/python3 examples/python/sweep_fa.py --fa 20 30 40 50 --out out/py_sweep
 
 Deposits examples/table2_mix3.toml (the paper's Table 2 grading) at each Fa (percent fine by
-mass), measures the bed, which holds the sand down to the scenario's cut-off only, and carries
+volume), measures the bed, which holds the sand down to the scenario's cut-off only, and carries
 it to the whole grading as aggpack's whole-grading estimate does: the bed's density plus CPM's
 increment from the simulated sizes to the whole grading (summary.json's predictions). Plots
 both against Fa and prints the densest blend. `aggpack sweep` does this from the command line.
@@ -40,7 +40,7 @@ def main():
     base = aggpack.Scenario.from_file(args.scenario, set=args.set)
     rows = []
     for fa in args.fa:
-        # Ca/Fa is coarse over fine by mass.
+        # particles.ca_fa is coarse over fine by volume.
         report = aggpack.run(base.with_overrides([f"particles.ca_fa={(100 - fa) / fa}"]), threads=args.threads)
         rows.append((fa, report.density, carried(report)))
         print(f"Fa {fa:5.1f} %: bed {report.density:.4f}, whole grading {rows[-1][2]:.4f}")
@@ -53,7 +53,7 @@ def main():
     fig, ax = plt.subplots(figsize=(6, 4))
     ax.plot([r[0] for r in rows], [r[1] for r in rows], "o-", label="the simulated bed (at the cut-off)")
     ax.plot([r[0] for r in rows], [r[2] for r in rows], "s-", label="carried to the whole grading (CPM)")
-    ax.set_xlabel("Fa, % fine by mass")
+    ax.set_xlabel("Fa, % fine by volume")
     ax.set_ylabel("packing density")
     ax.legend()
     fig.tight_layout()

@@ -1,6 +1,7 @@
 // The Python module's parts, each binding one concern of the library; module.cpp puts them
-// together. Every C++ exception that reaches Python is InputError (a ValueError) for bad
-// input, KeyboardInterrupt for a stopped run, or RuntimeError naming what failed.
+// together. Bad input reaches Python as InputError (a ValueError), a stopped run as
+// KeyboardInterrupt; pybind11 maps any other C++ exception to its Python kind (a
+// std::invalid_argument from a bed the library cannot take: ValueError; the rest: RuntimeError).
 #pragma once
 #include <pybind11/pybind11.h>
 

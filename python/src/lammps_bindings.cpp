@@ -26,20 +26,24 @@ namespace {
 // for export, a run's folder.
 struct FileAndOverrides {
   std::filesystem::path path;
-  std::vector<std::string> set;
+  ScenarioOverrides overrides;
 };
 
 FileAndOverrides file_of(const py::object& scenario, const std::vector<std::string>& set, const char* function) {
-  if (!py::isinstance<PyScenario>(scenario)) return {scenario.cast<std::filesystem::path>(), set};
+  if (!py::isinstance<PyScenario>(scenario)) {
+    FileAndOverrides given{scenario.cast<std::filesystem::path>(), {}};
+    given.overrides.set = set;
+    return given;
+  }
   const auto& s = scenario.cast<const PyScenario&>();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(s.file, ec) || read_scenario_text(s.file) != s.text)
     throw InputError(fmt::format("{}: the scenario '{}' was not read from its file {}; {} reads a scenario file: write "
                                  "scenario.text to a file and give its path",
                                  function, s.parsed.title, s.file.string(), function));
-  std::vector<std::string> all = s.overrides.set;
-  all.insert(all.end(), set.begin(), set.end());
-  return {s.file, all};
+  FileAndOverrides read{s.file, s.overrides};  // its --set and its seed
+  read.overrides.set.insert(read.overrides.set.end(), set.begin(), set.end());
+  return read;
 }
 
 }  // namespace
@@ -49,11 +53,9 @@ void bind_lammps(py::module_& m) {
       "export_lammps",
       [](const py::object& scenario_or_run, const std::filesystem::path& out, bool tap, const std::vector<std::string>& set) {
         const FileAndOverrides source = file_of(scenario_or_run, set, "export_lammps");
-        ScenarioOverrides overrides;
-        overrides.set = source.set;
         py::gil_scoped_release released;
         std::ostringstream log;
-        return export_lammps(source.path, overrides, out, tap, log);
+        return export_lammps(source.path, source.overrides, out, tap, log);
       },
       py::arg("scenario_or_run"), py::arg("out"), py::kw_only(), py::arg("tap") = false,
       py::arg("set") = std::vector<std::string>{},
@@ -70,17 +72,14 @@ larger beds on many cores or a cluster".)doc");
         const FileAndOverrides source = file_of(scenario, set, "import_lammps");
         RunOptions options;
         options.quiet = true;
-        options.overrides.set = source.set;
+        options.overrides = source.overrides;
         options.overrides.output_directory = out;
-        std::ostringstream log;
-        py::object report;
-        {
+        RunResult result = [&] {
           py::gil_scoped_release released;
-          RunResult result = import_lammps(file, timestep, source.path, options, log);
-          py::gil_scoped_acquire held;
-          report = report_of(std::move(result));
-        }
-        return report;
+          std::ostringstream log;
+          return import_lammps(file, timestep, source.path, options, log);
+        }();
+        return report_of(std::move(result));
       },
       py::arg("file"), py::kw_only(), py::arg("scenario"), py::arg("out"), py::arg("timestep") = py::none(),
       py::arg("set") = std::vector<std::string>{},

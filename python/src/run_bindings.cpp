@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "aggpack/core/version.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/output_folder.hpp"
+#include "aggpack/run/preflight.hpp"
 #include "aggpack/run/run.hpp"
 #include "bindings.hpp"
 #include "python_bed.hpp"
@@ -38,41 +40,59 @@ std::shared_ptr<PyBed> bed_of(const std::shared_ptr<const RunReport>& owner, con
   return std::make_shared<PyBed>(PyBed{std::shared_ptr<const ParticleStore>(owner, &store), "the run's bed", ""});
 }
 
-// The one piece of global state, as in the CLI: a signal handler can reach nothing else.
-StopRequest g_stop;  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
-extern "C" void request_stop(int signal_number) { g_stop.request(signal_number); }
+// The one piece of global state, as in the CLI: a signal handler can reach nothing else. The
+// run that SIGINT and SIGTERM stop: the one the main thread is in (a run from another thread
+// is not stopped by them, as Python delivers them to the main thread only).
+std::atomic<StopRequest*> g_signalled_run{nullptr};  // NOLINT(cppcoreguidelines-avoid-non-const-global-variables)
+extern "C" void request_stop(int signal_number) {
+  if (StopRequest* stop = g_signalled_run.load()) stop->request(signal_number);
+}
 
-// While it lives: SIGINT and SIGTERM ask the run to stop at its next safe point, and the GIL
-// is released; then Python's own handlers are back.
-class LibraryWork {
+bool on_main_thread() {
+  const py::module_ threading = py::module_::import("threading");
+  return threading.attr("current_thread")().is(threading.attr("main_thread")());
+}
+
+// While it lives, on the main thread: SIGINT and SIGTERM ask `stop`'s run to stop at its next
+// safe point; then the handlers that were there (Python's, with their flags) are back. Made
+// with the GIL held.
+class SignalsStopTheRun {
  public:
-  LibraryWork() {
-    g_stop.clear();
-    old_int_ = std::signal(SIGINT, request_stop);
-    old_term_ = std::signal(SIGTERM, request_stop);
+  explicit SignalsStopTheRun(StopRequest& stop) : main_thread_(on_main_thread()) {
+    if (!main_thread_) return;
+    g_signalled_run.store(&stop);
+    struct sigaction ours {};
+    ours.sa_handler = request_stop;
+    sigemptyset(&ours.sa_mask);
+    sigaction(SIGINT, &ours, &old_int_);
+    sigaction(SIGTERM, &ours, &old_term_);
   }
-  ~LibraryWork() {
-    std::signal(SIGINT, old_int_);
-    std::signal(SIGTERM, old_term_);
+  ~SignalsStopTheRun() {
+    if (!main_thread_) return;
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+    g_signalled_run.store(nullptr);
   }
-  LibraryWork(const LibraryWork&) = delete;
-  LibraryWork& operator=(const LibraryWork&) = delete;
+  SignalsStopTheRun(const SignalsStopTheRun&) = delete;
+  SignalsStopTheRun& operator=(const SignalsStopTheRun&) = delete;
 
  private:
-  void (*old_int_)(int) = nullptr;
-  void (*old_term_)(int) = nullptr;
-  py::gil_scoped_release released_;  // last: taken back before the handlers are put back
+  bool main_thread_;
+  struct sigaction old_int_ {}, old_term_ {};
 };
 
-// An interrupted run: KeyboardInterrupt with the report of what it did (and, for a run into
-// a folder, where its checkpoint is: aggpack.resume(folder) continues it).
-py::object finished(PyReport result) {
+// The report, or for an interrupted run KeyboardInterrupt with the report of what it did (and,
+// for a run into a folder, where its checkpoint is: aggpack.resume(folder) continues it).
+py::object report_or_interrupt(PyReport result) {
   const auto& stop = result.report->interrupted;
   py::object report = py::cast(std::move(result));
   if (!stop) return report;
-  std::string message = "aggpack: interrupted by signal " + std::to_string(stop->signal_number) + " " + stop->where;
+  std::string message = "aggpack: interrupted by signal " + std::to_string(stop->signal_number) + " " + stop->where +
+                        " (" + std::to_string(stop->steps_completed) + " of " + std::to_string(stop->steps_total) +
+                        " steps done)";
   if (stop->checkpoint && !report.attr("output_directory").is_none())
-    message += "; continue with aggpack.resume(" + py::repr(report.attr("output_directory")).cast<std::string>() + ")";
+    message += "; continue with aggpack.resume(\"" + py::str(report.attr("output_directory")).cast<std::string>() +
+               "\")";
   py::object error = py::module_::import("builtins").attr("KeyboardInterrupt")(message);
   error.attr("report") = report;
   PyErr_SetObject(PyExc_KeyboardInterrupt, error.ptr());
@@ -97,12 +117,13 @@ Progress progress_to(const py::object& callback) {
   });
 }
 
-RunOptions options_of(int threads, const std::optional<std::string>& stop_after, bool overwrite) {
+RunOptions options_of(int threads, const std::optional<std::string>& stop_after, bool overwrite,
+                      const StopRequest& stop) {
   RunOptions options;
   options.threads = threads;
   options.stop_after = stop_after;
   options.quiet = true;
-  options.stop = &g_stop;
+  options.stop = &stop;
   options.overwrite = overwrite;
   return options;
 }
@@ -121,11 +142,13 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
                                     const py::object& progress_callback) {
   const auto t0 = Clock::now();
   Progress progress = progress_to(progress_callback);
+  StopRequest stop;
+  const SignalsStopTheRun signals(stop);
   PyReport result;
   {
-    LibraryWork work;
+    py::gil_scoped_release released;
     if (out) {
-      RunOptions options = options_of(threads, stop_after, overwrite);
+      RunOptions options = options_of(threads, stop_after, overwrite, stop);
       options.progress = &progress;
       options.overrides = scenario.overrides;
       options.overrides.output_directory = *out;
@@ -135,14 +158,14 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
       RunControls controls;
       controls.threads = threads;
       controls.stop_after = stop_after;
-      controls.stop = &g_stop;
+      controls.stop = &stop;
       RunReport report = run(scenario.parsed, controls, progress);
       report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
       result.report = std::make_shared<const RunReport>(std::move(report));
       result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
     }
   }
-  return finished(std::move(result));
+  return report_or_interrupt(std::move(result));
 }
 
 void bind_report(py::module_& m) {
@@ -237,15 +260,17 @@ an exception it raises ends the run with that exception.)doc");
       "resume",
       [](const std::filesystem::path& folder, int threads, const py::object& progress_callback) {
         Progress progress = progress_to(progress_callback);
+        StopRequest stop;
+        const SignalsStopTheRun signals(stop);
         PyReport result;
         {
-          LibraryWork work;
+          py::gil_scoped_release released;
           std::ostringstream log;
-          RunOptions options = options_of(threads, std::nullopt, false);
+          RunOptions options = options_of(threads, std::nullopt, false, stop);
           options.progress = &progress;
           result = from_result(resume_run(folder, options, log));
         }
-        return finished(std::move(result));
+        return report_or_interrupt(std::move(result));
       },
       py::arg("folder"), py::kw_only(), py::arg("threads") = 0, py::arg("progress") = py::none(),
       "Continues the run whose checkpoint is in `folder`, as `aggpack resume` does: its outputs are those the run "
@@ -253,8 +278,15 @@ an exception it raises ends the run with that exception.)doc");
   m.def(
       "write_outputs",
       [](const PyReport& r, const std::filesystem::path& folder, bool overwrite) {
-        check_output_folder_contents(folder, overwrite);
-        return to_python(write_outputs(*r.report, folder, r.wall_clock_s));
+        nlohmann::json summary;
+        {
+          py::gil_scoped_release released;
+          check_output_directory(folder, false);
+          check_output_folder_contents(folder, overwrite);
+          (void)remove_earlier_run(folder, {});  // as aggpack run: the folder never mixes two runs' files
+          summary = write_outputs(*r.report, folder, r.wall_clock_s);
+        }
+        return to_python(summary);
       },
       py::arg("report"), py::arg("folder"), py::kw_only(), py::arg("overwrite") = false,
       "Writes a report's outputs into `folder` as `aggpack run` does (particles.csv, summary.json, ...; README, "

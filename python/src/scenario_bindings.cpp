@@ -119,7 +119,11 @@ wrong and what is expected).)doc")
       .def("with_overrides", &PyScenario::with, py::arg("set") = std::vector<std::string>{}, py::kw_only(),
            py::arg("seed") = py::none(),
            "A copy with more --set assignments (after this one's) and, if given, another seed.")
-      .def("check", [](const PyScenario& s) { check_loaded_scenario(s.parsed); },
+      .def("check",
+           [](const PyScenario& s) {
+             py::gil_scoped_release released;
+             check_loaded_scenario(s.parsed);
+           },
            "Checks what `aggpack check` checks beyond reading: the particle file, the grains' templates, the output "
            "folder and the virtual boxes. Raises InputError; returns None when all is well.")
       .def("to_dict", [](const PyScenario& s) { return to_python(aggpack::to_json(s.parsed)); },

@@ -24,9 +24,13 @@ def test_export_and_import_are_the_clis(tmp_path):
     cli("export-lammps", scenario, "--set", "seed=6", "--out", tmp_path / "cli_deck")
     assert "settle" in step
     assert same_tree(tmp_path / "py_deck", tmp_path / "cli_deck")
-    # A Scenario read from its file takes its overrides along.
+    # A Scenario read from its file takes its overrides and its seed along.
     aggpack.export_lammps(aggpack.Scenario.from_file(scenario, set=["seed=6"]), tmp_path / "py_deck2")
     assert same_tree(tmp_path / "py_deck2", tmp_path / "cli_deck")
+    aggpack.export_lammps(aggpack.Scenario.from_file(scenario, seed=6), tmp_path / "py_deck3")
+    assert same_tree(tmp_path / "py_deck3", tmp_path / "cli_deck")
+    aggpack.export_lammps(aggpack.Scenario.from_file(scenario), tmp_path / "seed_5")
+    assert not same_tree(tmp_path / "seed_5", tmp_path / "cli_deck")  # the seed makes another bed
 
     # A bed settled by LAMMPS within a run, its dump imported as the CLI imports it.
     aggpack.run(aggpack.Scenario.from_file(scenario, set=['dynamics.engine="lammps"']), out=tmp_path / "lammps_run")

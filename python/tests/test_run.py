@@ -45,6 +45,13 @@ def test_a_run_into_a_folder_writes_what_the_cli_writes(tmp_path, examples, cli_
     written = json.loads((tmp_path / "py" / "summary.json").read_text())
     assert report.summary() == written
     assert without_timing(written) == without_timing(json.loads((cli_run / "summary.json").read_text()))
+    # Written again into the same folder: an earlier run's files are replaced, none left over.
+    (tmp_path / "py" / "taps.csv").write_text("an earlier run's\n")
+    manifest = json.loads((tmp_path / "py" / "aggpack-manifest.json").read_text())
+    manifest["files"].append("taps.csv")
+    (tmp_path / "py" / "aggpack-manifest.json").write_text(json.dumps(manifest))
+    aggpack.write_outputs(report, tmp_path / "py")
+    assert not (tmp_path / "py" / "taps.csv").exists()
     assert not (tmp_path / "py" / "checkpoint.bin").exists()  # a finished run's is removed
 
 
@@ -95,8 +102,12 @@ def test_a_view_is_read_only_and_outlives_its_report(examples):
     copies["positions"][0, 0] = 1.0  # a copy is the user's
     del report
     gc.collect()
+    # Another run now, in memory the report would have freed: the view still shows its bed.
+    other = aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", seed=2), stop_after="deposition")
+    assert not np.array_equal(other.bed.positions, positions)
     assert positions[0, 0] != 1.0
     assert np.array_equal(positions[1:], copies["positions"][1:])
+    assert positions.base is not None and isinstance(positions.base, aggpack.Bed)
 
 
 # 150 rounded grains of 2 spheres (I = 8 mm) and 40 spheres of 5 mm, poured and settled.
@@ -145,7 +156,8 @@ def test_ctrl_c_stops_at_a_safe_point_and_resume_gives_the_uninterrupted_bytes(t
     partial = stopped.value.report
     assert partial.interrupted["signal"] == signal.SIGINT
     assert partial.interrupted["checkpoint"]
-    assert "aggpack.resume" in str(stopped.value)
+    assert f'aggpack.resume("{tmp_path / "run"}")' in str(stopped.value)
+    assert "steps done" in str(stopped.value)
     assert (tmp_path / "run" / "checkpoint.bin").exists()
     assert partial.summary()["interrupted"] is True
     resumed = aggpack.resume(tmp_path / "run", threads=2)

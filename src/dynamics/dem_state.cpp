@@ -187,6 +187,9 @@ void DemSystem::check_restored_bodies() const {
         !(body.angular_velocity == bodies.angular_velocity[b]) ||
         !(body.angular_velocity == angular_velocity_of(body.rotation, body.angular_momentum, body.inverse_inertia)))
       fail(fmt::format("the record of rigid body {} is not the run's body", b));
+    // A frozen body stands still (admit_bodies stopped it; nothing moves it after).
+    if (is_frozen_body(body) && !(body.velocity == Vec3{} && body.angular_momentum == Vec3{}))
+      fail(fmt::format("rigid body {} is frozen and moving", b));
     // Its members where its pose has them (to rounding: a list build wraps them into the box),
     // moving with it, each shifted by whole periods or none.
     const double size = std::max(container_.length_x(), container_.length_y());

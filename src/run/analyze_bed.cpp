@@ -12,11 +12,15 @@
 
 namespace aggpack {
 
-BedAnalysis analyze_bed(const ParticleStore& particles, const BedAnalysisOptions& options, const std::string& name) {
+void check_box_count(const BedAnalysisOptions& options) {
   if (options.boxes.size() + options.cube_sides.size() > kMaxAnalysisBoxes)
     throw InputError(fmt::format("{}: {} boxes; expected at most {} (each is a pass over every sphere)",
                                  options.boxes_named, options.boxes.size() + options.cube_sides.size(),
                                  kMaxAnalysisBoxes));
+}
+
+BedAnalysis analyze_bed(const ParticleStore& particles, const BedAnalysisOptions& options, const std::string& name) {
+  check_box_count(options);
   BedAnalysis analysis;
   analysis.container = bounding_container(particles);
   const RunLimits limits;  // the defaults: a bed without a scenario has none to raise them

@@ -123,8 +123,9 @@ void Progress::update(const std::vector<std::string>& fields, double done, TimeL
     time_left_ = smoothed_time_left(time_left_, since, elapsed * (1.0 - done) / done);
     time_left = fmt::format("{} {} left", kind == TimeLeft::AtMost ? "at most" : "about", duration_text(*time_left_));
   }
-  if (listener_) {
-    listener_({run_, stage_, fields, done, time_left_, time_left_kind_ == TimeLeft::AtMost});
+  if (listener_) {  // the time left only when this refresh estimated it, as the line shows it
+    const std::optional<double> left = time_left.empty() ? std::nullopt : time_left_;
+    listener_({run_, stage_, fields, done, left, left && time_left_kind_ == TimeLeft::AtMost});
     return;
   }
   if (left_in_all_)

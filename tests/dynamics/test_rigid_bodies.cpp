@@ -458,6 +458,9 @@ TEST(RigidBodies, AFrozenGrainHoldsStillUnderTheGrainThatLandsOnIt) {
   start.add_body({0.05, 0.05, 0.03 + 2.0 * r + 1e-3}, {}, shape.view(), kDensity);
   std::vector<std::uint8_t> frozen(start.size(), 0);
   std::fill(frozen.begin(), frozen.begin() + 4, 1);  // the lower grain's four members
+  // Handed over moving (a pour's last state): frozen, it stops where it is.
+  start.bodies.velocity[0] = {0.1, 0, -0.2};
+  start.bodies.angular_velocity[0] = {0, 3, 0};
   DemSettings settings;
   settings.time_step = 1e-5;
   const ContactModel model = make_contact_model(material(0.3, 0.5));
@@ -471,7 +474,10 @@ TEST(RigidBodies, AFrozenGrainHoldsStillUnderTheGrainThatLandsOnIt) {
   EXPECT_EQ(store.bodies.orientation[0], start.bodies.orientation[0]);
   EXPECT_EQ(store.bodies.velocity[0], Vec3{});
   EXPECT_EQ(store.bodies.angular_velocity[0], Vec3{});
-  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(store.position[i], start.position[i]) << i;
+  for (std::size_t i = 0; i < 4; ++i) {
+    EXPECT_EQ(store.position[i], start.position[i]) << i;
+    EXPECT_EQ(store.velocity[i], Vec3{}) << i;
+  }
   const double weight = store.bodies.mass[1] * 9.81;
   const double expected = hertz_static_overlap(0.25 * weight, kEStar, 0.5 * r);
   for (std::size_t i = 0; i < 4; ++i)
@@ -496,6 +502,7 @@ TEST(RigidBodies, AFrozenGrainHoldsStillUnderTheGrainThatLandsOnIt) {
 
   // Unfrozen, the lower grain falls as soon as it is let go.
   ParticleStore falling = start;
+  falling.bodies.velocity[0] = falling.bodies.angular_velocity[0] = {};
   DemSystem unfrozen(falling, box, model, settings);
   unfrozen.run(100);
   EXPECT_LT(falling.bodies.position[0].z, start.bodies.position[0].z - 1e-7);

@@ -11,8 +11,6 @@ namespace aggpack {
 class StopRequest {
  public:
   void request(int signal_number) noexcept { signal_.store(signal_number, std::memory_order_relaxed); }
-  // No stop requested any more (the Python module's runs, one after another).
-  void clear() noexcept { signal_.store(0, std::memory_order_relaxed); }
   [[nodiscard]] int signal_number() const noexcept { return signal_.load(std::memory_order_relaxed); }
   [[nodiscard]] bool requested() const noexcept { return signal_number() != 0; }
 

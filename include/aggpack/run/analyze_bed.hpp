@@ -33,6 +33,9 @@ struct BedAnalysis {
   PairOverlap overlap;  // the deepest pair's
 };
 
+// At most kMaxAnalysisBoxes boxes and cubes, else InputError (checkable before a bed is read).
+void check_box_count(const BedAnalysisOptions& options);
+
 // Throws InputError naming `name` (the file, or what the bed is) for bad options or a bed the
 // analysis cannot measure.
 BedAnalysis analyze_bed(const ParticleStore& particles, const BedAnalysisOptions& options, const std::string& name);
