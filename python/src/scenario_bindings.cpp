@@ -29,10 +29,26 @@ ScenarioOverrides overrides_of(const std::vector<std::string>& set, std::optiona
 toml::array toml_array(const py::handle& list, const std::string& key);
 toml::table toml_table(const py::dict& dict, const std::string& key);
 
+// numpy's scalars (np.int64, np.float64, np.bool_, np.str_) as the Python values they hold.
+bool is_numpy_scalar(const py::handle& value) {
+  const py::object generic = py::module_::import("numpy").attr("generic");
+  return py::isinstance(value, generic);
+}
+
+std::int64_t toml_integer(const py::handle& value, const std::string& key) {
+  try {
+    return value.cast<std::int64_t>();
+  } catch (const py::cast_error&) {
+    throw InputError("scenario dict: " + key + ": " + py::str(value).cast<std::string>() +
+                     " is beyond TOML's 64-bit integers");
+  }
+}
+
 template <class Put>
 void put_value(const py::handle& value, const std::string& key, Put&& put) {
-  if (py::isinstance<py::bool_>(value)) put(value.cast<bool>());
-  else if (py::isinstance<py::int_>(value)) put(value.cast<std::int64_t>());
+  if (is_numpy_scalar(value)) put_value(value.attr("item")(), key, std::forward<Put>(put));
+  else if (py::isinstance<py::bool_>(value)) put(value.cast<bool>());
+  else if (py::isinstance<py::int_>(value)) put(toml_integer(value, key));
   else if (py::isinstance<py::float_>(value)) put(value.cast<double>());
   else if (py::isinstance<py::str>(value)) put(value.cast<std::string>());
   else if (py::isinstance<py::dict>(value)) put(toml_table(value.cast<py::dict>(), key));

@@ -56,6 +56,19 @@ def test_bad_input_raises_input_error_with_the_clis_message(tmp_path, name):
     assert str(from_text.value) == message
 
 
+def test_numpy_scalars_are_their_values(examples):
+    import numpy as np
+    plain = aggpack.Scenario.from_dict({"title": "t", "seed": 3, "container": {"side": 0.1, "height": 0.3},
+                                        "particles": {"diameter": 0.01, "count": 50}, "deposition": {}})
+    numpy = aggpack.Scenario.from_dict({"title": np.str_("t"), "seed": np.int64(3),
+                                        "container": {"side": np.float64(0.1), "height": 0.3},
+                                        "particles": {"diameter": 0.01, "count": np.int32(50)},
+                                        "deposition": {"tolerance": np.float64(1e-9)}})
+    assert numpy == plain.with_overrides(["deposition.tolerance=1e-9"])
+    with pytest.raises(aggpack.InputError, match="seed: 18446744073709551616 is beyond TOML's 64-bit integers"):
+        aggpack.Scenario.from_dict({"title": "t", "seed": 2**64})
+
+
 def test_a_dict_value_toml_cannot_hold_is_refused_naming_its_key():
     with pytest.raises(aggpack.InputError, match=r"container\.side: expected a dict, list, str, number or bool, not object"):
         aggpack.Scenario.from_dict({"title": "t", "container": {"side": object()}})
