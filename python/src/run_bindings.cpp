@@ -8,6 +8,7 @@
 #include <chrono>
 #include <csignal>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -137,35 +138,45 @@ PyReport from_result(RunResult&& r) {
   return out;
 }
 
-py::object run_scenario_from_python(const PyScenario& scenario, const std::optional<std::filesystem::path>& out,
-                                    int threads, const std::optional<std::string>& stop_after, bool overwrite,
-                                    const py::object& progress_callback) {
-  const auto t0 = Clock::now();
+// The library's work of one run, with its progress handed to `progress_callback`, SIGINT and
+// SIGTERM stopping it, and the GIL released; its report, or KeyboardInterrupt.
+py::object run_stoppably(const py::object& progress_callback,
+                         const std::function<PyReport(Progress&, const StopRequest&)>& work) {
   Progress progress = progress_to(progress_callback);
   StopRequest stop;
   const SignalsStopTheRun signals(stop);
   PyReport result;
   {
     py::gil_scoped_release released;
+    result = work(progress, stop);
+  }
+  return report_or_interrupt(std::move(result));
+}
+
+py::object run_scenario_from_python(const PyScenario& scenario, const std::optional<std::filesystem::path>& out,
+                                    int threads, const std::optional<std::string>& stop_after, bool overwrite,
+                                    const py::object& progress_callback) {
+  return run_stoppably(progress_callback, [&](Progress& progress, const StopRequest& stop) {
     if (out) {
       RunOptions options = options_of(threads, stop_after, overwrite, stop);
       options.progress = &progress;
       options.overrides = scenario.overrides;
       options.overrides.output_directory = *out;
       std::ostringstream log;
-      result = from_result(run_scenario_text(scenario.text, scenario.file, options, log));
-    } else {
-      RunControls controls;
-      controls.threads = threads;
-      controls.stop_after = stop_after;
-      controls.stop = &stop;
-      RunReport report = run(scenario.parsed, controls, progress);
-      report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
-      result.report = std::make_shared<const RunReport>(std::move(report));
-      result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      return from_result(run_scenario_text(scenario.text, scenario.file, options, log));
     }
-  }
-  return report_or_interrupt(std::move(result));
+    const auto t0 = Clock::now();
+    RunControls controls;
+    controls.threads = threads;
+    controls.stop_after = stop_after;
+    controls.stop = &stop;
+    RunReport report = run(scenario.parsed, controls, progress);
+    report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
+    PyReport result;
+    result.report = std::make_shared<const RunReport>(std::move(report));
+    result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    return result;
+  });
 }
 
 void bind_report(py::module_& m) {
@@ -259,18 +270,12 @@ an exception it raises ends the run with that exception.)doc");
   m.def(
       "resume",
       [](const std::filesystem::path& folder, int threads, const py::object& progress_callback) {
-        Progress progress = progress_to(progress_callback);
-        StopRequest stop;
-        const SignalsStopTheRun signals(stop);
-        PyReport result;
-        {
-          py::gil_scoped_release released;
-          std::ostringstream log;
+        return run_stoppably(progress_callback, [&](Progress& progress, const StopRequest& stop) {
           RunOptions options = options_of(threads, std::nullopt, false, stop);
           options.progress = &progress;
-          result = from_result(resume_run(folder, options, log));
-        }
-        return report_or_interrupt(std::move(result));
+          std::ostringstream log;
+          return from_result(resume_run(folder, options, log));
+        });
       },
       py::arg("folder"), py::kw_only(), py::arg("threads") = 0, py::arg("progress") = py::none(),
       "Continues the run whose checkpoint is in `folder`, as `aggpack resume` does: its outputs are those the run "
