@@ -91,7 +91,11 @@ py::object analyze(const py::object& bed_or_path, const std::vector<double>& cub
   options.tolerance = tolerance;
   options.overlap_tolerance = overlap_tolerance;
   options.soft_contacts = soft_contacts;
-  for (const double side : cubes) options.cube_sides.push_back(side * unit);
+  for (const double side : cubes) {
+    if (!(side > 0.0) || !std::isfinite(side))
+      throw InputError(fmt::format("cubes: {}: expected a positive side", side));
+    options.cube_sides.push_back(side * unit);
+  }
   for (const auto& b : boxes) {
     if (b.size() != 6) throw InputError(fmt::format("boxes: a box of {} numbers; expected xmin, ymin, zmin, xmax, ymax, zmax", b.size()));
     options.boxes.push_back({{b[0] * unit, b[1] * unit, b[2] * unit}, {b[3] * unit, b[4] * unit, b[5] * unit}});

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -27,7 +28,10 @@ using Length = std::variant<double, std::string>;
 
 std::optional<double> metres(const std::optional<Length>& length, const char* name) {
   if (!length) return std::nullopt;
-  if (const double* m = std::get_if<double>(&*length)) return *m;
+  if (const double* m = std::get_if<double>(&*length)) {
+    if (!(*m > 0.0) || !std::isfinite(*m)) throw InputError(fmt::format("{} {}: expected a positive length (m)", name, *m));
+    return *m;
+  }
   std::string why;
   const auto parsed = parse_length(std::get<std::string>(*length), &why);
   if (!parsed) throw InputError(fmt::format("{} {}: {}", name, std::get<std::string>(*length), why));

@@ -73,3 +73,11 @@ def test_a_cube_that_does_not_fit_is_refused_as_by_the_cli(bed_file):
     assert str(raised.value) in printed
     with pytest.raises(aggpack.InputError, match="a box of 3 numbers"):
         aggpack.analyze(bed_file, boxes=[[0, 0, 0]])
+    for side in (-1.0, 0.0, float("nan")):
+        with pytest.raises(aggpack.InputError, match="cubes: .*: expected a positive side"):
+            aggpack.analyze(bed_file, cubes=[side])
+    for tolerance in (-1.0, float("nan"), 2.0):
+        with pytest.raises(aggpack.InputError, match="expected a relative tolerance from 0 to 1"):
+            aggpack.analyze(bed_file, tolerance=tolerance)
+        with pytest.raises(aggpack.InputError, match="overlap tolerance .*: expected a fraction"):
+            aggpack.analyze(bed_file, overlap_tolerance=tolerance)

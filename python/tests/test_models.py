@@ -40,5 +40,8 @@ def test_bad_input_raises_the_clis_message():
     assert str(raised.value) in printed
     with pytest.raises(aggpack.InputError, match="d_min 3 furlongs"):
         aggpack.grading("fu2003_table1_coarse", d_min="3 furlongs")
+    for bad in (-1.0, 0.0, float("nan")):
+        with pytest.raises(aggpack.InputError, match="expected a positive length"):
+            aggpack.grading("fu2003_table1_coarse", d_min=bad)
     with pytest.raises(aggpack.InputError):
         aggpack.predict("fu2003_table1_coarse", process="shaken")

@@ -21,6 +21,12 @@ void check_box_count(const BedAnalysisOptions& options) {
 
 BedAnalysis analyze_bed(const ParticleStore& particles, const BedAnalysisOptions& options, const std::string& name) {
   check_box_count(options);
+  if (!(options.tolerance >= 0.0 && options.tolerance <= 1.0))
+    throw InputError(fmt::format("{} {}: expected a relative tolerance from 0 to 1", options.tolerance_named,
+                                 options.tolerance));
+  if (!(options.overlap_tolerance >= 0.0 && options.overlap_tolerance <= 1.0))
+    throw InputError(fmt::format("overlap tolerance {}: expected a fraction of the smaller radius from 0 to 1",
+                                 options.overlap_tolerance));
   BedAnalysis analysis;
   analysis.container = bounding_container(particles);
   const RunLimits limits;  // the defaults: a bed without a scenario has none to raise them
