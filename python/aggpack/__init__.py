@@ -20,6 +20,7 @@ from ._aggpack import (  # noqa: F401
     Scenario,
     __version__,
     analyze,
+    calibrate,
     export_lammps,
     grading,
     import_lammps,
@@ -31,5 +32,5 @@ from ._aggpack import (  # noqa: F401
     write_outputs,
 )
 
-__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "export_lammps", "grading", "import_lammps",
+__all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "calibrate", "export_lammps", "grading", "import_lammps",
            "predict", "read_bed", "resume", "run", "toml_text", "write_outputs"]

@@ -60,7 +60,7 @@ Rows checked_rows(const py::handle& value, const char* name, std::size_t count, 
 }
 
 std::shared_ptr<PyBed> from_arrays(const py::handle& positions, const py::handle& radii, const py::handle& velocities,
-                                   double density) {
+                                   const py::handle& materials, double density) {
   const Rows p = checked_rows(positions, "positions", 0, 3);
   const auto n = static_cast<std::size_t>(p.shape(0));
   const Rows r = checked_rows(radii, "radii", n, 0);
@@ -76,6 +76,15 @@ std::shared_ptr<PyBed> from_arrays(const py::handle& positions, const py::handle
   if (!velocities.is_none()) {
     const Rows v = checked_rows(velocities, "velocities", n, 3);
     for (std::size_t i = 0; i < n; ++i) store->velocity[i] = {v.data()[3 * i], v.data()[3 * i + 1], v.data()[3 * i + 2]};
+  }
+  if (!materials.is_none()) {
+    const Rows m = checked_rows(materials, "materials", n, 0);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double k = m.data()[i];
+      if (!(k >= 0.0 && k < 256.0 && k == std::floor(k)))
+        throw InputError(fmt::format("materials: entry {} is {}; expected a material's index, 0 to 255", i, k));
+      store->material[i] = static_cast<std::uint8_t>(k);
+    }
   }
   return std::make_shared<PyBed>(PyBed{std::move(store), "the bed from arrays", ""});
 }
@@ -120,9 +129,10 @@ void bind_analysis(py::module_& m) {
         "dump or data file; `timestep`: a dump's snapshot, default the last) into an aggpack.Bed of its own.");
   py::class_<PyBed, std::shared_ptr<PyBed>>(m.attr("Bed"))
       .def_static("from_arrays", &from_arrays, py::arg("positions"), py::arg("radii"), py::kw_only(),
-                  py::arg("velocities") = py::none(), py::arg("density") = 1.0,
-                  "A bed of its own from arrays: positions N x 3 and radii N, m (velocities N x 3, m/s; density, "
-                  "kg/m^3, for the masses). The numbers are copied.");
+                  py::arg("velocities") = py::none(), py::arg("materials") = py::none(), py::arg("density") = 1.0,
+                  "A bed of its own from arrays: positions N x 3 and radii N, m (velocities N x 3, m/s; materials N, "
+                  "each sphere's material as an index of a scenario's materials, default 0; density, kg/m^3, for "
+                  "the masses: a run from the bed takes its materials' instead). The numbers are copied.");
   m.def("analyze", &analyze, py::arg("bed"), py::kw_only(), py::arg("cubes") = std::vector<double>{},
         py::arg("boxes") = std::vector<std::vector<double>>{}, py::arg("tolerance") = 1e-6,
         py::arg("overlap_tolerance") = BedAnalysisOptions{}.overlap_tolerance, py::arg("soft_contacts") = false,

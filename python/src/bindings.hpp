@@ -5,6 +5,10 @@
 #pragma once
 #include <pybind11/pybind11.h>
 
+#include <filesystem>
+#include <string>
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
 #include "aggpack/run/run.hpp"
@@ -22,6 +26,16 @@ void bind_lammps(py::module_& m);  // after bind_run: it returns Reports
 
 // A finished run into a folder as an aggpack.Report (the GIL held).
 py::object report_of(RunResult&& result);
+
+// A scenario file and its overrides, from a path (with `set`) or from an aggpack.Scenario read
+// from its file (its --set and seed, then `set`), for the calls that read a scenario file
+// (`function` names the call in the InputError for a Scenario made from text or a dict).
+struct FileAndOverrides {
+  std::filesystem::path path;
+  ScenarioOverrides overrides;
+};
+FileAndOverrides scenario_file_of(const py::object& scenario, const std::vector<std::string>& set,
+                                  const char* function);
 
 // JSON values to Python's (dict, list, str, int, float, bool, None) and back.
 py::object to_python(const nlohmann::json& value);

@@ -20,39 +20,12 @@
 #include "python_scenario.hpp"
 
 namespace aggpack::python {
-namespace {
-
-// A scenario file (a path, or a Scenario read from its file, whose overrides come along) or,
-// for export, a run's folder.
-struct FileAndOverrides {
-  std::filesystem::path path;
-  ScenarioOverrides overrides;
-};
-
-FileAndOverrides file_of(const py::object& scenario, const std::vector<std::string>& set, const char* function) {
-  if (!py::isinstance<PyScenario>(scenario)) {
-    FileAndOverrides given{scenario.cast<std::filesystem::path>(), {}};
-    given.overrides.set = set;
-    return given;
-  }
-  const auto& s = scenario.cast<const PyScenario&>();
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(s.file, ec) || read_scenario_text(s.file) != s.text)
-    throw InputError(fmt::format("{}: the scenario '{}' was not read from its file {}; {} reads a scenario file: write "
-                                 "scenario.text to a file and give its path",
-                                 function, s.parsed.title, s.file.string(), function));
-  FileAndOverrides read{s.file, s.overrides};  // its --set and its seed
-  read.overrides.set.insert(read.overrides.set.end(), set.begin(), set.end());
-  return read;
-}
-
-}  // namespace
 
 void bind_lammps(py::module_& m) {
   m.def(
       "export_lammps",
       [](const py::object& scenario_or_run, const std::filesystem::path& out, bool tap, const std::vector<std::string>& set) {
-        const FileAndOverrides source = file_of(scenario_or_run, set, "export_lammps");
+        const FileAndOverrides source = scenario_file_of(scenario_or_run, set, "export_lammps");
         py::gil_scoped_release released;
         std::ostringstream log;
         return export_lammps(source.path, source.overrides, out, tap, log);
@@ -69,7 +42,7 @@ larger beds on many cores or a cluster".)doc");
       "import_lammps",
       [](const std::filesystem::path& file, const py::object& scenario, const std::filesystem::path& out,
          std::optional<std::int64_t> timestep, const std::vector<std::string>& set) {
-        const FileAndOverrides source = file_of(scenario, set, "import_lammps");
+        const FileAndOverrides source = scenario_file_of(scenario, set, "import_lammps");
         RunOptions options;
         options.quiet = true;
         options.overrides = source.overrides;

@@ -1,12 +1,14 @@
-// aggpack.grading and aggpack.predict: a grading (or a coarse/fine mix) described and checked,
-// and the analytic packing models on a scenario's or a grading's sizes, as the CLI's
-// `aggpack grading --json` and `aggpack predict --json` give them.
+// aggpack.grading, aggpack.predict and aggpack.calibrate: a grading (or a coarse/fine mix)
+// described and checked, the analytic packing models on a scenario's or a grading's sizes, and
+// their calibration (CPM's K and beta, or a contact parameter by DEM), as the CLI's
+// `aggpack grading --json`, `aggpack predict --json` and `aggpack calibrate` give them.
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <variant>
 #include <vector>
@@ -15,9 +17,13 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
+#include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/shape_option.hpp"
 #include "aggpack/run/grading_report.hpp"
 #include "aggpack/run/predictions.hpp"
+#include "aggpack/run/preflight.hpp"
+#include "aggpack/studies/calibration.hpp"
+#include "aggpack/studies/dem_calibration.hpp"
 #include "bindings.hpp"
 
 namespace aggpack::python {
@@ -88,6 +94,63 @@ py::object predict_densities(const std::string& input, const std::optional<std::
   return to_python(j);
 }
 
+struct DemFit {
+  std::optional<double> measured;
+  std::vector<std::string> fit, materials;
+  bool shared = false;
+  std::optional<std::vector<double>> range;
+  int max_runs = 6;
+};
+
+py::object calibrate_models(const py::object& scenario, const std::optional<std::filesystem::path>& out, int seeds,
+                            int threads, const std::vector<std::string>& set, bool dem, const DemFit& by_dem) {
+  const FileAndOverrides source = scenario_file_of(scenario, set, "calibrate");
+  if (!dem && (by_dem.measured || !by_dem.fit.empty() || !by_dem.materials.empty() || by_dem.shared || by_dem.range))
+    throw InputError("calibrate: measured, fit, materials, shared and range apply to a DEM calibration: give dem=True");
+  if (dem && !by_dem.measured)
+    throw InputError("calibrate: dem=True needs measured=, the measured packing density of the scenario's bed, "
+                     "which the fit reproduces");
+  if (out) check_output_directory(out->has_parent_path() ? out->parent_path() : ".", true);
+  nlohmann::json j;
+  bool converged = true;
+  {
+    py::gil_scoped_release released;
+    std::ostringstream log;  // quiet: nothing goes there
+    if (dem) {
+      DemCalibrationOptions d;
+      d.scenario = source.path;
+      d.overrides = source.overrides;
+      d.seeds = seeds;
+      d.threads = threads;
+      d.quiet = true;
+      d.measured = *by_dem.measured;
+      if (!by_dem.fit.empty()) d.fit = by_dem.fit;
+      d.materials = by_dem.materials;
+      d.shared = by_dem.shared;
+      d.range = by_dem.range;
+      d.max_evaluations = by_dem.max_runs;
+      const DemCalibration c = calibrate_dem(d, log);
+      converged = c.search.converged;
+      j = to_json(c);
+    } else {
+      CalibrationOptions c;
+      c.scenario = source.path;
+      c.overrides = source.overrides;
+      c.seeds = seeds;
+      c.threads = threads;
+      c.quiet = true;
+      j = to_json(calibrate(c, log));
+    }
+    if (out) write_file_atomically(*out, j.dump(1) + "\n");
+  }
+  if (!converged)  // the value is an interpolation the runs did not confirm
+    PyErr_WarnEx(PyExc_RuntimeWarning,
+                 "aggpack.calibrate: NOT CONVERGED: no value's seed mean came within its standard error of the "
+                 "measurement; the value is interpolated between the last two (raise max_runs)",
+                 1);
+  return to_python(j);
+}
+
 }  // namespace
 
 void bind_models(py::module_& m) {
@@ -113,6 +176,31 @@ sizes, as `aggpack predict --json` gives them (a dict).
 sieve analysis; `mix`, `ca_fa`: a blend; `k`: CPM's compaction index, or `process` ("poured",
 "rodded", "vibrated", "vibrated_compressed"); `beta`, `beta_fine`: residual packing densities;
 `calibration`: K and beta from a file `aggpack calibrate` wrote.)doc");
+  m.def(
+      "calibrate",
+      [](const py::object& scenario, const std::optional<std::filesystem::path>& out, int seeds, int threads,
+         const std::vector<std::string>& set, bool dem, std::optional<double> measured,
+         const std::vector<std::string>& fit, const std::vector<std::string>& materials, bool shared,
+         const std::optional<std::vector<double>>& range, int max_runs) {
+        return calibrate_models(scenario, out, seeds, threads, set, dem,
+                                DemFit{measured, fit, materials, shared, range, max_runs});
+      },
+      py::arg("scenario"), py::kw_only(), py::arg("out") = py::none(), py::arg("seeds") = 3, py::arg("threads") = 0,
+      py::arg("set") = std::vector<std::string>{}, py::arg("dem") = false, py::arg("measured") = py::none(),
+      py::arg("fit") = std::vector<std::string>{}, py::arg("materials") = std::vector<std::string>{},
+      py::arg("shared") = false, py::arg("range") = py::none(), py::arg("max_runs") = 6,
+      R"doc(Calibrates the models from simulations of a scenario, as `aggpack calibrate` does, and
+returns the calibration file's dict (written to `out` too, when given).
+
+`scenario`: a scenario file's path or an aggpack.Scenario read from its file (`set` adds --set
+overrides). Without `dem`: CPM's K and beta from a monosized bed and the scenario's mix, each
+over `seeds` seeds (what predict(..., calibration=) and a scenario's models.calibration read).
+With `dem=True`: the value of a contact parameter (`fit`: ["rolling_friction"] by default, or
+["friction"]) of `materials` (default: the bed's one material; `shared`: one value for all)
+for which the scenario's own protocol packs at the `measured` density, searched in `range`
+[low, high] with at most `max_runs` values (a file for --calibration and
+dynamics.calibration). A DEM search that did not converge warns (RuntimeWarning). The runs
+release the GIL; Ctrl-C is taken once the calibration returns.)doc");
 }
 
 }  // namespace aggpack::python

@@ -14,6 +14,9 @@
 #include <sstream>
 #include <string>
 
+#include <fmt/format.h>
+
+#include "aggpack/core/error.hpp"
 #include "aggpack/core/stop_request.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/run/analyze.hpp"
@@ -154,8 +157,16 @@ py::object run_stoppably(const py::object& progress_callback,
 }
 
 py::object run_scenario_from_python(const PyScenario& scenario, const std::optional<std::filesystem::path>& out,
-                                    int threads, const std::optional<std::string>& stop_after, bool overwrite,
+                                    const std::shared_ptr<PyBed>& bed, int threads,
+                                    const std::optional<std::string>& stop_after, bool overwrite,
                                     const py::object& progress_callback) {
+  // A run into a folder can be resumed from its scenario file alone: a bed held in memory
+  // would not be there to resume from.
+  if (bed && out)
+    throw InputError(fmt::format("bed= with out={}: a run from a bed in memory runs in memory (its checkpoints "
+                                 "could not be resumed without the bed); run it without out=, then "
+                                 "aggpack.write_outputs(report, folder)",
+                                 out->string()));
   return run_stoppably(progress_callback, [&](Progress& progress, const StopRequest& stop) {
     if (out) {
       RunOptions options = options_of(threads, stop_after, overwrite, stop);
@@ -170,6 +181,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
     controls.threads = threads;
     controls.stop_after = stop_after;
     controls.stop = &stop;
+    if (bed) controls.starting_bed = bed->store.get();
     RunReport report = run(scenario.parsed, controls, progress);
     report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
     PyReport result;
@@ -253,14 +265,17 @@ py::object report_of(RunResult&& result) { return py::cast(from_result(std::move
 void bind_run(py::module_& m) {
   bind_report(m);
   m.def("run", &run_scenario_from_python, py::arg("scenario"), py::kw_only(), py::arg("out") = py::none(),
-        py::arg("threads") = 0, py::arg("stop_after") = py::none(), py::arg("overwrite") = false,
+        py::arg("bed") = py::none(), py::arg("threads") = 0, py::arg("stop_after") = py::none(), py::arg("overwrite") = false,
         py::arg("progress") = py::none(),
         R"doc(Runs a scenario and returns its aggpack.Report.
 
 With `out`, runs as `aggpack run --out OUT` does: the outputs and checkpoints in that folder
 (refused if it holds files no aggpack run wrote, unless `overwrite`), the report's summary()
 the summary.json written. Without, runs in memory and writes nothing (write_outputs writes the
-report later). `threads`: OpenMP threads (0: all cores); the results are the same bytes for
+report later). `bed`: an aggpack.Bed to start from, for a scenario whose [particles] has
+from = "-" (read_bed's, Bed.from_arrays', another run's): checked as a particle file would be,
+each sphere of its own material (an index of the scenario's materials; a bed all of material 0
+takes particles.material); a run from a bed runs in memory. `threads`: OpenMP threads (0: all cores); the results are the same bytes for
 any count. `stop_after`: end after a stage ("deposition"), as --stop-after. Ctrl-C (SIGINT) or
 SIGTERM stops the run at its next safe point and raises KeyboardInterrupt, whose `report` is
 what the run had done; a run into a folder leaves its checkpoint there for aggpack.resume.

@@ -8,11 +8,13 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/run.hpp"
 #include "bindings.hpp"
+#include "python_bed.hpp"
 #include "python_scenario.hpp"
 
 namespace aggpack::python {
@@ -104,6 +106,24 @@ std::string toml_text(const py::dict& dict) {
   return out.str() + "\n";
 }
 
+FileAndOverrides scenario_file_of(const py::object& scenario, const std::vector<std::string>& set,
+                                  const char* function) {
+  if (!py::isinstance<PyScenario>(scenario)) {
+    FileAndOverrides given{scenario.cast<std::filesystem::path>(), {}};
+    given.overrides.set = set;
+    return given;
+  }
+  const auto& s = scenario.cast<const PyScenario&>();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(s.file, ec) || read_scenario_text(s.file) != s.text)
+    throw InputError(fmt::format("{}: the scenario '{}' was not read from its file {}; {} reads a scenario file: write "
+                                 "scenario.text to a file and give its path",
+                                 function, s.parsed.title, s.file.string(), function));
+  FileAndOverrides read{s.file, s.overrides};  // its --set and its seed
+  read.overrides.set.insert(read.overrides.set.end(), set.begin(), set.end());
+  return read;
+}
+
 void bind_scenario(py::module_& m) {
   py::class_<PyScenario>(m, "Scenario", R"doc(A scenario: the container, the particles, the protocol and the outputs of a run.
 
@@ -136,12 +156,14 @@ wrong and what is expected).)doc")
            py::arg("seed") = py::none(),
            "A copy with more --set assignments (after this one's) and, if given, another seed.")
       .def("check",
-           [](const PyScenario& s) {
+           [](const PyScenario& s, const std::shared_ptr<PyBed>& bed) {
              py::gil_scoped_release released;
-             check_loaded_scenario(s.parsed);
+             check_loaded_scenario(s.parsed, bed ? bed->store.get() : nullptr);
            },
-           "Checks what `aggpack check` checks beyond reading: the particle file, the grains' templates, the output "
-           "folder and the virtual boxes. Raises InputError; returns None when all is well.")
+           py::kw_only(), py::arg("bed") = py::none(),
+           "Checks what `aggpack check` checks beyond reading: the particle file (or `bed`, the aggpack.Bed that "
+           "aggpack.run(scenario, bed=...) would start from), the grains' templates, the output folder and the "
+           "virtual boxes. Raises InputError; returns None when all is well.")
       .def("to_dict", [](const PyScenario& s) { return to_python(aggpack::to_json(s.parsed)); },
            "The scenario as aggpack read it, every default filled in, in SI units (summary.json's `scenario`).")
       .def_property_readonly("text", [](const PyScenario& s) { return s.text; }, "The TOML text it was read from.")

@@ -142,6 +142,11 @@ def test_grains_come_with_their_sphere_to_grain_map(tmp_path):
     q = bed.grain_orientations
     assert np.allclose(np.einsum("ij,ij->i", q, q), 1.0, atol=1e-12)
     assert np.allclose(np.cbrt(6.0 / np.pi * bed.grain_volumes), table[:, 8], rtol=1e-12)
+    # A starting bed is of spheres: grains are generated from sizes and poured.
+    given = {key: value for key, value in GRAINS.items() if key != "pour"}
+    given["particles"] = {"from": "-"}
+    with pytest.raises(aggpack.InputError, match="holds grains; a starting bed is of spheres"):
+        aggpack.run(aggpack.Scenario.from_dict(given), bed=bed)
 
 
 def test_ctrl_c_stops_at_a_safe_point_and_resume_gives_the_uninterrupted_bytes(tmp_path, examples, cli_run):

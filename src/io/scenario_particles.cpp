@@ -181,6 +181,26 @@ void read_file_tolerances(const TomlSection& s, ParticleSource& source) {
   source.overlap_tolerance = s.number("overlap_tolerance", {0.0, 1.0, false, true}).value_or(source.overlap_tolerance);
   source.soft_contacts = s.boolean("soft_contacts").value_or(false);
 }
+// particles.from: a particle file's path and how to read it, or "-", a bed the caller gives.
+void read_file_source(const TomlSection& s, const std::filesystem::path& scenario_dir, const std::string& file,
+                      ParticleSource& source) {
+  if (s.has("shape")) s.fail("shape", "a particle file holds spheres: grains are generated from sizes and poured");
+  for (auto k : {"count", "solid_volume", "order"})
+    if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
+  read_file_tolerances(s, source);
+  if (file == kBedFromCaller) {  // the library's caller (Python's aggpack.run(..., bed=)) hands the bed over
+    for (auto k : {"length_unit", "timestep"})
+      if (s.has(k)) s.fail(k, "a bed given by the caller (from = \"-\") is in metres and has one snapshot");
+    source.file = std::filesystem::path(kBedFromCaller);
+    return;
+  }
+  const std::string unit = s.string("length_unit").value_or("m");
+  const auto factor = metres_per_unit(unit);
+  if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
+  source.file_length_unit = static_cast<double>(*factor);
+  source.file_timestep = s.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
+  source.file = input_file_at(s, "from", scenario_dir, file, "the particle file");  // after its keys are checked
+}
 }  // namespace
 
 ParticleSource read_particles(const TomlSection& s, const std::filesystem::path& scenario_dir,
@@ -214,16 +234,7 @@ ParticleSource read_particles(const TomlSection& s, const std::filesystem::path&
   for (auto k : {"sampling", "fill_height", "expected_density", "ca_fa"})
     if (s.has(k)) s.fail(k, "applies only to particles sampled from a grading");
   if (const auto file = s.string("from")) {
-    if (s.has("shape")) s.fail("shape", "a particle file holds spheres: grains are generated from sizes and poured");
-    for (auto k : {"count", "solid_volume", "order"})
-      if (s.has(k)) s.fail(k, "does not apply to particles read from a file");
-    const std::string unit = s.string("length_unit").value_or("m");
-    const auto factor = metres_per_unit(unit);
-    if (!factor) s.fail("length_unit", fmt::format("unknown length unit \"{}\"; expected m, cm, mm, um, in, ft or yd", unit));
-    source.file_length_unit = static_cast<double>(*factor);
-    read_file_tolerances(s, source);
-    source.file_timestep = s.integer("timestep", 0, std::numeric_limits<std::int64_t>::max());
-    source.file = input_file_at(s, "from", scenario_dir, *file, "the particle file");  // after its keys are checked
+    read_file_source(s, scenario_dir, *file, source);
     return source;
   }
   for (auto k : {"length_unit", "timestep"})

@@ -161,6 +161,11 @@ Predictions predict(const PredictRequest& r) {
                      "coarse/fine mix");
   if (sc) {
     if (!sc->particles.file) return predict_scenario(*sc, parameters);
+    if (sc->particles.bed_from_caller())
+      throw InputError(fmt::format("{}: particles.from = \"-\": the bed is given by the library's caller at run "
+                                   "time, so there is no distribution to predict from here; predict from the run's "
+                                   "report (its predictions), or name a particle file",
+                                   sc->file.string()));
     // The file's spheres are the distribution, as in the run's summary.
     const auto max_bytes = sc->limits.max_input_bytes();
     const PackingFile file = read_packing_file(*sc->particles.file, sc->particles.file_length_unit,

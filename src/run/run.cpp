@@ -42,9 +42,9 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
   return sc;
 }
 
-void check_loaded_scenario(const Scenario& sc) {
+void check_loaded_scenario(const Scenario& sc, const ParticleStore* starting_bed) {
   check_output_directory(sc.output.directory, false);
-  const InitialBed bed = initial_bed(sc);
+  const InitialBed bed = initial_bed(sc, starting_bed);
   (void)checked_grains(sc, scenario_protocol(sc), bed);  // their templates made: a second or so
   if (sc.deposition || sc.pour) return;  // the boxes can only be placed in the bed once made
   analyse_bed(sc, bed.particles);        // box placement errors surface here

@@ -226,7 +226,10 @@ std::vector<std::string> RunReport::modelling_notes() const {
   const Scenario& sc = r.scenario;
   std::vector<std::string> notes;
   const bool from_lammps = r.input_format.starts_with("LAMMPS");
-  if (sc.particles.file)
+  if (sc.particles.bed_from_caller())
+    notes.push_back("particle positions were given by the caller (particles.from = \"-\"): " + r.input_format +
+                    (r.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
+  else if (sc.particles.file)
     notes.push_back("particle positions were read from " + sc.particles.file->string() +
                     (from_lammps ? " (" + r.input_format + ")" : std::string()) +
                     (r.dynamics ? "; the dynamics stage settled them from there" : "; no aggpack stage moved them"));
@@ -356,13 +359,13 @@ nlohmann::json stages_json(const RunReport& r, nlohmann::json& wall_clock) {
   return stages;
 }
 
-// Where a particle file's bed came from, and how far its spheres overlap.
+// Where a particle file's bed came from (or the caller's), and how far its spheres overlap.
 nlohmann::json input_json(const RunReport& r) {
   const Scenario& sc = r.scenario;
   nlohmann::json input = {{"file", sc.particles.file->string()},
                           {"largest_boundary_overlap_rel", r.largest_boundary_overlap},
                           {"boundary_overlap_tolerance_rel", sc.particles.boundary_overlap_tolerance}};
-  if (r.input_format.starts_with("LAMMPS")) input["format"] = r.input_format;
+  if (r.input_format.starts_with("LAMMPS") || sc.particles.bed_from_caller()) input["format"] = r.input_format;
   if (r.largest_pair_overlap > 1e-6) {
     input["largest_pair_overlap_rel"] = r.largest_pair_overlap;
     input["soft_contacts"] = sc.particles.soft_contacts;

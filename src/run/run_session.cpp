@@ -1,5 +1,6 @@
 #include "run/run_session.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <variant>
@@ -63,35 +64,91 @@ void check_grain_protocol(const Scenario& sc, const Protocol& protocol) {
 constexpr double kFrameSlack = 1e-6;
 }  // namespace
 
-InitialBed initial_bed(const Scenario& sc) {
+namespace {
+
+// The spheres of particles.from's file, each of its material (the file's material column, else
+// particles.material).
+ParticleStore read_file_bed(const Scenario& sc, std::string& format) {
+  // A particle file is one component, all of one material.
+  const std::uint8_t material = sc.particles.material_of_component(0);
+  PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit,
+                                       material_of(sc, material).density, sc.limits.max_input_bytes(),
+                                       sc.particles.file_timestep);
+  std::fill(file.particles.material.begin(), file.particles.material.end(), material);
+  if (!file.materials.empty() && sc.particles.component_material.front() != 0)
+    throw InputError(fmt::format("{}: particles.material: the file {} names each sphere's material (its material "
+                                 "column): expected no particles.material",
+                                 sc.file.string(), sc.particles.file->string()));
+  assign_file_materials(file.particles, file.materials, sc, sc.particles.file->string());
+  format = std::move(file.format);
+  return std::move(file.particles);
+}
+
+// The caller's starting bed (particles.from = "-"), as a file's would be read: its spheres'
+// positions, radii and velocities; each sphere's material its own (an index of the scenario's
+// materials), or particles.material's for a bed all of material 0; masses from the materials.
+ParticleStore given_bed(const Scenario& sc, const ParticleStore* given, const std::string& name) {
+  if (!given)
+    throw InputError(fmt::format("{}: particles.from = \"{}\" takes the starting bed from the library's caller "
+                                 "(Python: aggpack.run(scenario, bed=...)), and none was given; expected a particle "
+                                 "file's path",
+                                 sc.file.string(), kBedFromCaller));
+  if (!given->bodies.empty())
+    throw InputError(fmt::format("{}: {} holds grains; a starting bed is of spheres (grains are generated from "
+                                 "sizes and poured)",
+                                 sc.file.string(), name));
+  ParticleStore bed;
+  bed.reserve(given->size());
+  const std::uint8_t material = sc.particles.material_of_component(0);
+  const bool all_default = std::all_of(given->material.begin(), given->material.end(), [](auto m) { return m == 0; });
+  for (std::size_t i = 0; i < given->size(); ++i) {
+    const std::uint8_t own = all_default ? material : given->material[i];
+    if (own >= material_count(sc))
+      throw InputError(fmt::format("{}: sphere {} of {} is of material {}, and the scenario has {} (indices 0 to {})",
+                                   sc.file.string(), i, name, own, material_count(sc), material_count(sc) - 1));
+    bed.add(given->position[i], given->radius[i], material_of(sc, own).density);
+    bed.velocity[i] = given->velocity[i];
+    bed.material[i] = own;
+  }
+  if (!all_default && material != 0)
+    throw InputError(fmt::format("{}: particles.material: {} gives each sphere's material: expected no "
+                                 "particles.material",
+                                 sc.file.string(), name));
+  return bed;
+}
+
+}  // namespace
+
+InitialBed initial_bed(const Scenario& sc, const ParticleStore* starting_bed) {
   check_amount(sc);
   check_frames(sc);
   check_lammps_available(sc);
   InitialBed bed;
+  if (starting_bed && !sc.particles.bed_from_caller())
+    throw InputError(fmt::format("{}: a starting bed was given, and the scenario's particles are {}: expected "
+                                 "[particles] from = \"{}\" for the bed given",
+                                 sc.file.string(),
+                                 sc.particles.file ? "read from " + sc.particles.file->string() : "generated",
+                                 kBedFromCaller));
   if (sc.particles.file) {
-    // A particle file is one component, all of one material.
-    const std::uint8_t material = sc.particles.material_of_component(0);
-    PackingFile file = read_packing_file(*sc.particles.file, sc.particles.file_length_unit,
-                                         material_of(sc, material).density, sc.limits.max_input_bytes(),
-                                         sc.particles.file_timestep);
-    bed.particles = std::move(file.particles);
-    std::fill(bed.particles.material.begin(), bed.particles.material.end(), material);
-    if (!file.materials.empty() && sc.particles.component_material.front() != 0)
-      throw InputError(fmt::format("{}: particles.material: the file {} names each sphere's material (its material "
-                                   "column): expected no particles.material",
-                                   sc.file.string(), sc.particles.file->string()));
-    assign_file_materials(bed.particles, file.materials, sc, sc.particles.file->string());
-    bed.file_format = std::move(file.format);
+    const std::string name = sc.particles.bed_from_caller()
+                                 ? fmt::format("the starting bed given (particles.from = \"{}\")", kBedFromCaller)
+                                 : sc.particles.file->string();
+    if (sc.particles.bed_from_caller()) {
+      bed.particles = given_bed(sc, starting_bed, name);
+      bed.file_format = fmt::format("given by the caller ({} spheres)", bed.particles.size());
+    } else {
+      bed.particles = read_file_bed(sc, bed.file_format);
+    }
     if (!(static_cast<double>(bed.particles.size()) <= sc.limits.max_particles))
-      throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}",
-                                   sc.particles.file->string(), bed.particles.size(), sc.limits.max_particles));
+      throw InputError(fmt::format("{}: {} particles, more than limits.max_particles = {:.3g}", name,
+                                   bed.particles.size(), sc.limits.max_particles));
     bed.largest_boundary_overlap =
-        fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, *sc.particles.file);
+        fit_into_container(bed.particles, sc.container, sc.particles.boundary_overlap_tolerance, name);
     check_sizes(sc, bed.particles.radius);
     check_protocol_beds(sc, bed.particles.radius, {});
     bed.largest_pair_overlap = check_particle_overlaps(bed.particles, sc.container, sc.particles.overlap_tolerance,
-                                                       sc.particles.soft_contacts, sc.particles.file->string(),
-                                                       sc.limits.max_grid_cells);
+                                                       sc.particles.soft_contacts, name, sc.limits.max_grid_cells);
     return bed;
   }
   try {
@@ -131,7 +188,7 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   check_thread_count(controls.threads);
   report_.scenario = sc;
   const auto t0 = Clock::now();
-  InitialBed initial = initial_bed(sc);
+  InitialBed initial = initial_bed(sc, controls.starting_bed);
   report_.particles = std::move(initial.particles);
   report_.largest_boundary_overlap = initial.largest_boundary_overlap;
   report_.largest_pair_overlap = initial.largest_pair_overlap.depth_over_radius;

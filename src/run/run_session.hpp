@@ -26,7 +26,8 @@ struct InitialBed {
   std::string file_format;  // of a particle file: "CSV", "LAMMPS dump, timestep 1000", ...
   std::optional<GeneratedSizes> sizes;
 };
-InitialBed initial_bed(const Scenario& sc);
+// `starting_bed`: the caller's bed for particles.from = "-" (RunControls::starting_bed).
+InitialBed initial_bed(const Scenario& sc, const ParticleStore* starting_bed = nullptr);
 
 // The run's grains (none without a component's shape), checked before any work as the spheres
 // were in initial_bed: the protocol can take them (no deposit, no frozen grain, one batch to

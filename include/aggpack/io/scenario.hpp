@@ -46,10 +46,14 @@ struct GradedParticles {
 };
 
 // Where particle positions come from: generated sizes (placed by a stage) or a file.
+// particles.from's value for a bed that the library's caller gives the run (Python's
+// aggpack.run(scenario, bed=...), RunControls::starting_bed) instead of a file.
+inline constexpr const char* kBedFromCaller = "-";
+
 struct ParticleSource {
   std::optional<SizeSpec> sizes;           // set when the scenario generates particles by class
   std::optional<GradedParticles> graded;   // set when it samples them from gradings
-  std::optional<std::filesystem::path> file;  // set when positions are read from a file
+  std::optional<std::filesystem::path> file;  // set when positions are read from a file (or given: bed_from_caller)
   double file_length_unit = 1.0;           // metres per file unit
   std::optional<std::int64_t> file_timestep;  // a LAMMPS dump's snapshot to read; none: the last
   // Largest overlap of the floor or a wall accepted from a file, as a fraction of the
@@ -70,6 +74,8 @@ struct ParticleSource {
       if (shape) return true;
     return false;
   }
+  // particles.from = "-": the positions are a bed the caller gives the run, not a file's.
+  [[nodiscard]] bool bed_from_caller() const { return file && file->native() == kBedFromCaller; }
   // Component c's material (a particle file is one component: 0).
   [[nodiscard]] std::uint8_t material_of_component(std::size_t c) const {
     return component_material.empty() ? 0 : component_material.at(c);

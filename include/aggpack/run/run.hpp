@@ -37,6 +37,10 @@ struct RunControls {
   // Also checkpoint once every step is done, before the final analysis, whenever that comes
   // (a campaign keeps that checkpoint so that, resumed, it does not run the steps again).
   bool checkpoint_before_final_analysis = false;
+  // The bed to start from for a scenario whose particles are "-" (particles.from = "-"):
+  // its spheres' positions, radii, velocities and materials (indices of the scenario's), checked
+  // as a particle file's are. Null otherwise; given for any other scenario, it is refused.
+  const ParticleStore* starting_bed = nullptr;
   // A checkpoint of this scenario to continue from (aggpack resume); null: start afresh.
   const Checkpoint* resume_from = nullptr;
   // Steps to run instead of the scenario's protocol (aggpack export-lammps: those before its
@@ -109,6 +113,6 @@ RunResult resume_run(const std::filesystem::path& run_directory, const RunOption
 // Validates a scenario (and the particle file it names) without running or writing.
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides);
 // The same checks on a scenario already read (its particle file, grains, output folder, boxes).
-void check_loaded_scenario(const Scenario& scenario);
+void check_loaded_scenario(const Scenario& scenario, const ParticleStore* starting_bed = nullptr);
 
 }  // namespace aggpack
