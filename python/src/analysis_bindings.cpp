@@ -40,7 +40,7 @@ std::shared_ptr<PyBed> read_bed(const std::filesystem::path& path, const std::st
     return read_packing_file(path, unit, 1.0, kDefaultMaxInputFileBytes, timestep);
   }();
   auto store = std::make_shared<ParticleStore>(std::move(file.particles));
-  return std::make_shared<PyBed>(PyBed{std::move(store), path.string(), file.format});
+  return std::make_shared<PyBed>(PyBed{std::move(store), path.string(), file.format, std::move(file.materials)});
 }
 
 // Rows of `columns` finite numbers (columns 0: a vector), else InputError naming the argument.

@@ -31,38 +31,9 @@ py::array vec3_view(const std::shared_ptr<PyBed>& bed, const std::vector<Vec3>& 
   return view(bed, reinterpret_cast<const double*>(v.data()), v.size(), 3);
 }
 
-}  // namespace
-
-void bind_bed(py::module_& m) {
-  m.attr("NO_GRAIN") = py::int_(kNoBody);
-  py::class_<PyBed, std::shared_ptr<PyBed>>(m, "Bed", R"doc(A bed of spheres, and of grains when it has them.
-
-Its arrays are numpy views of the bed as aggpack holds it, taken without a copy: read-only
-(writing raises ValueError), in SI units, row i being sphere i (particles.csv's id i + 1).
-A view keeps the bed alive: it stays valid after the report it came from is gone, for as long
-as the view itself lives. `copy()` gives writable copies.)doc")
-      .def("__len__", [](const PyBed& b) { return b.store->size(); })
-      .def_property_readonly("count", [](const PyBed& b) { return b.store->size(); }, "How many spheres.")
-      .def_property_readonly(
-          "positions", [](const std::shared_ptr<PyBed>& b) { return vec3_view(b, b->store->position); },
-          "Centres, m: N x 3 float64.")
-      .def_property_readonly(
-          "velocities", [](const std::shared_ptr<PyBed>& b) { return vec3_view(b, b->store->velocity); },
-          "Velocities, m/s: N x 3 float64 (zero for a bed that no DEM moved).")
-      .def_property_readonly(
-          "radii", [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->radius.data(), b->store->size(), 0); },
-          "Radii, m: N float64.")
-      .def_property_readonly(
-          "masses", [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->mass.data(), b->store->size(), 0); },
-          "Masses, kg: N float64 (a grain's sphere: its own sphere's).")
-      .def_property_readonly(
-          "materials",
-          [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->material.data(), b->store->material.size(), 0); },
-          "Each sphere's material, as an index into the scenario's materials: N uint8.")
-      .def_property_readonly(
-          "layers",
-          [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->layer.data(), b->store->layer.size(), 0); },
-          "Each sphere's part of a layered protocol (0 for one pass): N uint32.")
+// The grains' arrays: the sphere-to-grain map and each grain's pose and volume.
+void add_grain_views(py::class_<PyBed, std::shared_ptr<PyBed>>& bed) {
+  bed
       .def_property_readonly(
           "grains",
           [](const std::shared_ptr<PyBed>& b) -> py::object {
@@ -89,7 +60,57 @@ as the view itself lives. `copy()` gives writable copies.)doc")
           [](const std::shared_ptr<PyBed>& b) {
             return view(b, b->store->bodies.volume.data(), b->store->bodies.size(), 0);
           },
-          "Each grain's volume (its spheres' union, each point once), m^3: G float64.")
+          "Each grain's volume (its spheres' union, each point once), m^3: G float64.");
+}
+
+}  // namespace
+
+const ParticleStore* starting_bed_of(const PyBed& bed, const Scenario& sc, std::optional<ParticleStore>& named) {
+  if (bed.material_names.empty()) return bed.store.get();
+  named = *bed.store;
+  assign_file_materials(*named, bed.material_names, sc, bed.source);
+  return &*named;
+}
+
+void bind_bed(py::module_& m) {
+  m.attr("NO_GRAIN") = py::int_(kNoBody);
+  py::class_<PyBed, std::shared_ptr<PyBed>> bed(m, "Bed", R"doc(A bed of spheres, and of grains when it has them.
+
+Its arrays are numpy views of the bed as aggpack holds it, taken without a copy: read-only
+(writing raises ValueError), in SI units, row i being sphere i (particles.csv's id i + 1).
+A view keeps the bed alive: it stays valid after the report it came from is gone, for as long
+as the view itself lives. `copy()` gives writable copies.)doc");
+  bed.def("__len__", [](const PyBed& b) { return b.store->size(); })
+      .def_property_readonly("count", [](const PyBed& b) { return b.store->size(); }, "How many spheres.")
+      .def_property_readonly(
+          "positions", [](const std::shared_ptr<PyBed>& b) { return vec3_view(b, b->store->position); },
+          "Centres, m: N x 3 float64.")
+      .def_property_readonly(
+          "velocities", [](const std::shared_ptr<PyBed>& b) { return vec3_view(b, b->store->velocity); },
+          "Velocities, m/s: N x 3 float64 (zero for a bed that no DEM moved).")
+      .def_property_readonly(
+          "radii", [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->radius.data(), b->store->size(), 0); },
+          "Radii, m: N float64.")
+      .def_property_readonly(
+          "masses", [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->mass.data(), b->store->size(), 0); },
+          "Masses, kg: N float64 (a grain's sphere: its own sphere's).")
+      .def_property_readonly(
+          "materials",
+          [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->material.data(), b->store->material.size(), 0); },
+          "Each sphere's material, as an index into the scenario's materials: N uint8 (all 0 for a file's bed "
+          "whose material column names them: see material_names).")
+      .def_property_readonly(
+          "material_names",
+          [](const PyBed& b) -> py::object {
+            if (b.material_names.empty()) return py::none();
+            return py::cast(b.material_names);
+          },
+          "A file's material column, each sphere's material by name (a run from the bed takes the scenario's "
+          "materials of those names); None for a bed without one.")
+      .def_property_readonly(
+          "layers",
+          [](const std::shared_ptr<PyBed>& b) { return view(b, b->store->layer.data(), b->store->layer.size(), 0); },
+          "Each sphere's part of a layered protocol (0 for one pass): N uint32.")
       .def(
           "copy",
           [](const std::shared_ptr<PyBed>& b) {
@@ -112,6 +133,7 @@ as the view itself lives. `copy()` gives writable copies.)doc")
                (b.store->bodies.empty() ? std::string() : ", " + std::to_string(b.store->bodies.size()) + " grains") +
                ">";
       });
+  add_grain_views(bed);
 }
 
 }  // namespace aggpack::python

@@ -110,7 +110,11 @@ py::object calibrate_models(const py::object& scenario, const std::optional<std:
   if (dem && !by_dem.measured)
     throw InputError("calibrate: dem=True needs measured=, the measured packing density of the scenario's bed, "
                      "which the fit reproduces");
-  if (out) check_output_directory(out->has_parent_path() ? out->parent_path() : ".", true);
+  if (out) {  // as the CLI's --out: a file's name in a folder that can be written, before any run
+    if (std::filesystem::is_directory(*out))
+      throw InputError(fmt::format("calibrate: out={}: a folder; expected the calibration file's name", out->string()));
+    check_output_directory(out->has_parent_path() ? out->parent_path() : ".", true);
+  }
   nlohmann::json j;
   bool converged = true;
   {
@@ -143,11 +147,13 @@ py::object calibrate_models(const py::object& scenario, const std::optional<std:
     }
     if (out) write_file_atomically(*out, j.dump(1) + "\n");
   }
-  if (!converged)  // the value is an interpolation the runs did not confirm
-    PyErr_WarnEx(PyExc_RuntimeWarning,
-                 "aggpack.calibrate: NOT CONVERGED: no value's seed mean came within its standard error of the "
-                 "measurement; the value is interpolated between the last two (raise max_runs)",
-                 1);
+  // The value is an interpolation the runs did not confirm (warnings as errors: that error).
+  if (!converged &&
+      PyErr_WarnEx(PyExc_RuntimeWarning,
+                   "aggpack.calibrate: NOT CONVERGED: no value's seed mean came within its standard error of the "
+                   "measurement; the value is interpolated between the last two (raise max_runs)",
+                   1) < 0)
+    throw py::error_already_set();
   return to_python(j);
 }
 

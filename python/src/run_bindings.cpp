@@ -167,6 +167,9 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
                                  "could not be resumed without the bed); run it without out=, then "
                                  "aggpack.write_outputs(report, folder)",
                                  out->string()));
+  // A file's material column names each sphere's material: the scenario's of that name.
+  std::optional<ParticleStore> named;
+  const ParticleStore* starting_bed = bed ? starting_bed_of(*bed, scenario.parsed, named) : nullptr;
   return run_stoppably(progress_callback, [&](Progress& progress, const StopRequest& stop) {
     if (out) {
       RunOptions options = options_of(threads, stop_after, overwrite, stop);
@@ -181,7 +184,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
     controls.threads = threads;
     controls.stop_after = stop_after;
     controls.stop = &stop;
-    if (bed) controls.starting_bed = bed->store.get();
+    controls.starting_bed = starting_bed;
     RunReport report = run(scenario.parsed, controls, progress);
     report.working_directory = std::filesystem::current_path().string();  // where its relative paths lie
     PyReport result;

@@ -158,7 +158,8 @@ wrong and what is expected).)doc")
       .def("check",
            [](const PyScenario& s, const std::shared_ptr<PyBed>& bed) {
              py::gil_scoped_release released;
-             check_loaded_scenario(s.parsed, bed ? bed->store.get() : nullptr);
+             std::optional<ParticleStore> named;
+             check_loaded_scenario(s.parsed, bed ? starting_bed_of(*bed, s.parsed, named) : nullptr);
            },
            py::kw_only(), py::arg("bed") = py::none(),
            "Checks what `aggpack check` checks beyond reading: the particle file (or `bed`, the aggpack.Bed that "

@@ -450,6 +450,11 @@ ExportedDeck export_scenario_step(const std::filesystem::path& scenario_file, co
                                  "first DEM step (a tap step when that comes first)",
                                  scenario_file.string()));
   const Scenario sc = load_scenario(scenario_file, overrides);
+  if (sc.particles.bed_from_caller())
+    throw InputError(fmt::format("{}: particles.from = \"-\": a bed given by the library's caller at run time; "
+                                 "export-lammps makes the bed from the scenario: name a particle file or give sizes "
+                                 "(or export a finished run's folder)",
+                                 scenario_file.string()));
   const Protocol protocol = scenario_protocol(sc);
   const std::size_t k = first_dem_step(sc, protocol);
   const RunReport report = run_steps_before(sc, protocol, k);

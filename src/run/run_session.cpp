@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <variant>
 
 #include <fmt/format.h>
@@ -84,9 +85,10 @@ ParticleStore read_file_bed(const Scenario& sc, std::string& format) {
   return std::move(file.particles);
 }
 
-// The caller's starting bed (particles.from = "-"), as a file's would be read: its spheres'
-// positions, radii and velocities; each sphere's material its own (an index of the scenario's
-// materials), or particles.material's for a bed all of material 0; masses from the materials.
+// The caller's starting bed (particles.from = "-"), checked as a file's would be: its spheres'
+// positions, radii and velocities (angular velocities start at zero, as a file's spheres'); each
+// sphere's material its own (an index of the scenario's materials), or particles.material's for
+// a bed all of material 0; masses from the materials.
 ParticleStore given_bed(const Scenario& sc, const ParticleStore* given, const std::string& name) {
   if (!given)
     throw InputError(fmt::format("{}: particles.from = \"{}\" takes the starting bed from the library's caller "
@@ -97,8 +99,20 @@ ParticleStore given_bed(const Scenario& sc, const ParticleStore* given, const st
     throw InputError(fmt::format("{}: {} holds grains; a starting bed is of spheres (grains are generated from "
                                  "sizes and poured)",
                                  sc.file.string(), name));
+  const std::size_t n = given->position.size();
+  if (given->radius.size() != n || given->velocity.size() != n || given->material.size() != n)
+    throw std::invalid_argument("the starting bed's arrays differ in length");
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3& p = given->position[i];
+    const Vec3& v = given->velocity[i];
+    const double r = given->radius[i];
+    if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(v.x + v.y + v.z) || !(r > 0.0) || !std::isfinite(r))
+      throw InputError(fmt::format("{}: sphere {} of {}: position ({}, {}, {}) m, velocity ({}, {}, {}) m/s, radius "
+                                   "{} m; expected finite numbers and a positive radius",
+                                   sc.file.string(), i, name, p.x, p.y, p.z, v.x, v.y, v.z, r));
+  }
   ParticleStore bed;
-  bed.reserve(given->size());
+  bed.reserve(n);
   const std::uint8_t material = sc.particles.material_of_component(0);
   const bool all_default = std::all_of(given->material.begin(), given->material.end(), [](auto m) { return m == 0; });
   for (std::size_t i = 0; i < given->size(); ++i) {
@@ -186,6 +200,10 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
     : scenario_(sc), controls_(controls), progress_(progress), protocol_(run_protocol(sc, controls)),
       context_{.report = report_, .progress = progress, .threads = controls.threads, .stop = controls.stop} {
   check_thread_count(controls.threads);
+  if (controls.starting_bed && (controls.checkpoints || controls.resume_from))
+    throw InputError(fmt::format("{}: a run from a starting bed given in memory takes no checkpoints: a resume "
+                                 "would not have the bed",
+                                 sc.file.string()));
   report_.scenario = sc;
   const auto t0 = Clock::now();
   InitialBed initial = initial_bed(sc, controls.starting_bed);

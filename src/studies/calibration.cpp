@@ -69,9 +69,11 @@ Calibration calibrate(const CalibrationOptions& options, std::ostream& log) {
     throw InputError(fmt::format("--seeds {}: expected 1 to 100", options.seeds));
   const Scenario sc = load_scenario(options.scenario, options.overrides);
   if (sc.particles.file)
-    throw InputError(fmt::format("{}: its particles come from a file; calibration simulates a monosized bed and the "
-                                 "scenario's own sizes, so it needs sizes (classes or a grading)",
-                                 sc.file.string()));
+    throw InputError(fmt::format("{}: its particles {}; calibration simulates a monosized bed and the scenario's own "
+                                 "sizes, so it needs sizes (classes or a grading)",
+                                 sc.file.string(),
+                                 sc.particles.bed_from_caller() ? "are a bed given by the caller (particles.from = \"-\")"
+                                                                : "come from a file"));
   const ModelDistribution mix =
       predict_scenario(sc, default_model_parameters(false)).distributions.front().classes;
   if (mix.classes.size() < 2)

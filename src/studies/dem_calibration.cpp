@@ -232,10 +232,8 @@ std::vector<std::string> assignments_for(const Scenario& sc, const std::vector<s
   return out;
 }
 
-}  // namespace
-
-DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream& log) {
-  // Everything one measurement cannot fix, or the DEM cannot run, is refused before any run.
+// The options' own refusals, before the scenario is read: the parameter fitted and the range searched.
+std::vector<double> checked_range(const DemCalibrationOptions& options) {
   if (options.fit.size() != 1)
     throw InputError(
         fmt::format("--fit {}: one measured density cannot fix {} unknowns: fit one parameter (the "
@@ -259,7 +257,21 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
       (parameter == "friction" && !(range[0] > 0.0)))
     throw InputError(fmt::format("--range {}: expected LOW,HIGH with 0 {} LOW < HIGH", fmt::join(range, ","),
                                  parameter == "friction" ? "<" : "<="));
+  return range;
+}
+
+}  // namespace
+
+DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream& log) {
+  // Everything one measurement cannot fix, or the DEM cannot run, is refused before any run.
+  const std::vector<double> range = checked_range(options);
+  const std::string& parameter = options.fit.front();
   const Scenario sc = load_scenario(options.scenario, options.overrides);
+  if (sc.particles.bed_from_caller())
+    throw InputError(fmt::format("{}: particles.from = \"-\": a bed given by the library's caller at run time; "
+                                 "calibrate --dem runs the scenario again and again from its file: name a particle "
+                                 "file or give sizes",
+                                 sc.file.string()));
   const Protocol protocol = scenario_protocol(sc);
   if (!has_dem_step(protocol))
     throw InputError(

@@ -35,6 +35,7 @@ MODULE_DEPENDENCIES = {
     "lammps": {"io", "dynamics"},
     "run": {"io", "report", "analysis", "dynamics", "models", "lammps"},
     "studies": {"run"},
+    "specimen": {"analysis", "io"},
 }
 
 

@@ -1,0 +1,76 @@
+#pragma once
+// A concrete specimen cut out of a packed bed, for finite-element and lattice meso-models: the
+// region (a box or a vertical cylinder), the aggregate (the bed's particles that reach into it,
+// those below a size left to the mortar, as modellers treat fines), an interfacial transition
+// zone (ITZ) of a given thickness around each kept particle, and the exact volumes the
+// exports are checked against (voxel_image.hpp, gmsh_geometry.hpp).
+#include <cstddef>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "aggpack/core/box.hpp"
+#include "aggpack/core/vec3.hpp"
+#include "aggpack/grains/union_mass_properties.hpp"
+
+namespace aggpack {
+
+// A cylinder with a vertical axis through (x, y), from z_lo to z_hi (a core drilled from the bed).
+struct VerticalCylinder {
+  double x = 0.0, y = 0.0, z_lo = 0.0, z_hi = 0.0, radius = 0.0;
+  [[nodiscard]] Box bounds() const { return {{x - radius, y - radius, z_lo}, {x + radius, y + radius, z_hi}}; }
+  [[nodiscard]] double volume() const;
+  [[nodiscard]] bool contains(const Vec3& p) const;
+};
+using SpecimenRegion = std::variant<Box, VerticalCylinder>;
+[[nodiscard]] Box region_bounds(const SpecimenRegion& region);
+[[nodiscard]] double region_volume(const SpecimenRegion& region);
+[[nodiscard]] bool region_contains(const SpecimenRegion& region, const Vec3& p);
+// "box [..] x [..] x [..] m" or "cylinder of radius .. m about (x, y), z from .. to .. m", for messages.
+[[nodiscard]] std::string region_text(const SpecimenRegion& region);
+
+// The exact volume of a ball inside a vertical cylinder: the area of the lens where each
+// horizontal slice of the ball (a disc) meets the cylinder's (a disc), integrated over z by
+// adaptive Gauss-Kronrod quadrature (7/15 points) between the heights where the lens changes
+// form, to `relative_tolerance` of the ball's volume.
+[[nodiscard]] double sphere_cylinder_volume(const Vec3& centre, double radius, const VerticalCylinder& cylinder,
+                                            double relative_tolerance = 1e-10);
+
+// The particles of a bed: spheres, each of its particle (a grain's members share one).
+struct PackedParticles {
+  std::vector<MemberSphere> spheres;
+  std::vector<std::size_t> particle_of_sphere;
+  // Per particle: its size as a sieve sees it (a sphere's diameter; a grain's intermediate
+  // dimension I, the one a sieve's square opening passes) and whether it is a grain.
+  std::vector<double> particle_size;
+  std::vector<bool> particle_is_grain;
+};
+
+struct SpecimenOptions {
+  SpecimenRegion region;
+  double min_size = 0.0;       // m: smaller particles are left to the mortar
+  double itz_thickness = 0.0;  // m; 0: no ITZ
+};
+
+struct Specimen {
+  SpecimenRegion region;
+  double min_size = 0.0, itz_thickness = 0.0;
+  // The kept particles' spheres that reach into the region (with their ITZ), by particle.
+  std::vector<MemberSphere> spheres;
+  std::vector<std::size_t> particle_of_sphere;  // an index of the kept particles, 0 up
+  std::size_t kept_particles = 0;
+  std::size_t dropped_particles = 0;  // below min_size, reaching into the region
+  // The kept and the dropped particles' volume inside the region: exact for spheres (and for
+  // grains in a box, each grain's union to 1e-9); in a cylinder a grain counts by its spheres'
+  // shares (its union's volume times the fraction of its spheres' summed volume inside).
+  double aggregate_volume = 0.0, dropped_volume = 0.0;
+  std::string volume_method;
+  [[nodiscard]] double aggregate_fraction() const { return aggregate_volume / region_volume(region); }
+};
+
+// The specimen the options cut from `bed`. Throws InputError when the region is degenerate or
+// holds no kept particle.
+[[nodiscard]] Specimen cut_specimen(const PackedParticles& bed, const SpecimenOptions& options);
+
+}  // namespace aggpack

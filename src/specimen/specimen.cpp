@@ -1,0 +1,204 @@
+#include "aggpack/specimen/specimen.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <functional>
+#include <map>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "aggpack/analysis/sphere_box_volume.hpp"
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/overloaded.hpp"
+
+namespace aggpack {
+
+namespace {
+constexpr double kPi = std::numbers::pi;
+
+// The area where two discs meet: radii a and b, centres d apart.
+double lens_area(double a, double b, double d) {
+  if (a <= 0.0 || b <= 0.0 || d >= a + b) return 0.0;
+  if (d <= std::abs(a - b)) return kPi * std::min(a, b) * std::min(a, b);
+  const double alpha = std::acos(std::clamp((d * d + a * a - b * b) / (2.0 * d * a), -1.0, 1.0));
+  const double beta = std::acos(std::clamp((d * d + b * b - a * a) / (2.0 * d * b), -1.0, 1.0));
+  const double kite = (-d + a + b) * (d + a - b) * (d - a + b) * (d + a + b);
+  return a * a * alpha + b * b * beta - 0.5 * std::sqrt(std::max(kite, 0.0));
+}
+
+// Gauss-Kronrod 7/15 on [lo, hi]: the Kronrod estimate and its difference from Gauss's.
+std::pair<double, double> gauss_kronrod(const std::function<double(double)>& f, double lo, double hi) {
+  static constexpr std::array<double, 8> x{0.991455371120812639, 0.949107912342758525, 0.864864423359769073,
+                                           0.741531185599394440, 0.586087235467691130, 0.405845151377397167,
+                                           0.207784955007898468, 0.0};
+  static constexpr std::array<double, 8> wk{0.022935322010529225, 0.063092092629978553, 0.104790010322250184,
+                                            0.140653259715525919, 0.169004726639267903, 0.190350578064785410,
+                                            0.204432940075298892, 0.209482141084727828};
+  static constexpr std::array<double, 4> wg{0.129484966168869693, 0.279705391489276668, 0.381830050505118945,
+                                            0.417959183673469388};
+  const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
+  double kronrod = wk[7] * f(mid), gauss = wg[3] * f(mid);
+  for (std::size_t k = 0; k < 7; ++k) {
+    const double pair = f(mid - half * x[k]) + f(mid + half * x[k]);
+    kronrod += wk[k] * pair;
+    if (k % 2 == 1) gauss += wg[k / 2] * pair;
+  }
+  return {kronrod * half, std::abs(kronrod - gauss) * half};
+}
+
+double adaptive_integral(const std::function<double(double)>& f, double lo, double hi, double tolerance, int depth = 0) {
+  const auto [value, error] = gauss_kronrod(f, lo, hi);
+  if (error <= tolerance || depth >= 40) return value;
+  const double mid = 0.5 * (lo + hi);
+  return adaptive_integral(f, lo, mid, 0.5 * tolerance, depth + 1) +
+         adaptive_integral(f, mid, hi, 0.5 * tolerance, depth + 1);
+}
+
+double ball_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+
+double sphere_region_volume(const MemberSphere& s, const SpecimenRegion& region) {
+  return std::visit(Overloaded{[&](const Box& box) { return sphere_box_volume(s.centre, s.radius, box); },
+                               [&](const VerticalCylinder& c) { return sphere_cylinder_volume(s.centre, s.radius, c); }},
+                    region);
+}
+
+// A particle's volume inside the region: a sphere's exactly; a grain's union exactly in a box,
+// by its spheres' shares in a cylinder.
+double particle_region_volume(std::span<const MemberSphere> members, const SpecimenRegion& region) {
+  if (members.size() == 1) return sphere_region_volume(members.front(), region);
+  if (const Box* box = std::get_if<Box>(&region)) return union_volume_in_box(members, *box, 1e-9);
+  double inside = 0.0, summed = 0.0;
+  for (const MemberSphere& s : members) {
+    inside += sphere_region_volume(s, region);
+    summed += ball_volume(s.radius);
+  }
+  return summed > 0.0 ? union_mass_properties(members, 1e-9).volume * inside / summed : 0.0;
+}
+
+// Whether a ball reaches into the region (its bounds, then the region's own shape).
+bool reaches(const MemberSphere& s, double reach, const SpecimenRegion& region) {
+  const Box b = region_bounds(region);
+  const Vec3& c = s.centre;
+  const double r = s.radius + reach;
+  if (c.x + r <= b.lo.x || c.x - r >= b.hi.x || c.y + r <= b.lo.y || c.y - r >= b.hi.y || c.z + r <= b.lo.z ||
+      c.z - r >= b.hi.z)
+    return false;
+  if (const auto* cyl = std::get_if<VerticalCylinder>(&region))
+    return std::hypot(c.x - cyl->x, c.y - cyl->y) < cyl->radius + r;
+  return true;
+}
+
+void check_region(const SpecimenRegion& region) {
+  const Box b = region_bounds(region);
+  const Vec3 size = b.size();
+  const bool finite = std::isfinite(b.lo.x) && std::isfinite(b.lo.y) && std::isfinite(b.lo.z) &&
+                      std::isfinite(b.hi.x) && std::isfinite(b.hi.y) && std::isfinite(b.hi.z);
+  if (!finite || !(size.x > 0.0 && size.y > 0.0 && size.z > 0.0))
+    throw InputError(fmt::format("the specimen {}: expected a region of positive, finite size", region_text(region)));
+}
+}  // namespace
+
+double VerticalCylinder::volume() const { return kPi * radius * radius * (z_hi - z_lo); }
+
+bool VerticalCylinder::contains(const Vec3& p) const {
+  const double dx = p.x - x, dy = p.y - y;
+  return p.z >= z_lo && p.z < z_hi && dx * dx + dy * dy < radius * radius;
+}
+
+Box region_bounds(const SpecimenRegion& region) {
+  return std::visit(Overloaded{[](const Box& b) { return b; }, [](const VerticalCylinder& c) { return c.bounds(); }},
+                    region);
+}
+
+double region_volume(const SpecimenRegion& region) {
+  return std::visit(Overloaded{[](const Box& b) { return b.volume(); },
+                               [](const VerticalCylinder& c) { return c.volume(); }},
+                    region);
+}
+
+bool region_contains(const SpecimenRegion& region, const Vec3& p) {
+  return std::visit(Overloaded{[&](const Box& b) { return b.contains(p); },
+                               [&](const VerticalCylinder& c) { return c.contains(p); }},
+                    region);
+}
+
+std::string region_text(const SpecimenRegion& region) {
+  return std::visit(Overloaded{[](const Box& b) { return "box " + box_text(b); },
+                               [](const VerticalCylinder& c) {
+                                 return fmt::format("cylinder of radius {:.6g} m about ({:.6g}, {:.6g}), z from "
+                                                    "{:.6g} to {:.6g} m",
+                                                    c.radius, c.x, c.y, c.z_lo, c.z_hi);
+                               }},
+                    region);
+}
+
+double sphere_cylinder_volume(const Vec3& centre, double radius, const VerticalCylinder& cylinder,
+                              double relative_tolerance) {
+  const double lo = std::max(centre.z - radius, cylinder.z_lo), hi = std::min(centre.z + radius, cylinder.z_hi);
+  if (!(hi > lo)) return 0.0;
+  const double d = std::hypot(centre.x - cylinder.x, centre.y - cylinder.y);
+  const auto slice_radius = [&](double z) {
+    const double dz = z - centre.z;
+    return std::sqrt(std::max(radius * radius - dz * dz, 0.0));
+  };
+  // The heights where the lens changes form: the slice's disc just touching the cylinder's
+  // circle from outside (a = d + R) or from inside (a = |d - R|).
+  std::vector<double> cuts{lo, hi};
+  for (const double a : {d + cylinder.radius, std::abs(d - cylinder.radius)})
+    if (a < radius)
+      for (const double sign : {-1.0, 1.0}) {
+        const double z = centre.z + sign * std::sqrt(radius * radius - a * a);
+        if (z > lo && z < hi) cuts.push_back(z);
+      }
+  std::sort(cuts.begin(), cuts.end());
+  const auto area = [&](double z) { return lens_area(slice_radius(z), cylinder.radius, d); };
+  const double tolerance = relative_tolerance * ball_volume(radius) / static_cast<double>(cuts.size());
+  double volume = 0.0;
+  for (std::size_t k = 0; k + 1 < cuts.size(); ++k) volume += adaptive_integral(area, cuts[k], cuts[k + 1], tolerance);
+  return volume;
+}
+
+Specimen cut_specimen(const PackedParticles& bed, const SpecimenOptions& options) {
+  check_region(options.region);
+  Specimen out;
+  out.region = options.region;
+  out.min_size = options.min_size;
+  out.itz_thickness = options.itz_thickness;
+  out.volume_method = std::holds_alternative<Box>(options.region)
+                          ? "exact (each sphere's cut by the box's planes; each grain's union to 1e-9)"
+                          : "exact for spheres (lens areas integrated over z); a grain by its spheres' shares";
+  // Each particle's spheres, in the bed's order.
+  std::map<std::size_t, std::vector<MemberSphere>> members;
+  for (std::size_t i = 0; i < bed.spheres.size(); ++i) members[bed.particle_of_sphere[i]].push_back(bed.spheres[i]);
+  for (const auto& [particle, spheres] : members) {
+    const bool touches = std::any_of(spheres.begin(), spheres.end(), [&](const MemberSphere& s) {
+      return reaches(s, options.itz_thickness, options.region);
+    });
+    if (!touches) continue;
+    const double inside = particle_region_volume(spheres, options.region);
+    if (bed.particle_size[particle] < options.min_size) {
+      ++out.dropped_particles;
+      out.dropped_volume += inside;
+      continue;
+    }
+    for (const MemberSphere& s : spheres) {
+      if (!reaches(s, options.itz_thickness, options.region)) continue;
+      out.spheres.push_back(s);
+      out.particle_of_sphere.push_back(out.kept_particles);
+    }
+    ++out.kept_particles;
+    out.aggregate_volume += inside;
+  }
+  if (out.kept_particles == 0)
+    throw InputError(fmt::format("the specimen {} holds no particle of the bed{}: expected a region inside the bed",
+                                 region_text(options.region),
+                                 out.dropped_particles ? fmt::format(" at or above the minimum size {:.6g} m "
+                                                                     "({} smaller ones reach into it)",
+                                                                     options.min_size, out.dropped_particles)
+                                                       : std::string()));
+  return out;
+}
+
+}  // namespace aggpack
