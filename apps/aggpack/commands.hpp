@@ -27,3 +27,5 @@ std::vector<Subcommand> add_bed_commands(CLI::App& app);
 std::vector<Subcommand> add_study_commands(CLI::App& app, int argc, char** argv);
 // export-lammps and import-lammps (run_commands.cpp).
 std::vector<Subcommand> add_lammps_commands(CLI::App& app);
+// specimen: a concrete specimen for meso-model codes (specimen_command.cpp).
+Subcommand add_specimen_command(CLI::App& app);

@@ -48,6 +48,7 @@ struct Columns {
   std::array<std::size_t, 4> index{0, 1, 2, 3};  // x, y, z, size
   bool size_is_diameter = false;
   std::optional<std::size_t> material;  // a run of several materials' particles.csv names each sphere's
+  std::optional<std::size_t> grain;     // a run with grains' particles.csv: each sphere's grain, 0 for none
 };
 // A column that a header names twice (x, y, z and r, radius, d, diameter all count as the
 // size); the reader would otherwise take one of them silently.
@@ -75,6 +76,7 @@ std::optional<Columns> columns_from_header(const std::vector<std::string>& names
     else if (name == "r" || name == "radius") found[3] = k, c.size_is_diameter = false;
     else if (name == "d" || name == "diameter") found[3] = k, c.size_is_diameter = true;
     else if (name == "material") c.material = k;
+    else if (name == "grain") c.grain = k;
   }
   for (std::size_t k = 0; k < 4; ++k) {
     if (!found[k]) return std::nullopt;
@@ -111,8 +113,8 @@ RowLayout layout_from_header(const std::vector<std::string>& fields, bool csv, c
   layout.columns = *header;
   layout.has_header = true;
   if (csv) {
-    layout.min_fields = std::max(*std::max_element(layout.columns.index.begin(), layout.columns.index.end()),
-                                 layout.columns.material.value_or(0)) + 1;
+    layout.min_fields = std::max({*std::max_element(layout.columns.index.begin(), layout.columns.index.end()),
+                                  layout.columns.material.value_or(0), layout.columns.grain.value_or(0)}) + 1;
     layout.max_fields = std::numeric_limits<std::size_t>::max();
   } else {
     layout.min_fields = layout.max_fields = fields.size();
@@ -213,6 +215,14 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
     check_field_count(fields.size(), layout, *csv, name, line_no);
     add_particle(store, fields, layout.columns, length_unit, density, name, line_no);
     if (layout.columns.material) file.materials.emplace_back(trim(fields[*layout.columns.material]));
+    if (layout.columns.grain) {
+      const auto grain = to_number(fields[*layout.columns.grain]);
+      if (!grain || *grain < 0.0 || *grain != std::floor(*grain) || *grain > 4e9)
+        throw InputError(fmt::format("{}:{}: grain \"{}\": expected a grain's number (1 up), or 0 for a sphere of "
+                                     "its own",
+                                     name, line_no, fields[*layout.columns.grain]));
+      file.grains.push_back(static_cast<std::uint32_t>(*grain));
+    }
   }
   if (store.empty()) throw InputError(fmt::format("{}: no particles in the file", name));
   file.format = csv.value_or(false) ? "CSV" : "whitespace-separated text";

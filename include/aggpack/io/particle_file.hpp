@@ -31,6 +31,9 @@ struct PackingFile {
   ParticleStore particles;
   std::string format;  // "CSV", "whitespace-separated text", "LAMMPS dump, timestep 1000 (the last of 3)", ...
   std::vector<std::string> materials;  // a "material" column's names, per particle; empty without one
+  // A "grain" column (particles.csv of a run with grains): each sphere's grain, 1 up, 0 for a
+  // sphere of its own; empty without one. The spheres are read as spheres either way.
+  std::vector<std::uint32_t> grains;
 };
 PackingFile read_packing_file(const std::filesystem::path& file, double length_unit, double density,
                               std::uintmax_t max_bytes = kDefaultMaxInputFileBytes,

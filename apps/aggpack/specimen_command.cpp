@@ -1,0 +1,113 @@
+// aggpack specimen: a concrete specimen cut from a run's bed for meso-model codes.
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/units.hpp"
+#include "aggpack/run/preflight.hpp"
+#include "aggpack/specimen/specimen_export.hpp"
+#include "arguments.hpp"
+#include "commands.hpp"
+
+namespace {
+
+struct SpecimenArguments {
+  std::string source, out, box, cylinder, voxel, itz, min_size, mesh_size, length_unit = "m";
+  std::vector<std::string> formats;
+  double max_voxels = 2e8;
+  bool json = false;
+};
+
+aggpack::SpecimenRequest request_of(const SpecimenArguments& a, long double unit) {
+  aggpack::SpecimenRequest r;
+  if (!a.box.empty() && !a.cylinder.empty()) throw aggpack::InputError("--box and --cylinder: give one specimen");
+  if (!a.box.empty()) r.region = box_argument(a.box, unit);
+  if (!a.cylinder.empty()) {
+    const std::vector<double> c = lengths_argument(a.cylinder, "--cylinder", unit);
+    if (c.size() != 5 || !(c[4] > 0.0) || !(c[3] > c[2]))
+      throw aggpack::InputError(fmt::format("--cylinder {}: expected X,Y,ZLO,ZHI,RADIUS (its vertical axis through "
+                                            "X,Y; ZLO < ZHI; RADIUS > 0)",
+                                            a.cylinder));
+    r.region = aggpack::VerticalCylinder{c[0], c[1], c[2], c[3], c[4]};
+  }
+  if (!a.voxel.empty()) r.voxel_size = length_argument(a.voxel, "--voxel", unit);
+  if (!a.itz.empty()) r.itz_thickness = length_argument(a.itz, "--itz", unit);
+  if (!a.min_size.empty()) r.min_size = length_argument(a.min_size, "--min-size", unit);
+  if (!a.mesh_size.empty()) {
+    const std::vector<double> m = lengths_argument(a.mesh_size, "--mesh-size", unit);
+    if (m.empty() || m.size() > 3 || std::any_of(m.begin(), m.end(), [](double v) { return !(v > 0.0); }))
+      throw aggpack::InputError(fmt::format("--mesh-size {}: expected AGGREGATE[,MORTAR[,ITZ]], positive lengths",
+                                            a.mesh_size));
+    r.mesh_sizes = aggpack::GmshMeshSizes{m[0], m.size() > 1 ? m[1] : 2.0 * m[0], m.size() > 2 ? m[2] : m[0]};
+  }
+  r.formats = a.formats;
+  r.max_voxels = a.max_voxels;
+  return r;
+}
+
+int specimen_command(const SpecimenArguments& a) {
+  const auto unit = aggpack::metres_per_unit(a.length_unit);
+  if (!unit)
+    throw aggpack::InputError(fmt::format("--length-unit {}: unknown unit; expected m, cm, mm, um, in, ft or yd",
+                                          a.length_unit));
+  const aggpack::SpecimenRequest request = request_of(a, *unit);
+  aggpack::check_output_directory(a.out, false);
+  const std::filesystem::path source(a.source);
+  const aggpack::SpecimenSource bed = std::filesystem::is_directory(source)
+                                          ? aggpack::read_run_folder(source)
+                                          : aggpack::read_packing_source(source, static_cast<double>(*unit));
+  const nlohmann::json report = aggpack::export_specimen(bed, request, a.out);
+  if (a.json) {
+    std::cout << report.dump(2) << "\n";
+    return 0;
+  }
+  const nlohmann::json& v = report.at("voxels");
+  fmt::print("aggpack specimen: {} particles kept ({} below the minimum size left to the mortar) of {}\n",
+             report.at("particles").at("kept").get<std::size_t>(),
+             report.at("particles").at("dropped_below_min_size").get<std::size_t>(), bed.description);
+  fmt::print("  aggregate fraction: exact {:.4f}; voxels ({} x {} x {}) {:.4f}", 
+             report.at("exact").at("aggregate_fraction").get<double>(), v.at("count")[0].get<std::size_t>(),
+             v.at("count")[1].get<std::size_t>(), v.at("count")[2].get<std::size_t>(),
+             v.at("aggregate_fraction").get<double>());
+  if (report.contains("gmsh") && report.at("gmsh").contains("aggregate_fraction"))
+    fmt::print("; Gmsh mesh {:.4f}", report.at("gmsh").at("aggregate_fraction").get<double>());
+  fmt::print("\n  wrote {} and specimen.json into {}\n",
+             fmt::join(report.at("files").get<std::vector<std::string>>(), ", "), a.out);
+  for (const auto& note : report.at("modelling_notes")) fmt::print("  note: {}\n", note.get<std::string>());
+  return 0;
+}
+
+}  // namespace
+
+Subcommand add_specimen_command(CLI::App& app) {
+  const auto a = std::make_shared<SpecimenArguments>();
+  auto* cmd = app.add_subcommand(
+      "specimen",
+      "A concrete specimen cut from a run's bed for meso-models: a voxel image (.vti), an Abaqus voxel mesh (.inp), "
+      "a Gmsh geometry (.geo) and mesh (.msh), with aggregate, mortar and ITZ phases");
+  cmd->add_option("source", a->source, "A run's output folder (its final bed), or a packing file")->required();
+  cmd->add_option("--out", a->out, "The folder to write into")->required();
+  cmd->add_option("--box", a->box, "The specimen's box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the run's largest "
+                                   "virtual box)");
+  cmd->add_option("--cylinder", a->cylinder, "A vertical cylinder X,Y,ZLO,ZHI,RADIUS instead");
+  cmd->add_option("--voxel", a->voxel, "The voxel's side (default: a tenth of the smallest kept particle)");
+  cmd->add_option("--itz", a->itz, "The ITZ's thickness around each kept particle (default 0: none)");
+  cmd->add_option("--min-size", a->min_size, "Particles smaller (a grain's I) are left to the mortar (default 0)");
+  cmd->add_option("--formats", a->formats, "Of vti, inp, geo, msh (default: vti,inp,geo, and msh where gmsh is "
+                                           "installed)")
+      ->delimiter(',');
+  cmd->add_option("--mesh-size", a->mesh_size, "Gmsh's element size AGGREGATE[,MORTAR[,ITZ]] (default: a quarter "
+                                               "and a half of the smallest kept particle, the ITZ's thickness)");
+  cmd->add_option("--max-voxels", a->max_voxels, "Voxels at most (default 2e8: a byte each)");
+  cmd->add_option("--length-unit", a->length_unit, "The unit of bare numbers, and of a packing file (default m)");
+  cmd->add_flag("--json", a->json, "Print specimen.json's content");
+  return {cmd, [a] { return specimen_command(*a); }};
+}
