@@ -20,7 +20,7 @@
 namespace {
 
 struct SpecimenArguments {
-  std::string source, out, box, cylinder, voxel, itz, min_size, mesh_size, length_unit = "m";
+  std::string source, out, box, cylinder, voxel, itz, min_size, gap, mesh_size, length_unit = "m";
   std::vector<std::string> formats;
   double max_voxels = 2e8;
   bool json = false;
@@ -41,6 +41,7 @@ aggpack::SpecimenRequest request_of(const SpecimenArguments& a, long double unit
   if (!a.voxel.empty()) r.voxel_size = length_argument(a.voxel, "--voxel", unit);
   if (!a.itz.empty()) r.itz_thickness = length_argument(a.itz, "--itz", unit);
   if (!a.min_size.empty()) r.min_size = length_argument(a.min_size, "--min-size", unit);
+  if (!a.gap.empty()) r.gap = length_argument(a.gap, "--gap", unit);
   if (!a.mesh_size.empty()) {
     const std::vector<double> m = lengths_argument(a.mesh_size, "--mesh-size", unit);
     if (m.empty() || m.size() > 3 || std::any_of(m.begin(), m.end(), [](double v) { return !(v > 0.0); }))
@@ -101,6 +102,8 @@ Subcommand add_specimen_command(CLI::App& app) {
   cmd->add_option("--voxel", a->voxel, "The voxel's side (default: a tenth of the smallest kept particle)");
   cmd->add_option("--itz", a->itz, "The ITZ's thickness around each kept particle (default 0: none)");
   cmd->add_option("--min-size", a->min_size, "Particles smaller (a grain's I) are left to the mortar (default 0)");
+  cmd->add_option("--gap", a->gap, "Shrink each kept particle so that touching ones stand this far apart (default 0; "
+                                   "Gmsh cannot mesh particles that touch)");
   cmd->add_option("--formats", a->formats, "Of vti, inp, geo, msh (default: vti,inp,geo, and msh where gmsh is "
                                            "installed)")
       ->delimiter(',');

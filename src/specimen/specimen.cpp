@@ -166,13 +166,22 @@ Specimen cut_specimen(const PackedParticles& bed, const SpecimenOptions& options
   out.region = options.region;
   out.min_size = options.min_size;
   out.itz_thickness = options.itz_thickness;
+  out.gap = options.gap;
   out.volume_method = std::holds_alternative<Box>(options.region)
                           ? "exact (each sphere's cut by the box's planes; each grain's union to 1e-9)"
                           : "exact for spheres (lens areas integrated over z); a grain by its spheres' shares";
   // Each particle's spheres, in the bed's order.
   std::map<std::size_t, std::vector<MemberSphere>> members;
   for (std::size_t i = 0; i < bed.spheres.size(); ++i) members[bed.particle_of_sphere[i]].push_back(bed.spheres[i]);
-  for (const auto& [particle, spheres] : members) {
+  for (auto& [particle, spheres] : members) {
+    if (bed.particle_size[particle] >= options.min_size)
+      for (MemberSphere& sphere : spheres) {
+        sphere.radius -= 0.5 * options.gap;
+        if (!(sphere.radius > 0.0))
+          throw InputError(fmt::format("gap {:.6g} m: as wide as a kept sphere (radius {:.6g} m); expected a gap "
+                                       "below the smallest kept sphere's diameter",
+                                       options.gap, sphere.radius + 0.5 * options.gap));
+      }
     const bool touches = std::any_of(spheres.begin(), spheres.end(), [&](const MemberSphere& s) {
       return reaches(s, options.itz_thickness, options.region);
     });

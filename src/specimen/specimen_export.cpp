@@ -64,6 +64,39 @@ nlohmann::json region_json(const SpecimenRegion& region) {
           {"radius", c.radius}};
 }
 
+// The Gmsh geometry (and its mesh, for msh) into `out`, what they hold into report["gmsh"].
+void write_gmsh(const Specimen& s, const SpecimenRequest& request, const std::vector<std::string>& formats,
+                const std::string& provenance, const std::filesystem::path& out, std::vector<std::string>& written,
+                nlohmann::json& report) {
+  const SpecimenRegion& region = s.region;
+  if (has(formats, "geo")) {
+    const double finest = smallest_kept(s);
+    const GmshMeshSizes sizes = request.mesh_sizes.value_or(
+        GmshMeshSizes{finest / 4.0, finest / 2.0, request.itz_thickness > 0.0 ? request.itz_thickness : finest / 4.0});
+    write_file_atomically(out / "specimen.geo", gmsh_geo(s, sizes, provenance));
+    written.push_back("specimen.geo");
+    report["gmsh"] = {{"mesh_size_m", {{"aggregate", sizes.aggregate}, {"mortar", sizes.mortar}, {"itz", sizes.itz}}},
+                      {"elements_per_circle", sizes.elements_per_circle}};
+  }
+  if (has(formats, "msh")) {
+    try {
+      run_gmsh(out / "specimen.geo", out / "specimen.msh", out / "gmsh.log");
+    } catch (const InputError& e) {  // most often two particles that touch at a point
+      throw InputError(fmt::format("{}{}", e.what(),
+                                   s.gap > 0.0 ? "" : " (particles that touch make faces Gmsh cannot mesh: give a gap)"));
+    }
+    written.push_back("specimen.msh");
+    const std::map<std::string, double> volumes = msh_group_volumes(out / "specimen.msh");
+    double meshed = 0.0;
+    for (const auto& [name, volume] : volumes) meshed += volume;
+    const double aggregate = volumes.contains("aggregate") ? volumes.at("aggregate") : 0.0;
+    report["gmsh"]["volume_m3"] = volumes;
+    report["gmsh"]["aggregate_fraction"] = aggregate / region_volume(region);
+    report["gmsh"]["aggregate_fraction_minus_exact"] = aggregate / region_volume(region) - s.aggregate_fraction();
+    report["gmsh"]["meshed_volume_over_region"] = meshed / region_volume(region);
+  }
+}
+
 }  // namespace
 
 std::map<std::string, double> msh_group_volumes(const std::filesystem::path& msh) {
@@ -127,9 +160,15 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
     throw InputError("the minimum size and the ITZ's thickness: expected lengths of zero or more");
   const SpecimenRegion region = request.region.value_or(SpecimenRegion{*source.largest_virtual_box});
   const std::vector<std::string> formats = checked_formats(request.formats);
-  const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness});
+  const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
   check_inside_bed(region, source);
   std::vector<std::string> notes = source.notes;
+  if (request.gap > 0.0)
+    notes.push_back(fmt::format("each kept particle's spheres shrunk by {:.4g} m (gap / 2) so that touching ones "
+                                "stand {:.4g} m apart: the aggregate fraction {:.4f} as packed, {:.4f} shrunk",
+                                0.5 * request.gap, request.gap,
+                                cut_specimen(source.particles, {region, request.min_size, 0.0, 0.0}).aggregate_fraction(),
+                                s.aggregate_fraction()));
   double voxel = request.voxel_size.value_or(smallest_kept(s) / 10.0);
   const double budget_voxel = std::cbrt(region_volume(region) / kDefaultVoxelBudget);
   if (!request.voxel_size && voxel < budget_voxel) {
@@ -164,6 +203,7 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
       {"region", region_json(region)},
       {"min_size_m", request.min_size},
       {"itz_thickness_m", request.itz_thickness},
+      {"gap_m", request.gap},
       {"particles", {{"kept", s.kept_particles}, {"spheres", s.spheres.size()}, {"dropped_below_min_size", s.dropped_particles},
                      {"dropped_volume_fraction", s.dropped_volume / region_volume(region)}}},
       {"exact", {{"aggregate_fraction", s.aggregate_fraction()}, {"method", s.volume_method}}},
@@ -185,27 +225,7 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
     write_file_atomically(out / "specimen.inp", [&](std::ostream& o) { write_abaqus_inp(o, image, provenance); });
     written.push_back("specimen.inp");
   }
-  if (has(formats, "geo")) {
-    const double finest = smallest_kept(s);
-    const GmshMeshSizes sizes = request.mesh_sizes.value_or(
-        GmshMeshSizes{finest / 4.0, finest / 2.0, request.itz_thickness > 0.0 ? request.itz_thickness : finest / 4.0});
-    write_file_atomically(out / "specimen.geo", gmsh_geo(s, sizes, provenance));
-    written.push_back("specimen.geo");
-    report["gmsh"] = {{"mesh_size_m", {{"aggregate", sizes.aggregate}, {"mortar", sizes.mortar}, {"itz", sizes.itz}}},
-                      {"elements_per_circle", sizes.elements_per_circle}};
-  }
-  if (has(formats, "msh")) {
-    run_gmsh(out / "specimen.geo", out / "specimen.msh", out / "gmsh.log");
-    written.push_back("specimen.msh");
-    const std::map<std::string, double> volumes = msh_group_volumes(out / "specimen.msh");
-    double meshed = 0.0;
-    for (const auto& [name, volume] : volumes) meshed += volume;
-    const double aggregate = volumes.contains("aggregate") ? volumes.at("aggregate") : 0.0;
-    report["gmsh"]["volume_m3"] = volumes;
-    report["gmsh"]["aggregate_fraction"] = aggregate / region_volume(region);
-    report["gmsh"]["aggregate_fraction_minus_exact"] = aggregate / region_volume(region) - s.aggregate_fraction();
-    report["gmsh"]["meshed_volume_over_region"] = meshed / region_volume(region);
-  }
+  write_gmsh(s, request, formats, provenance, out, written, report);
   report["files"] = written;
   report["modelling_notes"] = notes;
   write_file_atomically(out / "specimen.json", report.dump(1) + "\n");

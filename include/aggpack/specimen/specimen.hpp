@@ -51,12 +51,15 @@ struct SpecimenOptions {
   SpecimenRegion region;
   double min_size = 0.0;       // m: smaller particles are left to the mortar
   double itz_thickness = 0.0;  // m; 0: no ITZ
+  // m: each kept sphere's radius less half of it, so that touching particles stand this far
+  // apart (a mesher cannot follow two spheres that touch at a point); 0: as packed.
+  double gap = 0.0;
 };
 
 struct Specimen {
   SpecimenRegion region;
-  double min_size = 0.0, itz_thickness = 0.0;
-  // The kept particles' spheres that reach into the region (with their ITZ), by particle.
+  double min_size = 0.0, itz_thickness = 0.0, gap = 0.0;
+  // The kept particles' spheres (each radius less gap / 2) that reach into the region (with their ITZ), by particle.
   std::vector<MemberSphere> spheres;
   std::vector<std::size_t> particle_of_sphere;  // an index of the kept particles, 0 up
   std::size_t kept_particles = 0;

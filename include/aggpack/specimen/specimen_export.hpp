@@ -34,7 +34,7 @@ struct SpecimenSource {
 
 struct SpecimenRequest {
   std::optional<SpecimenRegion> region;  // none: the run's largest virtual box
-  double min_size = 0.0, itz_thickness = 0.0;
+  double min_size = 0.0, itz_thickness = 0.0, gap = 0.0;  // SpecimenOptions'
   std::optional<double> voxel_size;      // none: the smallest kept particle's size / 10
   double max_voxels = 2e8;
   std::vector<std::string> formats;      // of "vti", "inp", "geo", "msh"; empty: vti, inp, geo (and msh with gmsh)
