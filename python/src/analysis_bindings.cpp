@@ -86,7 +86,7 @@ std::shared_ptr<PyBed> from_arrays(const py::handle& positions, const py::handle
       store->material[i] = static_cast<std::uint8_t>(k);
     }
   }
-  return std::make_shared<PyBed>(PyBed{std::move(store), "the bed from arrays", ""});
+  return std::make_shared<PyBed>(PyBed{std::move(store), "the bed from arrays", "", {}});
 }
 
 py::object analyze(const py::object& bed_or_path, const std::vector<double>& cubes,

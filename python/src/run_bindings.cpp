@@ -41,7 +41,7 @@ struct PyReport {
 };
 
 std::shared_ptr<PyBed> bed_of(const std::shared_ptr<const RunReport>& owner, const ParticleStore& store) {
-  return std::make_shared<PyBed>(PyBed{std::shared_ptr<const ParticleStore>(owner, &store), "the run's bed", ""});
+  return std::make_shared<PyBed>(PyBed{std::shared_ptr<const ParticleStore>(owner, &store), "the run's bed", "", {}});
 }
 
 // The one piece of global state, as in the CLI: a signal handler can reach nothing else. The

@@ -179,12 +179,12 @@ PackingFile parse_packing_text(std::string_view text, const std::string& name, d
   if (is_lammps_dump(text)) {
     LammpsBed bed = parse_lammps_dump(text, name, length_unit, density, timestep);
     const std::string which = timestep || bed.snapshots == 1 ? "" : fmt::format(" (the last of {})", bed.snapshots);
-    return {std::move(bed.particles), fmt::format("LAMMPS dump, timestep {}{}", *bed.timestep, which), {}};
+    return {std::move(bed.particles), fmt::format("LAMMPS dump, timestep {}{}", *bed.timestep, which), {}, {}};
   }
   if (timestep)
     throw InputError(fmt::format("{}: a timestep was asked for, but the file is not a LAMMPS dump", name));
   if (is_lammps_data(text))
-    return {parse_lammps_data(text, name, length_unit, density).particles, "LAMMPS data file", {}};
+    return {parse_lammps_data(text, name, length_unit, density).particles, "LAMMPS data file", {}, {}};
   PackingFile file;
   ParticleStore& store = file.particles;
   std::string line;
