@@ -22,7 +22,7 @@ namespace {
 struct SpecimenArguments {
   std::string source, out, box, cylinder, voxel, itz, min_size, gap, mesh_size, length_unit = "m";
   std::vector<std::string> formats;
-  double max_voxels = 2e8;
+  std::string max_voxels;
   bool json = false;
 };
 
@@ -50,7 +50,7 @@ aggpack::SpecimenRequest request_of(const SpecimenArguments& a, long double unit
     r.mesh_sizes = aggpack::GmshMeshSizes{m[0], m.size() > 1 ? m[1] : 2.0 * m[0], m.size() > 2 ? m[2] : m[0]};
   }
   r.formats = a.formats;
-  r.max_voxels = a.max_voxels;
+  if (!a.max_voxels.empty()) r.max_voxels = positive_argument(a.max_voxels, "--max-voxels");
   return r;
 }
 
@@ -99,16 +99,16 @@ Subcommand add_specimen_command(CLI::App& app) {
   cmd->add_option("--box", a->box, "The specimen's box XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX (default: the run's largest "
                                    "virtual box)");
   cmd->add_option("--cylinder", a->cylinder, "A vertical cylinder X,Y,ZLO,ZHI,RADIUS instead");
-  cmd->add_option("--voxel", a->voxel, "The voxel's side (default: a tenth of the smallest kept particle)");
-  cmd->add_option("--itz", a->itz, "The ITZ's thickness around each kept particle (default 0: none)");
-  cmd->add_option("--min-size", a->min_size, "Particles smaller (a grain's I) are left to the mortar (default 0)");
-  cmd->add_option("--gap", a->gap, "Shrink each kept particle so that touching ones stand this far apart (default 0; "
-                                   "Gmsh cannot mesh particles that touch)");
-  cmd->add_option("--formats", a->formats, "Of vti, inp, geo, msh (default: vti,inp,geo, and msh where gmsh is "
-                                           "installed)")
+  cmd->add_option("--voxel", a->voxel, "The voxel's side (default: a tenth of the smallest kept sphere's diameter)");
+  cmd->add_option("--itz", a->itz, "The ITZ's thickness around each kept particle (default: no ITZ)");
+  cmd->add_option("--min-size", a->min_size, "Particles smaller (a grain's I) are left to the mortar (default: every particle kept)");
+  cmd->add_option("--gap", a->gap, "Shrink each kept particle so that touching ones stand this far apart (default: as "
+                                   "packed; Gmsh cannot mesh particles that touch)");
+  cmd->add_option("--formats", a->formats, "Of vti, inp, geo, msh (default vti,inp,geo; msh: Gmsh meshes the "
+                                           "geometry, minutes for hundreds of particles)")
       ->delimiter(',');
   cmd->add_option("--mesh-size", a->mesh_size, "Gmsh's element size AGGREGATE[,MORTAR[,ITZ]] (default: a quarter "
-                                               "and a half of the smallest kept particle, the ITZ's thickness)");
+                                               "and a half of the smallest kept sphere's diameter, the ITZ's thickness)");
   cmd->add_option("--max-voxels", a->max_voxels, "Voxels at most (default 2e8: a byte each)");
   cmd->add_option("--length-unit", a->length_unit, "The unit of bare numbers, and of a packing file (default m)");
   cmd->add_flag("--json", a->json, "Print specimen.json's content");

@@ -35,7 +35,14 @@ void write_file_atomically(const std::filesystem::path& path, const std::functio
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error("cannot write " + tmp.string());
-    write(out);
+    try {
+      write(out);
+    } catch (...) {  // no half-written temporary left behind
+      out.close();
+      std::error_code ignored;
+      std::filesystem::remove(tmp, ignored);
+      throw;
+    }
     out.flush();
     if (!out) {
       std::error_code ignored;

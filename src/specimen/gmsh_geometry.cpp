@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <sys/wait.h>
+
 #include <fmt/format.h>
 #include <fmt/ostream.h>
 
@@ -82,7 +84,8 @@ bool gmsh_available() { return std::system("command -v gmsh > /dev/null 2>&1") =
 void run_gmsh(const std::filesystem::path& geo, const std::filesystem::path& msh, const std::filesystem::path& log) {
   const std::string command =
       fmt::format("gmsh {} -3 -nt 1 -format msh22 -o {} > {} 2>&1", quoted(geo), quoted(msh), quoted(log));
-  const int status = std::system(command.c_str());
+  const int raw = std::system(command.c_str());
+  const int status = raw != -1 && WIFEXITED(raw) ? WEXITSTATUS(raw) : raw;
   std::error_code ec;
   if (status == 0 && std::filesystem::is_regular_file(msh, ec)) return;
   // Gmsh's first error, where its log has one.

@@ -1,6 +1,7 @@
 #include "aggpack/specimen/specimen.hpp"
 
 #include <algorithm>
+#include <initializer_list>
 #include <array>
 #include <cmath>
 #include <functional>
@@ -77,17 +78,19 @@ double particle_region_volume(std::span<const MemberSphere> members, const Speci
   return summed > 0.0 ? union_mass_properties(members, 1e-9).volume * inside / summed : 0.0;
 }
 
-// Whether a ball reaches into the region (its bounds, then the region's own shape).
+// Whether a ball, grown by `reach`, meets the region: its centre closer than r + reach to it.
 bool reaches(const MemberSphere& s, double reach, const SpecimenRegion& region) {
-  const Box b = region_bounds(region);
   const Vec3& c = s.centre;
   const double r = s.radius + reach;
-  if (c.x + r <= b.lo.x || c.x - r >= b.hi.x || c.y + r <= b.lo.y || c.y - r >= b.hi.y || c.z + r <= b.lo.z ||
-      c.z - r >= b.hi.z)
-    return false;
-  if (const auto* cyl = std::get_if<VerticalCylinder>(&region))
-    return std::hypot(c.x - cyl->x, c.y - cyl->y) < cyl->radius + r;
-  return true;
+  if (const auto* cyl = std::get_if<VerticalCylinder>(&region)) {
+    const double radial = std::max(std::hypot(c.x - cyl->x, c.y - cyl->y) - cyl->radius, 0.0);
+    const double axial = std::max({cyl->z_lo - c.z, 0.0, c.z - cyl->z_hi});
+    return radial * radial + axial * axial < r * r;
+  }
+  const Box& b = std::get<Box>(region);
+  const double dx = std::max({b.lo.x - c.x, 0.0, c.x - b.hi.x}), dy = std::max({b.lo.y - c.y, 0.0, c.y - b.hi.y}),
+               dz = std::max({b.lo.z - c.z, 0.0, c.z - b.hi.z});
+  return dx * dx + dy * dy + dz * dz < r * r;
 }
 
 void check_region(const SpecimenRegion& region) {
@@ -174,31 +177,29 @@ Specimen cut_specimen(const PackedParticles& bed, const SpecimenOptions& options
   std::map<std::size_t, std::vector<MemberSphere>> members;
   for (std::size_t i = 0; i < bed.spheres.size(); ++i) members[bed.particle_of_sphere[i]].push_back(bed.spheres[i]);
   for (auto& [particle, spheres] : members) {
-    if (bed.particle_size[particle] >= options.min_size)
-      for (MemberSphere& sphere : spheres) {
-        sphere.radius -= 0.5 * options.gap;
-        if (!(sphere.radius > 0.0))
-          throw InputError(fmt::format("gap {:.6g} m: as wide as a kept sphere (radius {:.6g} m); expected a gap "
-                                       "below the smallest kept sphere's diameter",
-                                       options.gap, sphere.radius + 0.5 * options.gap));
-      }
+    const bool kept = bed.particle_size[particle] >= options.min_size;
+    // A kept particle reaches the region with its ITZ; a dropped one only with itself.
+    const double reach = kept ? options.itz_thickness : 0.0;
     const bool touches = std::any_of(spheres.begin(), spheres.end(), [&](const MemberSphere& s) {
-      return reaches(s, options.itz_thickness, options.region);
+      return reaches(s, reach, options.region);
     });
     if (!touches) continue;
-    const double inside = particle_region_volume(spheres, options.region);
-    if (bed.particle_size[particle] < options.min_size) {
+    if (!kept) {
       ++out.dropped_particles;
-      out.dropped_volume += inside;
+      out.dropped_volume += particle_region_volume(spheres, options.region);
       continue;
     }
-    for (const MemberSphere& s : spheres) {
-      if (!reaches(s, options.itz_thickness, options.region)) continue;
-      out.spheres.push_back(s);
-      out.particle_of_sphere.push_back(out.kept_particles);
+    for (MemberSphere& sphere : spheres) {
+      sphere.radius -= 0.5 * options.gap;
+      if (!(sphere.radius > 0.0))
+        throw InputError(fmt::format("gap {:.6g} m: as wide as a kept sphere in the specimen (radius {:.6g} m); "
+                                     "expected a gap below the smallest kept sphere's diameter",
+                                     options.gap, sphere.radius + 0.5 * options.gap));
     }
+    for (const MemberSphere& s : spheres)
+      if (reaches(s, options.itz_thickness, options.region)) out.spheres.push_back(s);
     ++out.kept_particles;
-    out.aggregate_volume += inside;
+    out.aggregate_volume += particle_region_volume(spheres, options.region);
   }
   if (out.kept_particles == 0)
     throw InputError(fmt::format("the specimen {} holds no particle of the bed{}: expected a region inside the bed",

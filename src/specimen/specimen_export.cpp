@@ -18,6 +18,8 @@ namespace {
 
 // Voxels at most: a finer default voxel is coarsened to this, and says so.
 constexpr double kDefaultVoxelBudget = 5e7;
+// An Abaqus file's elements at most: some 3 GB of text.
+constexpr double kInpElementLimit = 2.5e7;
 
 void check_inside_bed(const SpecimenRegion& region, const SpecimenSource& source) {
   const Box r = region_bounds(region), b = source.bed_bounds;
@@ -32,10 +34,7 @@ void check_inside_bed(const SpecimenRegion& region, const SpecimenSource& source
 
 std::vector<std::string> checked_formats(const std::vector<std::string>& asked) {
   std::vector<std::string> formats = asked;
-  if (formats.empty()) {
-    formats = {"vti", "inp", "geo"};
-    if (gmsh_available()) formats.push_back("msh");
-  }
+  if (formats.empty()) formats = {"vti", "inp", "geo"};  // msh when asked: Gmsh takes minutes
   for (const std::string& f : formats)
     if (f != "vti" && f != "inp" && f != "geo" && f != "msh")
       throw InputError(fmt::format("format \"{}\": expected vti, inp, geo or msh", f));
@@ -64,37 +63,62 @@ nlohmann::json region_json(const SpecimenRegion& region) {
           {"radius", c.radius}};
 }
 
-// The Gmsh geometry (and its mesh, for msh) into `out`, what they hold into report["gmsh"].
-void write_gmsh(const Specimen& s, const SpecimenRequest& request, const std::vector<std::string>& formats,
-                const std::string& provenance, const std::filesystem::path& out, std::vector<std::string>& written,
-                nlohmann::json& report) {
+// The Gmsh geometry into `out`, its mesh sizes into report["gmsh"].
+void write_gmsh_geometry(const Specimen& s, const SpecimenRequest& request, const std::vector<std::string>& formats,
+                         const std::string& provenance, const std::filesystem::path& out,
+                         std::vector<std::string>& written, nlohmann::json& report) {
+  if (!has(formats, "geo")) return;
+  const double finest = smallest_kept(s);
+  const GmshMeshSizes sizes = request.mesh_sizes.value_or(
+      GmshMeshSizes{finest / 4.0, finest / 2.0, request.itz_thickness > 0.0 ? request.itz_thickness : finest / 4.0});
+  write_file_atomically(out / "specimen.geo", gmsh_geo(s, sizes, provenance));
+  written.push_back("specimen.geo");
+  report["gmsh"] = {{"mesh_size_m", {{"aggregate", sizes.aggregate}, {"mortar", sizes.mortar}, {"itz", sizes.itz}}},
+                    {"elements_per_circle", sizes.elements_per_circle}};
+}
+
+// Gmsh's mesh of specimen.geo, what it holds into report["gmsh"].
+void mesh_with_gmsh(const Specimen& s, const std::filesystem::path& out, nlohmann::json& report) {
+  try {
+    run_gmsh(out / "specimen.geo", out / "specimen.msh", out / "gmsh.log");
+  } catch (const InputError& e) {  // most often two particles that touch at a point
+    throw InputError(fmt::format("{}{}; the other files and specimen.json are written", e.what(),
+                                 s.gap > 0.0 ? "" : " (particles that touch make faces Gmsh cannot mesh: give a gap)"));
+  }
+  const std::map<std::string, double> volumes = msh_group_volumes(out / "specimen.msh");
+  double meshed = 0.0;
+  for (const auto& [name, volume] : volumes) meshed += volume;
+  const double aggregate = volumes.contains("aggregate") ? volumes.at("aggregate") : 0.0;
+  const double region = region_volume(s.region);
+  report["gmsh"]["volume_m3"] = volumes;
+  report["gmsh"]["aggregate_fraction"] = aggregate / region;
+  report["gmsh"]["aggregate_fraction_minus_exact"] = aggregate / region - s.aggregate_fraction();
+  report["gmsh"]["meshed_volume_over_region"] = meshed / region;
+}
+
+// specimen.json's content but the files and notes: the specimen, its exact and voxel fractions.
+nlohmann::json specimen_json(const SpecimenSource& source, const SpecimenRequest& request, const Specimen& s,
+                             const VoxelImage& image) {
   const SpecimenRegion& region = s.region;
-  if (has(formats, "geo")) {
-    const double finest = smallest_kept(s);
-    const GmshMeshSizes sizes = request.mesh_sizes.value_or(
-        GmshMeshSizes{finest / 4.0, finest / 2.0, request.itz_thickness > 0.0 ? request.itz_thickness : finest / 4.0});
-    write_file_atomically(out / "specimen.geo", gmsh_geo(s, sizes, provenance));
-    written.push_back("specimen.geo");
-    report["gmsh"] = {{"mesh_size_m", {{"aggregate", sizes.aggregate}, {"mortar", sizes.mortar}, {"itz", sizes.itz}}},
-                      {"elements_per_circle", sizes.elements_per_circle}};
-  }
-  if (has(formats, "msh")) {
-    try {
-      run_gmsh(out / "specimen.geo", out / "specimen.msh", out / "gmsh.log");
-    } catch (const InputError& e) {  // most often two particles that touch at a point
-      throw InputError(fmt::format("{}{}", e.what(),
-                                   s.gap > 0.0 ? "" : " (particles that touch make faces Gmsh cannot mesh: give a gap)"));
-    }
-    written.push_back("specimen.msh");
-    const std::map<std::string, double> volumes = msh_group_volumes(out / "specimen.msh");
-    double meshed = 0.0;
-    for (const auto& [name, volume] : volumes) meshed += volume;
-    const double aggregate = volumes.contains("aggregate") ? volumes.at("aggregate") : 0.0;
-    report["gmsh"]["volume_m3"] = volumes;
-    report["gmsh"]["aggregate_fraction"] = aggregate / region_volume(region);
-    report["gmsh"]["aggregate_fraction_minus_exact"] = aggregate / region_volume(region) - s.aggregate_fraction();
-    report["gmsh"]["meshed_volume_over_region"] = meshed / region_volume(region);
-  }
+  return {
+      {"aggpack_version", kVersion},
+      {"source", source.description},
+      {"run", source.run},
+      {"region", region_json(region)},
+      {"min_size_m", request.min_size},
+      {"itz_thickness_m", request.itz_thickness},
+      {"gap_m", request.gap},
+      {"particles", {{"kept", s.kept_particles}, {"spheres", s.spheres.size()}, {"dropped_below_min_size", s.dropped_particles},
+                     {"dropped_volume_fraction", s.dropped_volume / region_volume(region)}}},
+      {"exact", {{"aggregate_fraction", s.aggregate_fraction()}, {"method", s.volume_method}}},
+      {"voxels",
+       {{"count", image.grid.count},
+        {"spacing_m", {image.grid.spacing.x, image.grid.spacing.y, image.grid.spacing.z}},
+        {"aggregate_fraction", image.fraction(image.aggregate)},
+        {"itz_fraction", image.fraction(image.itz)},
+        {"mortar_fraction", image.fraction(image.mortar)},
+        {"aggregate_fraction_minus_exact", image.fraction(image.aggregate) - s.aggregate_fraction()},
+        {"itz_volume_m3", static_cast<double>(image.itz) * image.grid.voxel_volume()}}}};
 }
 
 }  // namespace
@@ -158,10 +182,12 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
                                  source.description));
   if (!(request.min_size >= 0.0) || !(request.itz_thickness >= 0.0) || !std::isfinite(request.itz_thickness))
     throw InputError("the minimum size and the ITZ's thickness: expected lengths of zero or more");
+  if (!(request.max_voxels >= 1.0) || !std::isfinite(request.max_voxels))
+    throw InputError(fmt::format("the voxel limit {}: expected a count of 1 or more", request.max_voxels));
   const SpecimenRegion region = request.region.value_or(SpecimenRegion{*source.largest_virtual_box});
   const std::vector<std::string> formats = checked_formats(request.formats);
-  const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
   check_inside_bed(region, source);
+  const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
   std::vector<std::string> notes = source.notes;
   if (request.gap > 0.0)
     notes.push_back(fmt::format("each kept particle's spheres shrunk by {:.4g} m (gap / 2) so that touching ones "
@@ -172,12 +198,16 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
   double voxel = request.voxel_size.value_or(smallest_kept(s) / 10.0);
   const double budget_voxel = std::cbrt(region_volume(region) / kDefaultVoxelBudget);
   if (!request.voxel_size && voxel < budget_voxel) {
-    notes.push_back(fmt::format("the voxel is {:.4g} m, not a tenth of the smallest kept particle ({:.4g} m): at "
-                                "most {:.0e} voxels by default (give the voxel size for a finer one)",
+    notes.push_back(fmt::format("the voxel is {:.4g} m, not {:.4g} m (a tenth of the smallest kept sphere's "
+                                "diameter): at most {:.0e} voxels by default (give the voxel size for a finer one)",
                                 budget_voxel, voxel, kDefaultVoxelBudget));
     voxel = budget_voxel;
   }
   const VoxelImage image = voxelize(s, voxel, request.max_voxels);
+  if (has(formats, "inp") && !(static_cast<double>(image.inside()) <= kInpElementLimit))
+    throw InputError(fmt::format("format inp: {:.3g} voxel elements, more than {:.2g} (some 130 bytes each in the "
+                                 "file); expected a larger voxel, or the voxel image alone (vti)",
+                                 static_cast<double>(image.inside()), kInpElementLimit));
   if (request.itz_thickness > 0.0 && image.itz > image.mortar)
     throw InputError(fmt::format("ITZ {:.4g} m: it takes {:.1f} % of the matrix around the aggregate, more than the "
                                  "mortar between: thicker than the gaps between the particles; expected a thinner ITZ "
@@ -196,25 +226,7 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
                                 s.dropped_particles, request.min_size, s.dropped_volume / region_volume(region)));
   const std::string provenance =
       fmt::format("aggpack {} specimen: {} of {}", kVersion, region_text(region), source.description);
-  nlohmann::json report = {
-      {"aggpack_version", kVersion},
-      {"source", source.description},
-      {"run", source.run},
-      {"region", region_json(region)},
-      {"min_size_m", request.min_size},
-      {"itz_thickness_m", request.itz_thickness},
-      {"gap_m", request.gap},
-      {"particles", {{"kept", s.kept_particles}, {"spheres", s.spheres.size()}, {"dropped_below_min_size", s.dropped_particles},
-                     {"dropped_volume_fraction", s.dropped_volume / region_volume(region)}}},
-      {"exact", {{"aggregate_fraction", s.aggregate_fraction()}, {"method", s.volume_method}}},
-      {"voxels",
-       {{"count", image.grid.count},
-        {"spacing_m", {image.grid.spacing.x, image.grid.spacing.y, image.grid.spacing.z}},
-        {"aggregate_fraction", image.fraction(image.aggregate)},
-        {"itz_fraction", image.fraction(image.itz)},
-        {"mortar_fraction", image.fraction(image.mortar)},
-        {"aggregate_fraction_minus_exact", image.fraction(image.aggregate) - s.aggregate_fraction()},
-        {"itz_volume_m3", static_cast<double>(image.itz) * image.grid.voxel_volume()}}}};
+  nlohmann::json report = specimen_json(source, request, s, image);
   std::filesystem::create_directories(out);
   std::vector<std::string> written;
   if (has(formats, "vti")) {
@@ -225,10 +237,20 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
     write_file_atomically(out / "specimen.inp", [&](std::ostream& o) { write_abaqus_inp(o, image, provenance); });
     written.push_back("specimen.inp");
   }
-  write_gmsh(s, request, formats, provenance, out, written, report);
-  report["files"] = written;
   report["modelling_notes"] = notes;
-  write_file_atomically(out / "specimen.json", report.dump(1) + "\n");
+  const auto write_report = [&] {
+    report["files"] = written;
+    write_file_atomically(out / "specimen.json", report.dump(1) + "\n");
+  };
+  // What is written stands on its own, said in specimen.json, before Gmsh meshes (minutes, and
+  // it may fail on a geometry it cannot mesh).
+  write_gmsh_geometry(s, request, formats, provenance, out, written, report);
+  write_report();
+  if (has(formats, "msh")) {
+    mesh_with_gmsh(s, out, report);
+    written.push_back("specimen.msh");
+    write_report();
+  }
   return report;
 }
 

@@ -33,15 +33,22 @@ std::vector<double> grain_widths(const std::filesystem::path& file) {
   std::string line;
   std::getline(in, line);
   const std::vector<std::string> header = split_csv_fields(line);
-  const auto column = std::find(header.begin(), header.end(), "width");
-  if (column == header.end()) throw InputError(fmt::format("{}: no width column (a grain's I)", file.string()));
-  const auto at = static_cast<std::size_t>(column - header.begin());
+  const auto width_column = std::find(header.begin(), header.end(), "width");
+  const auto id_column = std::find(header.begin(), header.end(), "id");
+  if (width_column == header.end() || id_column == header.end())
+    throw InputError(fmt::format("{}: expected the columns id and width (a grain's I)", file.string()));
+  const auto at = static_cast<std::size_t>(width_column - header.begin());
+  const auto id_at = static_cast<std::size_t>(id_column - header.begin());
   std::vector<double> widths;
   for (std::size_t row = 2; std::getline(in, line); ++row) {
     if (trim(line).empty()) continue;
     const std::vector<std::string> fields = split_csv_fields(line);
     const auto width = at < fields.size() ? parse_finite_number(fields[at]) : std::nullopt;
+    const auto id = id_at < fields.size() ? parse_finite_number(fields[id_at]) : std::nullopt;
     if (!width || !(*width > 0.0)) throw InputError(fmt::format("{}:{}: width: expected a positive length", file.string(), row));
+    if (!id || *id != static_cast<double>(widths.size() + 1))
+      throw InputError(fmt::format("{}:{}: id: expected grain {}, the grains numbered in order", file.string(), row,
+                                   widths.size() + 1));
     widths.push_back(*width);
   }
   return widths;
@@ -59,7 +66,6 @@ PackedParticles particles_of(const PackingFile& file, const std::vector<double>&
     std::size_t particle = out.particle_size.size();
     if (grain == 0) {
       out.particle_size.push_back(2.0 * p.radius[i]);
-      out.particle_is_grain.push_back(false);
     } else if (const auto found = particle_of_grain.find(grain); found != particle_of_grain.end()) {
       particle = found->second;
     } else {
@@ -68,7 +74,6 @@ PackedParticles particles_of(const PackingFile& file, const std::vector<double>&
                                      grain, grain_sizes.size()));
       particle_of_grain[grain] = particle;
       out.particle_size.push_back(grain_sizes[grain - 1]);
-      out.particle_is_grain.push_back(true);
     }
     out.spheres.push_back({p.position[i], p.radius[i]});
     out.particle_of_sphere.push_back(particle);
@@ -108,7 +113,6 @@ PackedParticles with_periodic_images(const PackedParticles& bed, const Box& cont
           out.particle_of_sphere.push_back(out.particle_size.size());
         }
         out.particle_size.push_back(bed.particle_size[k]);
-        out.particle_is_grain.push_back(bed.particle_is_grain[k]);
       }
   }
   return out;
@@ -166,12 +170,12 @@ SpecimenSource read_run_folder(const std::filesystem::path& folder) {
 
 SpecimenSource read_packing_source(const std::filesystem::path& file, double length_unit) {
   const PackingFile read = read_packing_file(file, length_unit, 1.0);
+  if (std::any_of(read.grains.begin(), read.grains.end(), [](std::uint32_t g) { return g != 0; }))
+    throw InputError(fmt::format("{}: its grain column puts spheres into grains: cut a run with grains from its "
+                                 "folder (its grains.csv gives each grain's size)",
+                                 file.string()));
   SpecimenSource source;
   source.particles = particles_of(read, {}, file);
-  if (!read.grains.empty())
-    throw InputError(fmt::format("{}: a grain column: cut a run with grains from its folder (its grains.csv gives "
-                                 "each grain's size)",
-                                 file.string()));
   Box b{{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()},
         {-std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
          -std::numeric_limits<double>::max()}};

@@ -89,7 +89,7 @@ VoxelImage voxelize(const Specimen& s, double voxel_size, double max_voxels) {
   VoxelImage image;
   image.grid = voxel_grid(s.region, voxel_size);
   const VoxelGrid& g = image.grid;
-  if (g.voxels() > max_voxels)
+  if (!(g.voxels() <= max_voxels))
     throw InputError(fmt::format("voxel size {:.6g} m: {} x {} x {} = {:.3g} voxels, more than the limit of {:.3g} "
                                  "(a byte each, and an Abaqus file of some 100 bytes each); expected a larger voxel",
                                  voxel_size, g.count[0], g.count[1], g.count[2], g.voxels(), max_voxels));
@@ -145,8 +145,9 @@ void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_vi
   const VoxelGrid& g = image.grid;
   const std::size_t nx = g.count[0] + 1, ny = g.count[1] + 1;
   const auto inside = [&](std::size_t v) { return image.phase[v] != static_cast<std::uint8_t>(Phase::Outside); };
-  // Node numbers (1 up) of the grid points that an inside voxel uses; 0: unused.
-  std::vector<std::size_t> node(nx * ny * (g.count[2] + 1), 0);
+  // Node numbers (1 up) of the grid points that an inside voxel uses; 0: unused. (32 bits: the
+  // callers' voxel limits keep the grid far below 4e9 points.)
+  std::vector<std::uint32_t> node(nx * ny * (g.count[2] + 1), 0);
   const auto point = [&](std::size_t i, std::size_t j, std::size_t k) { return i + nx * (j + ny * k); };
   for (std::size_t k = 0; k < g.count[2]; ++k)
     for (std::size_t j = 0; j < g.count[1]; ++j)
@@ -160,32 +161,39 @@ void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_vi
   for (std::size_t k = 0; k <= g.count[2]; ++k)
     for (std::size_t j = 0; j < ny; ++j)
       for (std::size_t i = 0; i < nx; ++i)
-        if (std::size_t& n = node[point(i, j, k)]; n != 0) {
-          n = ++nodes;
+        if (std::uint32_t& n = node[point(i, j, k)]; n != 0) {
+          n = static_cast<std::uint32_t>(++nodes);
           fmt::print(out, "{}, {:.17g}, {:.17g}, {:.17g}\n", n, g.origin.x + static_cast<double>(i) * g.spacing.x,
                      g.origin.y + static_cast<double>(j) * g.spacing.y, g.origin.z + static_cast<double>(k) * g.spacing.z);
         }
   out << "*Element, type=C3D8\n";
-  std::array<std::vector<std::size_t>, 3> sets;  // mortar, aggregate, ITZ
   std::size_t element = 0;
   for (std::size_t k = 0; k < g.count[2]; ++k)
     for (std::size_t j = 0; j < g.count[1]; ++j)
       for (std::size_t i = 0; i < g.count[0]; ++i) {
-        const std::size_t v = index_of(g, i, j, k);
-        if (!inside(v)) continue;
-        ++element;
+        if (!inside(index_of(g, i, j, k))) continue;
         // The bottom face counterclockwise seen from above, then the top face: a positive volume.
-        fmt::print(out, "{}, {}, {}, {}, {}, {}, {}, {}, {}\n", element, node[point(i, j, k)], node[point(i + 1, j, k)],
-                   node[point(i + 1, j + 1, k)], node[point(i, j + 1, k)], node[point(i, j, k + 1)],
-                   node[point(i + 1, j, k + 1)], node[point(i + 1, j + 1, k + 1)], node[point(i, j + 1, k + 1)]);
-        sets[image.phase[v]].push_back(element);
+        fmt::print(out, "{}, {}, {}, {}, {}, {}, {}, {}, {}\n", ++element, node[point(i, j, k)],
+                   node[point(i + 1, j, k)], node[point(i + 1, j + 1, k)], node[point(i, j + 1, k)],
+                   node[point(i, j, k + 1)], node[point(i + 1, j, k + 1)], node[point(i + 1, j + 1, k + 1)],
+                   node[point(i, j + 1, k + 1)]);
       }
-  const std::array<const char*, 3> names{"MORTAR", "AGGREGATE", "ITZ"};
-  for (std::size_t p : {1u, 0u, 2u}) {
-    if (sets[p].empty()) continue;
-    fmt::print(out, "*Elset, elset={}\n", names[p]);
-    for (std::size_t e = 0; e < sets[p].size(); ++e)  // at most 16 a line
-      fmt::print(out, "{}{}", sets[p][e], (e + 1) % 16 == 0 || e + 1 == sets[p].size() ? "\n" : ", ");
+  // Each phase's elements (numbered as above: the inside voxels in order), 16 a line.
+  const std::array<std::pair<Phase, const char*>, 3> sets{
+      {{Phase::Aggregate, "AGGREGATE"}, {Phase::Mortar, "MORTAR"}, {Phase::Itz, "ITZ"}}};
+  for (const auto& [phase, name] : sets) {
+    const auto label = static_cast<std::uint8_t>(phase);
+    if (std::find(image.phase.begin(), image.phase.end(), label) == image.phase.end()) continue;
+    fmt::print(out, "*Elset, elset={}\n", name);
+    std::size_t number = 0, on_line = 0;
+    for (const std::uint8_t p : image.phase) {
+      if (p == static_cast<std::uint8_t>(Phase::Outside)) continue;
+      ++number;
+      if (p != label) continue;
+      fmt::print(out, "{}{}", on_line == 0 ? "" : ", ", number);
+      if (++on_line == 16) out << '\n', on_line = 0;
+    }
+    if (on_line != 0) out << '\n';
   }
 }
 

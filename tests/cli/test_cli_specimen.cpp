@@ -96,13 +96,15 @@ TEST_F(CliSpecimen, BadInputIsRefusedBeforeAnythingIsWritten) {
   for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
            {"--box 0.01,0.01,0.01,0.03,0.03,0.5", "is not inside the bed"},
            {"--box -0.01,0.01,0.01,0.02,0.02,0.02", "is not inside the bed"},
-           {"--box 1,1,1,1.1,1.1,1.1", "holds no particle of the bed"},
+           {"--box 1,1,1,1.1,1.1,1.1", "is not inside the bed"},
            {"--voxel 1e-6", "more than the limit"},
            {"--itz 3mm", "thicker than the gaps between the particles"},
            {"--formats vti,stl", "expected vti, inp, geo or msh"},
            {"--box 0,0,0,0.01,0.01,0.01 --cylinder 0.02,0.02,0,0.01,0.005", "give one specimen"},
            {"--cylinder 0.02,0.02,0.01,0.005,0.005", "expected X,Y,ZLO,ZHI,RADIUS"},
-           {"--min-size 1", "holds no particle of the bed at or above the minimum size"}}) {
+           {"--min-size 1", "holds no particle of the bed at or above the minimum size"},
+           {"--max-voxels nan", "--max-voxels"},
+           {"--voxel 0.00003 --max-voxels 1e12", "format inp"}}) {
     const auto r = run_cli("specimen " + run.string() + " " + args + to);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(words), std::string::npos) << args << "\n" << r.output;

@@ -23,7 +23,6 @@ inline PackedParticles random_spheres(std::size_t count, double side, double r_l
     bed.particle_of_sphere.push_back(bed.spheres.size());
     bed.spheres.push_back({c, r});
     bed.particle_size.push_back(2.0 * r);
-    bed.particle_is_grain.push_back(false);
   }
   return bed;
 }

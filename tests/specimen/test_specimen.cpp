@@ -60,7 +60,6 @@ PackedParticles three_particles() {
                  {{0.028, 0.01, 0.01}, 0.003}, {{0.032, 0.01, 0.01}, 0.003}};  // a grain of two spheres
   bed.particle_of_sphere = {0, 1, 2, 2};
   bed.particle_size = {0.008, 0.002, 0.006};
-  bed.particle_is_grain = {false, false, true};
   return bed;
 }
 

@@ -2,6 +2,7 @@
 // the exact one as the voxel shrinks, each sampled voxel's phase is the one its centre is in, and
 // the VTK and Abaqus files hold that image.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstring>
@@ -71,11 +72,21 @@ TEST(VoxelImage, EachVoxelIsThePhaseItsCentreIsIn) {
               0.01);
 }
 
+TEST(VoxelImage, IsTheSameBytesForAnyThreadCount) {
+  const Specimen s = bed_specimen(0.0005, VerticalCylinder{0.02, 0.02, 0.005, 0.035, 0.013});
+  omp_set_num_threads(1);
+  const VoxelImage one = voxelize(s, 0.0003, 1e8);
+  omp_set_num_threads(2);
+  const VoxelImage two = voxelize(s, 0.0003, 1e8);
+  EXPECT_EQ(one.phase, two.phase);
+}
+
 TEST(VoxelImage, TooManyVoxelsOrNoSizeAreRefused) {
   const Specimen s = bed_specimen();
   EXPECT_THROW((void)voxelize(s, 1e-5, 1e8), InputError);  // 2.7e10 voxels
   EXPECT_THROW((void)voxelize(s, 0.0, 1e8), InputError);
   EXPECT_THROW((void)voxelize(s, -1.0, 1e8), InputError);
+  EXPECT_THROW((void)voxelize(s, 0.001, std::nan("")), InputError);  // a limit that is no number refuses
 }
 
 TEST(VoxelImage, TheVtiFileHoldsTheImage) {

@@ -42,9 +42,8 @@ struct PackedParticles {
   std::vector<MemberSphere> spheres;
   std::vector<std::size_t> particle_of_sphere;
   // Per particle: its size as a sieve sees it (a sphere's diameter; a grain's intermediate
-  // dimension I, the one a sieve's square opening passes) and whether it is a grain.
+  // dimension I, the one a sieve's square opening passes).
   std::vector<double> particle_size;
-  std::vector<bool> particle_is_grain;
 };
 
 struct SpecimenOptions {
@@ -59,9 +58,8 @@ struct SpecimenOptions {
 struct Specimen {
   SpecimenRegion region;
   double min_size = 0.0, itz_thickness = 0.0, gap = 0.0;
-  // The kept particles' spheres (each radius less gap / 2) that reach into the region (with their ITZ), by particle.
+  // The kept particles' spheres that reach into the region (with their ITZ), each radius less gap / 2.
   std::vector<MemberSphere> spheres;
-  std::vector<std::size_t> particle_of_sphere;  // an index of the kept particles, 0 up
   std::size_t kept_particles = 0;
   std::size_t dropped_particles = 0;  // below min_size, reaching into the region
   // The kept and the dropped particles' volume inside the region: exact for spheres (and for
