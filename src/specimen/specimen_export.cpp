@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <sstream>
 
 #include <fmt/format.h>
@@ -228,6 +230,9 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
       fmt::format("aggpack {} specimen: {} of {}", kVersion, region_text(region), source.description);
   nlohmann::json report = specimen_json(source, request, s, image);
   std::filesystem::create_directories(out);
+  // An earlier specimen's files go: the folder never mixes two specimens.
+  for (const char* name : {"specimen.vti", "specimen.inp", "specimen.geo", "specimen.msh", "gmsh.log", "specimen.json"})
+    std::filesystem::remove(out / name);
   std::vector<std::string> written;
   if (has(formats, "vti")) {
     write_file_atomically(out / "specimen.vti", [&](std::ostream& o) { write_vti(o, image, provenance); });

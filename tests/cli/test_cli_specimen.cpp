@@ -59,6 +59,11 @@ TEST_F(CliSpecimen, TheRunsLargestVirtualBoxIsTheSpecimenAndItsDensityTheAggrega
   EXPECT_NEAR(spec["voxels"]["aggregate_fraction"].get<double>(), largest["density"].get<double>(), 0.01);
   EXPECT_EQ(spec["files"], (std::vector<std::string>{"specimen.vti", "specimen.inp", "specimen.geo"}));
   for (const char* f : {"specimen.vti", "specimen.inp", "specimen.geo"}) EXPECT_TRUE(fs::exists(dir_ / "s" / f)) << f;
+  // Again into the same folder, the voxel image alone: the earlier files go.
+  const auto again = run_cli("specimen " + run.string() + " --formats vti --out " + (dir_ / "s").string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_FALSE(fs::exists(dir_ / "s" / "specimen.inp"));
+  EXPECT_TRUE(fs::exists(dir_ / "s" / "specimen.vti"));
   EXPECT_EQ(spec["run"]["seed"], 2);
   bool grain_note = false;
   for (const auto& note : spec["modelling_notes"]) grain_note |= note.get<std::string>().rfind("a grain's size", 0) == 0;
