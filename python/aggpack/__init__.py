@@ -28,9 +28,10 @@ from ._aggpack import (  # noqa: F401
     read_bed,
     resume,
     run,
+    specimen,
     toml_text,
     write_outputs,
 )
 
 __all__ = ["Bed", "InputError", "NO_GRAIN", "Report", "Scenario", "analyze", "calibrate", "export_lammps", "grading", "import_lammps",
-           "predict", "read_bed", "resume", "run", "toml_text", "write_outputs"]
+           "predict", "read_bed", "resume", "run", "specimen", "toml_text", "write_outputs"]

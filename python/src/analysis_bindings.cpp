@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
@@ -17,6 +18,7 @@
 #include "aggpack/core/units.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze_bed.hpp"
+#include "aggpack/specimen/specimen_export.hpp"
 #include "bindings.hpp"
 #include "python_bed.hpp"
 
@@ -120,6 +122,54 @@ py::object analyze(const py::object& bed_or_path, const std::vector<double>& cub
   return to_python(j);
 }
 
+// aggpack.specimen: the CLI's `aggpack specimen` on a run's folder, a packing file or a Bed.
+py::object specimen(const py::object& source, const std::filesystem::path& out,
+                    const std::optional<std::vector<double>>& box, const std::optional<std::vector<double>>& cylinder,
+                    std::optional<double> voxel, double itz, double min_size, double gap,
+                    const std::vector<std::string>& formats, const std::optional<std::vector<double>>& mesh_size,
+                    double max_voxels, const std::string& length_unit) {
+  SpecimenRequest request;
+  if (box && cylinder) throw InputError("specimen: box and cylinder: give one specimen");
+  if (box) {
+    if (box->size() != 6) throw InputError("specimen: box: expected [xmin, ymin, zmin, xmax, ymax, zmax]");
+    request.region = Box{{(*box)[0], (*box)[1], (*box)[2]}, {(*box)[3], (*box)[4], (*box)[5]}};
+  }
+  if (cylinder) {
+    const std::vector<double>& c = *cylinder;
+    if (c.size() != 5 || !(c[4] > 0.0) || !(c[3] > c[2]))
+      throw InputError("specimen: cylinder: expected [x, y, z_lo, z_hi, radius] (z_lo < z_hi, radius > 0)");
+    request.region = VerticalCylinder{c[0], c[1], c[2], c[3], c[4]};
+  }
+  for (const double length : {itz, min_size, gap})
+    if (!(length >= 0.0) || !std::isfinite(length))
+      throw InputError(fmt::format("specimen: itz, min_size and gap: {} is not a length of zero or more", length));
+  request.voxel_size = voxel;
+  request.itz_thickness = itz;
+  request.min_size = min_size;
+  request.gap = gap;
+  request.formats = formats;
+  request.max_voxels = max_voxels;
+  if (mesh_size) {
+    const std::vector<double>& m = *mesh_size;
+    if (m.empty() || m.size() > 3 || std::any_of(m.begin(), m.end(), [](double v) { return !(v > 0.0); }))
+      throw InputError("specimen: mesh_size: expected [aggregate, mortar, itz], positive lengths (m)");
+    request.mesh_sizes = GmshMeshSizes{m[0], m.size() > 1 ? m[1] : 2.0 * m[0], m.size() > 2 ? m[2] : m[0]};
+  }
+  std::optional<SpecimenSource> bed;
+  if (py::isinstance<PyBed>(source)) {
+    const auto& b = source.cast<const PyBed&>();
+    bed = spheres_source(*b.store, b.source);
+  }
+  const std::filesystem::path path = bed ? std::filesystem::path() : source.cast<std::filesystem::path>();
+  nlohmann::json report;
+  {
+    py::gil_scoped_release released;
+    if (!bed) bed = std::filesystem::is_directory(path) ? read_run_folder(path) : read_packing_source(path, unit_of(length_unit));
+    report = export_specimen(*bed, request, out);
+  }
+  return to_python(report);
+}
+
 }  // namespace
 
 void bind_analysis(py::module_& m) {
@@ -145,6 +195,20 @@ with `length_unit` and `timestep`, as read_bed). The container is the spheres' b
 fits); `boxes`: explicit boxes [xmin, ymin, zmin, xmax, ymax, zmax]; for a file both are in its
 `length_unit`, for a Bed in m. Overlapping spheres deeper than `overlap_tolerance` x the
 smaller radius are refused unless `soft_contacts` (a soft-contact DEM's bed).)doc");
+  m.def("specimen", &specimen, py::arg("source"), py::arg("out"), py::kw_only(), py::arg("box") = py::none(),
+        py::arg("cylinder") = py::none(), py::arg("voxel") = py::none(), py::arg("itz") = 0.0,
+        py::arg("min_size") = 0.0, py::arg("gap") = 0.0, py::arg("formats") = std::vector<std::string>{},
+        py::arg("mesh_size") = py::none(), py::arg("max_voxels") = 2e8, py::arg("length_unit") = "m",
+        R"doc(Cuts a concrete specimen for meso-models, as `aggpack specimen` does, writes its files into
+`out` and returns specimen.json's dict (README, "Concrete specimens for meso-models").
+
+`source`: a run's output folder (its final bed; the default specimen its largest virtual box),
+a packing file (read in `length_unit`) or an aggpack.Bed of spheres. `box` [xmin, ymin, zmin,
+xmax, ymax, zmax] or `cylinder` [x, y, z_lo, z_hi, radius] (vertical), in m; `voxel`: the
+voxel's side (default a tenth of the smallest kept sphere's diameter); `itz`: the ITZ's
+thickness; `min_size`: smaller particles are mortar; `gap`: kept particles shrunk so that
+touching ones stand this far apart (Gmsh cannot mesh touching spheres); `formats`: of "vti",
+"inp", "geo", "msh" (default the first three); `mesh_size`: Gmsh's [aggregate, mortar, itz].)doc");
 }
 
 }  // namespace aggpack::python

@@ -57,7 +57,7 @@ std::vector<double> grain_widths(const std::filesystem::path& file) {
 // The particles of a bed: each sphere of its own, and each grain's spheres together; `sizes`:
 // the grains' I, by grain number - 1.
 PackedParticles particles_of(const PackingFile& file, const std::vector<double>& grain_sizes,
-                             const std::filesystem::path& name) {
+                             const std::string& name) {
   PackedParticles out;
   std::map<std::uint32_t, std::size_t> particle_of_grain;
   const ParticleStore& p = file.particles;
@@ -70,7 +70,7 @@ PackedParticles particles_of(const PackingFile& file, const std::vector<double>&
       particle = found->second;
     } else {
       if (grain > grain_sizes.size())
-        throw InputError(fmt::format("{}: sphere {} is of grain {}, and grains.csv lists {}", name.string(), i + 1,
+        throw InputError(fmt::format("{}: sphere {} is of grain {}, and grains.csv lists {}", name, i + 1,
                                      grain, grain_sizes.size()));
       particle_of_grain[grain] = particle;
       out.particle_size.push_back(grain_sizes[grain - 1]);
@@ -141,7 +141,7 @@ SpecimenSource read_run_folder(const std::filesystem::path& folder) {
     const bool periodic = c.at("periodic").get<bool>();
     const PackingFile file = read_packing_file(bed_file, 1.0, 1.0);
     const std::vector<double> widths = file.grains.empty() ? std::vector<double>{} : grain_widths(folder / "grains.csv");
-    source.particles = particles_of(file, widths, bed_file);
+    source.particles = particles_of(file, widths, bed_file.string());
     if (periodic) {
       source.particles = with_periodic_images(source.particles, source.bed_bounds);
       source.notes.push_back("periodic sides: a particle that crosses one counts with its image across it");
@@ -174,11 +174,19 @@ SpecimenSource read_packing_source(const std::filesystem::path& file, double len
     throw InputError(fmt::format("{}: its grain column puts spheres into grains: cut a run with grains from its "
                                  "folder (its grains.csv gives each grain's size)",
                                  file.string()));
+  return spheres_source(read.particles, fmt::format("the packing file {} ({})", file.string(), read.format));
+}
+
+SpecimenSource spheres_source(const ParticleStore& spheres, std::string description) {
+  if (!spheres.bodies.empty())
+    throw InputError(fmt::format("{}: a bed of grains: cut it from its run's folder (its grains.csv gives each "
+                                 "grain's size)",
+                                 description));
+  if (spheres.empty()) throw InputError(fmt::format("{}: no spheres", description));
   SpecimenSource source;
-  source.particles = particles_of(read, {}, file);
-  Box b{{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(), std::numeric_limits<double>::max()},
-        {-std::numeric_limits<double>::max(), -std::numeric_limits<double>::max(),
-         -std::numeric_limits<double>::max()}};
+  source.particles = particles_of(PackingFile{spheres, "", {}, {}}, {}, description);
+  constexpr double kBig = std::numeric_limits<double>::max();
+  Box b{{kBig, kBig, kBig}, {-kBig, -kBig, -kBig}};
   for (const MemberSphere& s : source.particles.spheres) {
     b.lo = {std::min(b.lo.x, s.centre.x - s.radius), std::min(b.lo.y, s.centre.y - s.radius),
             std::min(b.lo.z, s.centre.z - s.radius)};
@@ -186,7 +194,7 @@ SpecimenSource read_packing_source(const std::filesystem::path& file, double len
             std::max(b.hi.z, s.centre.z + s.radius)};
   }
   source.bed_bounds = b;
-  source.description = fmt::format("the packing file {} ({})", file.string(), read.format);
+  source.description = std::move(description);
   return source;
 }
 

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/core/particle_store.hpp"
 #include "aggpack/specimen/gmsh_geometry.hpp"
 #include "aggpack/specimen/specimen.hpp"
 
@@ -31,6 +32,9 @@ struct SpecimenSource {
 [[nodiscard]] SpecimenSource read_run_folder(const std::filesystem::path& folder);
 // Any packing file `aggpack analyze` reads, each sphere a particle; lengths in `length_unit` m.
 [[nodiscard]] SpecimenSource read_packing_source(const std::filesystem::path& file, double length_unit);
+// A bed of spheres held in memory (InputError for one with grains: cut those from their run's
+// folder, whose grains.csv gives each grain's size), the bed being the spheres' extent.
+[[nodiscard]] SpecimenSource spheres_source(const ParticleStore& spheres, std::string description);
 
 struct SpecimenRequest {
   std::optional<SpecimenRegion> region;  // none: the run's largest virtual box

@@ -1,0 +1,52 @@
+"""aggpack.specimen against `aggpack specimen`: the same files and specimen.json, from a run's folder
+or from a Bed in memory."""
+import json
+
+import numpy as np
+import pytest
+
+import aggpack
+from conftest import EXAMPLES, cli
+
+
+@pytest.fixture(scope="module")
+def deposited(tmp_path_factory):
+    """Example 1's drop-and-roll bed, written by the CLI."""
+    out = tmp_path_factory.mktemp("deposited") / "example1"
+    cli("run", EXAMPLES / "example1.toml", "--quiet", "--stop-after", "deposition", "--out", out)
+    return out
+
+
+def test_a_specimen_from_python_is_the_clis(tmp_path, deposited):
+    cli("specimen", deposited, "--itz", "1mm", "--min-size", "1in", "--voxel", "2mm", "--out", tmp_path / "cli")
+    got = aggpack.specimen(deposited, tmp_path / "py", itz=0.001, min_size=0.0254, voxel=0.002)
+    expected = json.loads((tmp_path / "cli" / "specimen.json").read_text())
+    assert got == expected
+    for name in ("specimen.vti", "specimen.inp", "specimen.geo", "specimen.json"):
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    # The largest virtual box's density is the specimen's exact aggregate fraction.
+    summary = json.loads((deposited / "summary.json").read_text())
+    largest = max(summary["density"]["boxes"], key=lambda b: b["side_m"])
+    assert got["exact"]["aggregate_fraction"] == pytest.approx(largest["density"], abs=1e-9)
+    assert got["voxels"]["itz_fraction"] > 0
+
+
+def test_a_bed_in_memory_is_cut_as_its_file(tmp_path, deposited):
+    bed = aggpack.read_bed(deposited / "particles.csv")
+    box = [0.08, 0.08, 0.05, 0.2, 0.2, 0.17]
+    from_bed = aggpack.specimen(bed, tmp_path / "bed", box=box, formats=["vti"])
+    from_file = aggpack.specimen(deposited / "particles.csv", tmp_path / "file", box=box, formats=["vti"])
+    assert from_bed["exact"] == from_file["exact"]
+    assert from_bed["voxels"] == from_file["voxels"]
+    with pytest.raises(aggpack.InputError, match="give the specimen's box or cylinder"):
+        aggpack.specimen(bed, tmp_path / "none")
+    with pytest.raises(aggpack.InputError, match="box and cylinder: give one specimen"):
+        aggpack.specimen(bed, tmp_path / "two", box=box, cylinder=[0.15, 0.15, 0.05, 0.15, 0.04])
+    with pytest.raises(aggpack.InputError, match="is not inside the bed"):
+        aggpack.specimen(bed, tmp_path / "out", box=[0, 0, 0, 1, 1, 1])
+    assert not (tmp_path / "out").exists()
+    arrays = aggpack.Bed.from_arrays(bed.positions, bed.radii)
+    cylinder = aggpack.specimen(arrays, tmp_path / "core", cylinder=[0.15, 0.15, 0.05, 0.15, 0.04], formats=["vti"])
+    assert cylinder["region"]["shape"] == "cylinder"
+    assert abs(cylinder["voxels"]["aggregate_fraction_minus_exact"]) < 0.01
+    assert np.isclose(cylinder["exact"]["aggregate_fraction"], 0.58, atol=0.06)
