@@ -2,6 +2,7 @@
 // volume (each group's tetrahedra summed) against the exact one, its physical groups present
 // (skipped, saying so, without gmsh).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
