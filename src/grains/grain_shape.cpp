@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "aggpack/core/rng.hpp"
+#include "tangent_radii.hpp"
 
 namespace aggpack {
 namespace {
@@ -50,38 +51,24 @@ void subdivide(ConvexHull& h) {
   h.triangles = std::move(split);
 }
 
-// A tangent plane of the surface: n.x <= offset inside.
-struct Plane {
-  Vec3 normal;
-  double offset;
-};
-
-// The surface's distinct tangent planes: the points of a polyhedron's face share one (its
-// normal, to the bit), so a face of many points is one plane; of an ellipsoid's points, each
-// is its own. A face's offset is its points' largest n.x (they differ by rounding only).
-std::vector<Plane> tangent_planes(const ConvexSurface& surface) {
-  std::vector<Plane> planes;
+// The surface's distinct tangent planes (n.x <= offset inside): the points of a polyhedron's
+// face share one (its normal, to the bit), so a face of many points is one plane; of an
+// ellipsoid's points, each is its own. A face's offset is its points' largest n.x (they
+// differ by rounding only).
+grains_internal::PlaneColumns tangent_planes(const ConvexSurface& surface) {
+  grains_internal::PlaneColumns planes;
+  const Vec3* last_normal = nullptr;
   for (const SurfacePoint& p : surface) {
     const double offset = dot(p.normal, p.position);
-    if (!planes.empty() && planes.back().normal == p.normal) {
-      planes.back().offset = std::max(planes.back().offset, offset);
+    if (last_normal != nullptr && *last_normal == p.normal) {
+      planes.offset.back() = std::max(planes.offset.back(), offset);
       continue;
     }
-    planes.push_back({p.normal, offset});
+    planes.add(p.normal, offset);
+    last_normal = &p.normal;
   }
+  planes.pad();
   return planes;
-}
-
-// The largest sphere behind every tangent plane that touches point p's plane at p: its
-// centre p - r n stays r behind plane k, r (1 - n_k.n) <= offset_k - n_k.p.
-MemberSphere tangent_sphere(const std::vector<Plane>& planes, const SurfacePoint& p) {
-  double radius = std::numeric_limits<double>::infinity();
-  for (const Plane& plane : planes) {
-    const double closing = 1.0 - dot(plane.normal, p.normal);
-    if (closing <= 1e-12) continue;  // its own plane, or one parallel to it
-    radius = std::min(radius, std::max(0.0, plane.offset - dot(plane.normal, p.position)) / closing);
-  }
-  return {p.position - p.normal * radius, radius};
 }
 
 }  // namespace
@@ -129,12 +116,14 @@ std::vector<MemberSphere> fill_convex(const ConvexSurface& surface, std::size_t 
   for (const SurfacePoint& p : surface)
     if (!std::isfinite(norm2(p.position)) || !(std::abs(norm(p.normal) - 1.0) < 1e-6))
       throw std::invalid_argument("fill_convex: a surface point is not finite or its normal is not of unit length");
-  const std::vector<Plane> planes = tangent_planes(surface);
+  // Each point's sphere: the largest behind every tangent plane that touches the point's own
+  // plane there (its centre p - r n stays r behind plane k: r (1 - n_k.n) <= offset_k - n_k.p).
+  const std::vector<double> radius = grains_internal::tangent_radii(tangent_planes(surface), surface);
   std::vector<MemberSphere> candidate(surface.size());
   for (std::size_t k = 0; k < surface.size(); ++k) {
-    candidate[k] = tangent_sphere(planes, surface[k]);
-    if (!std::isfinite(candidate[k].radius))
+    if (!std::isfinite(radius[k]))
       throw std::invalid_argument("fill_convex: the surface bounds no body (no tangent plane faces a point's plane)");
+    candidate[k] = {surface[k].position - surface[k].normal * radius[k], radius[k]};
   }
   // How far each point lies outside the spheres chosen so far (at first: unbounded).
   std::vector<double> outside(surface.size(), std::numeric_limits<double>::infinity());
