@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "aggpack/core/gauss_kronrod.hpp"
+
 namespace aggpack {
 namespace {
 
@@ -142,19 +144,6 @@ Moments slice_moments(std::span<const MemberSphere> spheres, double z) {
   return m;
 }
 
-// Gauss-Kronrod 7/15 (QUADPACK's qk15): the Kronrod abscissae on [0, 1] (every second one,
-// from the second, is also a Gauss node) and their weights, and the 7-point Gauss weights.
-constexpr std::array<double, 8> kKronrodNode{0.991455371120812639206854697526329, 0.949107912342758524526189684047851,
-                                             0.864864423359769072789712788640926, 0.741531185599394439863864773280788,
-                                             0.586087235467691130294144845693013, 0.405845151377397166906606412076961,
-                                             0.207784955007898467600689403773245, 0.0};
-constexpr std::array<double, 8> kKronrodWeight{
-    0.022935322010529224963732008058970, 0.063092092629978553290700663189204, 0.104790010322250183839876322541518,
-    0.140653259715525918745189590510238, 0.169004726639267902826583426598550, 0.190350578064785409913256402421014,
-    0.204432940075298892414161999234649, 0.209482141084727828012999174891714};
-constexpr std::array<double, 4> kGaussWeight{0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
-                                             0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
-
 // `Slice` gives a slice's moments at a height: slice_moments's, or a clipped slice's area.
 template <class Slice>
 struct Quadrature {
@@ -176,10 +165,10 @@ struct Quadrature {
     for (int k = 0; k < 8; ++k) {
       const int sides = k == 7 ? 1 : 2;
       for (int side = 0; side < sides; ++side) {
-        const Moments f = slice(spheres, centre + (side == 0 ? 1.0 : -1.0) * kKronrodNode[k] * half);
-        kronrod += f * kKronrodWeight[k];
-        if (k % 2 == 1) gauss += f * kGaussWeight[k / 2];
-        for (int m = 0; m < kMoments; ++m) magnitude[m] += std::abs(f[m]) * kKronrodWeight[k];
+        const Moments f = slice(spheres, centre + (side == 0 ? 1.0 : -1.0) * gauss_kronrod15::kNode[k] * half);
+        kronrod += f * gauss_kronrod15::kKronrodWeight[k];
+        if (k % 2 == 1) gauss += f * gauss_kronrod15::kGaussWeight[k / 2];
+        for (int m = 0; m < kMoments; ++m) magnitude[m] += std::abs(f[m]) * gauss_kronrod15::kKronrodWeight[k];
       }
     }
     slices += 15;

@@ -12,6 +12,7 @@
 
 #include "aggpack/analysis/sphere_box_volume.hpp"
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/gauss_kronrod.hpp"
 #include "aggpack/core/overloaded.hpp"
 
 namespace aggpack {
@@ -31,20 +32,13 @@ double lens_area(double a, double b, double d) {
 
 // Gauss-Kronrod 7/15 on [lo, hi]: the Kronrod estimate and its difference from Gauss's.
 std::pair<double, double> gauss_kronrod(const std::function<double(double)>& f, double lo, double hi) {
-  static constexpr std::array<double, 8> x{0.991455371120812639, 0.949107912342758525, 0.864864423359769073,
-                                           0.741531185599394440, 0.586087235467691130, 0.405845151377397167,
-                                           0.207784955007898468, 0.0};
-  static constexpr std::array<double, 8> wk{0.022935322010529225, 0.063092092629978553, 0.104790010322250184,
-                                            0.140653259715525919, 0.169004726639267903, 0.190350578064785410,
-                                            0.204432940075298892, 0.209482141084727828};
-  static constexpr std::array<double, 4> wg{0.129484966168869693, 0.279705391489276668, 0.381830050505118945,
-                                            0.417959183673469388};
+  using gauss_kronrod15::kGaussWeight, gauss_kronrod15::kKronrodWeight, gauss_kronrod15::kNode;
   const double mid = 0.5 * (lo + hi), half = 0.5 * (hi - lo);
-  double kronrod = wk[7] * f(mid), gauss = wg[3] * f(mid);
+  double kronrod = kKronrodWeight[7] * f(mid), gauss = kGaussWeight[3] * f(mid);
   for (std::size_t k = 0; k < 7; ++k) {
-    const double pair = f(mid - half * x[k]) + f(mid + half * x[k]);
-    kronrod += wk[k] * pair;
-    if (k % 2 == 1) gauss += wg[k / 2] * pair;
+    const double pair = f(mid - half * kNode[k]) + f(mid + half * kNode[k]);
+    kronrod += kKronrodWeight[k] * pair;
+    if (k % 2 == 1) gauss += kGaussWeight[k / 2] * pair;
   }
   return {kronrod * half, std::abs(kronrod - gauss) * half};
 }
