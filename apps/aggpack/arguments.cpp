@@ -17,7 +17,8 @@
 double length_argument(const std::string& text, const std::string& option, long double bare_unit) {
   std::string why;
   const auto v = aggpack::parse_length(text, &why, bare_unit);
-  if (!v || *v <= 0.0) throw aggpack::InputError(fmt::format("{} {}: expected a positive length ({})", option, text, why));
+  if (!v) throw aggpack::InputError(fmt::format("{} {}: expected a positive length ({})", option, text, why));
+  if (!(*v > 0.0)) throw aggpack::InputError(fmt::format("{} {}: expected a positive length, not {} m", option, text, *v));
   return *v;
 }
 

@@ -103,6 +103,8 @@ TEST_F(CliSpecimen, BadInputIsRefusedBeforeAnythingIsWritten) {
            {"--box -0.01,0.01,0.01,0.02,0.02,0.02", "is not inside the bed"},
            {"--box 1,1,1,1.1,1.1,1.1", "is not inside the bed"},
            {"--voxel 1e-6", "more than the limit"},
+           {"--voxel -1mm", "--voxel -1mm: expected a positive length, not -0.001 m"},
+           {"--gap abc", "--gap abc: expected a positive length ('abc' does not start with a number)"},
            {"--itz 3mm", "thicker than the gaps between the particles"},
            {"--formats vti,stl", "expected vti, inp, geo or msh"},
            {"--box 0,0,0,0.01,0.01,0.01 --cylinder 0.02,0.02,0,0.01,0.005", "give one specimen"},
