@@ -45,16 +45,12 @@ int calibrate_by_dem(CalibrateArguments& a) {
     throw aggpack::InputError("--dem: --measured is missing: the measured packing density of the scenario's "
                               "bed, which the fit reproduces");
   aggpack::DemCalibrationOptions& d = a.dem;
-  d.scenario = a.calibration.scenario;
-  d.overrides = a.calibration.overrides;
-  d.seeds = a.calibration.seeds;
-  d.threads = a.calibration.threads;
-  d.quiet = a.calibration.quiet;
+  d.runs = a.calibration;
   d.measured = *a.measured;
   if (!a.range.empty()) d.range = numbers_argument(a.range, "--range");
   const aggpack::DemCalibration c = aggpack::calibrate_dem(d, std::cout);
   aggpack::write_file_atomically(a.out, aggpack::to_json(c).dump(1) + "\n");
-  if (!d.quiet)
+  if (!d.runs.quiet)
     fmt::print("aggpack: calibrated {} of {} = {:.4g} (band {:.4g} to {:.4g}{}) to the measured {:.4f}, from {} values "
                "x {} seeds of {} ({}); wrote {}\n",
                c.parameter, fmt::join(c.materials, " and "), c.search.value, c.search.band_low, c.search.band_high,

@@ -120,13 +120,15 @@ py::object calibrate_models(const py::object& scenario, const std::optional<std:
   {
     py::gil_scoped_release released;
     std::ostringstream log;  // quiet: nothing goes there
+    CalibrationOptions runs;
+    runs.scenario = source.path;
+    runs.overrides = source.overrides;
+    runs.seeds = seeds;
+    runs.threads = threads;
+    runs.quiet = true;
     if (dem) {
       DemCalibrationOptions d;
-      d.scenario = source.path;
-      d.overrides = source.overrides;
-      d.seeds = seeds;
-      d.threads = threads;
-      d.quiet = true;
+      d.runs = runs;
       d.measured = *by_dem.measured;
       if (!by_dem.fit.empty()) d.fit = by_dem.fit;
       d.materials = by_dem.materials;
@@ -137,13 +139,7 @@ py::object calibrate_models(const py::object& scenario, const std::optional<std:
       converged = c.search.converged;
       j = to_json(c);
     } else {
-      CalibrationOptions c;
-      c.scenario = source.path;
-      c.overrides = source.overrides;
-      c.seeds = seeds;
-      c.threads = threads;
-      c.quiet = true;
-      j = to_json(calibrate(c, log));
+      j = to_json(calibrate(runs, log));
     }
     if (out) write_file_atomically(*out, j.dump(1) + "\n");
   }

@@ -244,11 +244,11 @@ std::vector<double> checked_range(const DemCalibrationOptions& options) {
     throw InputError(fmt::format("--fit {}: expected rolling_friction or friction", parameter));
   if (!(options.measured > 0.0 && options.measured < 1.0))
     throw InputError(fmt::format("--measured {}: expected a packing density between 0 and 1", options.measured));
-  if (options.seeds < 2 || options.seeds > 100)
+  if (options.runs.seeds < 2 || options.runs.seeds > 100)
     throw InputError(
         fmt::format("--seeds {}: expected 2 to 100 with --dem: the seeds' scatter is the noise the fit's "
                     "band is made of",
-                    options.seeds));
+                    options.runs.seeds));
   if (options.max_evaluations < 3 || options.max_evaluations > 30)
     throw InputError(fmt::format("--max-runs {}: expected 3 to 30 values", options.max_evaluations));
   const std::vector<double> range =
@@ -266,7 +266,7 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
   // Everything one measurement cannot fix, or the DEM cannot run, is refused before any run.
   const std::vector<double> range = checked_range(options);
   const std::string& parameter = options.fit.front();
-  const Scenario sc = load_scenario(options.scenario, options.overrides);
+  const Scenario sc = load_scenario(options.runs.scenario, options.runs.overrides);
   if (sc.particles.bed_from_caller())
     throw InputError(fmt::format("{}: particles.from = \"-\": a bed given by the library's caller at run time; "
                                  "calibrate --dem runs the scenario again and again from its file: name a particle "
@@ -280,12 +280,12 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
                     sc.file.string(), fmt::join(protocol.stage_names(), ", ")));
   const std::vector<std::size_t> fitted = fitted_materials(sc, options, parameter);
   const auto scenario_at = [&](double value) {
-    ScenarioOverrides o = options.overrides;
+    ScenarioOverrides o = options.runs.overrides;
     for (const std::string& a : assignments_for(sc, fitted, parameter, value)) {
       o.set.push_back(a);
       o.typed_as[a] = fmt::format("the fit's value ({} = {})", parameter, format_value(value));
     }
-    return load_scenario(options.scenario, o);
+    return load_scenario(options.runs.scenario, o);
   };
   for (const double end : range) {  // both ends are scenarios the DEM takes, and move the fitted materials only
     std::optional<Scenario> at_end;
@@ -303,15 +303,15 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
   c.parameter = parameter;
   for (const std::size_t k : fitted) c.materials.push_back(material_name(sc, k));
   c.measured = options.measured;
-  c.seeds = static_cast<std::uint64_t>(options.seeds);
+  c.seeds = static_cast<std::uint64_t>(options.runs.seeds);
   c.range_low = range[0], c.range_high = range[1];
-  Campaign campaign(options.threads, options.quiet, log,
-                    static_cast<std::size_t>(options.max_evaluations) * static_cast<std::size_t>(options.seeds));
+  Campaign campaign(options.runs.threads, options.runs.quiet, log,
+                    static_cast<std::size_t>(options.max_evaluations) * static_cast<std::size_t>(options.runs.seeds));
   const auto density = [&](double value) {
     const Scenario at = scenario_at(value);
     const std::string what = fmt::format("{} = {}", parameter, format_value(value));
     std::vector<double> per_seed;
-    for (int seed = 1; seed <= options.seeds; ++seed) {
+    for (int seed = 1; seed <= options.runs.seeds; ++seed) {
       const CaseRun run = campaign.run(what, at, static_cast<std::uint64_t>(seed), [&](const CaseRun& r) {
         return fmt::format("  calibrate --dem: {}, seed {}: density {:.4f}", what, seed, r.final_density());
       });

@@ -19,17 +19,13 @@ namespace aggpack {
 // The density falls as either parameter rises, so the search is a bracketing one: both ends of
 // the range, then regula falsi (Illinois) on the seed mean, each value run on the same seeds.
 struct DemCalibrationOptions {
-  std::filesystem::path scenario;
-  ScenarioOverrides overrides;
+  CalibrationOptions runs;  // the scenario, its overrides, seeds, threads and quiet, as for calibrate
   double measured = 0.0;                             // the measured packing density of the scenario's bed
   std::vector<std::string> fit{"rolling_friction"};  // the parameters asked for: one measurement fixes one
   std::vector<std::string> materials;        // whose value is fitted; empty: the one material the bed is made of
   bool shared = false;                       // one value for every material of `materials`
   std::optional<std::vector<double>> range;  // [low, high] searched; default by parameter
-  int seeds = 3;
   int max_evaluations = 6;  // values simulated, the range's two ends included
-  int threads = 0;
-  bool quiet = false;
 };
 
 // A calibrated parameter's name in a scenario's material table.
