@@ -30,13 +30,26 @@ SeedStatistics seed_statistics(const std::vector<double>& values) {
   return s;
 }
 
-Campaign::Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs, Checkpoints checkpoints)
+Campaign::Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs, Checkpoints checkpoints,
+                   Mode mode)
     : threads_(threads),
       log_(quiet ? nullptr : &log),
       progress_(Progress::wanted(quiet) ? Progress(std::cerr) : Progress()),
       planned_(planned_runs),
       checkpoints_(checkpoints),
+      mode_(mode),
       start_(std::chrono::steady_clock::now()) {}
+
+void Campaign::check(const std::string& label, std::uint64_t seed, const std::function<void()>& checks) {
+  progress_.set_run(fmt::format("checking [{}/{}] {} seed {}", done_ + 1, planned_, label, seed), std::nullopt);
+  try {
+    checks();
+  } catch (const InputError& e) {
+    progress_.clear();
+    throw InputError(fmt::format("{} seed {}, checked before any run: {}", label, seed, e.what()));
+  }
+  ++done_;
+}
 
 std::optional<std::string> Campaign::why_not_resumable(const std::filesystem::path& scenario,
                                                        const std::vector<std::string>& sets, std::uint64_t seed,
@@ -110,6 +123,10 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
   options.stop_after = stop_after;
   options.quiet = true;
   options.progress = &progress_;
+  if (mode_ == Mode::check) {
+    check(label, seed, [&] { (void)check_scenario(scenario, options.overrides); });
+    return {};
+  }
   announce(label, seed);
   options.keep_dem_checkpoint = checkpoints_ != Checkpoints::removed;
   bool resume = false;
@@ -134,8 +151,12 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
 }
 
 CaseRun Campaign::run(const std::string& label, Scenario scenario, std::uint64_t seed, const ResultLine& line) {
-  announce(label, seed);
   scenario.seed = seed;
+  if (mode_ == Mode::check) {
+    check(label, seed, [&] { check_loaded_scenario(scenario); });
+    return {};
+  }
+  announce(label, seed);
   RunControls controls;
   controls.threads = threads_;
   const auto start = std::chrono::steady_clock::now();

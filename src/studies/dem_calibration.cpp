@@ -260,6 +260,14 @@ std::vector<double> checked_range(const DemCalibrationOptions& options) {
   return range;
 }
 
+// The runs of every seed checked as `aggpack check` would (their sizes made, their grains
+// fitted), before the search's first run: the fitted value changes neither.
+void check_every_seed(const Scenario& sc, const CalibrationOptions& runs, const std::string& what, std::ostream& log) {
+  Campaign checks(runs.threads, true, log, static_cast<std::size_t>(runs.seeds), Campaign::Checkpoints::removed,
+                  Campaign::Mode::check);
+  for (int seed = 1; seed <= runs.seeds; ++seed) (void)checks.run(what, sc, static_cast<std::uint64_t>(seed));
+}
+
 }  // namespace
 
 DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream& log) {
@@ -295,6 +303,7 @@ DemCalibration calibrate_dem(const DemCalibrationOptions& options, std::ostream&
       throw InputError(fmt::format("at {} = {:g}, an end of the range (--range): {}", parameter, end, e.what()));
     }
     check_others_kept(sc, *at_end, fitted, parameter);
+    check_every_seed(*at_end, options.runs, fmt::format("{} = {}", parameter, format_value(end)), log);
   }
 
   DemCalibration c;

@@ -354,22 +354,38 @@ void run_shaped_table2(const CaseRunner& cases, const std::vector<Table2Row>& ta
   }
 }
 
-// Runs every case of the plan: Examples 1 and 2, the Table 2 mixes and the sensitivity variants.
-Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
-  const Plan plan = make_plan(options);
-  const ReproduceInputs inputs = read_inputs(options.examples);
-  check_study_inputs(plan, inputs);
-  Campaign campaign(options.threads, options.quiet, log, total_runs(planned_cases(plan, inputs)),
-                    options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
-  const CaseRunner cases{campaign, plan, inputs.examples, options.out / "runs", static_cast<std::size_t>(plan.seeds)};
-  Reproduction rep;
-  rep.plan = plan;
-  rep.paper = inputs.paper;
+// Every case of the plan through one campaign: Examples 1 and 2, the Table 2 mixes, the
+// sensitivity variants and the studies.
+void run_all(const CaseRunner& cases, const ReproduceInputs& inputs, Reproduction& rep) {
   run_examples(cases, inputs, rep);
   run_table2(cases, inputs.table2, rep);
   run_sensitivity(cases, rep);
   run_calibrated_table2(cases, inputs.table2, rep);
   run_shaped_table2(cases, inputs.table2, rep);
+}
+
+// Runs every case of the plan, each checked first (a study's later runs take hours to reach).
+Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
+  const Plan plan = make_plan(options);
+  const ReproduceInputs inputs = read_inputs(options.examples);
+  check_study_inputs(plan, inputs);
+  const std::size_t planned = total_runs(planned_cases(plan, inputs));
+  const fs::path runs_dir = options.out / "runs";
+  const auto seeds = static_cast<std::size_t>(plan.seeds);
+  {
+    Campaign checks(options.threads, options.quiet, log, planned, Campaign::Checkpoints::removed, Campaign::Mode::check);
+    Reproduction unused;
+    run_all(CaseRunner{checks, plan, inputs.examples, runs_dir, seeds}, inputs, unused);
+    if (!options.quiet)
+      fmt::print(log, "aggpack reproduce: checked the {} runs' scenarios (their sizes and grains made) in {:.1f} s\n",
+                 planned, checks.seconds());
+  }
+  Campaign campaign(options.threads, options.quiet, log, planned,
+                    options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
+  Reproduction rep;
+  rep.plan = plan;
+  rep.paper = inputs.paper;
+  run_all(CaseRunner{campaign, plan, inputs.examples, runs_dir, seeds}, inputs, rep);
   rep.runs = campaign.runs_done();
   rep.resumed_runs = campaign.runs_resumed();
   rep.kept_checkpoints = campaign.kept_checkpoints();

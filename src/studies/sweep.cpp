@@ -196,27 +196,52 @@ SweepPlan plan_sweep(const SweepOptions& options) {
   return plan;
 }
 
+// One blend's series of runs over seeds 1..N: at a cut-off, or at the scenario's own.
+struct BlendSeries {
+  std::string label;
+  std::vector<std::string> sets;
+  fs::path folder;  // of the seeds' folders
+  double cut = kNaN;
+};
+
+std::vector<BlendSeries> blend_series(const SweepOptions& options, const SweepPlan& plan, std::size_t blend) {
+  const double fa = options.fa_percent[blend];
+  const fs::path blend_dir = options.out / fmt::format("fa_{:g}", fa);
+  if (!plan.whole()) return {{fmt::format("Fa {:g} %", fa), blend_sets(options, fa), blend_dir}};
+  std::vector<BlendSeries> series;
+  for (const double cut : plan.cuts)
+    series.push_back({fmt::format("Fa {:g} %, cut {:.3g} mm", fa, 1e3 * cut), cut_sets(options, fa, plan.key, cut),
+                      blend_dir / fmt::format("cut_{:g}mm", 1e3 * cut), cut});
+  return series;
+}
+
+// Every run of the sweep checked as `aggpack check` would, before the first runs (its sizes
+// made, its grains fitted): a blend that cannot run stops the sweep before hours of the others.
+void check_runs(const SweepOptions& options, const SweepPlan& plan, std::size_t planned, std::ostream& log) {
+  Campaign checks(options.threads, true, log, planned, Campaign::Checkpoints::removed, Campaign::Mode::check);
+  for (std::size_t b = 0; b < options.fa_percent.size(); ++b)
+    for (const BlendSeries& series : blend_series(options, plan, b))
+      for (int s = 1; s <= options.seeds; ++s)
+        (void)checks.run(series.label, options.scenario, series.sets, static_cast<std::uint64_t>(s),
+                         series.folder / fmt::format("seed_{}", s), options.stop_after);
+}
+
 // One blend's runs: at each cut-off (or once, at the scenario's own) over seeds 1..N.
 SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::size_t blend, Campaign& campaign,
                      bool& has_dynamics) {
   const double fa = options.fa_percent[blend];
   SweepPoint point{fa, (100.0 - fa) / fa, {}, {}, {}, std::nullopt};
   point.particle_density = grains_density(plan.blends[blend]);
-  const fs::path blend_dir = options.out / fmt::format("fa_{:g}", fa);
   std::vector<CutOffPoint> cut_points;
   std::vector<double> deposited;
-  const std::size_t cuts = plan.whole() ? plan.cuts.size() : 1;
-  for (std::size_t c = 0; c < cuts; ++c) {
-    const double cut = plan.whole() ? plan.cuts[c] : kNaN;
-    const fs::path dir = plan.whole() ? blend_dir / fmt::format("cut_{:g}mm", 1e3 * cut) : blend_dir;
+  const std::vector<BlendSeries> series = blend_series(options, plan, blend);
+  for (std::size_t c = 0; c < series.size(); ++c) {
     std::vector<double> final_density;
     std::size_t spheres = 0;
     deposited.clear();
     for (int s = 1; s <= options.seeds; ++s) {
-      const std::string label = plan.whole() ? fmt::format("Fa {:g} %, cut {:.3g} mm", fa, 1e3 * cut) : fmt::format("Fa {:g} %", fa);
-      const CaseRun r = campaign.run(label, options.scenario,
-                                     plan.whole() ? cut_sets(options, fa, plan.key, cut) : blend_sets(options, fa),
-                                     static_cast<std::uint64_t>(s), dir / fmt::format("seed_{}", s), options.stop_after);
+      const CaseRun r = campaign.run(series[c].label, options.scenario, series[c].sets, static_cast<std::uint64_t>(s),
+                                     series[c].folder / fmt::format("seed_{}", s), options.stop_after);
       final_density.push_back(r.final_density());
       deposited.push_back(r.after_deposition);
       if (s == 1) spheres = r.particle_count;
@@ -224,7 +249,8 @@ SweepPoint run_blend(const SweepOptions& options, const SweepPlan& plan, std::si
     }
     // The point's own densities are the finest cut-off's (the last), or the scenario's.
     point.final_density = final_density;
-    if (plan.whole()) cut_points.push_back(cut_off_point(plan.at_cuts[blend][c], plan.parameters, cut, final_density, spheres));
+    if (plan.whole())
+      cut_points.push_back(cut_off_point(plan.at_cuts[blend][c], plan.parameters, series[c].cut, final_density, spheres));
   }
   point.density = seed_statistics(point.final_density);
   point.after_deposition = seed_statistics(deposited);
@@ -348,9 +374,10 @@ void print_sweep(std::ostream& log, const SweepOptions& options, const std::vect
 
 nlohmann::json sweep(const SweepOptions& options, std::ostream& log) {
   const SweepPlan plan = plan_sweep(options);
-  Campaign campaign(options.threads, options.quiet, log,
-                    options.fa_percent.size() * std::max<std::size_t>(plan.cuts.size(), 1) *
-                        static_cast<std::size_t>(options.seeds),
+  const std::size_t planned = options.fa_percent.size() * std::max<std::size_t>(plan.cuts.size(), 1) *
+                              static_cast<std::size_t>(options.seeds);
+  check_runs(options, plan, planned, log);
+  Campaign campaign(options.threads, options.quiet, log, planned,
                     options.resume ? Campaign::Checkpoints::kept_and_resumed : Campaign::Checkpoints::kept);
   std::vector<SweepPoint> points;
   bool has_dynamics = false;

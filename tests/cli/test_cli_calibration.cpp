@@ -167,6 +167,9 @@ TEST_F(CliCalibration, RefusesWhatOneMeasurementCannotFixBeforeAnyRun) {
        {"[materials.sand] takes its rolling_friction from [material]", "--materials default,sand --shared"}},
       {"calibrate " + calibrated + " --dem --measured 0.6 --materials sand" + to,
        {"calibrated_by", "sand.json already sets materials.sand.rolling_friction"}},
+      // What only a run's own checks find (its sizes generated): each seed is checked first.
+      {"calibrate " + two + " --dem --measured 0.6 --materials sand --set limits.max_particles=50" + to,
+       {"rolling_friction = 0 seed 1, checked before any run", "more than limits.max_particles = 50"}},
   };
   for (const auto& [command, words] : cases) {
     SCOPED_TRACE(command);

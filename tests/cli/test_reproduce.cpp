@@ -600,6 +600,24 @@ class ReproduceStudies : public ::testing::Test {
 fs::path ReproduceStudies::dir_;
 Result ReproduceStudies::result_;
 
+// Every run of a reproduce is checked before the first: a study's scenario that cannot run
+// (here the shaped study's, past its particle limit) stops it before the examples run.
+TEST(ReproduceShapedTable2, RefusesAStudyRunThatCannotStartBeforeAnyRun) {
+  const aggpack::testing::ScratchDir scratch("aggpack_shaped_unrunnable_");
+  const fs::path examples = shrunk_examples(scratch.path(), "0.14 in");
+  std::string toml = slurp(examples / "table2_mix3_stone_sand.toml");
+  ASSERT_EQ(toml.find("[limits]"), std::string::npos);
+  std::ofstream(examples / "table2_mix3_stone_sand.toml") << toml << "\n[limits]\nmax_particles = 100\n";
+  const Result r = run("reproduce --quick --shaped-table2 --threads 1 --examples " + examples.string() + " --out " +
+                       (scratch.path() / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("Table 2 mix 4, stone and sand, the stone as spheres seed 1, checked before any run"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("more than limits.max_particles = 100"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(scratch.path() / "out" / "runs"));
+}
+
 // `--settle-table2` settles seed 1 of every mix by DEM; `--whole-grading` runs every mix at more
 // sand cut-offs (0.1 and 0.06 in with --quick, deposited) and carries each mix's series to its
 // whole grading.
@@ -881,6 +899,18 @@ TEST_F(Sweep, RefusesWhatIsNotAMixAndBadFractions) {
       run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 0,40 --out " + dir_.string());
   EXPECT_EQ(zero.exit_code, 2);
   EXPECT_FALSE(fs::exists(dir_ / "sweep.json"));
+}
+
+// Every run is checked before the first: the second blend (more sand, about 3.3e4 particles)
+// exceeds the limit that the first (1.6e4) keeps, and nothing runs.
+TEST_F(Sweep, RefusesABlendThatCannotRunBeforeRunningAny) {
+  const Result r = run("sweep " + std::string(AGGPACK_EXAMPLES) + "/table2_mix3.toml --fa 20,50 --seeds 1 --out " +
+                       dir_.string() + " --set 'particles.fine.d_min=\"0.1 in\"' --set limits.max_particles=20000");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("Fa 50 % seed 1, checked before any run"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("more than limits.max_particles"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Fa 20 % seed 1: density"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_));
 }
 
 }  // namespace

@@ -40,11 +40,17 @@ struct CaseRun {
 // campaign is complete (remove_checkpoints); resumed, a run whose folder holds a checkpoint
 // of that very run (the same scenario text, overrides, seed and version) continues from it (only
 // analysing, when its steps were done) instead of starting again: the same bytes either way.
+//
+// A checking campaign (Mode::check) runs nothing: each run is only checked as `aggpack check`
+// checks a scenario, with the run's overrides and seed (its sizes generated, its grains
+// fitted), and gives an empty CaseRun. A study goes through its runs so once before the first
+// real run: a run that cannot start stops the study at once, not hours into it.
 class Campaign {
  public:
   enum class Checkpoints { removed, kept, kept_and_resumed };
+  enum class Mode { run, check };
   Campaign(int threads, bool quiet, std::ostream& log, std::size_t planned_runs,
-           Checkpoints checkpoints = Checkpoints::removed);
+           Checkpoints checkpoints = Checkpoints::removed, Mode mode = Mode::run);
   CaseRun run(const std::string& label, const std::filesystem::path& scenario, const std::vector<std::string>& sets,
               std::uint64_t seed, const std::filesystem::path& out_dir,
               const std::optional<std::string>& stop_after = std::nullopt);
@@ -75,11 +81,14 @@ class Campaign {
                                                bool resumed);
   // A line on the log, clear of the progress line (none when quiet).
   void print_line(const std::string& line);
+  // Mode::check's run: `checks` of the run's scenario; an InputError from them names the run.
+  void check(const std::string& label, std::uint64_t seed, const std::function<void()>& checks);
   int threads_;
   std::ostream* log_;  // null when quiet
   Progress progress_;
   std::size_t planned_, done_ = 0, resumed_ = 0;
   Checkpoints checkpoints_;
+  Mode mode_;
   std::vector<std::filesystem::path> kept_;  // the run folders whose checkpoint was kept
   std::chrono::steady_clock::time_point start_;
 };
