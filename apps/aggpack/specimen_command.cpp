@@ -30,25 +30,15 @@ aggpack::SpecimenRequest request_of(const SpecimenArguments& a, long double unit
   aggpack::SpecimenRequest r;
   if (!a.box.empty() && !a.cylinder.empty()) throw aggpack::InputError("--box and --cylinder: give one specimen");
   if (!a.box.empty()) r.region = box_argument(a.box, unit);
-  if (!a.cylinder.empty()) {
-    const std::vector<double> c = lengths_argument(a.cylinder, "--cylinder", unit);
-    if (c.size() != 5 || !(c[4] > 0.0) || !(c[3] > c[2]))
-      throw aggpack::InputError(fmt::format("--cylinder {}: expected X,Y,ZLO,ZHI,RADIUS (its vertical axis through "
-                                            "X,Y; ZLO < ZHI; RADIUS > 0)",
-                                            a.cylinder));
-    r.region = aggpack::VerticalCylinder{c[0], c[1], c[2], c[3], c[4]};
-  }
+  if (!a.cylinder.empty())
+    r.region = aggpack::cylinder_from(lengths_argument(a.cylinder, "--cylinder", unit), "--cylinder " + a.cylinder);
   if (!a.voxel.empty()) r.voxel_size = length_argument(a.voxel, "--voxel", unit);
   if (!a.itz.empty()) r.itz_thickness = length_argument(a.itz, "--itz", unit);
   if (!a.min_size.empty()) r.min_size = length_argument(a.min_size, "--min-size", unit);
   if (!a.gap.empty()) r.gap = length_argument(a.gap, "--gap", unit);
-  if (!a.mesh_size.empty()) {
-    const std::vector<double> m = lengths_argument(a.mesh_size, "--mesh-size", unit);
-    if (m.empty() || m.size() > 3 || std::any_of(m.begin(), m.end(), [](double v) { return !(v > 0.0); }))
-      throw aggpack::InputError(fmt::format("--mesh-size {}: expected AGGREGATE[,MORTAR[,ITZ]], positive lengths",
-                                            a.mesh_size));
-    r.mesh_sizes = aggpack::GmshMeshSizes{m[0], m.size() > 1 ? m[1] : 2.0 * m[0], m.size() > 2 ? m[2] : m[0]};
-  }
+  if (!a.mesh_size.empty())
+    r.mesh_sizes =
+        aggpack::mesh_sizes_from(lengths_argument(a.mesh_size, "--mesh-size", unit), "--mesh-size " + a.mesh_size);
   r.formats = a.formats;
   if (!a.max_voxels.empty()) r.max_voxels = positive_argument(a.max_voxels, "--max-voxels");
   return r;

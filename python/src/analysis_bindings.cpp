@@ -134,12 +134,7 @@ py::object specimen(const py::object& source, const std::filesystem::path& out,
     if (box->size() != 6) throw InputError("specimen: box: expected [xmin, ymin, zmin, xmax, ymax, zmax]");
     request.region = Box{{(*box)[0], (*box)[1], (*box)[2]}, {(*box)[3], (*box)[4], (*box)[5]}};
   }
-  if (cylinder) {
-    const std::vector<double>& c = *cylinder;
-    if (c.size() != 5 || !(c[4] > 0.0) || !(c[3] > c[2]))
-      throw InputError("specimen: cylinder: expected [x, y, z_lo, z_hi, radius] (z_lo < z_hi, radius > 0)");
-    request.region = VerticalCylinder{c[0], c[1], c[2], c[3], c[4]};
-  }
+  if (cylinder) request.region = cylinder_from(*cylinder, "specimen: cylinder (m)");
   for (const double length : {itz, min_size, gap})
     if (!(length >= 0.0) || !std::isfinite(length))
       throw InputError(fmt::format("specimen: itz, min_size and gap: {} is not a length of zero or more", length));
@@ -149,12 +144,7 @@ py::object specimen(const py::object& source, const std::filesystem::path& out,
   request.gap = gap;
   request.formats = formats;
   request.max_voxels = max_voxels;
-  if (mesh_size) {
-    const std::vector<double>& m = *mesh_size;
-    if (m.empty() || m.size() > 3 || std::any_of(m.begin(), m.end(), [](double v) { return !(v > 0.0); }))
-      throw InputError("specimen: mesh_size: expected [aggregate, mortar, itz], positive lengths (m)");
-    request.mesh_sizes = GmshMeshSizes{m[0], m.size() > 1 ? m[1] : 2.0 * m[0], m.size() > 2 ? m[2] : m[0]};
-  }
+  if (mesh_size) request.mesh_sizes = mesh_sizes_from(*mesh_size, "specimen: mesh_size (m)");
   std::optional<SpecimenSource> bed;
   if (py::isinstance<PyBed>(source)) {
     const auto& b = source.cast<const PyBed&>();

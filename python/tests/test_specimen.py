@@ -44,6 +44,10 @@ def test_a_bed_in_memory_is_cut_as_its_file(tmp_path, deposited):
         aggpack.specimen(bed, tmp_path / "two", box=box, cylinder=[0.15, 0.15, 0.05, 0.15, 0.04])
     with pytest.raises(aggpack.InputError, match="is not inside the bed"):
         aggpack.specimen(bed, tmp_path / "out", box=[0, 0, 0, 1, 1, 1])
+    with pytest.raises(aggpack.InputError, match=r"cylinder \(m\): expected X,Y,ZLO,ZHI,RADIUS"):
+        aggpack.specimen(bed, tmp_path / "out", cylinder=[0.15, 0.15, 0.15, 0.05, 0.04])
+    with pytest.raises(aggpack.InputError, match=r"mesh_size \(m\): expected AGGREGATE\[,MORTAR\[,ITZ\]\]"):
+        aggpack.specimen(bed, tmp_path / "out", box=box, mesh_size=[0.001, -1.0])
     assert not (tmp_path / "out").exists()
     arrays = aggpack.Bed.from_arrays(bed.positions, bed.radii)
     cylinder = aggpack.specimen(arrays, tmp_path / "core", cylinder=[0.15, 0.15, 0.05, 0.15, 0.04], formats=["vti"])

@@ -177,6 +177,22 @@ std::map<std::string, double> msh_group_volumes(const std::filesystem::path& msh
   return volumes;
 }
 
+VerticalCylinder cylinder_from(const std::vector<double>& values, const std::string& what) {
+  const bool finite = std::all_of(values.begin(), values.end(), [](double v) { return std::isfinite(v); });
+  if (values.size() != 5 || !finite || !(values[4] > 0.0) || !(values[3] > values[2]))
+    throw InputError(fmt::format("{}: expected X,Y,ZLO,ZHI,RADIUS (its vertical axis through X,Y; ZLO < ZHI; "
+                                 "RADIUS > 0)",
+                                 what));
+  return {values[0], values[1], values[2], values[3], values[4]};
+}
+
+GmshMeshSizes mesh_sizes_from(const std::vector<double>& values, const std::string& what) {
+  if (values.empty() || values.size() > 3 ||
+      std::any_of(values.begin(), values.end(), [](double v) { return !(v > 0.0) || !std::isfinite(v); }))
+    throw InputError(fmt::format("{}: expected AGGREGATE[,MORTAR[,ITZ]], positive lengths", what));
+  return {values[0], values.size() > 1 ? values[1] : 2.0 * values[0], values.size() > 2 ? values[2] : values[0]};
+}
+
 nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenRequest& request,
                                const std::filesystem::path& out) {
   if (!request.region && !source.largest_virtual_box)

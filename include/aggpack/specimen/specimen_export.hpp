@@ -45,6 +45,13 @@ struct SpecimenRequest {
   std::optional<GmshMeshSizes> mesh_sizes;  // none: from the smallest kept particle and the ITZ
 };
 
+// A specimen's values as numbers (the CLI's comma lists, Python's lists), checked: a vertical
+// cylinder from x, y, z_lo, z_hi, radius; Gmsh's mesh sizes from aggregate[, mortar[, itz]]
+// (the mortar's default twice the aggregate's, the ITZ's the aggregate's). InputError names
+// `what` (the option or argument as the user gave it).
+[[nodiscard]] VerticalCylinder cylinder_from(const std::vector<double>& values, const std::string& what);
+[[nodiscard]] GmshMeshSizes mesh_sizes_from(const std::vector<double>& values, const std::string& what);
+
 // Checks everything before writing (a region outside the bed, a voxel too small for
 // max_voxels, an ITZ thicker than the gaps, msh without gmsh: InputError, nothing written),
 // then writes the files into `out` and returns specimen.json's content.
