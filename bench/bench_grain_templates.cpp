@@ -6,6 +6,7 @@
 //   bench/bench_grain_templates [--benchmark_repetitions=N]
 #include <benchmark/benchmark.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -36,7 +37,6 @@ void BM_TangentRadii(benchmark::State& state, const std::string& target) {
   const aggpack::ConvexSurface surface = aggpack::ellipsoid_surface({1.0, 0.6, 0.48}, 4);
   PlaneColumns planes;
   for (const aggpack::SurfacePoint& p : surface) planes.add(p.normal, dot(p.normal, p.position));
-  planes.pad();
   for (auto _ : state) benchmark::DoNotOptimize(aggpack::grains_internal::tangent_radii_on(target, planes, surface));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(surface.size() * surface.size()));
 }

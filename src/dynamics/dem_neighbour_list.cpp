@@ -132,7 +132,7 @@ void DemSystem::find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::
   // The grid is searched once: each thread keeps the pairs it finds, (owner, entry). A pair
   // found from i may belong to another thread's row: counts and places are claimed
   // atomically; each row is sorted afterwards, so the list does not depend on who came first.
-  // One thread claims without the lock (an atomic add cost more than the rest of a pair).
+  // One thread claims with plain adds: the atomics are for the threads' races, which it has none of.
   const std::size_t workers = threaded_ ? static_cast<std::size_t>(std::max(1, threads_)) : 1;
   const auto claim = [alone = workers == 1](std::uint32_t& counter) {
     return alone ? counter++ : std::atomic_ref<std::uint32_t>(counter).fetch_add(1, std::memory_order_relaxed);

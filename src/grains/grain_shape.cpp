@@ -67,7 +67,6 @@ grains_internal::PlaneColumns tangent_planes(const ConvexSurface& surface) {
     planes.add(p.normal, offset);
     last_normal = &p.normal;
   }
-  planes.pad();
   return planes;
 }
 

@@ -1,7 +1,7 @@
 // tangent_radii over Highway vectors, compiled for every target of Highway's list and
 // dispatched at run time. Each lane mirrors the scalar bound of one plane (see the header),
-// and the module is compiled without contracting products into FMAs, so every target gives
-// the same bits.
+// the planes after the last whole vector are taken one by one the same way, and the module is
+// compiled without contracting products into FMAs, so every target gives the same bits.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "tangent_radii.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
@@ -14,7 +14,6 @@
 HWY_BEFORE_NAMESPACE();
 namespace aggpack::grains_internal::HWY_NAMESPACE {
 namespace hn = hwy::HWY_NAMESPACE;
-static_assert(HWY_MAX_BYTES / sizeof(double) <= PlaneColumns::kPadding, "a vector must fit in the planes' padding");
 
 void TangentRadii(const PlaneColumns& planes, const SurfacePoint* points, std::size_t count, double* radii) {
   const hn::ScalableTag<double> d;
@@ -25,20 +24,26 @@ void TangentRadii(const PlaneColumns& planes, const SurfacePoint* points, std::s
     const Vec3 &x = points[p].position, &n = points[p].normal;
     const V px = hn::Set(d, x.x), py = hn::Set(d, x.y), pz = hn::Set(d, x.z);
     const V qx = hn::Set(d, n.x), qy = hn::Set(d, n.y), qz = hn::Set(d, n.z);
-    V radius = none;
-    for (std::size_t k = 0; k < size; k += lanes) {
+    V bounds = none;
+    std::size_t k = 0;
+    for (; k + lanes <= size; k += lanes) {
       const V nx = hn::LoadU(d, planes.nx.data() + k), ny = hn::LoadU(d, planes.ny.data() + k),
               nz = hn::LoadU(d, planes.nz.data() + k);
       const V closing = one - (nx * qx + ny * qy + nz * qz);
       const V reach = hn::LoadU(d, planes.offset.data() + k) - (nx * px + ny * py + nz * pz);
       const V room = hn::IfThenElse(hn::Lt(zero, reach), reach, zero);  // std::max(0.0, reach)
-      const auto bounds = hn::Gt(closing, parallel);  // not its own plane, nor one parallel to it
-      const V bound = hn::IfThenElse(bounds, room / hn::IfThenElse(bounds, closing, one), none);
-      radius = hn::IfThenElse(hn::Lt(bound, radius), bound, radius);
+      const auto faces = hn::Gt(closing, parallel);  // not its own plane, nor one parallel to it
+      const V bound = hn::IfThenElse(faces, room / hn::IfThenElse(faces, closing, one), none);
+      bounds = hn::IfThenElse(hn::Lt(bound, bounds), bound, bounds);
     }
-    double lane[HWY_MAX_BYTES / sizeof(double)];
-    hn::StoreU(radius, d, lane);
-    radii[p] = *std::min_element(lane, lane + lanes);
+    // The lanes' minimum is exact: the bounds are +0, positive or +inf, never NaN.
+    double radius = hn::GetLane(hn::MinOfLanes(d, bounds));
+    for (; k < size; ++k) {  // the planes after the last whole vector, each as one lane above
+      const double closing = 1.0 - (planes.nx[k] * n.x + planes.ny[k] * n.y + planes.nz[k] * n.z);
+      const double reach = planes.offset[k] - (planes.nx[k] * x.x + planes.ny[k] * x.y + planes.nz[k] * x.z);
+      if (closing > 1e-12) radius = std::min(radius, std::max(0.0, reach) / closing);
+    }
+    radii[p] = radius;
   }
 }
 
@@ -57,11 +62,10 @@ void PlaneColumns::add(const Vec3& normal, double plane_offset) {
   nx.push_back(normal.x), ny.push_back(normal.y), nz.push_back(normal.z), offset.push_back(plane_offset);
 }
 
-void PlaneColumns::pad() {
-  while (offset.size() % kPadding != 0) add(Vec3{}, std::numeric_limits<double>::infinity());
-}
-
 std::vector<double> tangent_radii(const PlaneColumns& planes, std::span<const SurfacePoint> points) {
+  const std::size_t size = planes.offset.size();
+  if (planes.nx.size() != size || planes.ny.size() != size || planes.nz.size() != size)
+    throw std::invalid_argument("tangent_radii: the planes' columns differ in length");
   std::vector<double> radii(points.size());
   HWY_DYNAMIC_DISPATCH(TangentRadii)(planes, points.data(), points.size(), radii.data());
   return radii;
@@ -77,10 +81,12 @@ std::vector<double> tangent_radii_on(const std::string& target, const PlaneColum
                                      std::span<const SurfacePoint> points) {
   for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
     if (target != hwy::TargetName(t)) continue;
+    // Highway's choice of target is the process's: restored however the search ends.
+    struct Restore {
+      ~Restore() { hwy::SetSupportedTargetsForTest(0); }
+    } restore;
     hwy::SetSupportedTargetsForTest(t);
-    std::vector<double> radii = tangent_radii(planes, points);
-    hwy::SetSupportedTargetsForTest(0);
-    return radii;
+    return tangent_radii(planes, points);
   }
   throw std::invalid_argument("tangent_radii_on: " + target + " is not a target of this machine");
 }

@@ -12,13 +12,10 @@
 
 namespace aggpack::grains_internal {
 
-// Tangent planes n.x <= offset by columns, padded to whole vectors with planes that bound
-// nothing (a zero normal at an infinite offset).
+// Tangent planes n.x <= offset, by columns.
 struct PlaneColumns {
-  static constexpr std::size_t kPadding = 16;  // a multiple of every target's lanes (checked there)
   std::vector<double> nx, ny, nz, offset;
   void add(const Vec3& normal, double plane_offset);
-  void pad();
 };
 
 // For each point p, min over the planes k with 1 - n_k.n_p > 1e-12 of
@@ -26,7 +23,8 @@ struct PlaneColumns {
 // as that scalar loop (each lane's operations in its order, the minimum exact in any order).
 [[nodiscard]] std::vector<double> tangent_radii(const PlaneColumns& planes, std::span<const SurfacePoint> points);
 
-// The Highway targets this machine runs, and tangent_radii on one of them (tests compare them).
+// The Highway targets this machine runs, and tangent_radii on one of them, for tests and
+// benchmarks (it sets Highway's target for the whole process while it runs: one thread only).
 [[nodiscard]] std::vector<std::string> tangent_radii_targets();
 [[nodiscard]] std::vector<double> tangent_radii_on(const std::string& target, const PlaneColumns& planes,
                                                    std::span<const SurfacePoint> points);

@@ -44,6 +44,10 @@ Scenario check_scenario(const std::filesystem::path& scenario_file, const Scenar
 
 void check_loaded_scenario(const Scenario& sc, const ParticleStore* starting_bed) {
   check_output_directory(sc.output.directory, false);
+  check_scenario_inputs(sc, starting_bed);
+}
+
+void check_scenario_inputs(const Scenario& sc, const ParticleStore* starting_bed) {
   const InitialBed bed = initial_bed(sc, starting_bed);
   (void)checked_grains(sc, scenario_protocol(sc), bed);  // their templates made: a second or so
   if (sc.deposition || sc.pour) return;  // the boxes can only be placed in the bed once made

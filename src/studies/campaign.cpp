@@ -41,7 +41,8 @@ Campaign::Campaign(int threads, bool quiet, std::ostream& log, std::size_t plann
       start_(std::chrono::steady_clock::now()) {}
 
 void Campaign::check(const std::string& label, std::uint64_t seed, const std::function<void()>& checks) {
-  progress_.set_run(fmt::format("checking [{}/{}] {} seed {}", done_ + 1, planned_, label, seed), std::nullopt);
+  progress_.set_run(fmt::format("[{}/{}] {} seed {}", done_ + 1, planned_, label, seed));
+  progress_.update({"checking before any run"}, 0.0);
   try {
     checks();
   } catch (const InputError& e) {
@@ -153,7 +154,7 @@ CaseRun Campaign::run(const std::string& label, const std::filesystem::path& sce
 CaseRun Campaign::run(const std::string& label, Scenario scenario, std::uint64_t seed, const ResultLine& line) {
   scenario.seed = seed;
   if (mode_ == Mode::check) {
-    check(label, seed, [&] { check_loaded_scenario(scenario); });
+    check(label, seed, [&] { check_scenario_inputs(scenario); });  // a run in memory writes no folder
     return {};
   }
   announce(label, seed);

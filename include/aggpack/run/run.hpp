@@ -114,5 +114,7 @@ RunResult resume_run(const std::filesystem::path& run_directory, const RunOption
 Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides);
 // The same checks on a scenario already read (its particle file, grains, output folder, boxes).
 void check_loaded_scenario(const Scenario& scenario, const ParticleStore* starting_bed = nullptr);
+// All of them but the output folder's, for a run in memory, which writes none (a study's).
+void check_scenario_inputs(const Scenario& scenario, const ParticleStore* starting_bed = nullptr);
 
 }  // namespace aggpack
