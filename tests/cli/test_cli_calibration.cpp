@@ -64,8 +64,11 @@ TEST_F(CliCalibration, FindsTheRollingFrictionThatMadeTheMeasurementAndARunTakes
     measured += 0.5 * json_of(out / "summary.json")["density"]["mean"].get<double>();
   }
   const fs::path file = dir_ / "calibration.json";
+  // Its runs are in memory: an output.directory it could not make is no reason to refuse them.
+  write("blocker", "a file where the scenario's output folder would go\n");
   const auto r = run_cli("calibrate " + scenario.string() + " --dem --measured " + std::to_string(measured) +
-                         " --seeds 2 --max-runs 4 --threads 1 --out " + file.string());
+                         " --seeds 2 --max-runs 4 --threads 1 --out " + file.string() + " --set 'output.directory=\"" +
+                         (dir_ / "blocker" / "out").string() + "\"'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("aggpack: calibrated rolling_friction of default = "), std::string::npos) << r.output;
   const nlohmann::json c = json_of(file);
