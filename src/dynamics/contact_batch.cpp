@@ -314,9 +314,12 @@ template <class Evaluate>
 void with_target(const std::string& target, const Evaluate& evaluate) {
   for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
     if (target != hwy::TargetName(t)) continue;
+    // Highway's choice of target is the process's: restored however the evaluation ends.
+    struct Restore {
+      ~Restore() { hwy::SetSupportedTargetsForTest(0); }
+    } restore;
     hwy::SetSupportedTargetsForTest(t);
     evaluate();
-    hwy::SetSupportedTargetsForTest(0);
     return;
   }
   throw std::invalid_argument("evaluate_with_target: " + target + " is not a target of this machine");
