@@ -376,6 +376,7 @@ Reproduction run_cases(const ReproduceOptions& options, std::ostream& log) {
     Campaign checks(options.threads, options.quiet, log, planned, Campaign::Checkpoints::removed, Campaign::Mode::check);
     Reproduction unused;
     run_all(CaseRunner{checks, plan, inputs.examples, runs_dir, seeds}, inputs, unused);
+    checks.clear_progress();
     if (!options.quiet)
       fmt::print(log, "aggpack reproduce: checked the {} runs' scenarios (their sizes and grains made) in {:.1f} s\n",
                  planned, checks.seconds());
