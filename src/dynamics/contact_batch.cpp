@@ -260,6 +260,7 @@ void EvaluateHertzMindlinPairs(std::span<const ContactLaw> pair_laws, ContactBat
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
+#include "core/highway_target.hpp"
 #include <algorithm>
 #include <stdexcept>
 
@@ -297,11 +298,7 @@ void evaluate_hertz_pairs(std::span<const ContactLaw> pair_laws, ContactBatch& b
   HWY_DYNAMIC_DISPATCH(EvaluateHertzMindlinPairs)(pair_laws, batch, dt);
 }
 
-std::vector<std::string> contact_kernel_targets() {
-  std::vector<std::string> names;
-  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) names.emplace_back(hwy::TargetName(target));
-  return names;
-}
+std::vector<std::string> contact_kernel_targets() { return highway::target_names(); }
 
 std::string contact_kernel_target() {
   // The dispatch picks the best supported target, the first of the list.
@@ -309,30 +306,13 @@ std::string contact_kernel_target() {
   return targets.empty() ? std::string("none") : std::string(hwy::TargetName(targets.front()));
 }
 
-namespace {
-template <class Evaluate>
-void with_target(const std::string& target, const Evaluate& evaluate) {
-  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
-    if (target != hwy::TargetName(t)) continue;
-    // Highway's choice of target is the process's: restored however the evaluation ends.
-    struct Restore {
-      ~Restore() { hwy::SetSupportedTargetsForTest(0); }
-    } restore;
-    hwy::SetSupportedTargetsForTest(t);
-    evaluate();
-    return;
-  }
-  throw std::invalid_argument("evaluate_with_target: " + target + " is not a target of this machine");
-}
-}  // namespace
-
 void evaluate_with_target(const std::string& target, const HertzMindlin& law, ContactBatch& batch, double dt) {
-  with_target(target, [&] { evaluate(law, batch, dt); });
+  highway::on_target(target, "evaluate_with_target", [&] { evaluate(law, batch, dt); });
 }
 
 void evaluate_hertz_pairs_with_target(const std::string& target, std::span<const ContactLaw> pair_laws,
                                       ContactBatch& batch, double dt) {
-  with_target(target, [&] { evaluate_hertz_pairs(pair_laws, batch, dt); });
+  highway::on_target(target, "evaluate_hertz_pairs_with_target", [&] { evaluate_hertz_pairs(pair_laws, batch, dt); });
 }
 
 }  // namespace aggpack

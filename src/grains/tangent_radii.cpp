@@ -51,6 +51,7 @@ void TangentRadii(const PlaneColumns& planes, const SurfacePoint* points, std::s
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
+#include "core/highway_target.hpp"
 #include <limits>
 #include <stdexcept>
 
@@ -71,24 +72,11 @@ std::vector<double> tangent_radii(const PlaneColumns& planes, std::span<const Su
   return radii;
 }
 
-std::vector<std::string> tangent_radii_targets() {
-  std::vector<std::string> names;
-  for (const std::int64_t target : hwy::SupportedAndGeneratedTargets()) names.emplace_back(hwy::TargetName(target));
-  return names;
-}
+std::vector<std::string> tangent_radii_targets() { return highway::target_names(); }
 
 std::vector<double> tangent_radii_on(const std::string& target, const PlaneColumns& planes,
                                      std::span<const SurfacePoint> points) {
-  for (const std::int64_t t : hwy::SupportedAndGeneratedTargets()) {
-    if (target != hwy::TargetName(t)) continue;
-    // Highway's choice of target is the process's: restored however the search ends.
-    struct Restore {
-      ~Restore() { hwy::SetSupportedTargetsForTest(0); }
-    } restore;
-    hwy::SetSupportedTargetsForTest(t);
-    return tangent_radii(planes, points);
-  }
-  throw std::invalid_argument("tangent_radii_on: " + target + " is not a target of this machine");
+  return highway::on_target(target, "tangent_radii_on", [&] { return tangent_radii(planes, points); });
 }
 
 }  // namespace aggpack::grains_internal
