@@ -51,9 +51,9 @@ void TangentRadii(const PlaneColumns& planes, const SurfacePoint* points, std::s
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
-#include "core/highway_target.hpp"
-#include <limits>
 #include <stdexcept>
+
+#include "core/highway_target.hpp"
 
 namespace aggpack::grains_internal {
 
