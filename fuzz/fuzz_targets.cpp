@@ -2,7 +2,9 @@
 
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
+#include "aggpack/grains/grain_library.hpp"
 #include "aggpack/io/particle_file.hpp"
+#include "aggpack/io/shape_option.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/calibration_file.hpp"
 #include "aggpack/run/checkpoint.hpp"
@@ -17,7 +19,7 @@ void scenario_reader(std::string_view bytes) {
   try {
     // Relative paths in the scenario resolve beside this (absent) file.
     const Scenario sc = parse_scenario(bytes, "/nonexistent/fuzz/scenario.toml");
-    check_amount(sc);
+    if (!sc.particles.file) check_amount(sc, expected_amount(sc.particles), false);
     // Draw the sizes of small amounts and check them as a run would before its first step.
     if (!sc.particles.file && expected_particle_count(sc.particles) <= 2e4) {
       const GeneratedSizes sizes = generate_sizes(sc.particles, sc.seed);
@@ -86,6 +88,36 @@ void checkpoint_reader(std::string_view bytes) {
   const std::string as_given(bytes), resealed = resealed_checkpoint(as_given, 1);
   resume(as_given);
   if (resealed != as_given) resume(resealed);
+}
+
+void material_reader(std::string_view bytes) {
+  // The bytes as a scenario's material tables ([material], [[materials]], a component's
+  // material), after a bed that uses them; then the checks of a run that settles it.
+  const std::string text =
+      "[container]\nside = 0.05\nheight = 0.1\n[particles]\ndiameter = 0.01\ncount = 20\n[deposition]\n"
+      "[dynamics]\nmax_time = 0.01\n[analysis]\nbox_sides = [0.01]\n" + std::string(bytes);
+  try {
+    const Scenario sc = parse_scenario(text, "/nonexistent/fuzz/materials.toml");
+    const GeneratedSizes sizes = generate_sizes(sc.particles, sc.seed);
+    std::vector<double> radii;
+    for (const double d : sizes.diameters) radii.push_back(0.5 * d);
+    check_sizes(sc, radii);
+    (void)to_json(sc);
+  } catch (const InputError&) {
+  }
+}
+
+void shape_reader(std::string_view bytes) {
+  // The bytes as a component's shape table (what `aggpack grading --shape` reads), and the
+  // templates it makes when they are few.
+  try {
+    const GrainShapeSpec spec = read_shape_option(bytes, "--shape");
+    const GrainShapeSpec* specs[] = {&spec};
+    check_library_cost(specs, 0.05, "--shape", "limit");
+    const std::vector<double> widths{0.006, 0.01, 0.014, 0.02};
+    (void)make_grain_library(spec, widths, 1);
+  } catch (const InputError&) {
+  }
 }
 
 }  // namespace aggpack::fuzz

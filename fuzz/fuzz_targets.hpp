@@ -16,5 +16,7 @@ void grading_reader(std::string_view bytes);
 void particle_file_reader(std::string_view bytes);
 void calibration_reader(std::string_view bytes);
 void checkpoint_reader(std::string_view bytes);
+void material_reader(std::string_view bytes);
+void shape_reader(std::string_view bytes);
 
 }  // namespace aggpack::fuzz

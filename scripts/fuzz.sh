@@ -7,7 +7,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-600}"
-targets="${2:-scenario_reader grading_reader particle_file_reader calibration_reader checkpoint_reader}"
+targets="${2:-scenario_reader grading_reader particle_file_reader calibration_reader checkpoint_reader material_reader shape_reader}"
 command -v clang++ >/dev/null || { echo "scripts/fuzz.sh needs clang (apt-get install clang libomp-dev)" >&2; exit 2; }
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DAGGPACK_FUZZ=ON -DAGGPACK_BUILD_TESTS=OFF -DAGGPACK_BUILD_BENCH=OFF >/dev/null

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/stop_request.hpp"
 #include "aggpack/core/version.hpp"
 #include "commands.hpp"
 
@@ -59,6 +60,9 @@ int main(int argc, char** argv) {
   } catch (const aggpack::InputError& e) {
     fmt::print(stderr, "aggpack: error: {}\n", e.what());
     return 2;
+  } catch (const aggpack::Interrupted& e) {  // stopped before the run had anything to write
+    fmt::print(stderr, "aggpack: {}; nothing was written\n", e.what());
+    return 128 + e.signal_number();
   } catch (const std::exception& e) {
     fmt::print(stderr, "aggpack: internal error: {}\n", e.what());
     return 1;

@@ -137,7 +137,10 @@ SettleResult pour(DemSystem& system, ParticleStore& particles, const Container& 
       }
       batch_in = false;
       while (loop.block_steps_left > 0 || since_start() < std::min(loop.next, quiet.max_time)) {
-        const std::string phase = fmt::format("pouring, {} of {} in", particles.size(), radii.size());
+        // Counted as the pour's particles (a grain is one, whatever its spheres), this part's only.
+        const std::span<const double> batch = pour_schedule(settings, radii.size()).batch(radii, loop.batch);
+        const auto poured_in = static_cast<std::size_t>(batch.data() - radii.data()) + batch.size();
+        const std::string phase = fmt::format("pouring, {} of {} in", poured_in, radii.size());
         if (loop.block_steps_left == 0) loop.block_steps_left = steps_per_sample;
         run_block(system, loop.block_steps_left, [&] { hooks.at_safe_point(phase); });
         SettleSample s = sample_system(system, particles, loop.weight, nullptr);  // no density: the bed is still being built

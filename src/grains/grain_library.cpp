@@ -35,11 +35,24 @@ namespace {
 
 // `count` templates drawn from `distribution`: the same stream for every distribution, so that a
 // fit moves the templates only through their means.
+// Counts the templates drawn for the watch, and stops where asked.
+struct DrawCounter {
+  const LibraryWatch& watch;
+  std::size_t expected;
+  std::size_t drawn = 0;
+  void one_more() {
+    ++drawn;
+    if (watch.progress) watch.progress(drawn, expected);
+    stop_here_if_requested(watch.stop, fmt::format("while making grain templates ({} of at most {})", drawn, expected));
+  }
+};
+
 std::vector<LibraryGrain> draw_templates(const GrainShapeSpec& spec, const ProportionDistribution& distribution,
-                                         std::uint64_t seed) {
+                                         std::uint64_t seed, DrawCounter& counter) {
   Rng rng = make_rng(seed, RngPurpose::Shapes);
   std::vector<LibraryGrain> grains;
   for (std::size_t k = 0; k < spec.templates; ++k) {
+    counter.one_more();
     const Proportions p = distribution.draw(rng);
     const std::uint64_t hull_seed = rng.next_u64();
     grains.push_back(at_reach_one(spec.family == GrainFamily::Rounded
@@ -65,8 +78,44 @@ double library_percent(const std::vector<LibraryGrain>& grains, const ShapeTarge
 
 }  // namespace
 
+namespace {
+// The fit's draws of the library: the ideal fit's, up to 10 steps out, up to 8 bisections.
+constexpr std::size_t kMostFitDraws = 19;
+constexpr int kBisections = 8;
+constexpr double kSmallestStep = 0.05;
+}  // namespace
+
+std::size_t most_templates_drawn(const GrainShapeSpec& spec) {
+  return spec.templates * (spec.target ? kMostFitDraws : 1);
+}
+
+double estimated_library_seconds(const GrainShapeSpec& spec) {
+  // A template's member spheres cost about this each, its fills to meet its proportions
+  // included (BENCHMARKS.md, "What the templates cost": 5e-3 to 1.5e-2 s measured, angular and
+  // rounded, 16 to 64 spheres). With a lab measure, the most the fit can draw: an angular fit
+  // often stops after one or two draws, a rounded one of 64 spheres took all of them.
+  constexpr double kSecondsPerTemplateSphere = 1e-2;
+  return static_cast<double>(most_templates_drawn(spec) * spec.spheres) * kSecondsPerTemplateSphere;
+}
+
+void check_library_cost(std::span<const GrainShapeSpec* const> specs, double max_minutes, std::string_view where,
+                        std::string_view limit_key) {
+  double seconds = 0.0;
+  std::size_t templates = 0;
+  for (const GrainShapeSpec* spec : specs) {
+    seconds += estimated_library_seconds(*spec);
+    templates += most_templates_drawn(*spec);
+  }
+  if (seconds <= 60.0 * max_minutes) return;
+  throw InputError(fmt::format("{}: the grains' templates would take an estimated {:.3g} minutes to make (up to {} "
+                               "templates drawn, a lab measure's fit drawing its library up to {} times, each "
+                               "template's spheres filled one by one), more than {:.3g}; expected fewer templates or "
+                               "spheres, or a larger {}",
+                               where, seconds / 60.0, templates, kMostFitDraws, max_minutes, limit_key));
+}
+
 GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const double> intermediate_sizes,
-                                std::uint64_t seed) {
+                                std::uint64_t seed, const LibraryWatch& watch) {
   spec.proportions.check();
   if (spec.spheres < 1 || spec.spheres > 64) throw InputError(fmt::format("spheres = {}: expected 1 to 64", spec.spheres));
   if (spec.family == GrainFamily::Angular && (spec.corners < 4 || spec.corners > 200))
@@ -74,8 +123,9 @@ GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const doub
   if (spec.templates < 1 || spec.templates > 1000)
     throw InputError(fmt::format("templates = {}: expected 1 to 1000", spec.templates));
   GrainLibrary library{spec, spec.proportions, std::nullopt, {}};
+  DrawCounter counter{watch, most_templates_drawn(spec)};
   if (!spec.target) {
-    library.grains = draw_templates(spec, spec.proportions, seed);
+    library.grains = draw_templates(spec, spec.proportions, seed, counter);
     return library;
   }
   // The fit on ideal proportions first, then on the templates themselves (a fill of few
@@ -90,7 +140,7 @@ GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const doub
   };
   const auto attempt = [&](double t) {
     std::vector<LibraryGrain> grains =
-        draw_templates(spec, fitted_distribution(target.measure, spec.proportions, t), seed);
+        draw_templates(spec, fitted_distribution(target.measure, spec.proportions, t), seed, counter);
     const double percent = library_percent(grains, target, intermediate_sizes);
     return Tried{t, percent, std::move(grains)};
   };
@@ -101,7 +151,7 @@ GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const doub
   // Step away from the ideal fit until the target lies between the two ends.
   double inner = best.t, outer = best.t;
   const double direction = best.percent > target.percent ? 1.0 : -1.0;  // too many counted: rounder, larger t
-  for (double step = 0.05; std::abs(best.percent - target.percent) > 0.5; step *= 2.0) {
+  for (double step = kSmallestStep; std::abs(best.percent - target.percent) > 0.5; step *= 2.0) {
     outer = std::clamp(inner + direction * step, least, most);
     Tried tried = attempt(outer);
     const bool crossed = (tried.percent - target.percent) * direction <= 0.0;
@@ -109,7 +159,7 @@ GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const doub
     if (crossed || outer == least || outer == most) break;
     inner = outer;
   }
-  for (int bisection = 0; bisection < 8 && std::abs(best.percent - target.percent) > 0.5; ++bisection) {
+  for (int bisection = 0; bisection < kBisections && std::abs(best.percent - target.percent) > 0.5; ++bisection) {
     const double middle = 0.5 * (inner + outer);
     Tried tried = attempt(middle);
     ((tried.percent - target.percent) * direction > 0.0 ? inner : outer) = middle;

@@ -272,8 +272,11 @@ std::vector<MemberSphere> fit_proportions(double elongation, double flatness, do
     const GrainDimensions d = grain_dimensions(spheres, summed);
     const double got_elongation = d.width / d.length, got_flatness = d.thickness / d.width;
     const double miss = std::max(std::abs(got_elongation - elongation), std::abs(got_flatness - flatness));
+    // A grain of one sphere is a sphere whatever the axes it fills: no correction changes it
+    // (and squeezing the axes on would make an angular hull's surface points without bound).
+    const bool one_sphere = spheres.size() == 1;
     if (miss < best_miss) best_miss = miss, best = std::move(spheres);
-    if (miss <= tolerance) break;
+    if (miss <= tolerance || one_sphere) break;
     // Each axis corrected by the ratio it missed (the width against the length, the thickness
     // against the width), at most by a factor of 2 at a time.
     axes.y *= std::clamp(elongation / got_elongation, 0.5, 2.0);
@@ -314,11 +317,15 @@ GrainTemplate angular_grain(double elongation, double flatness, std::size_t corn
     ConvexHull scaled = unit;
     for (Vec3& v : scaled.vertices) v = {v.x * axes.x, v.y * axes.y, v.z * axes.z};
     // About a thousand surface points whatever the hull (sub-triangles of area about A / 2000,
-    // half of them sampled).
-    double area = 0.0;
-    for (const auto& [a, b, c] : scaled.triangles)
-      area += 0.5 * norm(cross(scaled.vertices[b] - scaled.vertices[a], scaled.vertices[c] - scaled.vertices[a]));
-    return fill_convex(hull_surface(scaled, std::sqrt(2.0 * area / 2000.0)), count);
+    // half of them sampled), and at most 200 along any edge (a hull squeezed flat has little
+    // area for its edges' length).
+    double area = 0.0, longest_edge = 0.0;
+    for (const auto& [a, b, c] : scaled.triangles) {
+      const Vec3 &p = scaled.vertices[a], &q = scaled.vertices[b], &r = scaled.vertices[c];
+      area += 0.5 * norm(cross(q - p, r - p));
+      longest_edge = std::max({longest_edge, norm(q - p), norm(r - q), norm(p - r)});
+    }
+    return fill_convex(hull_surface(scaled, std::max(std::sqrt(2.0 * area / 2000.0), longest_edge / 200.0)), count);
   }));
 }
 

@@ -38,7 +38,8 @@ AnalysisSettings read_analysis(const TomlSection& s) {
 }
 
 RunLimits read_limits(const TomlSection& s) {
-  s.allow_only({"max_particles", "max_memory_gib", "max_grid_cells", "max_input_file_gib", "max_profile_bins"});
+  s.allow_only({"max_particles", "max_memory_gib", "max_grid_cells", "max_input_file_gib", "max_profile_bins",
+                "max_template_minutes"});
   RunLimits l;
   l.max_particles = static_cast<double>(s.integer("max_particles", 1, 4'000'000'000).value_or(
       static_cast<std::int64_t>(l.max_particles)));
@@ -48,6 +49,8 @@ RunLimits read_limits(const TomlSection& s) {
   l.max_input_file_gib = s.number("max_input_file_gib", {0.0, 1e6, true, false}).value_or(l.max_input_file_gib);
   l.max_profile_bins = static_cast<double>(s.integer("max_profile_bins", 1, 1'000'000'000).value_or(
       static_cast<std::int64_t>(l.max_profile_bins)));
+  l.max_template_minutes =
+      s.number("max_template_minutes", {0.0, 1e6, true, false}).value_or(l.max_template_minutes);
   return l;
 }
 

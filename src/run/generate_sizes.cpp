@@ -77,28 +77,82 @@ nlohmann::json to_json(const SizesReport& r) {
   return j;
 }
 
-double expected_particle_count(const ParticleSource& source) {
+double expected_particle_count(const ParticleSource& source) { return expected_amount(source).particles; }
+
+namespace {
+
+// The spheres one particle of component c is made of: a grain's members, or itself.
+double spheres_of_component(const ParticleSource& source, std::size_t c) {
+  if (c >= source.component_shape.size() || !source.component_shape[c]) return 1.0;
+  return static_cast<double>(source.component_shape[c]->spheres);
+}
+
+double most_spheres_of_a_component(const ParticleSource& source) {
+  double most = 1.0;
+  for (std::size_t c = 0; c < source.component_shape.size(); ++c) most = std::max(most, spheres_of_component(source, c));
+  return most;
+}
+
+}  // namespace
+
+ExpectedAmount expected_amount(const ParticleSource& source) {
+  ExpectedAmount amount;
+  const double most = most_spheres_of_a_component(source);
+  const auto add_component = [&](double count, std::size_t c) {
+    const double spheres = spheres_of_component(source, c);
+    amount.particles += count;
+    amount.spheres += count * spheres;
+    if (c < source.component_shape.size() && source.component_shape[c]) amount.grains += count;
+  };
+  const auto add_unknown_split = [&](double count) {
+    amount.particles += count;
+    amount.spheres += count * most;
+    if (source.has_grains()) amount.grains += count;
+  };
   if (source.sizes) {
     const SizeSpec& spec = *source.sizes;
-    if (spec.total_count) return static_cast<double>(*spec.total_count);
-    double count = 0.0, volume_per_unit_fraction = 0.0;
-    for (const SizeClass& c : spec.classes) {
-      if (c.count) count += static_cast<double>(*c.count);
-      if (c.volume_fraction) volume_per_unit_fraction += *c.volume_fraction / volume(c.diameter);
+    if (spec.total_count) {
+      add_unknown_split(static_cast<double>(*spec.total_count));
+      return amount;
     }
-    return count + spec.solid_volume.value_or(0.0) * volume_per_unit_fraction;
+    for (std::size_t k = 0; k < spec.classes.size(); ++k) {
+      const SizeClass& c = spec.classes[k];
+      if (c.count) add_component(static_cast<double>(*c.count), k);
+      if (c.volume_fraction)
+        add_component(spec.solid_volume.value_or(0.0) * *c.volume_fraction / volume(c.diameter), k);
+    }
+    return amount;
   }
-  if (!source.graded) return 0.0;
+  if (!source.graded) return amount;
   const GradedParticles& g = *source.graded;
-  if (g.amount.count) return static_cast<double>(*g.amount.count);
+  if (g.amount.count) {
+    add_unknown_split(static_cast<double>(*g.amount.count));
+    return amount;
+  }
   const double solid = g.amount.solid_volume.value_or(0.0);
   const double main = GradingSampler(cut_grading(g.main.grading, g.main.d_min, g.main.d_max, g.main.key), g.sampling)
                           .mean_particle_volume();
-  if (!g.fine) return solid / main;
+  if (!g.fine) {
+    add_component(solid / main, 0);
+    return amount;
+  }
   const double fine =
       GradingSampler(cut_grading(g.fine->grading, g.fine->d_min, g.fine->d_max, g.fine->key), g.sampling)
           .mean_particle_volume();
-  return solid / (1.0 + g.ca_fa) * (g.ca_fa / main + 1.0 / fine);
+  add_component(solid / (1.0 + g.ca_fa) * g.ca_fa / main, 0);
+  add_component(solid / (1.0 + g.ca_fa) / fine, 1);
+  return amount;
+}
+
+ExpectedAmount drawn_amount(const ParticleSource& source, const GeneratedSizes& sizes) {
+  ExpectedAmount amount;
+  for (const std::int32_t c : sizes.component) {
+    const auto component = static_cast<std::size_t>(c);
+    amount.particles += 1.0;
+    amount.spheres += spheres_of_component(source, component);
+    if (component < source.component_shape.size() && source.component_shape[component]) amount.grains += 1.0;
+  }
+  return amount;
 }
 
 GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed) {

@@ -63,6 +63,8 @@ GradingShape grading_shape(const GrainShapeSpec& spec, const Grading& grading, c
   std::vector<double> sizes(kShapeSample);
   for (double& d : sizes) d = sampler.draw(rng);
   GradingShape shape{{}, q.seed, sizes.size(), library_fit_sizes(std::move(sizes)), {}};
+  const GrainShapeSpec* specs[] = {&spec};
+  check_library_cost(specs, RunLimits{}.max_template_minutes, "--shape", "limit (a scenario's limits.max_template_minutes)");
   try {
     shape.library = make_grain_library(spec, shape.fit_sizes, q.seed * 64);  // a run's first component's stream
   } catch (const InputError& e) {

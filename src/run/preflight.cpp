@@ -30,6 +30,8 @@ namespace fs = std::filesystem;
 // particle store and the text of particles.csv and particles.vtp).
 constexpr double kBytesPerParticleDem = 1200.0;
 constexpr double kBytesPerParticleDeposition = 450.0;
+// A grain's body (pose, momenta, inertia, forces, its members' range) and its template's row.
+constexpr double kBytesPerGrain = 400.0;
 
 constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
 
@@ -447,25 +449,36 @@ void check_frames(const Scenario& sc) {
                                  shown(budget / (kMaxFrames - 1.0))));
 }
 
-void check_amount(const Scenario& sc) {
-  const double count = sc.particles.file ? 0.0 : expected_particle_count(sc.particles);
+// The particles of a generated bed (about so many before they are drawn, exactly after) within
+// limits.max_particles and the memory limit, a grain counted as its member spheres (each a
+// particle of the DEM) with its body's row and its template.
+void check_amount(const Scenario& sc, const ExpectedAmount& amount, bool drawn) {
   const std::string where = fmt::format("{}: particles", sc.file.string());
-  if (!(count <= sc.limits.max_particles))
-    throw InputError(fmt::format("{}: this amount needs about {:.3g} particles, more than limits.max_particles = "
+  const std::string about = drawn ? "" : "about ";
+  const std::string members =
+      amount.grains > 0.0 ? fmt::format(" ({:.3g} spheres: the grains' members counted)", amount.spheres) : "";
+  if (!(amount.spheres <= sc.limits.max_particles))
+    throw InputError(fmt::format("{}: this amount needs {}{:.3g} particles{}, more than limits.max_particles = "
                                  "{:.3g}; generate less (count, solid_volume or fill_height), raise the fine "
-                                 "cut-off d_min, or raise the limit",
-                                 where, count, sc.limits.max_particles));
-  const double bytes = count * bytes_per_particle(sc);
+                                 "cut-off d_min, give grains fewer spheres, or raise the limit",
+                                 where, about, amount.particles, members, sc.limits.max_particles));
+  double templates = 0.0;  // their spheres, at most
+  for (const auto& shape : sc.particles.component_shape)
+    if (shape) templates += static_cast<double>(shape->templates * shape->spheres);
+  const double bytes =
+      amount.spheres * bytes_per_particle(sc) + (amount.grains + templates) * kBytesPerGrain;
   if (bytes > memory_limit_bytes(sc.limits))
-    throw InputError(fmt::format("{}: about {:.3g} particles need an estimated {:.3g} GiB ({:.0f} bytes each{}), "
+    throw InputError(fmt::format("{}: {}{:.3g} particles{} need an estimated {:.3g} GiB ({:.0f} bytes a sphere{}{}), "
                                  "more than {}; generate less, or raise limits.max_memory_gib",
-                                 where, count, bytes / kGiB, bytes_per_particle(sc), uses_dem(sc) ? " with the DEM" : "",
+                                 where, about, amount.particles, members, bytes / kGiB, bytes_per_particle(sc),
+                                 uses_dem(sc) ? " with the DEM" : "",
+                                 amount.grains > 0.0 ? fmt::format(", {:.0f} a grain's body", kBytesPerGrain) : "",
                                  memory_limit_text(sc)));
 }
 
 // The checks run in this order, the cheapest and most basic first: the first that fails is
 // the message the user sees.
-void check_sizes(const Scenario& sc, std::span<const double> radii) {
+void check_sizes(const Scenario& sc, std::span<const double> radii, std::optional<double> solid_volume) {
   check_particle_count(sc, radii);
   const auto [r_lo, r_hi] = std::minmax_element(radii.begin(), radii.end());
   const double d_max = 2.0 * *r_hi, r_min = *r_lo;
@@ -475,6 +488,7 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   if (sc.dynamics) check_time_step(sc, r_min);
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  const double own_solid = solid_volume.value_or(solid);  // the bed's depth: grains fill less than their reach
   const double time_step = sc.dynamics ? sc.dynamics->time_step.step(stable_time_scale(sc, r_min)) : 0.0;
   if (sc.dynamics) {
     if (sc.tapping) check_tapping(sc, time_step);
@@ -485,7 +499,7 @@ void check_sizes(const Scenario& sc, std::span<const double> radii) {
   const ProfileBins bins = profile_bins(sc, d_max);
   check_profiles(sc, radii, bins);
   check_run_memory(sc, radii, bins, time_step);
-  if (sc.deposition || sc.pour) check_room_for_cubes(sc, radii, solid, d_max);
+  if (sc.deposition || sc.pour) check_room_for_cubes(sc, radii, own_solid, d_max);
 }
 
 // Particles from a file must lie in the container; periodic sides wrap x and y. A bed

@@ -5,6 +5,9 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <optional>
+#include <set>
+#include <unordered_map>
 #include <variant>
 
 #include <fmt/format.h>
@@ -30,8 +33,6 @@ namespace aggpack {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-// The folder of the DEM's frames in the output folder (frame_file_name).
-constexpr const char* kFramesFolder = "frames";
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 }  // namespace
@@ -72,6 +73,27 @@ std::vector<std::string> snapshot_names_in_order(const RunReport& report) {
   return names;
 }
 
+// The component of each sphere of a bed with grains: a member's, its grain's template's; a free
+// sphere's, that of the drawn size it has among the components without a shape (the drop
+// sequence's order is not the store's once grains are in).
+std::vector<std::int32_t> sphere_components(const ParticleStore& bed, const GeneratedSizes& sizes,
+                                            const std::vector<std::uint32_t>& shape_component) {
+  std::unordered_map<double, std::int32_t> of_diameter;
+  std::set<std::int32_t> grain_components;
+  for (const std::uint32_t c : shape_component) grain_components.insert(static_cast<std::int32_t>(c));
+  for (std::size_t i = 0; i < sizes.diameters.size(); ++i)
+    if (!grain_components.contains(sizes.component[i])) of_diameter.emplace(sizes.diameters[i], sizes.component[i]);
+  std::vector<std::int32_t> component(bed.size(), -1);
+  for (std::size_t i = 0; i < bed.size(); ++i) {
+    if (bed.body[i] != kNoBody) {
+      component[i] = static_cast<std::int32_t>(shape_component.at(bed.bodies.shape[bed.body[i]]));
+    } else if (const auto at = of_diameter.find(2.0 * bed.radius[i]); at != of_diameter.end()) {
+      component[i] = at->second;
+    }
+  }
+  return component;
+}
+
 // A bed as VTP, with each sphere's contacts and, for generated sizes, the part of the size
 // specification it came from (bed index i is the drop sequence's i: every stage adds spheres
 // in its order, which the radii confirm).
@@ -82,7 +104,11 @@ std::string bed_vtp(const RunReport& report, const ParticleStore& bed, std::stri
   for (const int k : contact_counts(bed, sc.container, sc.analysis.contact_tolerance))
     coordination.push_back(static_cast<std::int32_t>(k));
   std::span<const std::int32_t> component;
-  if (report.sizes && bed.size() <= report.sizes->component.size()) {
+  std::vector<std::int32_t> grain_bed_component;  // a bed with grains: each sphere's, by its grain or size
+  if (report.sizes && !bed.bodies.empty()) {
+    grain_bed_component = sphere_components(bed, *report.sizes, report.grain_shape_component);
+    component = grain_bed_component;
+  } else if (report.sizes && bed.size() <= report.sizes->component.size()) {
     const std::vector<double>& d = report.sizes->diameters;
     bool same_order = true;
     for (std::size_t i = 0; i < bed.size() && same_order; ++i) same_order = bed.radius[i] == 0.5 * d[i];
@@ -145,16 +171,15 @@ void write_vtp_series(const RunReport& report, const std::string& provenance,
 
 }  // namespace
 
-nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far) {
+nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far,
+                             const std::vector<std::string>& written_while_running) {
   const auto t0 = Clock::now();
   const Scenario& sc = report.scenario;
-  std::filesystem::create_directories(dir);
-  // Every file written is listed in the folder's manifest, with the checkpoint and the LAMMPS
-  // decks the run's steps wrote, so that a later run into this folder replaces them all.
-  std::vector<std::string> written{kCheckpointFile};
-  if (!report.lammps_exchanges.empty()) written.push_back("lammps");
-  // The frames, written while the run went (by this run or, resumed, by the run it continues).
-  if (sc.output.frame_interval && std::filesystem::exists(dir / kFramesFolder)) written.push_back(kFramesFolder);
+  check_output_directory(dir, true);  // InputError naming it when it cannot be made
+  // Every file written is listed in the folder's manifest, with the checkpoint, the frames and
+  // the LAMMPS decks the run wrote as it went, so that a later run into this folder replaces them all.
+  std::vector<std::string> written = written_while_running;
+  if (std::filesystem::is_regular_file(dir / kCheckpointFile)) written.emplace_back(kCheckpointFile);
   const auto write = [&](const std::string& name, const std::string& content) {
     write_file_atomically(dir / name, content);
     written.push_back(name);
@@ -209,47 +234,97 @@ namespace {
 
 bool runs_dem(const Scenario& sc) { return sc.dynamics || sc.pour || sc.tapping; }
 
-// The output folder made ready for the run, once the input has passed its checks: an earlier
-// run's outputs removed (a resumed run keeps the frames written before its checkpoint), a
-// frames folder no aggpack run wrote refused, and the manifest started with the checkpoint.
-void take_over_folder(const Scenario& sc, bool resumed, const RunOptions& options, std::ostream& log) {
+// The output folder as a run holds it: what it has listed in the manifest so far, and the
+// files in the run's folders (frames/, lammps/) that are not its own (a user's, beside an
+// --overwrite run or an exported deck; the manifest never lists them).
+struct HeldFolder {
+  std::filesystem::path directory;
+  std::vector<std::string> listed;
+  std::set<std::string> not_ours;
+
+  // The files this run has written into the run's folders so far.
+  [[nodiscard]] std::vector<std::string> written_in_run_folders() const {
+    std::vector<std::string> files;
+    for (const std::string& path : files_in_run_folders(directory))
+      if (!not_ours.contains(path)) files.push_back(path);
+    return files;
+  }
+  void list(const std::string& file) {
+    if (std::find(listed.begin(), listed.end(), file) != listed.end()) return;
+    listed.push_back(file);
+    write_manifest(directory, listed);
+  }
+};
+
+// The output folder made ready for the run, once the input has passed its checks. A new run
+// removes an earlier run's outputs (the folder never mixes two runs' files), refuses a frames
+// folder no aggpack run wrote, and starts the manifest with the checkpoint. A resumed run
+// removes nothing: the interrupted run's outputs stay until this run writes its own (a
+// checkpoint that cannot be continued then loses nothing).
+HeldFolder take_over_folder(const Scenario& sc, bool resumed, const RunOptions& options, std::ostream& log) {
   check_output_directory(sc.output.directory, true);
-  // An earlier run's outputs go now, so that the folder never mixes two runs' files; the
-  // manifest names the checkpoint from the start, for a run that is killed.
-  const std::vector<std::string> removed =
-      remove_earlier_run(sc.output.directory, resumed ? std::vector<std::string>{kFramesFolder}
-                                                      : std::vector<std::string>{});
-  // A frames folder no aggpack run wrote (--overwrite leaves it there) is not taken over:
-  // this run would list it as its own, and remove it if it failed.
-  if (sc.output.frame_interval && !resumed && std::filesystem::exists(sc.output.directory / kFramesFolder))
+  HeldFolder held{sc.output.directory, {}, {}};
+  if (resumed) {
+    held.listed = manifest_files(held.directory);
+    for (const std::string& path : files_in_run_folders(held.directory))
+      if (std::find(held.listed.begin(), held.listed.end(), path) == held.listed.end()) held.not_ours.insert(path);
+    return held;
+  }
+  // Frames no aggpack run wrote (--overwrite leaves them there) are not written among; refused
+  // before anything is removed.
+  const std::vector<std::string> others = output_folder_contents(held.directory).others;
+  if (sc.output.frame_interval &&
+      std::any_of(others.begin(), others.end(),
+                  [](const std::string& path) { return path.starts_with(std::string(kFramesFolder) + "/"); }))
     throw InputError(fmt::format("{}: '{}' is there and no aggpack run wrote it; output.frame_interval writes the "
                                  "run's frames into it: move it, or give another output folder",
-                                 sc.output.directory.string(), kFramesFolder));
-  std::vector<std::string> manifest{kCheckpointFile};
-  if (sc.output.frame_interval) manifest.push_back(kFramesFolder);
-  write_manifest(sc.output.directory, manifest);
+                                 held.directory.string(), kFramesFolder));
+  const std::vector<std::string> removed = remove_earlier_run(held.directory);
+  held.not_ours = files_in_run_folders(held.directory);
+  held.listed = {kCheckpointFile};  // from the start, for a run that is killed
+  write_manifest(held.directory, held.listed);
   if (!removed.empty() && !options.quiet)
-    fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", sc.output.directory.string(),
+    fmt::print(log, "aggpack: removed the files of the earlier run in {}: {}\n", held.directory.string(),
                fmt::join(removed, ", "));
+  return held;
 }
 
 // A bed that a DEM made and the final analysis refused (a virtual cube that does not fit it):
-// kept in the folder, this run's one output (with a resumed run's checkpoint) in the manifest,
-// to be measured again rather than made again. Returns the refusal, saying where the bed is.
-InputError keep_unanalysed_bed(const Scenario& sc, const BedNotAnalysed& refused, bool resumed, bool frames_begun) {
+// kept in the folder, this run's one output (with a resumed run's checkpoint and the LAMMPS
+// runs' files) in the manifest, to be measured again rather than made again. Returns the
+// refusal, saying where the bed is.
+InputError keep_unanalysed_bed(const Scenario& sc, const BedNotAnalysed& refused, bool resumed, const HeldFolder& held) {
   std::error_code ec;
   if (!resumed) {
     std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
-    if (frames_begun) std::filesystem::remove_all(sc.output.directory / kFramesFolder, ec);
+    for (const std::string& path : held.written_in_run_folders())
+      if (path.starts_with(std::string(kFramesFolder) + "/")) std::filesystem::remove(sc.output.directory / path, ec);
+    std::filesystem::remove(sc.output.directory / kFramesFolder, ec);  // when empty
   }
   const std::filesystem::path kept = sc.output.directory / kUnanalysedBedFile;
   write_file_atomically(kept, particles_csv(refused.bed()));
-  std::vector<std::string> files{kUnanalysedBedFile};
+  std::vector<std::string> files = held.written_in_run_folders();
+  files.emplace_back(kUnanalysedBedFile);
   if (std::filesystem::exists(sc.output.directory / kCheckpointFile)) files.emplace_back(kCheckpointFile);
   write_manifest(sc.output.directory, files);
   return InputError(fmt::format("{}. The bed ({:.3g} s of DEM) is kept in {}: measure it with `aggpack analyze {} "
                                 "--cube SIDE` (sides in m), or run again with smaller analysis.box_sides",
                                 refused.what(), refused.simulated_time(), kept.string(), kept.string()));
+}
+
+// A new run refused after it took the folder over leaves nothing of its own but the LAMMPS
+// runs' files (their logs say why LAMMPS failed), listed in the manifest.
+void leave_refused_run(const HeldFolder& held) {
+  std::error_code ec;
+  std::filesystem::remove(held.directory / kCheckpointFile, ec);
+  std::vector<std::string> kept;
+  for (const std::string& path : held.written_in_run_folders()) {
+    if (path.starts_with(std::string(kFramesFolder) + "/")) std::filesystem::remove(held.directory / path, ec);
+    else kept.push_back(path);
+  }
+  std::filesystem::remove(held.directory / kFramesFolder, ec);  // when empty
+  if (kept.empty()) std::filesystem::remove(held.directory / kManifestFile, ec);
+  else write_manifest(held.directory, kept);
 }
 
 // run_scenario's and resume_run's common part: runs `sc` into its output folder, with
@@ -275,11 +350,8 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   // Where a relative scenario_file lies, for export-lammps RUN_DIR (a resumed run: where it began).
   const std::string working_directory =
       header.working_directory.empty() ? std::filesystem::current_path().string() : header.working_directory;
-  bool began = false;  // the earlier run's files removed, this run's frames may come
-  controls.before_work = [&] {
-    take_over_folder(sc, resume != nullptr, options, log);
-    began = true;
-  };
+  std::optional<HeldFolder> held;  // once the run has begun: the folder taken over
+  controls.before_work = [&] { held = take_over_folder(sc, resume != nullptr, options, log); };
   controls.stop = options.stop;
   controls.resume_from = resume;
   // Each frame of the DEM into frames/, as it comes (none is kept in memory).
@@ -288,6 +360,7 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   controls.on_frame = [&](const std::string& file, double /*time*/, const ParticleStore& bed, const RunReport& so_far) {
     std::filesystem::create_directories(sc.output.directory / kFramesFolder);
     write_file_atomically(sc.output.directory / file, bed_vtp(so_far, bed, provenance));
+    held->list(file);  // the manifest describes the folder even if the run is killed now
   };
   controls.checkpoint_before_final_analysis = options.keep_dem_checkpoint && runs_dem(sc);
   if (sc.output.checkpoint)
@@ -296,22 +369,19 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
   try {
     result.report = run(sc, controls, progress);
   } catch (const BedNotAnalysed& refused) {
-    throw keep_unanalysed_bed(sc, refused, resume != nullptr, began);
+    throw keep_unanalysed_bed(sc, refused, resume != nullptr, *held);
   } catch (...) {
-    // A refused run leaves nothing: not the checkpoint it took on its way (a resumed run's
-    // stays: it is the user's way back to the work done before).
-    std::error_code ec;
-    if (!resume) {
-      std::filesystem::remove(sc.output.directory / kCheckpointFile, ec);
-      std::filesystem::remove(sc.output.directory / kManifestFile, ec);
-      if (began) std::filesystem::remove_all(sc.output.directory / kFramesFolder, ec);
-    }
+    // A refused run leaves nothing: not the checkpoint it took on its way. A resumed run's
+    // folder stays as it was (the checkpoint is the user's way back to the work done before);
+    // so does the folder of a run refused before it began (an earlier run's files, its checkpoint).
+    if (!resume && held) leave_refused_run(*held);
     remove_if_made_empty();
     throw;
   }
   result.report.working_directory = working_directory;
   // Outputs only once everything has been computed: bad input leaves no files behind.
-  result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start));
+  result.summary = write_outputs(result.report, result.output_directory, seconds_since(t_start),
+                                 held ? held->written_in_run_folders() : std::vector<std::string>{});
   result.wall_clock_s = seconds_since(t_start);
   if (const auto& stop = result.report.interrupted) {
     fmt::print(log, "aggpack: interrupted by signal {} {} ({} of {} steps done); the bed as it stood and summary.json "
@@ -327,7 +397,8 @@ RunResult run_into_folder(const Scenario& sc, Checkpoint header, const Checkpoin
     fmt::print(log, "aggpack: warning: {}\n", *result.report.checkpoint_error);
   // A finished run's checkpoint would only mislead a later resume (unless a campaign keeps it).
   std::error_code ec;
-  if (!controls.checkpoint_before_final_analysis) std::filesystem::remove(result.output_directory / kCheckpointFile, ec);
+  if (!controls.checkpoint_before_final_analysis && std::filesystem::remove(result.output_directory / kCheckpointFile, ec))
+    drop_from_manifest(result.output_directory, kCheckpointFile);
   if (!options.quiet) fmt::print(log, "{}", result.report.console_summary(result.output_directory));
   return result;
 }

@@ -10,11 +10,19 @@
 
 namespace aggpack {
 
-RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed) {
+RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed,
+                          const LibraryWatch& watch) {
   RunGrains grains;
   if (!source.has_grains()) return grains;
   const std::size_t components = source.component_shape.size();
   grains.libraries.resize(components);
+  // The watch sees the components' draws as one count.
+  std::size_t expected = 0, drawn_before = 0;
+  for (const auto& spec : source.component_shape)
+    if (spec) expected += most_templates_drawn(*spec);
+  LibraryWatch component_watch{watch.stop, nullptr};
+  if (watch.progress)
+    component_watch.progress = [&](std::size_t drawn, std::size_t) { watch.progress(drawn_before + drawn, expected); };
   for (std::size_t c = 0; c < components; ++c) {
     const std::optional<GrainShapeSpec>& spec = source.component_shape[c];
     if (!spec) continue;
@@ -25,7 +33,8 @@ RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& si
     const std::vector<double> widths = library_fit_sizes(std::move(all));
     try {
       // Each component its own stream of shapes.
-      grains.libraries[c] = make_grain_library(*spec, widths, seed * 64 + c);
+      grains.libraries[c] = make_grain_library(*spec, widths, seed * 64 + c, component_watch);
+      drawn_before += most_templates_drawn(*spec);
     } catch (const InputError& e) {
       throw InputError(fmt::format("the shape of component {} ({}): {}", c + 1,
                                    c < sizes.report.components.size() ? sizes.report.components[c].key : "a class",

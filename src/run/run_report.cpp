@@ -28,6 +28,52 @@ std::string frame_file_name(std::size_t number) { return fmt::format("frames/fra
 
 namespace {
 
+// What a bed's particles are, in words: "spheres", "grains", or "grains and spheres".
+std::string_view kinds_of_particles(const ParticleStore& bed) {
+  if (bed.bodies.empty()) return "spheres";
+  const bool any_sphere = std::any_of(bed.body.begin(), bed.body.end(), [](std::uint32_t b) { return b == kNoBody; });
+  return any_sphere ? "grains and spheres" : "grains";
+}
+
+// Each component's grains as the bed's measure them, beside what was asked (and, with a lab
+// measure, what the templates gave): the shape is a modelling choice the console shows.
+std::string grain_lines(const RunReport& r) {
+  if (r.grain_libraries.is_null() || r.particles.bodies.empty()) return {};
+  std::string out;
+  auto o = std::back_inserter(out);
+  for (const nlohmann::json& c : bed_grains_json(r.grain_libraries, r.particles, r.grain_shape_component)) {
+    const nlohmann::json& bed = c["bed"];
+    fmt::format_to(o, "  grains of {} ({}, {} spheres each): {} in the bed, elongation I/L {:.3f} (asked {:.3f}), "
+                      "flatness S/I {:.3f} (asked {:.3f})\n",
+                   c.value("key", fmt::format("component {}", c["component"].get<int>())),
+                   c["family"].get<std::string>(), c["spheres"].get<int>(), bed["grains"].get<int>(),
+                   bed["mean_elongation"].is_number() ? bed["mean_elongation"].get<double>() : std::numeric_limits<double>::quiet_NaN(),
+                   c["elongation"]["mean"].get<double>(),
+                   bed["mean_flatness"].is_number() ? bed["mean_flatness"].get<double>() : std::numeric_limits<double>::quiet_NaN(),
+                   c["flatness"]["mean"].get<double>());
+    if (!c.contains("target")) continue;
+    const nlohmann::json& target = c["target"];
+    const std::string measure = target["measure"].get<std::string>();
+    std::string bed_key = measure.starts_with("flakiness") ? "flakiness_index_percent"
+                          : measure.starts_with("shape")   ? "shape_index_percent"
+                                                           : "";
+    if (bed_key.empty()) {  // flat and elongated: the bed measures 2, 3 and 5 to 1
+      const double ratio = target.value("ratio", 3.0);
+      if (ratio == 2.0 || ratio == 3.0 || ratio == 5.0) bed_key = fmt::format("flat_elongated_{:g}_to_1_percent", ratio);
+    }
+    const std::string in_bed = !bed_key.empty() && bed.contains(bed_key) && bed[bed_key].is_number()
+                                   ? fmt::format("{:.1f} %", bed[bed_key].get<double>())
+                                   : "not measured";
+    fmt::format_to(o, "    {}: {} in the bed, target {:g} % (the templates {:.1f} %)\n", measure, in_bed,
+                   target["percent"].get<double>(), c["templates_percent"].get<double>());
+  }
+  return out;
+}
+
+}  // namespace
+
+namespace {
+
 // The grains' density for the bulk density: the material's, or of several materials the
 // bed's mass over its solid volume.
 double particle_density(const Scenario& sc, const ParticleStore& bed) {
@@ -489,13 +535,14 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
                                                                              : "OUTSIDE at some sieves");
     }
   }
+  out += grain_lines(*this);
   out += step_lines(*this);
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {}: density {:.4f}\n", length_text(box.side, sc.written_length_unit), box.density);
   const auto rest = rest_state();
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} {}\n", final.density.mean,
                  final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,
-                 final.coordination.particles_counted, particles.bodies.empty() ? "spheres" : "grains and spheres");
+                 final.coordination.particles_counted, kinds_of_particles(particles));
   const double grains = particle_density(sc, particles);
   fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n", describe(bulk_density(final.density.mean, grains)), grains);
   if (rest && !rest->settled)

@@ -1,8 +1,10 @@
 #include "run/run_session.hpp"
 
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 #include <variant>
 
@@ -134,7 +136,7 @@ ParticleStore given_bed(const Scenario& sc, const ParticleStore* given, const st
 }  // namespace
 
 InitialBed initial_bed(const Scenario& sc, const ParticleStore* starting_bed) {
-  check_amount(sc);
+  if (!sc.particles.file) check_amount(sc, expected_amount(sc.particles), false);
   check_frames(sc);
   check_lammps_available(sc);
   InitialBed bed;
@@ -170,6 +172,7 @@ InitialBed initial_bed(const Scenario& sc, const ParticleStore* starting_bed) {
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
   }
+  check_amount(sc, drawn_amount(sc.particles, *bed.sizes), true);
   std::vector<double> radii;
   radii.reserve(bed.sizes->diameters.size());
   for (const double d : bed.sizes->diameters) radii.push_back(0.5 * d);
@@ -179,19 +182,31 @@ InitialBed initial_bed(const Scenario& sc, const ParticleStore* starting_bed) {
   return bed;
 }
 
-RunGrains checked_grains(const Scenario& sc, const Protocol& protocol, const InitialBed& bed) {
+RunGrains checked_grains(const Scenario& sc, const Protocol& protocol, const InitialBed& bed,
+                         const LibraryWatch& watch) {
   check_grain_protocol(sc, protocol);
   RunGrains grains;
   if (!bed.sizes) return grains;
+  std::vector<const GrainShapeSpec*> specs;
+  for (const auto& shape : sc.particles.component_shape)
+    if (shape) specs.push_back(&*shape);
+  check_library_cost(specs, sc.limits.max_template_minutes, fmt::format("{}: particles: shape", sc.file.string()),
+                     "limits.max_template_minutes");
   try {
-    grains = make_run_grains(sc.particles, *bed.sizes, sc.seed);
+    grains = make_run_grains(sc.particles, *bed.sizes, sc.seed, watch);
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", sc.file.string(), e.what()));
   }
   if (grains.empty()) return grains;
   // The virtual boxes' room from the walls and the bed's surface is one such diameter.
   const std::vector<double> radii = drop_radii(bed);
-  check_sizes(sc, grains.pour_part(radii, 0).radii);
+  const RunGrains::PourPart all = grains.pour_part(radii, 0);
+  double solid = 0.0;  // each grain's union, each sphere's ball
+  for (std::size_t k = 0; k < all.radii.size(); ++k) {
+    const double r = all.radii[k];
+    solid += all.shapes[k] ? all.shapes[k]->volume * r * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  }
+  check_sizes(sc, all.radii, solid);
   check_protocol_beds(sc, {}, radii, &grains);
   return grains;
 }
@@ -217,7 +232,14 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   context_.radii = drop_radii(initial);
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
   const auto t_grains = Clock::now();
-  context_.grains = checked_grains(sc, protocol_, initial);
+  // The templates' fit can take minutes: shown, and stopped where asked.
+  LibraryWatch watch{controls.stop, [&progress](std::size_t drawn, std::size_t expected) {
+                       progress.update({fmt::format("template {} of at most {}", drawn, expected)},
+                                       static_cast<double>(drawn) / static_cast<double>(expected));
+                     }};
+  if (sc.particles.has_grains()) progress.start_stage("grain templates");
+  context_.grains = checked_grains(sc, protocol_, initial, watch);
+  progress.clear();
   if (!context_.grains.empty()) {
     report_.wall_clock_s["grains"] = seconds_since(t_grains);
     report_.grain_libraries = libraries_json(context_.grains, initial.sizes->report.components);
@@ -236,8 +258,10 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
                                  sc.file.string()));
   // The calibration the predictions will read at the end, read now: a bad file fails before the work.
   if (sc.models_calibration) (void)read_calibration(*sc.models_calibration);
-  if (controls.before_work) controls.before_work();
   if (initial.sizes) report_.sizes = std::move(initial.sizes);
+  // A resumed run's state decoded and checked before the folder is touched.
+  if (resume) completed_ = restore(*resume);
+  if (controls.before_work) controls.before_work();
   if (controls.on_frame && sc.output.frame_interval) {
     frame_taker_ = [this](double time, const ParticleStore& bed) { take_frames(time, bed); };
     context_.at_sample = &frame_taker_;
@@ -249,8 +273,7 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
                           controls.stop, [this](std::ostream& out) { encode_run_state(out, report_, context_); });
     context_.safe_point = &*checkpointer_;
   }
-  if (resume) completed_ = restore(*resume);
-  else if (checkpointer_)  // resume can always start here
+  if (!resume && checkpointer_)  // resume can always start here
     checkpointer_->write(fmt::format("before step 1 of {}", protocol_.steps.size()), nullptr);
 }
 

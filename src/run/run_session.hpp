@@ -33,7 +33,8 @@ InitialBed initial_bed(const Scenario& sc, const ParticleStore* starting_bed = n
 // were in initial_bed: the protocol can take them (no deposit, no frozen grain, one batch to
 // LAMMPS), the sizes with each grain as the sphere that holds it, and the protocol's beds with
 // each grain's spheres. What `run` and `check` both do.
-RunGrains checked_grains(const Scenario& sc, const Protocol& protocol, const InitialBed& bed);
+RunGrains checked_grains(const Scenario& sc, const Protocol& protocol, const InitialBed& bed,
+                         const LibraryWatch& watch = {});
 
 // The final analysis refused a bed that a DEM made (a virtual cube that does not fit it, which
 // is known only once the bed is made): the refusal, with the bed, for a run into a folder to keep.

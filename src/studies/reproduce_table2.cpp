@@ -252,12 +252,19 @@ std::optional<Table> table2_engineers_table(const std::vector<Table2Outcome>& mi
   if (mixes.empty() || mixes.front().runs.empty()) return std::nullopt;
   const double particle_density = mixes.front().runs.front().result.report.scenario.material.density;
   Table t;
-  t.header = {"mix", "ours: voids %", "ours: dry bulk density kg/m³", "ours: lb/ft³", "experiment: voids %",
+  // Ours are of the blend as simulated: the sand below its cut-off is not in the bed, the lab's
+  // whole blend has it (so its voids are fewer). Each row says how much of the sand that is.
+  t.header = {"mix", "sand not simulated (below the cut) %", "ours, the cut blend: voids %",
+              "ours: dry bulk density kg/m³", "ours: lb/ft³", "experiment, the whole blend: voids %",
               "experiment: kg/m³", "experiment: lb/ft³"};
   for (const Table2Outcome& m : mixes) {
     const BulkDensity ours = bulk_density(m.reported_stats().mean, particle_density),
                       measured = bulk_density(m.row.experiment, particle_density);
-    t.rows.push_back({fmt::format("{}", m.row.mix), fmt::format("{:.1f}", ours.voids_percent),
+    std::string sand_cut = "–";
+    const auto& sizes = m.runs.front().result.report.sizes;
+    if (sizes && sizes->report.components.size() > 1)
+      sand_cut = fmt::format("{:.0f}", 100.0 * sizes->report.components[1].cut.cut_below);
+    t.rows.push_back({fmt::format("{}", m.row.mix), sand_cut, fmt::format("{:.1f}", ours.voids_percent),
                       fmt::format("{:.0f}", ours.kg_per_m3), fmt::format("{:.1f}", ours.lb_per_ft3),
                       fmt::format("{:.1f}", measured.voids_percent), fmt::format("{:.0f}", measured.kg_per_m3),
                       fmt::format("{:.1f}", measured.lb_per_ft3)});
@@ -266,7 +273,9 @@ std::optional<Table> table2_engineers_table(const std::vector<Table2Outcome>& mi
       "The densities of Table 2 as a concrete lab reports them (ASTM C29/C29M): voids content 100 (1 − density) % "
       "and dry bulk density, density × the grains' oven-dry density, {:g} kg/m³ (the scenarios' material.density; "
       "the experiments' own is not printed, so theirs is converted at the same). Ours: after DEM where it ran, else "
-      "after deposition.",
+      "after deposition, of the blend as simulated: the sand below the cut-off (its share in the second column) is "
+      "not in our beds and is in the lab's, so ours are not the lab's measure of the same blend (the report's "
+      "whole-grading columns carry the density to the whole grading).",
       particle_density);
   return t;
 }

@@ -214,3 +214,106 @@ TEST_F(CliGrains, GradingShowsWhatItsGrainsMeasureBesideTheTarget) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 55, items 3, 4 and 5: what a grains scenario costs is known before the work. Angular
+// grains of one sphere are spheres (they ran for minutes, 0.9 GB, printing nothing); a grain
+// counts as its member spheres in limits.max_particles and the memory limit (2e6 grains of 64
+// spheres passed as "2e+06 particles"); templates that would take minutes are refused by their
+// estimate, naming the limit.
+TEST_F(CliGrains, WhatGrainsCostIsKnownBeforeTheWork) {
+  const auto one = run_cli("grading fu2003_table1_coarse --d-min \"0.187 in\" --d-max \"1 in\" --shape "
+                           "'family=\"angular\", spheres=1' --json");
+  ASSERT_EQ(one.exit_code, 0) << one.output;
+  const auto shape = nlohmann::json::parse(one.output.substr(one.output.find('{'))).at("shape");
+  EXPECT_NEAR(shape.at("measured").at("mean_elongation").get<double>(), 1.0, 1e-9) << shape.dump();
+
+  std::ofstream(dir_ / "many.toml")
+      << "title = \"many\"\n[container]\nside = \"2 m\"\nheight = \"4 m\"\n[particles]\ndiameter = 0.01\ncount = 2000000\n"
+         "shape = { family = \"rounded\", spheres = 64 }\n[pour]\n[dynamics]\n[analysis]\nbox_sides = [0.1]\n";
+  const auto many = run_cli("check " + (dir_ / "many.toml").string());
+  EXPECT_EQ(many.exit_code, 2) << many.output;
+  for (const char* word : {"1.28e+08 spheres: the grains' members counted", "limits.max_particles"})
+    EXPECT_NE(many.output.find(word), std::string::npos) << word << " missing in\n" << many.output;
+  const auto memory = run_cli("check " + (dir_ / "many.toml").string() +
+                              " --set limits.max_particles=200000000 --set limits.max_memory_gib=100");
+  EXPECT_EQ(memory.exit_code, 2) << memory.output;
+  for (const char* word : {"GiB", "a grain's body", "limits.max_memory_gib"})
+    EXPECT_NE(memory.output.find(word), std::string::npos) << word << " missing in\n" << memory.output;
+
+  const auto costly = run_cli("grading fu2003_table1_coarse --d-min \"0.187 in\" --d-max \"1 in\" --shape "
+                              "'family=\"angular\", templates=1000, spheres=64'");
+  EXPECT_EQ(costly.exit_code, 2) << costly.output;
+  EXPECT_NE(costly.output.find("minutes to make"), std::string::npos) << costly.output;
+  std::ofstream(dir_ / "costly.toml")
+      << "title = \"costly\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 300\n"
+         "shape = { family = \"angular\", templates = 1000, spheres = 64, flakiness_index = 20 }\n[pour]\n"
+         "[dynamics]\n[analysis]\nbox_sides = [0.005]\n";
+  const auto refused = run_cli("check " + (dir_ / "costly.toml").string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("limits.max_template_minutes"), std::string::npos) << refused.output;
+}
+
+// Issue 55, item 5: SIGINT while the templates are made stops the run there: exit 130, the
+// folder left as it was (nothing written), within a few seconds, not at the fit's end.
+TEST_F(CliGrains, ARunStoppedWhileItsTemplatesAreMadeStopsThere) {
+  std::ofstream(dir_ / "slow.toml")
+      << "title = \"slow\"\n[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 300\n"
+         "shape = { family = \"angular\", templates = 400, spheres = 40 }\n[pour]\n[dynamics]\n"
+         "[analysis]\nbox_sides = [0.005]\n[limits]\nmax_template_minutes = 100\n";
+  const std::string command = std::string("timeout --preserve-status -s INT 2 ") + AGGPACK_EXE + " run " +
+                              (dir_ / "slow.toml").string() + " --threads 1 --out " + (dir_ / "slow").string();
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = aggpack::testing::run_command(command);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.exit_code, 130) << r.output;
+  EXPECT_NE(r.output.find("while making grain templates"), std::string::npos) << r.output;
+  EXPECT_LT(seconds, 30.0);  // the fit of 400 templates of 40 spheres takes minutes
+  EXPECT_FALSE(fs::exists(dir_ / "slow" / "summary.json"));
+}
+
+// Issue 55, items 20, 21 and 24: a bed of grains in words and files. The pour counts grains
+// (tested in test_resume.cpp), coordination is "over N grains", the
+// console shows each component's measured shape beside what was asked, particles.vtp has each
+// sphere's component.
+TEST_F(CliGrains, ABedOfGrainsIsToldAsGrains) {
+  std::string grains_only = kGrains;
+  grains_only.replace(grains_only.find(", {"), grains_only.find("}]\n") - grains_only.find(", {") + 1, "");
+  std::ofstream(dir_ / "only.toml") << grains_only << "[output]\nvtp_encoding = \"ascii\"\n";
+  const auto r = run_cli("run " + (dir_ / "only.toml").string() + " --threads 1 --out " + (dir_ / "only").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(" grains\n"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("grains and spheres"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("elongation I/L"), std::string::npos) << r.output;
+  const std::string vtp = slurp(dir_ / "only" / "particles.vtp");
+  EXPECT_NE(vtp.find("Name=\"component\""), std::string::npos);
+
+  std::ofstream(dir_ / "mixed.toml") << kGrains << "[output]\nvtp_encoding = \"ascii\"\n";
+  const auto mixed = run_cli("run " + (dir_ / "mixed.toml").string() + " --threads 1 --out " +
+                             (dir_ / "mixed2").string());
+  ASSERT_EQ(mixed.exit_code, 0) << mixed.output;
+  EXPECT_NE(mixed.output.find("grains and spheres"), std::string::npos) << mixed.output;
+  const std::string mixed_vtp = slurp(dir_ / "mixed2" / "particles.vtp");
+  const std::size_t array = mixed_vtp.find("Name=\"component\"");
+  ASSERT_NE(array, std::string::npos);
+  std::istringstream values(mixed_vtp.substr(mixed_vtp.find('>', array) + 1));
+  std::set<int> components;
+  for (int c = 0; values >> c;) components.insert(c);
+  EXPECT_EQ(components, (std::set<int>{0, 1}));  // the grains' class and the spheres'
+}
+
+// Issue 55, item 21: `check` estimates the bed's depth from the grains' own volume, not the
+// spheres of their reach: a cube the bed of flat grains cannot hold is refused before the DEM
+// (the sieve sizes' spheres, 3.8 times the grains' volume, would leave room for it).
+TEST_F(CliGrains, CheckRefusesACubeTheGrainsBedCannotHold) {
+  std::ofstream(dir_ / "flakes.toml")
+      << "title = \"flakes\"\n[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.006\ncount = 600\n"
+         "shape = { family = \"rounded\", spheres = 4, elongation = 0.8, flatness = 0.3, spread = 0 }\n[pour]\n"
+         "[dynamics]\n[analysis]\nbox_sides = [0.012]\n";
+  const auto r = run_cli("check " + (dir_ / "flakes.toml").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("leaves no room for a virtual cube"), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -258,3 +258,112 @@ TEST_F(ReliabilityRuns, AFolderWithOtherFilesIsRefusedUnlessOverwrite) {
 }
 
 }  // namespace
+
+namespace {
+
+// Issue 55, item 1: the README's cluster workflow. A run exports its bed and a deck to
+// lammps/cluster/, the user runs LAMMPS there (its dump and log), and runs the scenario into
+// the folder again: the user's files are named and the folder refused, never deleted; with
+// --overwrite the run replaces its own deck and leaves them. A folder that only bears an
+// output's name (summary.json/) is the user's too.
+TEST_F(ReliabilityRuns, ARunIntoAnEarlierRunsFolderKeepsWhatTheUserPutInsideIt) {
+  const fs::path scenario = write(
+      "cluster.toml", "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 150\n"
+                      "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\n"
+                      "max_time = 0.3\n[analysis]\nbox_sides = [0.02]\n[[protocol]]\nstep = \"deposit\"\n"
+                      "[[protocol]]\nstep = \"export_lammps\"\nname = \"cluster\"\n[[protocol]]\nstep = \"settle\"\n");
+  const fs::path out = dir_ / "first";
+  const std::string command = "run " + scenario.string() + " --stop-after deposition --quiet --out " + out.string();
+  ASSERT_EQ(run_cli(command).exit_code, 0);
+  const fs::path deck = out / "lammps" / "cluster";
+  ASSERT_TRUE(fs::exists(deck / "settle.in"));
+  EXPECT_TRUE(manifest_names(out).contains("lammps/cluster/settle.in"));
+  std::ofstream(deck / "settled.dump") << "LAMMPS's result";
+  std::ofstream(deck / "log.lammps") << "LAMMPS's log";
+
+  const auto refused = run_cli(command);
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  for (const char* word : {"lammps/cluster/log.lammps", "lammps/cluster/settled.dump", "--overwrite"})
+    EXPECT_NE(refused.output.find(word), std::string::npos) << word << " missing in\n" << refused.output;
+  EXPECT_EQ(slurp(deck / "settled.dump"), "LAMMPS's result");
+  EXPECT_TRUE(fs::exists(deck / "settle.in"));
+
+  const auto beside = run_cli(command + " --overwrite");
+  ASSERT_EQ(beside.exit_code, 0) << beside.output;
+  EXPECT_EQ(slurp(deck / "settled.dump"), "LAMMPS's result");
+  EXPECT_EQ(slurp(deck / "log.lammps"), "LAMMPS's log");
+  EXPECT_TRUE(fs::exists(deck / "settle.in"));
+  EXPECT_FALSE(manifest_names(out).contains("lammps/cluster/settled.dump"));
+  EXPECT_TRUE(manifest_names(out).contains("lammps/cluster/settle.in"));
+
+  // A manifest from before per-file listing named the folder whole: only the deck's files are
+  // recognised as the run's; LAMMPS's dump beside it is the user's.
+  std::ofstream(out / "aggpack-manifest.json")
+      << R"({"aggpack_version": "0.1.0", "files": ["checkpoint.bin", "lammps", "summary.json", "particles.csv"]})";
+  const auto legacy = run_cli(command);
+  EXPECT_EQ(legacy.exit_code, 2) << legacy.output;
+  EXPECT_NE(legacy.output.find("lammps/cluster/settled.dump"), std::string::npos) << legacy.output;
+  EXPECT_EQ(legacy.output.find("settle.in"), std::string::npos) << legacy.output;
+
+  // A folder bearing an output's name is not an output.
+  const fs::path named = dir_ / "named";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --stop-after deposition --quiet --out " + named.string()).exit_code,
+            0);
+  fs::remove(named / "summary.json");
+  fs::create_directories(named / "summary.json");
+  std::ofstream(named / "summary.json" / "mine.txt") << "mine";
+  const auto folder_named = run_cli("run " + scenario.string() + " --stop-after deposition --out " + named.string());
+  EXPECT_EQ(folder_named.exit_code, 2) << folder_named.output;
+  EXPECT_NE(folder_named.output.find("summary.json"), std::string::npos) << folder_named.output;
+  EXPECT_EQ(slurp(named / "summary.json" / "mine.txt"), "mine");
+}
+
+// Issue 55, item 1: a user's picture among an earlier run's frames stays; the frames go.
+TEST_F(ReliabilityRuns, AUsersFileAmongTheFramesIsNeverRemoved) {
+  const fs::path scenario = write(
+      "frames.toml", "[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 100\n"
+                     "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[dynamics]\nmax_time = 0.2\n"
+                     "[analysis]\nbox_sides = [0.005]\n[pour]\n[output]\nframe_interval = 0.05\n");
+  const fs::path out = dir_ / "frames_run";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --threads 1 --out " + out.string()).exit_code, 0);
+  ASSERT_TRUE(fs::exists(out / "frames" / "frame_00001.vtp"));
+  EXPECT_TRUE(manifest_names(out).contains("frames/frame_00001.vtp"));
+  std::ofstream(out / "frames" / "my_render.png") << "mine";
+  const auto refused = run_cli("run " + scenario.string() + " --quiet --threads 1 --out " + out.string());
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("frames/my_render.png"), std::string::npos) << refused.output;
+  EXPECT_EQ(slurp(out / "frames" / "my_render.png"), "mine");
+  // Without frames this time, --overwrite: the run's frames go, the picture stays.
+  const auto again = run_cli("run " + scenario.string() + " --quiet --threads 1 --overwrite --set "
+                             "output.frame_interval=1e9 --out " + out.string());
+  EXPECT_EQ(again.exit_code, 2) << again.output;  // a frame interval is there: the user's frames are not written among
+  EXPECT_TRUE(fs::exists(out / "frames" / "frame_00001.vtp"));  // refused before anything was removed
+  fs::path plain = write("plain.toml", slurp(scenario).substr(0, slurp(scenario).find("[output]")));
+  ASSERT_EQ(run_cli("run " + plain.string() + " --quiet --threads 1 --overwrite --out " + out.string()).exit_code, 0);
+  EXPECT_FALSE(fs::exists(out / "frames" / "frame_00001.vtp"));
+  EXPECT_EQ(slurp(out / "frames" / "my_render.png"), "mine");
+}
+
+// Issue 55, item 14: a run refused before it began (here: a virtual cube larger than the
+// container) leaves the folder of an earlier refused run as it was, manifest and all, so that
+// the next run into it is not refused for "a file that no aggpack run wrote".
+TEST_F(ReliabilityRuns, ARefusedRunLeavesTheManifestDescribingTheFolder) {
+  const fs::path scenario = write(
+      "pour.toml",
+      "title = \"pour\"\nseed = 1\n[container]\nside = 0.09\nheight = 0.4\n[particles]\ndiameter = 0.01\n"
+      "count = 700\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\nfriction_particle = 0.5\n"
+      "friction_wall = 0.5\n[pour]\nbatches = 2\n[dynamics]\nmax_time = 1.5\n[analysis]\nbox_sides = [0.069]\n");
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --threads 2 --out " + out.string()).exit_code, 2);
+  ASSERT_TRUE(fs::exists(out / "particles_unanalysed.csv"));
+  const auto before = run_cli("run " + scenario.string() + " --quiet --set analysis.box_sides=[0.5] --out " +
+                              out.string());
+  ASSERT_EQ(before.exit_code, 2) << before.output;
+  EXPECT_EQ(manifest_names(out), (std::set<std::string>{"particles_unanalysed.csv"}));
+  const auto again = run_cli("run " + scenario.string() + " --threads 2 --quiet --set analysis.box_sides=[0.04] "
+                             "--out " + out.string());
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_FALSE(fs::exists(out / "particles_unanalysed.csv"));
+}
+
+}  // namespace

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <functional>
+#include <map>
 #include <fstream>
 #include <string>
 #include <thread>
@@ -542,6 +543,60 @@ TEST_F(Resume, ADamagedCheckpointIsRefusedNeverResumed) {
   std::ofstream(out / "checkpoint.bin", std::ios::binary | std::ios::trunc) << intact;
   const auto r = run_cli("resume " + out.string() + " --quiet --threads 1");
   EXPECT_EQ(r.exit_code, 0) << r.output;
+}
+
+// Issue 55, item 20: a pour of grains is counted in grains (its progress and the checkpoint's
+// "where" said "2100 of 700 in": member spheres against grains). 150 grains of 2 spheres and
+// 40 spheres in two batches: the first batch in is "95 of 190".
+TEST_F(Resume, APourOfGrainsCountsItsParticlesNotTheirSpheres) {
+  const fs::path scenario = write_scenario(
+      "grains", "seed = 2\n[container]\nside = 0.045\nheight = 0.3\n[particles]\nclasses = [{ diameter = 0.008, "
+                "count = 150, shape = { family = \"rounded\", spheres = 2, templates = 3 } }, { diameter = 0.005, "
+                "count = 40 }]\n[material]\nyoungs_modulus = 1e7\nwall_youngs_modulus = 1e7\n[pour]\nbatches = 2\n"
+                "solid_fraction = 0.15\n[dynamics]\nmax_time = 0.8\n[analysis]\nbox_sides = [0.006]\n");
+  EXPECT_EQ(run_and_signal_when(scenario, dir_ / "grains", "while pouring, 95 of 190 in", SIGKILL), -SIGKILL)
+      << "no checkpoint was taken while pouring, 95 of 190 in";
+}
+
+}  // namespace
+
+namespace {
+
+// Issue 55, item 2: a resume refused for its checkpoint's contents (damage past the checksums,
+// resealed: the run state's or the step state's values do not fit the run) loses nothing. The
+// interrupted run's particles.csv, summary.json and timeseries.csv stay as they were; they are
+// replaced only by a resumed run's own.
+TEST_F(Resume, ARefusedResumeLeavesTheInterruptedRunsOutputs) {
+  const fs::path scenario = write_scenario(
+      "stopped", "seed = 5\n[container]\nside = 0.06\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 200\n"
+                 "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\n"
+                 "max_time = 1\nquiet_kinetic_fraction = 1e-30\n[analysis]\nbox_sides = [0.02]\n");
+  const fs::path out = dir_ / "stopped";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "while settling", SIGTERM), 128 + SIGTERM);
+  const std::vector<std::string> outputs{"particles.csv", "summary.json", "timeseries.csv", "aggpack-manifest.json"};
+  std::map<std::string, std::string> before;
+  for (const std::string& name : outputs) {
+    ASSERT_TRUE(fs::exists(out / name)) << name;
+    before[name] = slurp(out / name);
+  }
+  const std::string intact = slurp(out / "checkpoint.bin");
+  std::size_t refusals = 0;
+  for (std::size_t k = 1; k <= 40; ++k) {
+    std::string bytes = intact;
+    const std::size_t at = intact.size() * k / 41;
+    bytes[at] = static_cast<char>(bytes[at] ^ 0x04);
+    std::ofstream(out / "checkpoint.bin", std::ios::binary | std::ios::trunc) << aggpack::resealed_checkpoint(bytes);
+    const auto r = run_cli("resume " + out.string() + " --quiet --threads 1");
+    if (r.exit_code == 2) {
+      ++refusals;
+      for (const std::string& name : outputs)
+        EXPECT_EQ(slurp(out / name), before.at(name)) << name << " changed by a refused resume (byte " << at << ")";
+    } else if (r.exit_code == 0) {  // damage the checks cannot see (a velocity's low bit): the run went on
+      for (const std::string& name : outputs)
+        std::ofstream(out / name, std::ios::binary | std::ios::trunc) << before.at(name);
+    }
+  }
+  EXPECT_GE(refusals, 10u);
 }
 
 }  // namespace

@@ -41,3 +41,5 @@ TEST(FuzzRegressions, CalibrationReader) {
   EXPECT_GE(replay("calibration", aggpack::fuzz::calibration_reader), 4u);
 }
 TEST(FuzzRegressions, CheckpointReader) { EXPECT_GE(replay("checkpoint", aggpack::fuzz::checkpoint_reader), 4u); }
+TEST(FuzzRegressions, MaterialReader) { EXPECT_GE(replay("materials", aggpack::fuzz::material_reader), 4u); }
+TEST(FuzzRegressions, ShapeReader) { EXPECT_GE(replay("shape", aggpack::fuzz::shape_reader), 5u); }

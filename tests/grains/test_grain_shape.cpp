@@ -192,6 +192,18 @@ TEST(AngularGrain, MeasuresItsProportionsAndFollowsItsSeed) {
   EXPECT_THROW((void)angular_grain(0.5, 0.4, 3, 16, 1), std::invalid_argument);
 }
 
+// Issue 55, item 3: a grain of one sphere is a sphere, angular as rounded; its axes are not
+// squeezed on in search of proportions it cannot have (an angular hull's surface points then
+// grew without bound: minutes and 0.9 GB). At once, and measuring 1 : 1 : 1.
+TEST(AngularGrain, OfOneSphereIsASphereAtOnce) {
+  for (const auto& grain : {angular_grain(0.6, 0.5, 12, 1, 7), rounded_grain(0.6, 0.5, 1)}) {
+    ASSERT_EQ(grain.spheres.size(), 1u);
+    EXPECT_NEAR(grain.dimensions.width, grain.dimensions.length, 1e-12);
+    EXPECT_NEAR(grain.dimensions.thickness, grain.dimensions.length, 1e-12);
+    EXPECT_NEAR(norm(grain.spheres.front().centre), 0.0, 1e-12);
+  }
+}
+
 TEST(SymmetricEigen, DiagonalisesASymmetricTensor) {
   const InertiaTensor t{4.0, 3.0, 2.0, 0.5, -0.3, 0.8};
   const SymmetricEigen e = symmetric_eigen(t);

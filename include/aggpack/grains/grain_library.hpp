@@ -4,12 +4,14 @@
 // so that its intermediate dimension I is the size the grading gave it.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
 
 #include "aggpack/core/particle_store.hpp"
+#include "aggpack/core/stop_request.hpp"
 #include "aggpack/grains/grain_shape.hpp"
 #include "aggpack/grains/shape_measures.hpp"
 
@@ -56,8 +58,26 @@ struct GrainLibrary {
 // out, every template at every size by mass (within 0.5 percentage points if it can, 1 at
 // most). Throws InputError when a target's measure applies to none of the sizes or cannot be
 // reached within 1 percentage point.
+// `watch`: told after each template drawn (the fit draws the library several times: `drawn`
+// counts them all, `expected` is the most it may draw), and a stop requested is honoured there
+// (Interrupted).
+struct LibraryWatch {
+  const StopRequest* stop = nullptr;
+  std::function<void(std::size_t drawn, std::size_t expected)> progress;
+};
 [[nodiscard]] GrainLibrary make_grain_library(const GrainShapeSpec& spec, std::span<const double> intermediate_sizes,
-                                              std::uint64_t seed);
+                                              std::uint64_t seed, const LibraryWatch& watch = {});
+
+// The most templates make_grain_library draws for `spec` (with a target, the fit draws the
+// library up to 19 times), and an estimate of the seconds that takes on one core of a
+// machine like the one it was measured on (BENCHMARKS.md), for the checks before a run.
+[[nodiscard]] std::size_t most_templates_drawn(const GrainShapeSpec& spec);
+[[nodiscard]] double estimated_library_seconds(const GrainShapeSpec& spec);
+// InputError, before any template is made, when the libraries of `specs` would take more than
+// `max_minutes` by estimated_library_seconds; `where` names what the user gave (a scenario's
+// key, --shape) and `limit_key` how to raise the limit.
+void check_library_cost(std::span<const GrainShapeSpec* const> specs, double max_minutes, std::string_view where,
+                        std::string_view limit_key);
 
 // The intermediate sizes a library is fitted on, from all the sizes of its component: at most
 // 256 evenly spaced quantiles (the fit's cost then does not grow with the bed).

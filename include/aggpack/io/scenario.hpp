@@ -133,6 +133,7 @@ struct RunLimits {
     return static_cast<std::uintmax_t>(max_input_file_gib * double(1u << 30));
   }
   double max_profile_bins = 1e6;     // slices and shells of the profiles
+  double max_template_minutes = 10;  // the grains' templates, by estimate (estimated_library_seconds)
 };
 
 // The memory limit in bytes: max_memory_gib, or 80 % of the machine's physical memory.

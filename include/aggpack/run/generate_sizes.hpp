@@ -45,6 +45,19 @@ struct GeneratedSizes {
 // volume), without drawing them: for the checks before a run.
 [[nodiscard]] double expected_particle_count(const ParticleSource& source);
 
+// The particles the source will generate, and the spheres they are made of: a grain is its
+// member spheres (its component's shape.spheres), each of which the DEM holds as a particle.
+// Where the split between components is not known before drawing (a total count), every
+// particle counts as many spheres as the component with most.
+struct ExpectedAmount {
+  double particles = 0.0;
+  double spheres = 0.0;  // the particles' spheres, grains' members counted
+  double grains = 0.0;   // the particles that are grains
+};
+[[nodiscard]] ExpectedAmount expected_amount(const ParticleSource& source);
+// The same for sizes already drawn: exact.
+[[nodiscard]] ExpectedAmount drawn_amount(const ParticleSource& source, const GeneratedSizes& sizes);
+
 // From size classes or from gradings (one, or a coarse/fine mix), with the run's seed.
 GeneratedSizes generate_sizes(const ParticleSource& source, std::uint64_t seed);
 

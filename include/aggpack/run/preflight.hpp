@@ -1,8 +1,10 @@
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <span>
 
 #include "aggpack/io/scenario.hpp"
+#include "aggpack/run/generate_sizes.hpp"
 
 namespace aggpack {
 
@@ -17,8 +19,9 @@ struct RunGrains;
 inline constexpr int kMaxThreads = 256;
 void check_thread_count(int threads);
 
-// Before any sizes are drawn: the expected particle count and memory against [limits].
-void check_amount(const Scenario& scenario);
+// The particle count and memory against [limits], a grain counted as its member spheres: before
+// any sizes are drawn, the expected amount (drawn = false); after, the amount drawn.
+void check_amount(const Scenario& scenario, const ExpectedAmount& amount, bool drawn);
 
 // output.frame_interval against the DEM: frames are taken at aggpack's own DEM's samples (so
 // not more often than dynamics.sample_interval), written as VTP, and at most kMaxFrames of
@@ -30,7 +33,10 @@ void check_frames(const Scenario& scenario);
 // Once the radii are known (generated, or read from the particle file): the spheres against
 // the container, the fill height and the boxes; the time step against the contact law's
 // stability limit; the neighbour grid's cells and the profiles' bins against [limits].
-void check_sizes(const Scenario& scenario, std::span<const double> radii);
+// `solid_volume`: the particles' own, when they are not the spheres of `radii` (grains: their
+// reaches are the radii, their unions the volume).
+void check_sizes(const Scenario& scenario, std::span<const double> radii,
+                 std::optional<double> solid_volume = std::nullopt);
 
 // Particles from a file must lie in the container; periodic sides wrap x and y (moving the
 // positions). Overlaps of the floor or a wall up to `tolerance` x r are a settled bed's

@@ -65,8 +65,12 @@ RunReport run(const Scenario& scenario, const RunControls& controls, Progress& p
 
 // particles.csv, supports.csv, timeseries.csv, particles.vtp and summary.json into `dir`,
 // each atomically (README, "Output files"). `seconds_so_far` is the run's wall time before
-// the outputs, for summary.json's total. Returns the summary it wrote.
-nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far);
+// the outputs, for summary.json's total. `written_while_running`: the files the run wrote into
+// `dir` as it went (its frames, its LAMMPS decks and runs; paths relative to `dir`), listed with
+// the outputs in the folder's manifest. Returns the summary it wrote. InputError naming `dir`
+// when it cannot be made.
+nlohmann::json write_outputs(const RunReport& report, const std::filesystem::path& dir, double seconds_so_far,
+                             const std::vector<std::string>& written_while_running = {});
 
 struct RunOptions {
   ScenarioOverrides overrides;  // output.checkpoint and output.checkpoint_every among them

@@ -73,6 +73,8 @@ std::vector<SieveInterval> grain_sieve_intervals(const ParticleStore& bed, std::
 // The run's grains from its components' shapes, the generated sizes (diameters: each grain's
 // intermediate dimension) and the seed; empty when no component has a shape. Throws InputError
 // from a library (a measure that applies to none of a component's sizes or cannot be reached).
-RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed);
+// `watch`: told of each template drawn, over all the components (see make_grain_library).
+RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed,
+                          const LibraryWatch& watch = {});
 
 }  // namespace aggpack
