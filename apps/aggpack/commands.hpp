@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "aggpack/core/stop_request.hpp"
+
 // A subcommand, and what runs when the command line gives it (after parsing): the exit code.
 // It may throw aggpack::InputError (exit code 2) or another exception (1).
 struct Subcommand {
@@ -29,3 +31,7 @@ std::vector<Subcommand> add_study_commands(CLI::App& app, int argc, char** argv)
 std::vector<Subcommand> add_lammps_commands(CLI::App& app);
 // specimen: a concrete specimen for meso-model codes (specimen_command.cpp).
 Subcommand add_specimen_command(CLI::App& app);
+
+// SIGINT and SIGTERM from now on ask the work to stop at its next safe point (a second one ends
+// the process at once): the request they set, for the library's `stop` (run_commands.cpp).
+const aggpack::StopRequest& stop_on_signals();

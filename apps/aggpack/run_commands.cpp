@@ -29,15 +29,23 @@ extern "C" void request_stop(int signal_number) {
   g_stop.request(signal_number);
 }
 
+}  // namespace
+
+const aggpack::StopRequest& stop_on_signals() {
+  std::signal(SIGINT, request_stop);
+  std::signal(SIGTERM, request_stop);
+  return g_stop;
+}
+
+namespace {
+
 // `aggpack run` and `aggpack resume`: a progress line unless quiet, SIGINT and SIGTERM
 // stopping the run at its next safe point; exit 0, or 128 + the signal (130, 143).
 int run_until_done_or_stopped(aggpack::RunOptions& options, const std::function<aggpack::RunResult()>& go) {
   aggpack::Progress progress =
       aggpack::Progress::wanted(options.quiet) ? aggpack::Progress(std::cerr) : aggpack::Progress();
   options.progress = &progress;
-  options.stop = &g_stop;
-  std::signal(SIGINT, request_stop);
-  std::signal(SIGTERM, request_stop);
+  options.stop = &stop_on_signals();
   const aggpack::RunResult result = go();
   options.progress = nullptr;
   return result.report.interrupted ? 128 + result.report.interrupted->signal_number : 0;

@@ -52,24 +52,53 @@ int specimen_command(const SpecimenArguments& a) {
   const aggpack::SpecimenRequest request = request_of(a, *unit);
   aggpack::check_output_directory(a.out, false);
   const std::filesystem::path source(a.source);
-  const aggpack::SpecimenSource bed = std::filesystem::is_directory(source)
-                                          ? aggpack::read_run_folder(source)
-                                          : aggpack::read_packing_source(source, static_cast<double>(*unit));
-  const nlohmann::json report = aggpack::export_specimen(bed, request, a.out);
+  aggpack::SpecimenSource bed = std::filesystem::is_directory(source)
+                                    ? aggpack::read_run_folder(source)
+                                    : aggpack::read_packing_source(source, static_cast<double>(*unit));
+  if (a.length_unit != "m") bed.length_unit = a.length_unit;  // the notes' lengths in the unit asked for
+  // SIGINT and SIGTERM stop the work at its next safe point (Gmsh's group stopped, its partial
+  // mesh removed) and exit 128 + the signal, as an interrupted run does.
+  const aggpack::StopRequest& stop = stop_on_signals();
+  nlohmann::json report;
+  try {
+    aggpack::SpecimenHooks hooks;
+    hooks.safe_point = [&] { aggpack::stop_here_if_requested(&stop, "while the specimen was made"); };
+    if (!a.json)
+      hooks.say = [](const std::string& line) {
+        fmt::print("aggpack specimen: {}\n", line);
+        std::fflush(stdout);  // before the write it announces
+      };
+    report = aggpack::export_specimen(bed, request, a.out, hooks);
+  } catch (const aggpack::Interrupted& e) {
+    fmt::print(stderr,
+               "aggpack specimen: interrupted by signal {} {}: no partial file is left (Gmsh, if it was meshing, "
+               "stopped and its mesh removed); the files specimen.json lists, if any, are whole\n",
+               e.signal_number(), e.where());
+    return 128 + e.signal_number();
+  }
   if (a.json) {
     std::cout << report.dump(2) << "\n";
     return 0;
   }
   const nlohmann::json& v = report.at("voxels");
-  fmt::print("aggpack specimen: {} particles kept ({} below the minimum size left to the mortar) of {}\n",
-             report.at("particles").at("kept").get<std::size_t>(),
-             report.at("particles").at("dropped_below_min_size").get<std::size_t>(), bed.description);
+  // The particles in the geometry, and what was left out of it and why.
+  const nlohmann::json& particles = report.at("particles");
+  const auto gap_out = particles.at("left_out_by_gap").get<std::size_t>();
+  fmt::print("aggpack specimen: {} particles in the specimen ({} below the minimum size left to the mortar{}) of {}\n",
+             particles.at("kept").get<std::size_t>(), particles.at("dropped_below_min_size").get<std::size_t>(),
+             gap_out ? fmt::format("; {} reaching in by less than gap / 2 left out", gap_out) : std::string(),
+             bed.description);
   fmt::print("  aggregate fraction: exact {:.4f}; voxels ({} x {} x {}) {:.4f}", 
              report.at("exact").at("aggregate_fraction").get<double>(), v.at("count")[0].get<std::size_t>(),
              v.at("count")[1].get<std::size_t>(), v.at("count")[2].get<std::size_t>(),
              v.at("aggregate_fraction").get<double>());
   if (report.contains("gmsh") && report.at("gmsh").contains("aggregate_fraction"))
     fmt::print("; Gmsh mesh {:.4f}", report.at("gmsh").at("aggregate_fraction").get<double>());
+  if (report.at("itz_thickness_m").get<double>() > 0.0) {
+    fmt::print("\n  ITZ fraction: voxels {:.4f}", v.at("itz_fraction").get<double>());
+    if (report.contains("gmsh") && report.at("gmsh").contains("itz_fraction"))
+      fmt::print("; Gmsh mesh {:.4f}", report.at("gmsh").at("itz_fraction").get<double>());
+  }
   fmt::print("\n  wrote {} and specimen.json into {}\n",
              fmt::join(report.at("files").get<std::vector<std::string>>(), ", "), a.out);
   for (const auto& note : report.at("modelling_notes")) fmt::print("  note: {}\n", note.get<std::string>());

@@ -41,6 +41,14 @@ std::shared_ptr<PyBed> read_bed(const std::filesystem::path& path, const std::st
     py::gil_scoped_release released;
     return read_packing_file(path, unit, 1.0, kDefaultMaxInputFileBytes, timestep);
   }();
+  // A run with grains' particles.csv: its spheres are grains' members, which a Bed of spheres
+  // would take for separate particles (their overlaps counted twice); refused as the CLI's
+  // analyze and specimen refuse it.
+  if (std::any_of(file.grains.begin(), file.grains.end(), [](std::uint32_t g) { return g != 0; }))
+    throw InputError(fmt::format("{}: its grain column puts spheres into grains, and a Bed holds separate spheres; "
+                                 "cut a run with grains from its folder (aggpack.specimen(folder, ...), its grains.csv "
+                                 "gives each grain's size)",
+                                 path.string()));
   auto store = std::make_shared<ParticleStore>(std::move(file.particles));
   return std::make_shared<PyBed>(PyBed{std::move(store), path.string(), file.format, std::move(file.materials)});
 }
@@ -155,7 +163,14 @@ py::object specimen(const py::object& source, const std::filesystem::path& out,
   {
     py::gil_scoped_release released;
     if (!bed) bed = std::filesystem::is_directory(path) ? read_run_folder(path) : read_packing_source(path, unit_of(length_unit));
-    report = export_specimen(*bed, request, out);
+    // Python's Ctrl-C (Gmsh, in a process group of its own, does not see it): a
+    // KeyboardInterrupt that stops Gmsh and removes its partial mesh.
+    SpecimenHooks hooks;
+    hooks.safe_point = [] {
+      py::gil_scoped_acquire held;
+      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+    };
+    report = export_specimen(*bed, request, out, hooks);
   }
   return to_python(report);
 }
@@ -166,7 +181,9 @@ void bind_analysis(py::module_& m) {
   m.def("read_bed", &read_bed, py::arg("path"), py::kw_only(), py::arg("length_unit") = "m",
         py::arg("timestep") = py::none(),
         "Reads a packing file as `aggpack analyze` does (CSV with x,y,z,r or diameter, whitespace x y z r, a LAMMPS "
-        "dump or data file; `timestep`: a dump's snapshot, default the last) into an aggpack.Bed of its own.");
+        "dump or data file; `timestep`: a dump's snapshot, default the last) into an aggpack.Bed of its own. A run "
+        "with grains' particles.csv (its grain column) is refused: a Bed holds separate spheres; cut such a run "
+        "from its folder with aggpack.specimen.");
   py::class_<PyBed, std::shared_ptr<PyBed>>(m.attr("Bed"))
       .def_static("from_arrays", &from_arrays, py::arg("positions"), py::arg("radii"), py::kw_only(),
                   py::arg("velocities") = py::none(), py::arg("materials") = py::none(), py::arg("density") = 1.0,
@@ -198,7 +215,10 @@ xmax, ymax, zmax] or `cylinder` [x, y, z_lo, z_hi, radius] (vertical), in m; `vo
 voxel's side (default a tenth of the smallest kept sphere's diameter); `itz`: the ITZ's
 thickness; `min_size`: smaller particles are mortar; `gap`: kept particles shrunk so that
 touching ones stand this far apart (Gmsh cannot mesh touching spheres); `formats`: of "vti",
-"inp", "geo", "msh" (default the first three); `mesh_size`: Gmsh's [aggregate, mortar, itz].)doc");
+"inp", "geo", "msh" (default the first three); `mesh_size`: Gmsh's [aggregate, mortar, itz].
+A Bed whose spheres overlap deeper than a DEM contact is refused (as analyze() refuses it: its
+overlaps would count twice); an `out` that cannot be a folder raises InputError. Ctrl-C while
+Gmsh meshes raises KeyboardInterrupt, Gmsh stopped and its partial mesh removed.)doc");
 }
 
 }  // namespace aggpack::python

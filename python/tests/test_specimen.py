@@ -54,3 +54,38 @@ def test_a_bed_in_memory_is_cut_as_its_file(tmp_path, deposited):
     assert cylinder["region"]["shape"] == "cylinder"
     assert abs(cylinder["voxels"]["aggregate_fraction_minus_exact"]) < 0.01
     assert np.isclose(cylinder["exact"]["aggregate_fraction"], 0.58, atol=0.06)
+
+
+def test_a_grains_particles_csv_is_refused_not_read_as_separate_spheres(tmp_path):
+    """read_bed refuses the grain column as the CLI does (its spheres are a grain's members, which
+    a Bed of spheres would cut as separate particles, their overlaps counted twice)."""
+    csv = tmp_path / "particles.csv"
+    csv.write_text("id,x,y,z,r,grain\n1,0.01,0.01,0.01,0.003,1\n2,0.013,0.01,0.01,0.003,1\n"
+                   "3,0.02,0.02,0.02,0.002,0\n")
+    with pytest.raises(aggpack.InputError, match="grain column"):
+        aggpack.read_bed(csv)
+    code, output = cli("specimen", csv, "--box", "0,0,0,0.02,0.02,0.02", "--out", tmp_path / "cli", check=False)
+    assert code == 2 and "grain column" in output
+
+
+def test_a_bed_of_overlapping_spheres_is_refused_as_analyze_refuses_it(tmp_path):
+    """Spheres overlapping deeper than a DEM contact are not separate particles: specimen() of such
+    a Bed is refused (was cut with each overlap counted twice), as analyze() refuses it."""
+    positions = np.array([[0.01, 0.01, 0.01], [0.013, 0.01, 0.01], [0.02, 0.02, 0.02]])
+    bed = aggpack.Bed.from_arrays(positions, np.array([0.003, 0.003, 0.002]))
+    with pytest.raises(aggpack.InputError, match="overlap"):
+        aggpack.analyze(bed)
+    with pytest.raises(aggpack.InputError, match="count each overlap twice"):
+        aggpack.specimen(bed, tmp_path / "s", box=[0.008, 0.008, 0.008, 0.02, 0.02, 0.02], formats=["vti"])
+    assert not (tmp_path / "s").exists()
+
+
+def test_an_output_path_that_is_a_file_is_an_input_error(tmp_path, deposited):
+    """out= a file (was a raw RuntimeError from the filesystem): the module's InputError naming it."""
+    a_file = tmp_path / "a_file"
+    a_file.write_text("mine\n")
+    with pytest.raises(aggpack.InputError, match="is a file, not a folder"):
+        aggpack.specimen(deposited, a_file, formats=["vti"])
+    with pytest.raises(aggpack.InputError, match="is a file, not a folder"):
+        aggpack.specimen(deposited, a_file / "below", formats=["vti"])
+    assert a_file.read_text() == "mine\n"

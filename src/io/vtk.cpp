@@ -1,4 +1,5 @@
 #include "aggpack/io/vtk.hpp"
+#include "aggpack/io/vtk_compress.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -50,6 +51,14 @@ void append_compressed(std::string& out, const void* data, std::size_t size) {
   out.append(reinterpret_cast<const char*>(header.data()), header.size() * sizeof(std::uint64_t));
   out += packed;
 }
+
+}  // namespace
+
+void append_vtk_zlib_blocks(std::string& out, const void* data, std::size_t size) {
+  append_compressed(out, data, size);
+}
+
+namespace {
 
 std::vector<Array> vtp_arrays(const ParticleStore& particles, const VtpPointArrays& extra) {
   const std::size_t n = particles.size();

@@ -5,13 +5,18 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <sstream>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/scenario.hpp"
 #include "aggpack/specimen/voxel_image.hpp"
 
 namespace aggpack {
@@ -22,6 +27,11 @@ namespace {
 constexpr double kDefaultVoxelBudget = 5e7;
 // An Abaqus file's elements at most: some 3 GB of text.
 constexpr double kInpElementLimit = 2.5e7;
+constexpr double kGiB = 1024.0 * 1024.0 * 1024.0;
+// Gmsh's tetrahedra at most (estimated_mesh_elements), and its memory per tetrahedron while it
+// meshes: Debian's Gmsh 4.8, one thread, took 184 MB for 2.1e5 tetrahedra (estimated 5.5e5).
+constexpr double kMaxMeshElements = 2e7;
+constexpr double kGmshBytesPerElement = 900.0;
 
 void check_inside_bed(const SpecimenRegion& region, const SpecimenSource& source) {
   const Box r = region_bounds(region), b = source.bed_bounds;
@@ -47,6 +57,90 @@ std::vector<std::string> checked_formats(const std::vector<std::string>& asked) 
   return formats;
 }
 
+// The output folder, before any work: an existing path that is not a folder, or a nearest
+// existing ancestor that is not a writable folder, is refused naming it (as `run` does).
+void check_specimen_folder(const std::filesystem::path& out) {
+  namespace fs = std::filesystem;
+  const std::string shown = out.string();
+  if (shown.empty()) throw InputError("the output folder is an empty path; expected a folder name");
+  std::error_code ec;
+  fs::path existing = out;
+  while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
+  if (existing.empty()) existing = ".";
+  if (!fs::is_directory(existing, ec))
+    throw InputError(fmt::format("{}: cannot make the output folder: {} is a file, not a folder; expected a folder "
+                                 "path",
+                                 shown, existing.string()));
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    throw InputError(fmt::format("{}: cannot write the output folder: {} is not writable; expected a folder you may "
+                                 "write",
+                                 shown, existing.string()));
+}
+
+// The output folder made, and an earlier specimen's files removed; any failure an InputError
+// naming the folder (a path under /proc, a full disk), not the library's filesystem_error.
+void prepare_specimen_folder(const std::filesystem::path& out) {
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec || !std::filesystem::is_directory(out))
+    throw InputError(fmt::format("{}: cannot make the output folder: {}; expected a folder you may write",
+                                 out.string(), ec ? ec.message() : std::string("it is not a folder")));
+  // An earlier specimen's files go: the folder never mixes two specimens.
+  for (const char* name : {"specimen.vti", "specimen.inp", "specimen.geo", "specimen.msh", "gmsh.log", "specimen.json"})
+    if (std::filesystem::remove(out / name, ec); ec)
+      throw InputError(fmt::format("{}: cannot remove an earlier specimen's {}: {}", out.string(), name, ec.message()));
+}
+
+// The voxel image's memory and the .inp's elements, from the grid alone, before anything is
+// allocated: a byte per voxel and each plane's list of spheres; the .inp a node number (4
+// bytes) per grid point; against the memory limit (80 % of this machine's memory).
+void check_voxel_memory(const Specimen& s, double voxel, double max_voxels, bool inp) {
+  const VoxelGrid g = voxel_grid(s.region, voxel);
+  if (!(g.voxels() <= max_voxels)) return;  // voxelize refuses it, with its own message
+  const double points = static_cast<double>(g.count[0] + 1) * static_cast<double>(g.count[1] + 1) *
+                        static_cast<double>(g.count[2] + 1);
+  double plane_lists = 0.0;  // each sphere in the list of every plane it spans
+  for (const MemberSphere& sphere : s.spheres)
+    plane_lists += std::min(2.0 * (sphere.radius + s.itz_thickness) / g.spacing.z + 1.0,
+                            static_cast<double>(g.count[2]));
+  const double bytes = g.voxels() + sizeof(std::size_t) * plane_lists + (inp ? sizeof(std::uint32_t) * points : 0.0);
+  const double limit = memory_limit_bytes(RunLimits{});
+  if (bytes > limit)
+    throw InputError(fmt::format("voxel size {:.6g} m: {} x {} x {} = {:.3g} voxels need an estimated {:.3g} GiB{}, "
+                                 "more than the memory limit of {:.3g} GiB (80 % of this machine's memory); expected a "
+                                 "larger voxel (--voxel) or a lower --max-voxels",
+                                 voxel, g.count[0], g.count[1], g.count[2], g.voxels(), bytes / kGiB,
+                                 inp ? " with the .inp's node numbers" : "", limit / kGiB));
+  // The .inp's elements are the voxels inside the region: all of a box's, about pi/4 of a
+  // cylinder's bounding box.
+  const double inside = g.voxels() * region_volume(s.region) / region_bounds(s.region).volume();
+  if (inp && inside > 1.01 * kInpElementLimit)
+    throw InputError(fmt::format("format inp: about {:.3g} voxel elements, more than {:.2g} (some 130 bytes each in "
+                                 "the file); expected a larger voxel (--voxel), or the voxel image alone (--formats "
+                                 "vti)",
+                                 inside, kInpElementLimit));
+}
+
+// The .inp's size: each node's line (its number and three coordinates of up to 17 digits),
+// each element's (its number and eight nodes'), and its number in a set.
+double estimated_inp_bytes(const VoxelImage& image) {
+  const double elements = static_cast<double>(image.inside());
+  const double nodes = std::min(static_cast<double>(image.grid.count[0] + 1) *
+                                    static_cast<double>(image.grid.count[1] + 1) *
+                                    static_cast<double>(image.grid.count[2] + 1),
+                                8.0 * elements);
+  const double node_digits = std::floor(std::log10(std::max(nodes, 1.0))) + 1.0;
+  const double element_digits = std::floor(std::log10(std::max(elements, 1.0))) + 1.0;
+  return nodes * (node_digits + 3.0 * 22.0 + 1.0) + elements * (element_digits + 8.0 * (node_digits + 2.0) + 1.0) +
+         elements * (element_digits + 2.0);
+}
+
+std::string bytes_text(double bytes) {
+  if (bytes >= 1e9) return fmt::format("{:.1f} GB", bytes / 1e9);
+  if (bytes >= 1e6) return fmt::format("{:.0f} MB", bytes / 1e6);
+  return fmt::format("{:.0f} kB", std::max(bytes / 1e3, 1.0));
+}
+
 double smallest_kept(const Specimen& s) {
   double smallest = std::numeric_limits<double>::max();
   for (const MemberSphere& sphere : s.spheres) smallest = std::min(smallest, 2.0 * sphere.radius);
@@ -65,24 +159,73 @@ nlohmann::json region_json(const SpecimenRegion& region) {
           {"radius", c.radius}};
 }
 
+GmshMeshSizes mesh_sizes_of(const Specimen& s, const SpecimenRequest& request) {
+  const double finest = smallest_kept(s);
+  return request.mesh_sizes.value_or(
+      GmshMeshSizes{finest / 4.0, finest / 2.0, request.itz_thickness > 0.0 ? request.itz_thickness : finest / 4.0});
+}
+
+// The tetrahedra Gmsh would make, estimated from the sizes: a regular tetrahedron of side h
+// fills h^3 / (6 sqrt 2), so a volume V meshed at h takes some 8.5 V / h^3 of them. Each
+// sphere's aggregate at its size (the phase's, or finer by curvature: elements_per_circle
+// around it) and a layer of that size in the matrix around it; the ITZ's shells at the ITZ's
+// size; the rest of the mortar at the mortar's. An estimate within a factor of a few, to refuse
+// a mesh far beyond a machine, not to predict Gmsh's count.
+double estimated_mesh_elements(const Specimen& s, const GmshMeshSizes& sizes) {
+  constexpr double kPerCube = 8.485;  // 6 sqrt 2
+  const double pi = std::numbers::pi;
+  const double region = region_volume(s.region);
+  double elements = 0.0, near_volume = 0.0;
+  for (const MemberSphere& sphere : s.spheres) {
+    const double r = sphere.radius;
+    const double h = std::min(sizes.aggregate, 2.0 * pi * r / sizes.elements_per_circle);
+    const double ball = std::min(4.0 / 3.0 * pi * r * r * r, region);
+    const double layer = std::min(4.0 * pi * r * r * h, region);
+    elements += kPerCube * (ball + layer) / (h * h * h);
+    near_volume += ball + layer;
+    if (s.itz_thickness > 0.0) {
+      const double shell = std::min(4.0 * pi * r * r * s.itz_thickness, region);
+      elements += kPerCube * shell / std::pow(std::min(sizes.itz, h), 3);
+      near_volume += shell;
+    }
+  }
+  return elements + kPerCube * std::max(region - near_volume, 0.0) / std::pow(sizes.mortar, 3);
+}
+
+// Gmsh's mesh refused before any work when its estimate passes kMaxMeshElements or its memory
+// the machine's limit.
+void check_mesh_size(const Specimen& s, const GmshMeshSizes& sizes) {
+  const double elements = estimated_mesh_elements(s, sizes);
+  const double bytes = elements * kGmshBytesPerElement, limit = memory_limit_bytes(RunLimits{});
+  if (elements > kMaxMeshElements || bytes > limit)
+    throw InputError(fmt::format(
+        "format msh: mesh sizes {:.4g} m (aggregate), {:.4g} m (mortar), {:.4g} m (ITZ) make an estimated {:.3g} "
+        "tetrahedra (some {:.3g} GiB for Gmsh), more than {}; expected larger sizes (--mesh-size), fewer "
+        "particles, or the geometry alone (--formats geo) meshed elsewhere",
+        sizes.aggregate, sizes.mortar, sizes.itz, elements, bytes / kGiB,
+        elements > kMaxMeshElements ? fmt::format("the limit of {:.0e} tetrahedra", kMaxMeshElements)
+                                    : fmt::format("the memory limit of {:.3g} GiB (80 % of this machine's memory)",
+                                                  limit / kGiB)));
+}
+
 // The Gmsh geometry into `out`, its mesh sizes into report["gmsh"].
 void write_gmsh_geometry(const Specimen& s, const SpecimenRequest& request, const std::vector<std::string>& formats,
                          const std::string& provenance, const std::filesystem::path& out,
                          std::vector<std::string>& written, nlohmann::json& report) {
   if (!has(formats, "geo")) return;
-  const double finest = smallest_kept(s);
-  const GmshMeshSizes sizes = request.mesh_sizes.value_or(
-      GmshMeshSizes{finest / 4.0, finest / 2.0, request.itz_thickness > 0.0 ? request.itz_thickness : finest / 4.0});
+  const GmshMeshSizes sizes = mesh_sizes_of(s, request);
   write_file_atomically(out / "specimen.geo", gmsh_geo(s, sizes, provenance));
   written.push_back("specimen.geo");
   report["gmsh"] = {{"mesh_size_m", {{"aggregate", sizes.aggregate}, {"mortar", sizes.mortar}, {"itz", sizes.itz}}},
-                    {"elements_per_circle", sizes.elements_per_circle}};
+                    {"elements_per_circle", sizes.elements_per_circle},
+                    {"estimated_tetrahedra", estimated_mesh_elements(s, sizes)}};
 }
 
 // Gmsh's mesh of specimen.geo, what it holds into report["gmsh"].
-void mesh_with_gmsh(const Specimen& s, const std::filesystem::path& out, nlohmann::json& report) {
+void mesh_with_gmsh(const Specimen& s, const std::filesystem::path& out, nlohmann::json& report,
+                    const std::function<void()>& safe_point) {
   try {
-    run_gmsh(out / "specimen.geo", out / "specimen.msh", out / "gmsh.log");
+    run_gmsh(out / "specimen.geo", out / "specimen.msh", out / "gmsh.log", safe_point);
   } catch (const InputError& e) {  // most often two particles that touch at a point
     throw InputError(fmt::format("{}{}; the other files and specimen.json are written", e.what(),
                                  s.gap > 0.0 ? "" : " (particles that touch make faces Gmsh cannot mesh: give a gap)"));
@@ -94,6 +237,7 @@ void mesh_with_gmsh(const Specimen& s, const std::filesystem::path& out, nlohman
   const double region = region_volume(s.region);
   report["gmsh"]["volume_m3"] = volumes;
   report["gmsh"]["aggregate_fraction"] = aggregate / region;
+  if (volumes.contains("itz")) report["gmsh"]["itz_fraction"] = volumes.at("itz") / region;
   report["gmsh"]["aggregate_fraction_minus_exact"] = aggregate / region - s.aggregate_fraction();
   report["gmsh"]["meshed_volume_over_region"] = meshed / region;
 }
@@ -111,6 +255,7 @@ nlohmann::json specimen_json(const SpecimenSource& source, const SpecimenRequest
       {"itz_thickness_m", request.itz_thickness},
       {"gap_m", request.gap},
       {"particles", {{"kept", s.kept_particles}, {"spheres", s.spheres.size()}, {"dropped_below_min_size", s.dropped_particles},
+                     {"left_out_by_gap", s.left_out_by_gap},
                      {"dropped_volume_fraction", s.dropped_volume / region_volume(region)}}},
       {"exact", {{"aggregate_fraction", s.aggregate_fraction()}, {"method", s.volume_method}}},
       {"voxels",
@@ -194,7 +339,7 @@ GmshMeshSizes mesh_sizes_from(const std::vector<double>& values, const std::stri
 }
 
 nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenRequest& request,
-                               const std::filesystem::path& out) {
+                               const std::filesystem::path& out, const SpecimenHooks& hooks) {
   if (!request.region && !source.largest_virtual_box)
     throw InputError(fmt::format("{}: no virtual box to take as the specimen: give the specimen's box or cylinder",
                                  source.description));
@@ -204,23 +349,43 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
     throw InputError(fmt::format("the voxel limit {}: expected a count of 1 or more", request.max_voxels));
   const SpecimenRegion region = request.region.value_or(SpecimenRegion{*source.largest_virtual_box});
   const std::vector<std::string> formats = checked_formats(request.formats);
+  check_specimen_folder(out);
   check_inside_bed(region, source);
   const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
   std::vector<std::string> notes = source.notes;
+  // Lengths in metres, and in the scenario's (or --length-unit's) unit beside them.
+  const auto per_unit = source.length_unit.empty() ? std::nullopt : metres_per_unit(source.length_unit);
+  const auto length = [&](double metres) {
+    if (!per_unit || *per_unit == 1.0L) return fmt::format("{:.4g} m", metres);
+    return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), source.length_unit);
+  };
   if (request.gap > 0.0)
-    notes.push_back(fmt::format("each kept particle's spheres shrunk by {:.4g} m (gap / 2) so that touching ones "
-                                "stand {:.4g} m apart: the aggregate fraction {:.4f} as packed, {:.4f} shrunk",
-                                0.5 * request.gap, request.gap,
+    notes.push_back(fmt::format("each kept particle's spheres shrunk by {} (gap / 2) so that touching ones "
+                                "stand {} apart: the aggregate fraction {:.4f} as packed, {:.4f} shrunk",
+                                length(0.5 * request.gap), length(request.gap),
                                 cut_specimen(source.particles, {region, request.min_size, 0.0, 0.0}).aggregate_fraction(),
                                 s.aggregate_fraction()));
-  double voxel = request.voxel_size.value_or(smallest_kept(s) / 10.0);
-  const double budget_voxel = std::cbrt(region_volume(region) / kDefaultVoxelBudget);
+  const Vec3 sides = region_bounds(region).size();
+  const double smallest_side = std::min({sides.x, sides.y, sides.z});
+  // A voxel wider than the specimen would be rounded to one voxel across: an image of nothing.
+  if (request.voxel_size && *request.voxel_size > smallest_side)
+    throw InputError(fmt::format("voxel size {:.6g} m: wider than the specimen's smallest side ({:.6g} m, {}); "
+                                 "expected a voxel of at most that (--voxel), a few hundredths of it for an image "
+                                 "that resolves the particles",
+                                 *request.voxel_size, smallest_side, region_text(region)));
+  double voxel = request.voxel_size.value_or(std::min(smallest_kept(s) / 10.0, smallest_side));
+  // The grid spans the region's bounding box (a cylinder's corners too): the budget is its voxels.
+  double budget_voxel = std::cbrt(region_bounds(region).volume() / kDefaultVoxelBudget);
+  // Each side's count is rounded to a whole number: a little coarser until they hold the budget.
+  while (voxel_grid(region, budget_voxel).voxels() > kDefaultVoxelBudget) budget_voxel *= 1.001;
   if (!request.voxel_size && voxel < budget_voxel) {
-    notes.push_back(fmt::format("the voxel is {:.4g} m, not {:.4g} m (a tenth of the smallest kept sphere's "
+    notes.push_back(fmt::format("the voxel is {}, not {} (a tenth of the smallest kept sphere's "
                                 "diameter): at most {:.0e} voxels by default (give the voxel size for a finer one)",
-                                budget_voxel, voxel, kDefaultVoxelBudget));
+                                length(budget_voxel), length(voxel), kDefaultVoxelBudget));
     voxel = budget_voxel;
   }
+  check_voxel_memory(s, voxel, request.max_voxels, has(formats, "inp"));
+  if (has(formats, "msh")) check_mesh_size(s, mesh_sizes_of(s, request));
   const VoxelImage image = voxelize(s, voxel, request.max_voxels);
   if (has(formats, "inp") && !(static_cast<double>(image.inside()) <= kInpElementLimit))
     throw InputError(fmt::format("format inp: {:.3g} voxel elements, more than {:.2g} (some 130 bytes each in the "
@@ -234,27 +399,32 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
                                  100.0 * static_cast<double>(image.itz) / static_cast<double>(image.itz + image.mortar)));
   const double min_spacing = std::min({image.grid.spacing.x, image.grid.spacing.y, image.grid.spacing.z});
   if (request.itz_thickness > 0.0 && request.itz_thickness < min_spacing)
-    notes.push_back(fmt::format("the ITZ ({:.4g} m) is thinner than a voxel ({:.4g} m): the image holds it only where "
+    notes.push_back(fmt::format("the ITZ ({}) is thinner than a voxel ({}): the image holds it only where "
                                 "a voxel's centre falls in it (give a voxel of the ITZ's thickness or less)",
-                                request.itz_thickness, min_spacing));
+                                length(request.itz_thickness), length(min_spacing)));
   notes.push_back("a voxel is the phase at its centre; the aggregate's exact volume sums each particle's part in the "
                   "region, so spheres that overlap at a DEM contact count their overlap twice (some 1e-4 of a radius)");
+  if (s.left_out_by_gap > 0)
+    notes.push_back(fmt::format("{} particles that reached into the specimen by less than gap / 2 are left out: shrunk "
+                                "by the gap they no longer reach into it",
+                                s.left_out_by_gap));
   if (s.dropped_particles > 0)
-    notes.push_back(fmt::format("{} particles below {:.4g} m ({:.4f} of the specimen's volume) are left to the mortar",
-                                s.dropped_particles, request.min_size, s.dropped_volume / region_volume(region)));
+    notes.push_back(fmt::format("{} particles below {} ({:.4f} of the specimen's volume) are left to the mortar",
+                                s.dropped_particles, length(request.min_size), s.dropped_volume / region_volume(region)));
   const std::string provenance =
       fmt::format("aggpack {} specimen: {} of {}", kVersion, region_text(region), source.description);
   nlohmann::json report = specimen_json(source, request, s, image);
-  std::filesystem::create_directories(out);
-  // An earlier specimen's files go: the folder never mixes two specimens.
-  for (const char* name : {"specimen.vti", "specimen.inp", "specimen.geo", "specimen.msh", "gmsh.log", "specimen.json"})
-    std::filesystem::remove(out / name);
+  if (hooks.safe_point) hooks.safe_point();  // a stop during the voxels: nothing is written
+  prepare_specimen_folder(out);
   std::vector<std::string> written;
   if (has(formats, "vti")) {
     write_file_atomically(out / "specimen.vti", [&](std::ostream& o) { write_vti(o, image, provenance); });
     written.push_back("specimen.vti");
   }
   if (has(formats, "inp")) {
+    if (hooks.say)
+      hooks.say(fmt::format("writing specimen.inp: {} elements, about {}", image.inside(),
+                            bytes_text(estimated_inp_bytes(image))));
     write_file_atomically(out / "specimen.inp", [&](std::ostream& o) { write_abaqus_inp(o, image, provenance); });
     written.push_back("specimen.inp");
   }
@@ -268,7 +438,10 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
   write_gmsh_geometry(s, request, formats, provenance, out, written, report);
   write_report();
   if (has(formats, "msh")) {
-    mesh_with_gmsh(s, out, report);
+    if (hooks.say)
+      hooks.say(fmt::format("meshing with Gmsh: an estimated {:.2g} tetrahedra",
+                            report["gmsh"]["estimated_tetrahedra"].get<double>()));
+    mesh_with_gmsh(s, out, report, hooks.safe_point);
     written.push_back("specimen.msh");
     write_report();
   }

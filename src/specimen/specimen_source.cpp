@@ -7,10 +7,12 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/input_file.hpp"
 #include "aggpack/core/text.hpp"
 #include "aggpack/io/particle_file.hpp"
+#include "aggpack/io/scenario.hpp"
 #include "aggpack/specimen/specimen_export.hpp"
 
 namespace aggpack {
@@ -124,6 +126,19 @@ double highest_top(const PackedParticles& p) {
   return top;
 }
 
+// The unit the run's scenario wrote its container's side in (as its console shows lengths),
+// where its file is still there and reads; else none (metres alone).
+std::string scenario_length_unit(const nlohmann::json& summary) {
+  try {
+    const std::filesystem::path file = summary.at("scenario_file").get<std::string>();
+    std::error_code ec;
+    if (file.empty() || !std::filesystem::is_regular_file(file, ec)) return {};
+    return load_scenario(file).written_length_unit;
+  } catch (const std::exception&) {  // a scenario since changed or moved: lengths in metres
+    return {};
+  }
+}
+
 }  // namespace
 
 SpecimenSource read_run_folder(const std::filesystem::path& folder) {
@@ -165,6 +180,7 @@ SpecimenSource read_run_folder(const std::filesystem::path& folder) {
   }
   source.bed_bounds.hi.z = highest_top(source.particles);
   source.description = fmt::format("the final bed of the run in {}", folder.string());
+  source.length_unit = scenario_length_unit(summary);
   return source;
 }
 
@@ -183,6 +199,17 @@ SpecimenSource spheres_source(const ParticleStore& spheres, std::string descript
                                  "grain's size)",
                                  description));
   if (spheres.empty()) throw InputError(fmt::format("{}: no spheres", description));
+  // Spheres that overlap deeper than a DEM contact are not separate particles (a grain's
+  // members read as spheres, say): their overlaps would count twice in the aggregate. Refused
+  // as `aggpack analyze` refuses them.
+  try {
+    (void)check_particle_overlaps(spheres, bounding_container(spheres), ParticleSource{}.overlap_tolerance, false,
+                                  description, RunLimits{}.max_grid_cells);
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{} (a specimen's aggregate would count each overlap twice; a bed of grains is cut "
+                                 "from its run's folder, whose grains.csv gives each grain's size)",
+                                 e.what()));
+  }
   SpecimenSource source;
   source.particles = particles_of(PackingFile{spheres, "", {}, {}}, {}, description);
   constexpr double kBig = std::numeric_limits<double>::max();

@@ -2,14 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <string>
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/xml_text.hpp"
+#include "aggpack/io/vtk_compress.hpp"
 
 namespace aggpack {
 
@@ -123,8 +124,11 @@ void write_vti(std::ostream& out, const VoxelImage& image, std::string_view prov
   const VoxelGrid& g = image.grid;
   fmt::print(out, "<?xml version=\"1.0\"?>\n<!-- {} -->\n", xml_comment_text(provenance));
   fmt::print(out, "<!-- phase: 0 mortar, 1 aggregate, 2 ITZ, 255 outside the specimen -->\n");
+  // zlib-compressed as the .vtp is (VTK's own layout): an image of a few phases packs to a few
+  // per cent of its byte a voxel.
   fmt::print(out,
-             "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+             "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" "
+             "compressor=\"vtkZLibDataCompressor\">\n"
              "  <ImageData WholeExtent=\"0 {0} 0 {1} 0 {2}\" Origin=\"{3:.17g} {4:.17g} {5:.17g}\" "
              "Spacing=\"{6:.17g} {7:.17g} {8:.17g}\">\n"
              "    <Piece Extent=\"0 {0} 0 {1} 0 {2}\">\n"
@@ -133,11 +137,9 @@ void write_vti(std::ostream& out, const VoxelImage& image, std::string_view prov
              "      </CellData>\n    </Piece>\n  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _",
              g.count[0], g.count[1], g.count[2], g.origin.x, g.origin.y, g.origin.z, g.spacing.x, g.spacing.y,
              g.spacing.z);
-  const std::uint64_t bytes = image.phase.size();
-  char header[sizeof bytes];
-  std::memcpy(header, &bytes, sizeof bytes);  // little-endian on every machine aggpack builds for
-  out.write(header, sizeof header);
-  out.write(reinterpret_cast<const char*>(image.phase.data()), static_cast<std::streamsize>(image.phase.size()));
+  std::string packed;
+  append_vtk_zlib_blocks(packed, image.phase.data(), image.phase.size());
+  out.write(packed.data(), static_cast<std::streamsize>(packed.size()));
   out << "\n  </AppendedData>\n</VTKFile>\n";
 }
 
@@ -154,8 +156,24 @@ void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_vi
       for (std::size_t i = 0; i < g.count[0]; ++i)
         if (inside(index_of(g, i, j, k)))
           for (std::size_t c = 0; c < 8; ++c) node[point(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))] = 1;
-  fmt::print(out, "*Heading\n** {}\n** element sets: AGGREGATE, MORTAR, ITZ (one per phase); C3D8 voxels\n",
-             provenance);
+  // The phases' element sets that have elements, and the node sets of the region's faces.
+  const std::array<std::pair<Phase, const char*>, 3> sets{
+      {{Phase::Aggregate, "AGGREGATE"}, {Phase::Mortar, "MORTAR"}, {Phase::Itz, "ITZ"}}};
+  std::vector<std::pair<Phase, const char*>> written_sets;
+  for (const auto& set : sets)
+    if (std::find(image.phase.begin(), image.phase.end(), static_cast<std::uint8_t>(set.first)) != image.phase.end())
+      written_sets.push_back(set);
+  const bool box = !std::any_of(image.phase.begin(), image.phase.end(),
+                                [](std::uint8_t p) { return p == static_cast<std::uint8_t>(Phase::Outside); });
+  std::vector<std::string> set_names;
+  for (const auto& set : written_sets) set_names.emplace_back(set.second);
+  // No *Heading: a part to *INCLUDE in a deck, which has its own (a second stops CalculiX).
+  fmt::print(out,
+             "** {}\n** A mesh to *INCLUDE in an analysis deck (no heading of its own: the deck gives one), the sections "
+             "given there.\n** C3D8 voxels; element sets (one per phase): {}\n** node sets of the faces: {}\n",
+             provenance, fmt::join(set_names, ", "),
+             box ? "XMIN, XMAX, YMIN, YMAX, ZMIN, ZMAX (the box's faces x = xmin, ...)"
+                 : "ZMIN, ZMAX (the cylinder's bottom and top)");
   out << "*Node\n";
   std::size_t nodes = 0;
   for (std::size_t k = 0; k <= g.count[2]; ++k)
@@ -179,11 +197,8 @@ void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_vi
                    node[point(i, j + 1, k + 1)]);
       }
   // Each phase's elements (numbered as above: the inside voxels in order), 16 a line.
-  const std::array<std::pair<Phase, const char*>, 3> sets{
-      {{Phase::Aggregate, "AGGREGATE"}, {Phase::Mortar, "MORTAR"}, {Phase::Itz, "ITZ"}}};
-  for (const auto& [phase, name] : sets) {
+  for (const auto& [phase, name] : written_sets) {
     const auto label = static_cast<std::uint8_t>(phase);
-    if (std::find(image.phase.begin(), image.phase.end(), label) == image.phase.end()) continue;
     fmt::print(out, "*Elset, elset={}\n", name);
     std::size_t number = 0, on_line = 0;
     for (const std::uint8_t p : image.phase) {
@@ -195,6 +210,27 @@ void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_vi
     }
     if (on_line != 0) out << '\n';
   }
+  // The faces' nodes (a load case fixes one and loads the opposite), 16 a line.
+  const std::size_t nz = g.count[2] + 1;
+  const auto write_face = [&](const char* name, std::size_t axis, std::size_t at) {
+    fmt::print(out, "*Nset, nset={}\n", name);
+    std::size_t on_line = 0;
+    for (std::size_t k = 0; k < nz; ++k)
+      for (std::size_t j = 0; j < ny; ++j)
+        for (std::size_t i = 0; i < nx; ++i) {
+          const std::array<std::size_t, 3> ijk{i, j, k};
+          const std::uint32_t n = node[point(i, j, k)];
+          if (n == 0 || ijk[axis] != at) continue;
+          fmt::print(out, "{}{}", on_line == 0 ? "" : ", ", n);
+          if (++on_line == 16) out << '\n', on_line = 0;
+        }
+    if (on_line != 0) out << '\n';
+  };
+  if (box) {
+    write_face("XMIN", 0, 0), write_face("XMAX", 0, nx - 1);
+    write_face("YMIN", 1, 0), write_face("YMAX", 1, ny - 1);
+  }
+  write_face("ZMIN", 2, 0), write_face("ZMAX", 2, nz - 1);
 }
 
 }  // namespace aggpack

@@ -3,12 +3,16 @@
 // bed's particles across a side; a bed of grains; and bad input refused, nothing written.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "aggpack/analysis/sphere_box_volume.hpp"
@@ -111,11 +115,25 @@ TEST_F(CliSpecimen, BadInputIsRefusedBeforeAnythingIsWritten) {
            {"--cylinder 0.02,0.02,0.01,0.005,0.005", "expected X,Y,ZLO,ZHI,RADIUS"},
            {"--min-size 1", "holds no particle of the bed at or above the minimum size"},
            {"--max-voxels nan", "--max-voxels"},
-           {"--voxel 0.00003 --max-voxels 1e12", "format inp"}}) {
+           {"--voxel 0.00003 --max-voxels 1e12", "format inp"},
+           // The image's memory checked before it is allocated (was std::bad_alloc).
+           {"--max-voxels 1e30 --voxel 1e-6", "more than the memory limit"},
+           // A voxel wider than the specimen (was a silent 1 x 1 x 1 image).
+           {"--voxel 1", "wider than the specimen's smallest side"}}) {
     const auto r = run_cli("specimen " + run.string() + " " + args + to);
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.output;
     EXPECT_NE(r.output.find(words), std::string::npos) << args << "\n" << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "bad")) << args;
+  }
+  // An output folder that cannot be made: an input error naming it (was an internal error).
+  for (const auto& [out, words] : std::vector<std::pair<std::string, std::string>>{
+           {"/proc/aggpack_specimen_x", "/proc/aggpack_specimen_x: cannot"},
+           {(run / "summary.json").string(), "is a file, not a folder"},
+           {(run / "summary.json" / "x").string(), "is a file, not a folder"}}) {
+    const auto r = run_cli("specimen " + run.string() + " --formats vti --out " + out);
+    EXPECT_EQ(r.exit_code, 2) << out << "\n" << r.output;
+    EXPECT_NE(r.output.find(words), std::string::npos) << out << "\n" << r.output;
+    EXPECT_EQ(r.output.find("internal error"), std::string::npos) << r.output;
   }
   const auto no_run = run_cli("specimen " + dir_.string() + to);
   EXPECT_EQ(no_run.exit_code, 2) << no_run.output;
@@ -124,6 +142,72 @@ TEST_F(CliSpecimen, BadInputIsRefusedBeforeAnythingIsWritten) {
   const auto file = run_cli("specimen " + (run / "particles.csv").string() + to);
   EXPECT_EQ(file.exit_code, 2) << file.output;
   EXPECT_NE(file.output.find("give the specimen's box or cylinder"), std::string::npos) << file.output;
+}
+
+bool gmsh_installed() { return std::system("command -v gmsh > /dev/null 2>&1") == 0; }
+
+// A mesh far beyond a machine is refused before any work, naming the flag (was handed to Gmsh:
+// 1e-5 m elements in a 12 mm box, some 1e13 tetrahedra).
+TEST_F(CliSpecimen, AnUnboundedMeshIsRefusedBeforeGmshStarts) {
+  if (!gmsh_installed()) GTEST_SKIP() << "gmsh is not installed (Debian package gmsh)";
+  const fs::path run = periodic_run("spheres", false);
+  const auto r = run_cli("specimen " + run.string() + " --formats msh --gap 0.2mm --mesh-size 1e-5 --out " +
+                         (dir_ / "mesh").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("format msh"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--mesh-size"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "mesh"));
+}
+
+// A bed of grains meshed by Gmsh: each grain the union of its spheres (was: overlapping member
+// spheres, "Invalid boundary mesh", and an empty specimen.msh left); the mesh in specimen.json.
+TEST_F(CliSpecimen, AGrainsSpecimenIsMeshedByGmsh) {
+  if (!gmsh_installed()) GTEST_SKIP() << "gmsh is not installed (Debian package gmsh)";
+  const fs::path run = periodic_run("grains", true);
+  const auto r = run_cli("specimen " + run.string() + " --box 0.01,0.01,0.01,0.02,0.02,0.02 --gap 0.3mm --formats msh "
+                         "--mesh-size 1mm,2mm --out " + (dir_ / "g").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json spec = json_of(dir_ / "g" / "specimen.json");
+  EXPECT_EQ(spec["files"], (std::vector<std::string>{"specimen.geo", "specimen.msh"}));
+  EXPECT_NEAR(spec["gmsh"]["aggregate_fraction"].get<double>(), spec["exact"]["aggregate_fraction"].get<double>(), 0.02);
+  EXPECT_NEAR(spec["gmsh"]["meshed_volume_over_region"].get<double>(), 1.0, 1e-6);
+  // The console's count is the particles in the geometry; the .inp's size was said before.
+  EXPECT_NE(r.output.find(std::to_string(spec["particles"]["kept"].get<std::size_t>()) + " particles in the specimen"),
+            std::string::npos) << r.output;
+}
+
+// Whether a process whose command line names `word` is running (Gmsh's, by its folder).
+bool process_naming(const std::string& word) {
+  for (const auto& entry : fs::directory_iterator("/proc")) {
+    std::ifstream cmdline(entry.path() / "cmdline");
+    const std::string text((std::istreambuf_iterator<char>(cmdline)), std::istreambuf_iterator<char>());
+    if (text.find(word) != std::string::npos && text.find("gmsh") != std::string::npos) return true;
+  }
+  return false;
+}
+
+// SIGTERM or SIGINT while Gmsh meshes: Gmsh stopped with aggpack (was: left meshing), its
+// partial mesh removed, exit 128 + the signal as an interrupted run (was: SIGINT ignored, or
+// "gmsh could not mesh", exit 2).
+TEST_F(CliSpecimen, ASignalWhileGmshMeshesStopsGmshAndExits128PlusTheSignal) {
+  if (!gmsh_installed()) GTEST_SKIP() << "gmsh is not installed (Debian package gmsh)";
+  const fs::path run = periodic_run("spheres", false);
+  for (const int signal_number : {SIGTERM, SIGINT}) {
+    const fs::path out = dir_ / ("stop" + std::to_string(signal_number));
+    // Fine elements: minutes of Gmsh's work, stopped once it has begun (its log is there).
+    const auto code = aggpack::testing::signal_aggpack_when(
+        {"specimen", run.string(), "--box", "0.01,0.01,0.01,0.022,0.022,0.022", "--gap", "0.3mm", "--formats",
+         "geo,msh", "--mesh-size", "0.25mm,0.5mm", "--out", out.string()},
+        [&] { return fs::exists(out / "gmsh.log") && process_naming(out.string()); }, signal_number);
+    ASSERT_TRUE(code.has_value()) << "aggpack ended before Gmsh began";
+    EXPECT_EQ(*code, 128 + signal_number);
+    EXPECT_FALSE(fs::exists(out / "specimen.msh"));
+    EXPECT_TRUE(fs::exists(out / "specimen.geo"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    EXPECT_FALSE(process_naming(out.string())) << "Gmsh still runs";
+    const nlohmann::json spec = json_of(out / "specimen.json");
+    EXPECT_EQ(spec["files"], (std::vector<std::string>{"specimen.geo"}));
+  }
 }
 
 }  // namespace

@@ -3,13 +3,17 @@
 // the VTK and Abaqus files hold that image.
 #include <gtest/gtest.h>
 #include <omp.h>
+#include <zlib.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <random>
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "aggpack/core/error.hpp"
@@ -89,7 +93,9 @@ TEST(VoxelImage, TooManyVoxelsOrNoSizeAreRefused) {
   EXPECT_THROW((void)voxelize(s, 0.001, std::nan("")), InputError);  // a limit that is no number refuses
 }
 
-TEST(VoxelImage, TheVtiFileHoldsTheImage) {
+// The image zlib-compressed as the .vtp is (VTK's layout: a UInt64 header of the blocks, then
+// each block a zlib stream), the bytes decompressed the image's; far smaller than a byte a voxel.
+TEST(VoxelImage, TheVtiFileHoldsTheImageCompressed) {
   const VoxelImage image = voxelize(bed_specimen(0.0005), 0.001, 1e8);
   std::ostringstream out;
   write_vti(out, image, "test -- provenance");
@@ -97,12 +103,24 @@ TEST(VoxelImage, TheVtiFileHoldsTheImage) {
   EXPECT_NE(text.find("<!-- test -= provenance -->"), std::string::npos);
   EXPECT_NE(text.find("WholeExtent=\"0 30 0 30 0 30\""), std::string::npos);
   EXPECT_NE(text.find("Spacing=\"0.001"), std::string::npos);
+  EXPECT_NE(text.find("compressor=\"vtkZLibDataCompressor\""), std::string::npos);
   const std::size_t data = text.find("   _") + 4;
-  std::uint64_t bytes = 0;
-  std::memcpy(&bytes, text.data() + data, sizeof bytes);
-  ASSERT_EQ(bytes, 27000u);
-  EXPECT_EQ(std::memcmp(text.data() + data + 8, image.phase.data(), bytes), 0);
-  EXPECT_EQ(text.substr(data + 8 + bytes), "\n  </AppendedData>\n</VTKFile>\n");
+  std::uint64_t header[3] = {};
+  std::memcpy(header, text.data() + data, sizeof header);
+  const std::uint64_t blocks = header[0], block_size = header[1], last = header[2];
+  ASSERT_EQ(block_size, 32768u);
+  ASSERT_EQ(blocks, 1u);  // 27 000 bytes
+  ASSERT_EQ(last, 27000u);
+  std::vector<std::uint64_t> sizes(blocks);
+  std::memcpy(sizes.data(), text.data() + data + sizeof header, blocks * sizeof(std::uint64_t));
+  const char* packed = text.data() + data + sizeof header + blocks * sizeof(std::uint64_t);
+  std::vector<std::uint8_t> phase(27000);
+  uLongf length = phase.size();
+  ASSERT_EQ(uncompress(phase.data(), &length, reinterpret_cast<const Bytef*>(packed), sizes[0]), Z_OK);
+  ASSERT_EQ(length, 27000u);
+  EXPECT_EQ(phase, image.phase);
+  EXPECT_LT(sizes[0], 27000u / 3);
+  EXPECT_EQ(text.substr(static_cast<std::size_t>(packed - text.data()) + sizes[0]), "\n  </AppendedData>\n</VTKFile>\n");
 }
 
 // The Abaqus file: its nodes and elements counted, each element's volume positive and one
@@ -140,6 +158,16 @@ TEST(VoxelImage, TheAbaqusFileIsAVoxelMeshWithOneSetPerPhase) {
   }
   EXPECT_EQ(elements, image.inside());
   EXPECT_LT(elements, image.phase.size());  // the cylinder's corners are left out
+  // A file to *INCLUDE: no heading of its own (a deck's second stops CalculiX and Abaqus).
+  EXPECT_EQ(out.str().find("*Heading"), std::string::npos);
+  // The bottom's and the top's nodes: those at z = z_lo and z_hi, and no other set of faces.
+  ASSERT_TRUE(sets.contains("*Nset, nset=ZMIN") && sets.contains("*Nset, nset=ZMAX"));
+  for (const auto& [name, z] : {std::pair{"*Nset, nset=ZMIN", 0.01}, std::pair{"*Nset, nset=ZMAX", 0.02}}) {
+    EXPECT_GT(sets[name].size(), 100u) << name;
+    for (const long n : sets[name]) ASSERT_NEAR(nodes.at(static_cast<std::size_t>(n)).z, z, 1e-12) << name;
+    sets.erase(name);
+  }
+  EXPECT_FALSE(sets.contains("*Nset, nset=XMIN"));  // a cylinder has no x faces
   ASSERT_EQ(sets.size(), 3u);
   EXPECT_EQ(sets["*Elset, elset=AGGREGATE"].size(), image.aggregate);
   EXPECT_EQ(sets["*Elset, elset=MORTAR"].size(), image.mortar);
@@ -149,6 +177,48 @@ TEST(VoxelImage, TheAbaqusFileIsAVoxelMeshWithOneSetPerPhase) {
   EXPECT_EQ(all.size(), elements);
   EXPECT_EQ(*all.begin(), 1);
   EXPECT_EQ(*all.rbegin(), static_cast<long>(elements));
+}
+
+// A box's file: the node sets of its six faces, each node on its plane and every node on a
+// plane in its set; its header names the element sets it writes and no other (no ITZ here).
+TEST(VoxelImage, TheAbaqusFileOfABoxHasItsSixFacesAndNamesOnlyItsSets) {
+  const Box box{{0.01, 0.01, 0.01}, {0.02, 0.022, 0.024}};
+  const VoxelImage image = voxelize(bed_specimen(0.0, box), 0.001, 1e8);
+  std::ostringstream out;
+  write_abaqus_inp(out, image, "test");
+  const std::string text = out.str();
+  EXPECT_EQ(text.find("*Heading"), std::string::npos);
+  EXPECT_NE(text.find("** C3D8 voxels; element sets (one per phase): AGGREGATE, MORTAR\n"), std::string::npos) << text.substr(0, 400);
+  EXPECT_EQ(text.find("ITZ"), std::string::npos);
+  std::istringstream in(text);
+  std::string line, section;
+  std::vector<Vec3> nodes(1);
+  std::map<std::string, std::set<long>> sets;
+  while (std::getline(in, line)) {
+    if (line.rfind("**", 0) == 0) continue;
+    if (line[0] == '*') {
+      section = line;
+      continue;
+    }
+    std::vector<double> v;
+    std::istringstream fields(line);
+    for (std::string f; std::getline(fields, f, ',');) v.push_back(std::stod(f));
+    if (section == "*Node") nodes.push_back({v[1], v[2], v[3]});
+    else if (section.rfind("*Nset", 0) == 0) for (const double n : v) sets[section].insert(static_cast<long>(n));
+  }
+  const std::array<std::tuple<const char*, int, double>, 6> faces{
+      {{"XMIN", 0, 0.01}, {"XMAX", 0, 0.02}, {"YMIN", 1, 0.01}, {"YMAX", 1, 0.022}, {"ZMIN", 2, 0.01},
+       {"ZMAX", 2, 0.024}}};
+  for (const auto& [name, axis, at] : faces) {
+    const std::set<long>& set = sets["*Nset, nset=" + std::string(name)];
+    std::set<long> on_plane;
+    for (std::size_t n = 1; n < nodes.size(); ++n) {
+      const double c[3] = {nodes[n].x, nodes[n].y, nodes[n].z};
+      if (std::abs(c[axis] - at) < 1e-12) on_plane.insert(static_cast<long>(n));
+    }
+    EXPECT_EQ(set, on_plane) << name;
+    EXPECT_GE(set.size(), 100u) << name;
+  }
 }
 
 }  // namespace

@@ -5,6 +5,8 @@
 // "aggregate", "mortar" and "itz" and a mesh size per phase; and, where Debian's `gmsh` is
 // installed, the tetrahedral mesh it makes of it (.msh, format 2.2).
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -19,10 +21,15 @@ struct GmshMeshSizes {
 
 [[nodiscard]] std::string gmsh_geo(const Specimen& specimen, const GmshMeshSizes& sizes, std::string_view provenance);
 
-// Whether `gmsh` is on PATH.
+// `gmsh` on PATH, if it is there.
+[[nodiscard]] std::optional<std::filesystem::path> gmsh_executable();
 [[nodiscard]] bool gmsh_available();
 // Meshes `geo` in 3-D into `msh` (one thread: the same mesh every time), Gmsh's output in `log`.
-// InputError naming the log when Gmsh fails or writes no mesh.
-void run_gmsh(const std::filesystem::path& geo, const std::filesystem::path& msh, const std::filesystem::path& log);
+// Gmsh runs without a shell, in a process group of its own; `safe_point` is called every 50 ms
+// while it meshes, and what it throws (Interrupted, Python's KeyboardInterrupt) stops Gmsh's
+// group and removes its partial mesh before propagating. InputError naming the log when Gmsh
+// fails or writes a mesh of no tetrahedron (the file removed: no empty mesh is left).
+void run_gmsh(const std::filesystem::path& geo, const std::filesystem::path& msh, const std::filesystem::path& log,
+              const std::function<void()>& safe_point = {});
 
 }  // namespace aggpack

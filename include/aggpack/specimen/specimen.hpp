@@ -60,8 +60,13 @@ struct Specimen {
   double min_size = 0.0, itz_thickness = 0.0, gap = 0.0;
   // The kept particles' spheres that reach into the region (with their ITZ), each radius less gap / 2.
   std::vector<MemberSphere> spheres;
+  // Each sphere's particle (0 up, in the order kept; a grain's spheres next to each other).
+  std::vector<std::size_t> particle_of_sphere;
   std::size_t kept_particles = 0;
   std::size_t dropped_particles = 0;  // below min_size, reaching into the region
+  // Kept particles that reached into the region (with their ITZ) by less than gap / 2: shrunk
+  // by the gap they reach in no more, and are in no export.
+  std::size_t left_out_by_gap = 0;
   // The kept and the dropped particles' volume inside the region: exact for spheres (and for
   // grains in a box, each grain's union to 1e-9); in a cylinder a grain counts by its spheres'
   // shares (its union's volume times the fraction of its spheres' summed volume inside).

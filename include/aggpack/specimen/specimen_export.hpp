@@ -4,6 +4,7 @@
 // and its tetrahedral mesh (.msh, where gmsh is installed), with specimen.json saying what each
 // holds against the exact volumes of the same region.
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ struct SpecimenSource {
   std::optional<Box> largest_virtual_box;  // a run's: the default region
   nlohmann::json run;                 // a run's version, scenario file and seed; null for a file
   std::vector<std::string> notes;     // what reading it chose (periodic images, a grain's size)
+  // The unit its lengths are shown in beside metres ("in" for a scenario written in inches; a
+  // packing file's --length-unit); empty: metres alone.
+  std::string length_unit;
 };
 // A run's folder: particles.csv (its grain column), grains.csv (each grain's I) and summary.json
 // (the container, the virtual boxes, the run); a periodic bed's particles that cross a side come
@@ -52,11 +56,23 @@ struct SpecimenRequest {
 [[nodiscard]] VerticalCylinder cylinder_from(const std::vector<double>& values, const std::string& what);
 [[nodiscard]] GmshMeshSizes mesh_sizes_from(const std::vector<double>& values, const std::string& what);
 
+// What the caller hears while a specimen is made. `safe_point`: called before anything is
+// written and every 50 ms while Gmsh meshes; what it throws stops the work there (Gmsh's group
+// stopped, its partial mesh removed; the files written so far are whole, specimen.json lists
+// them). `say`: a line for the user before a long or large write (the .inp's size, Gmsh's
+// estimated tetrahedra).
+struct SpecimenHooks {
+  std::function<void()> safe_point;
+  std::function<void(const std::string&)> say;
+};
+
 // Checks everything before writing (a region outside the bed, a voxel too small for
-// max_voxels, an ITZ thicker than the gaps, msh without gmsh: InputError, nothing written),
-// then writes the files into `out` and returns specimen.json's content.
+// max_voxels or wider than the specimen, memory beyond the machine's, an ITZ thicker than the
+// gaps, msh without gmsh or beyond its element limit, an output folder that cannot be made:
+// InputError, nothing written), then writes the files into `out` and returns specimen.json's
+// content.
 nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenRequest& request,
-                               const std::filesystem::path& out);
+                               const std::filesystem::path& out, const SpecimenHooks& hooks = {});
 
 // The volume of each physical group's linear tetrahedra in a Gmsh mesh of format 2.2, by group
 // name (InputError for a file that is not one).

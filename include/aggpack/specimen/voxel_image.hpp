@@ -45,11 +45,13 @@ struct VoxelImage {
 // bytes for any thread count. InputError when the grid has more than `max_voxels` voxels.
 [[nodiscard]] VoxelImage voxelize(const Specimen& specimen, double voxel_size, double max_voxels);
 
-// VTK ImageData, the phase as cell data (UInt8, raw appended), `provenance` as a comment.
+// VTK ImageData, the phase as cell data (UInt8, appended, zlib-compressed as the .vtp is),
+// `provenance` as a comment.
 void write_vti(std::ostream& out, const VoxelImage& image, std::string_view provenance);
-// An Abaqus input: the nodes of the voxels inside the specimen, a C3D8 element per voxel and
-// the element sets AGGREGATE, MORTAR and ITZ (those that have elements), `provenance` as
-// comments; a mesh to *INCLUDE in an analysis that gives the sets their sections.
+// An Abaqus input to *INCLUDE in a deck (no *Heading: the deck has its own): the nodes of the
+// voxels inside the specimen, a C3D8 element per voxel, the element sets AGGREGATE, MORTAR and
+// ITZ (those that have elements) and the node sets of the region's faces, XMIN, XMAX, YMIN,
+// YMAX, ZMIN, ZMAX for a box (ZMIN, ZMAX for a cylinder), `provenance` as comments.
 void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_view provenance);
 
 }  // namespace aggpack
