@@ -28,8 +28,21 @@ ScenarioOverrides overrides_of(const std::vector<std::string>& set, std::optiona
 }
 
 // A dict's value as TOML: tables, arrays (of tables too), strings, numbers and booleans.
-toml::array toml_array(const py::handle& list, const std::string& key);
-toml::table toml_table(const py::dict& dict, const std::string& key);
+// `depth`: of the tables and arrays around it, bounded as toml++ bounds a file's (a dict nested
+// deeper, or one holding itself, would otherwise recurse until the stack is gone).
+toml::array toml_array(const py::handle& list, const std::string& key, int depth);
+toml::table toml_table(const py::dict& dict, const std::string& key, int depth);
+
+constexpr int kMaxDictDepth = TOML_MAX_NESTED_VALUES;  // 256, toml++'s bound on a file's nesting
+
+// The key at which a dict is nested too deep: its first parts, then how deep it goes.
+[[noreturn]] void too_deep(const std::string& key) {
+  const std::string shown = key.size() > 60 ? key.substr(0, 60) + "..." : key;
+  throw InputError(fmt::format("scenario dict: {}: nested deeper than {} levels of dicts and lists (TOML's bound, as "
+                               "toml++ reads a file; a dict that holds itself never ends): a scenario's keys are a "
+                               "few levels deep",
+                               shown, kMaxDictDepth));
+}
 
 // numpy's scalars (np.int64, np.float64, np.bool_, np.str_) as the Python values they hold.
 bool is_numpy_scalar(const py::handle& value) {
@@ -47,36 +60,38 @@ std::int64_t toml_integer(const py::handle& value, const std::string& key) {
 }
 
 template <class Put>
-void put_value(const py::handle& value, const std::string& key, Put&& put) {
-  if (is_numpy_scalar(value)) put_value(value.attr("item")(), key, std::forward<Put>(put));
+void put_value(const py::handle& value, const std::string& key, int depth, Put&& put) {
+  if (is_numpy_scalar(value)) put_value(value.attr("item")(), key, depth, std::forward<Put>(put));
   else if (py::isinstance<py::bool_>(value)) put(value.cast<bool>());
   else if (py::isinstance<py::int_>(value)) put(toml_integer(value, key));
   else if (py::isinstance<py::float_>(value)) put(value.cast<double>());
   else if (py::isinstance<py::str>(value)) put(value.cast<std::string>());
-  else if (py::isinstance<py::dict>(value)) put(toml_table(value.cast<py::dict>(), key));
-  else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) put(toml_array(value, key));
+  else if (py::isinstance<py::dict>(value)) put(toml_table(value.cast<py::dict>(), key, depth + 1));
+  else if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) put(toml_array(value, key, depth + 1));
   else
     throw InputError("scenario dict: " + key + ": expected a dict, list, str, number or bool, not " +
                      py::str(py::type::of(value).attr("__name__")).cast<std::string>());
 }
 
-toml::table toml_table(const py::dict& dict, const std::string& key) {
+toml::table toml_table(const py::dict& dict, const std::string& key, int depth) {
+  if (depth > kMaxDictDepth) too_deep(key);
   toml::table table;
   for (const auto& [name, value] : dict) {
     if (!py::isinstance<py::str>(name)) throw InputError("scenario dict: " + key + ": every key must be a str");
     const std::string k = name.cast<std::string>();
     const std::string path = key.empty() ? k : key + "." + k;
     if (value.is_none()) continue;  // None: the key is not given
-    put_value(value, path, [&](auto&& v) { table.insert_or_assign(k, std::forward<decltype(v)>(v)); });
+    put_value(value, path, depth, [&](auto&& v) { table.insert_or_assign(k, std::forward<decltype(v)>(v)); });
   }
   return table;
 }
 
-toml::array toml_array(const py::handle& list, const std::string& key) {
+toml::array toml_array(const py::handle& list, const std::string& key, int depth) {
+  if (depth > kMaxDictDepth) too_deep(key);
   toml::array array;
   std::size_t i = 0;
   for (const auto& item : list) {
-    put_value(item, key + "[" + std::to_string(i++) + "]",
+    put_value(item, key + "[" + std::to_string(i++) + "]", depth,
               [&](auto&& v) { array.push_back(std::forward<decltype(v)>(v)); });
   }
   return array;
@@ -102,7 +117,7 @@ PyScenario PyScenario::with(const std::vector<std::string>& set, std::optional<s
 
 std::string toml_text(const py::dict& dict) {
   std::ostringstream out;
-  out << toml_table(dict, "");
+  out << toml_table(dict, "", 0);
   return out.str() + "\n";
 }
 

@@ -92,3 +92,31 @@ def test_check_finds_what_reading_cannot(tmp_path):
     assert code == 2
     assert str(raised.value) in printed
     assert aggpack.Scenario.from_toml(text.replace("[0.5]", "[0.05]"), name=tmp_path / "p.toml").check() is None
+
+
+def test_a_dict_nested_beyond_tomls_bound_is_refused_not_a_crash():
+    # 30 000 levels crashed the process (the stack); TOML's own bound is 256 (toml++).
+    deep = leaf = {}
+    for _ in range(30000):
+        leaf["a"] = {}
+        leaf = leaf["a"]
+    with pytest.raises(aggpack.InputError, match=r"scenario dict: a\.a\.a.*nested deeper than 256 levels"):
+        aggpack.Scenario.from_dict(deep)
+    deep_list = []
+    inner = deep_list
+    for _ in range(30000):
+        inner.append([])
+        inner = inner[0]
+    with pytest.raises(aggpack.InputError, match=r"title\[0\]\[0\].*nested deeper than 256 levels"):
+        aggpack.Scenario.from_dict({"title": deep_list})
+    itself = {"title": "t"}
+    itself["container"] = itself
+    with pytest.raises(aggpack.InputError, match="nested deeper than 256 levels"):
+        aggpack.Scenario.from_dict(itself)
+    # A scenario's real depth stays well inside the bound.
+    shallow = leaf = {}
+    for _ in range(200):
+        leaf["a"] = {}
+        leaf = leaf["a"]
+    with pytest.raises(aggpack.InputError, match="unknown key|'a'"):
+        aggpack.Scenario.from_dict(shallow)
