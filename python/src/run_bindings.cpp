@@ -205,17 +205,24 @@ views into this report's data.)doc")
              return to_python(r.written_summary ? *r.written_summary : r.report->summary_json(0.0, r.wall_clock_s));
            },
            "summary.json's dict (README, \"Output files\").")
-      .def_property_readonly("density", [](const PyReport& r) { return r.report->final.density.mean; },
-                             "The final bed's mean virtual-box density (solid fraction).")
-      .def_property_readonly("analysis", [](const PyReport& r) { return to_python(to_json(r.report->final)); },
+      .def_property_readonly("density", [](const PyReport& r) { return r.report->final_density(); },
+                             "The final bed's mean virtual-box density (solid fraction); NaN for an interrupted run, "
+                             "which made no final analysis.")
+      .def_property_readonly("analysis",
+                             [](const PyReport& r) -> py::object {
+                               if (r.report->interrupted) return py::none();  // no final analysis was made
+                               return to_python(to_json(r.report->final));
+                             },
                              "The final analysis as summary.json gives it: the density of each virtual box and their "
-                             "mean, the bed's floor and surface, the coordination, the profiles.")
+                             "mean, the bed's floor and surface, the coordination, the profiles; None for an "
+                             "interrupted run.")
       .def_property_readonly("density_after_deposition",
                              [](const PyReport& r) { return r.report->density_after_deposition(); },
                              "The mean density after deposition (NaN when there was none).")
       .def_property_readonly("density_after_dynamics",
                              [](const PyReport& r) { return r.report->density_after_dynamics(); },
-                             "The mean density after the last DEM stage (NaN when no DEM ran).")
+                             "The mean density after the last DEM stage (NaN when no DEM ran, or the run was "
+                             "interrupted before its final analysis).")
       .def_property_readonly("notes", [](const PyReport& r) { return r.report->modelling_notes(); },
                              "Every modelling choice the results depend on, in words (summary.json's modelling_notes).")
       .def_property_readonly("predictions", [](const PyReport& r) { return to_python(to_json(r.report->predictions())); },
@@ -255,9 +262,10 @@ views into this report's data.)doc")
                              },
                              "The beds of the snapshot steps, by name.")
       .def("__repr__", [](const PyReport& r) {
-        return "<aggpack.Report '" + r.report->scenario.title + "': density " +
-               std::to_string(r.report->final.density.mean) + ", " + std::to_string(r.report->particles.size()) +
-               " spheres>";
+        const std::string density = r.report->interrupted ? std::string("density not measured (interrupted)")
+                                                          : fmt::format("density {:.4f}", r.report->final_density());
+        return fmt::format("<aggpack.Report '{}': {}, {} spheres>", r.report->scenario.title, density,
+                           r.report->particles.size());
       });
 }
 

@@ -187,3 +187,25 @@ def test_progress_reaches_a_callback_and_its_exception_ends_the_run(examples):
         aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1, progress=stop)
     with pytest.raises(TypeError, match="progress: expected a callable"):
         aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), progress=3)
+
+
+def test_an_interrupted_run_measured_no_density_and_says_so(examples):
+    # Stopped as the DEM begins (its first progress update): no final analysis was made.
+    def stop_in_dynamics(update):
+        if update["stage"] == "dynamics":
+            os.kill(os.getpid(), signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1,
+                    progress=stop_in_dynamics)
+    partial = stopped.value.report
+    assert partial.interrupted["signal"] == signal.SIGINT
+    assert np.isnan(partial.density)
+    assert np.isnan(partial.density_after_dynamics)
+    assert partial.analysis is None
+    assert partial.density_after_deposition > 0.5  # measured before the stop
+    assert "density not measured" in repr(partial) and "0.000000" not in repr(partial)
+    summary = partial.summary()
+    assert summary["interrupted"] is True
+    assert "density" not in summary and "bulk_density" not in summary
+    assert "density" not in summary["stages"]["dynamics"]
