@@ -3,7 +3,9 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -115,6 +117,25 @@ PyScenario PyScenario::with(const std::vector<std::string>& set, std::optional<s
   return from_text(text, file, all, seed ? seed : overrides.seed);
 }
 
+std::optional<std::uint64_t> seed_of(const py::object& seed) {
+  if (seed.is_none()) return std::nullopt;
+  constexpr std::int64_t kMax = std::numeric_limits<std::int64_t>::max();  // the file's seed range
+  const auto refuse = [&] {
+    return InputError(fmt::format("seed={}: expected an integer from 0 to {}", py::repr(seed).cast<std::string>(), kMax));
+  };
+  // An int, or what stands for one (numpy's integers); not a bool, a float or a str.
+  if (py::isinstance<py::bool_>(seed) || !py::hasattr(seed, "__index__")) throw refuse();
+  const auto value = py::reinterpret_steal<py::object>(PyNumber_Index(seed.ptr()));
+  if (!value) throw py::error_already_set();
+  const auto below = [&](const py::object& a, const py::object& b) {
+    const int less = PyObject_RichCompareBool(a.ptr(), b.ptr(), Py_LT);
+    if (less < 0) throw py::error_already_set();
+    return less == 1;
+  };
+  if (below(value, py::int_(0)) || below(py::int_(kMax), value)) throw refuse();
+  return value.cast<std::uint64_t>();
+}
+
 std::string toml_text(const py::dict& dict) {
   std::ostringstream out;
   out << toml_table(dict, "", 0);
@@ -149,12 +170,15 @@ reference"). `set` takes the CLI's --set assignments ("dynamics.max_time=0.5"), 
 wrong and what is expected).)doc")
       .def_static(
           "from_file",
-          [](const std::filesystem::path& path, const std::vector<std::string>& set, std::optional<std::uint64_t> seed) {
-            return PyScenario::from_text(read_scenario_text(path), path, set, seed);
+          [](const std::filesystem::path& path, const std::vector<std::string>& set, const py::object& seed) {
+            return PyScenario::from_text(read_scenario_text(path), path, set, seed_of(seed));
           },
           py::arg("path"), py::kw_only(), py::arg("set") = std::vector<std::string>{}, py::arg("seed") = py::none(),
           "Reads a scenario file (relative paths in it are taken from its folder).")
-      .def_static("from_toml", &PyScenario::from_text, py::arg("text"), py::kw_only(),
+      .def_static("from_toml",
+                  [](std::string text, const std::filesystem::path& name, const std::vector<std::string>& set,
+                     const py::object& seed) { return PyScenario::from_text(std::move(text), name, set, seed_of(seed)); },
+                  py::arg("text"), py::kw_only(),
                   py::arg("name") = std::filesystem::path("scenario.toml"), py::arg("set") = std::vector<std::string>{},
                   py::arg("seed") = py::none(),
                   "A scenario from TOML text. `name` is the file it is said to be in messages; relative paths in it "
@@ -162,12 +186,16 @@ wrong and what is expected).)doc")
       .def_static(
           "from_dict",
           [](const py::dict& dict, const std::filesystem::path& name, const std::vector<std::string>& set,
-             std::optional<std::uint64_t> seed) { return PyScenario::from_text(toml_text(dict), name, set, seed); },
+             const py::object& seed) { return PyScenario::from_text(toml_text(dict), name, set, seed_of(seed)); },
           py::arg("scenario"), py::kw_only(), py::arg("name") = std::filesystem::path("scenario.toml"),
           py::arg("set") = std::vector<std::string>{}, py::arg("seed") = py::none(),
           "A scenario from a dict of the scenario file's keys (nested dicts for its tables, a list of dicts for "
           "[[protocol]]; None leaves a key out). Equal to the same scenario written as TOML.")
-      .def("with_overrides", &PyScenario::with, py::arg("set") = std::vector<std::string>{}, py::kw_only(),
+      .def("with_overrides",
+           [](const PyScenario& s, const std::vector<std::string>& set, const py::object& seed) {
+             return s.with(set, seed_of(seed));
+           },
+           py::arg("set") = std::vector<std::string>{}, py::kw_only(),
            py::arg("seed") = py::none(),
            "A copy with more --set assignments (after this one's) and, if given, another seed.")
       .def("check",

@@ -2,6 +2,7 @@
 #include <filesystem>
 #include <span>
 
+#include "aggpack/core/option_names.hpp"
 #include "aggpack/io/scenario.hpp"
 
 namespace aggpack {
@@ -15,7 +16,7 @@ struct RunGrains;
 // The most OpenMP threads a run takes (--threads, RunControls::threads); 0 means OpenMP's
 // default (all cores).
 inline constexpr int kMaxThreads = 256;
-void check_thread_count(int threads);
+void check_thread_count(int threads, OptionStyle named = OptionStyle::Cli);
 
 // Before any sizes are drawn: the expected particle count and memory against [limits].
 void check_amount(const Scenario& scenario);
