@@ -19,6 +19,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/stop_request.hpp"
 #include "aggpack/core/version.hpp"
+#include "aggpack/io/atomic_file.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/output_folder.hpp"
 #include "aggpack/run/preflight.hpp"
@@ -160,6 +161,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
                                     const std::shared_ptr<PyBed>& bed, int threads,
                                     const std::optional<std::string>& stop_after, bool overwrite,
                                     const py::object& progress_callback) {
+  check_thread_count(threads, OptionStyle::Keyword);  // named as the caller gave it, not as --threads
   // A run into a folder can be resumed from its scenario file alone: a bed held in memory
   // would not be there to resume from.
   if (bed && out)
@@ -227,8 +229,15 @@ views into this report's data.)doc")
                              "Every modelling choice the results depend on, in words (summary.json's modelling_notes).")
       .def_property_readonly("predictions", [](const PyReport& r) { return to_python(to_json(r.report->predictions())); },
                              "The analytic models on the run's sizes (summary.json's predictions).")
-      .def_property_readonly("wall_clock", [](const PyReport& r) { return r.report->wall_clock_s; },
-                             "Seconds per stage.")
+      .def_property_readonly("wall_clock",
+                             [](const PyReport& r) {
+                               const nlohmann::json summary = r.written_summary
+                                                                  ? *r.written_summary
+                                                                  : r.report->summary_json(0.0, r.wall_clock_s);
+                               return to_python(summary["wall_clock_s"]);
+                             },
+                             "Seconds of wall clock per stage (deposition, dynamics, analysis, ...) and in all "
+                             "(`total`): summary.json's wall_clock_s.")
       .def_property_readonly("simulated_time", [](const PyReport& r) { return r.report->simulated_time; },
                              "Seconds of simulated time, every DEM step's.")
       .def_property_readonly("interrupted",
@@ -296,6 +305,7 @@ an exception it raises ends the run with that exception.)doc");
   m.def(
       "resume",
       [](const std::filesystem::path& folder, int threads, const py::object& progress_callback) {
+        check_thread_count(threads, OptionStyle::Keyword);
         return run_stoppably(progress_callback, [&](Progress& progress, const StopRequest& stop) {
           RunOptions options = options_of(threads, std::nullopt, false, stop);
           options.progress = &progress;
@@ -316,6 +326,13 @@ an exception it raises ends the run with that exception.)doc");
           check_output_folder_contents(folder, overwrite);
           (void)remove_earlier_run(folder, {});  // as aggpack run: the folder never mixes two runs' files
           summary = write_outputs(*r.report, folder, r.wall_clock_s);
+          // The run's scenario names the folder it would have written (its output.directory, or
+          // another run's --out): summary.json records where these files are, as `run --out` does.
+          nlohmann::json& directory = summary["scenario"]["output"]["directory"];
+          if (directory != folder.string()) {
+            directory = folder.string();
+            write_file_atomically(folder / "summary.json", summary.dump(2) + "\n");
+          }
         }
         return to_python(summary);
       },

@@ -66,9 +66,15 @@ def test_a_run_in_memory_gives_the_clis_numbers_and_writes_its_bytes_later(tmp_p
     assert report.analysis["density"] == cli_summary["density"]
     summary = report.summary()
     assert without_timing(summary) == without_timing(cli_summary)
+    # Every stage's time and the total, as summary.json's wall_clock_s (it had only input, sizes, ...).
+    assert {"deposition", "dynamics", "analysis_after_deposition", "total"} <= set(report.wall_clock)
+    assert report.wall_clock == summary["wall_clock_s"]
     written = aggpack.write_outputs(report, tmp_path / "later")
     assert (tmp_path / "later" / "particles.csv").read_bytes() == (cli_run / "particles.csv").read_bytes()
     assert without_timing(written) == without_timing(cli_summary)
+    # summary.json names the folder it is in (it named the scenario's output.directory), as `run --out`.
+    assert written["scenario"]["output"]["directory"] == str(tmp_path / "later")
+    assert json.loads((tmp_path / "later" / "summary.json").read_text()) == written
     # A folder of someone else's files is refused, as the CLI refuses it.
     (tmp_path / "theirs").mkdir()
     (tmp_path / "theirs" / "notes.txt").write_text("mine")
