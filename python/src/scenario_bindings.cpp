@@ -208,13 +208,33 @@ wrong and what is expected).)doc")
            "Checks what `aggpack check` checks beyond reading: the particle file (or `bed`, the aggpack.Bed that "
            "aggpack.run(scenario, bed=...) would start from), the grains' templates, the output folder and the "
            "virtual boxes. Raises InputError; returns None when all is well.")
-      .def("to_dict", [](const PyScenario& s) { return to_python(aggpack::to_json(s.parsed)); },
-           "The scenario as aggpack read it, every default filled in, in SI units (summary.json's `scenario`).")
+      .def(
+          "to_dict",
+          [](const PyScenario& s, bool resolved) {
+            return to_python(resolved ? aggpack::to_json(s.parsed) : scenario_keys(s.text, s.file, s.overrides));
+          },
+          py::kw_only(), py::arg("resolved") = false,
+          "The scenario's keys as its file gives them, its --set assignments and seed applied: "
+          "Scenario.from_dict(s.to_dict(), name=s.file) is the same scenario (`name` anchors its relative paths, as "
+          "the file's folder does). With `resolved=True`: the scenario as aggpack read it, every default filled in, "
+          "in SI units (summary.json's `scenario`; a record, which from_dict does not read).")
       .def_property_readonly("text", [](const PyScenario& s) { return s.text; }, "The TOML text it was read from.")
       .def_property_readonly("file", [](const PyScenario& s) { return s.file; }, "The file it is, or is said to be.")
       .def_property_readonly("overrides", [](const PyScenario& s) { return s.overrides.set; }, "Its --set assignments.")
       .def_property_readonly("seed", [](const PyScenario& s) { return s.parsed.seed; }, "The random seed of its run.")
       .def_property_readonly("title", [](const PyScenario& s) { return s.parsed.title; })
+      // Pickled as what makes it: its text, its file and its overrides, read again when unpickled
+      // (multiprocessing hands scenarios to its workers so).
+      .def(py::pickle(
+          [](const PyScenario& s) {
+            return py::make_tuple(s.text, s.file.string(), s.overrides.set,
+                                  s.overrides.seed ? py::cast(*s.overrides.seed) : py::none());
+          },
+          [](const py::tuple& state) {
+            if (state.size() != 4) throw InputError("aggpack.Scenario: a pickled state of 4 items was expected");
+            return PyScenario::from_text(state[0].cast<std::string>(), state[1].cast<std::string>(),
+                                         state[2].cast<std::vector<std::string>>(), seed_of(state[3]));
+          }))
       .def("__eq__", [](const PyScenario& a, const PyScenario& b) {
         return aggpack::to_json(a.parsed) == aggpack::to_json(b.parsed);
       })
