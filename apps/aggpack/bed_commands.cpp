@@ -96,14 +96,14 @@ Subcommand add_analyze(CLI::App& app) {
 Subcommand add_grading(CLI::App& app) {
   struct Arguments {
     aggpack::GradingQuery query;
-    std::string unit, d_min, d_max, shape, seed;
+    std::string unit, d_min, d_max, shape, seed, ca_fa;
     bool json = false, list = false;
   };
   const auto a = std::make_shared<Arguments>();
   auto* cmd = app.add_subcommand("grading", "Print and check a grading (or a coarse/fine mix) without a run");
   cmd->add_option("grading", a->query.grading, "A shipped grading name or a CSV sieve analysis");
   cmd->add_option("--mix", a->query.fine, "A fine grading (name or file) to blend with it");
-  cmd->add_option("--ca-fa", a->query.ca_fa, "Coarse/fine volume ratio of the mix (default 1)");
+  auto* ca_fa_opt = cmd->add_option("--ca-fa", a->ca_fa, "Coarse/fine volume ratio of the mix (with --mix; no default)");
   cmd->add_option("--band", a->query.band, "Check against astm_c33_fine, astm_c33_57 or astm_c33_67");
   auto* d_min_opt = cmd->add_option("--d-min", a->d_min, "Cut-off below this size (length)");
   auto* d_max_opt = cmd->add_option("--d-max", a->d_max, "Cut-off above this size (length)");
@@ -118,8 +118,9 @@ Subcommand add_grading(CLI::App& app) {
       cmd->add_option("--seed", a->seed, "Seed of the sizes and grains --shape draws, 0 to 2^63-1 (default 1)")
           ->needs(shape_opt);
   cmd->add_flag("--list", a->list, "List the shipped gradings and bands");
-  return {cmd, [a, d_min_opt, d_max_opt, shape_opt, seed_opt] {
+  return {cmd, [a, d_min_opt, d_max_opt, shape_opt, seed_opt, ca_fa_opt] {
             aggpack::GradingQuery& query = a->query;
+            if (*ca_fa_opt) query.ca_fa = positive_argument(a->ca_fa, "--ca-fa");
             if (a->list) {
               for (const auto& n : aggpack::named_grading_names()) fmt::print("grading {}\n", n);
               for (const auto& n : aggpack::named_band_names()) fmt::print("band {}\n", n);

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """A LAMMPS dump measured in virtual boxes, beside aggpack's own bed of the same scenario.
 
-    PYTHONPATH=build/python /usr/bin/python3 examples/python/lammps_dump_compare.py --out out/py_lammps
+    PYTHONPATH=build/python /usr/bin/python3 examples/python/lammps_dump_compare.py --out out/py_lammps --threads 2
     PYTHONPATH=build/python /usr/bin/python3 examples/python/lammps_dump_compare.py --dump my_run.dump --cube 0.03
 
 With --dump, reads that dump (its last snapshot; --timestep for another) and measures it in
@@ -40,6 +40,7 @@ def main():
     parser.add_argument("--timestep", type=int, help="the dump's snapshot (default: the last)")
     parser.add_argument("--cube", type=float, action="append", help="virtual cube side, m (repeatable)")
     parser.add_argument("--out", type=pathlib.Path, default=pathlib.Path("out/py_lammps"))
+    parser.add_argument("--threads", type=int, default=0, help="aggpack's OpenMP threads (0: all cores)")
     args = parser.parse_args()
     cubes = args.cube or [0.03]
 
@@ -49,9 +50,9 @@ def main():
         return
 
     scenario = aggpack.Scenario.from_dict(SMALL_BED)
-    ours = aggpack.run(scenario, out=args.out / "aggpack", overwrite=True)
+    ours = aggpack.run(scenario, out=args.out / "aggpack", overwrite=True, threads=args.threads)
     theirs = aggpack.run(scenario.with_overrides(['dynamics.engine="lammps"']), out=args.out / "lammps",
-                         overwrite=True)
+                         overwrite=True, threads=args.threads)
     dumps = sorted((args.out / "lammps" / "lammps").glob("**/*.dump"))
     dump = aggpack.read_bed(dumps[-1])
     print(f"LAMMPS's dump: {dumps[-1]} ({dump.format})")

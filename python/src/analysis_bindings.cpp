@@ -125,7 +125,8 @@ py::object analyze(const py::object& bed_or_path, const std::vector<double>& cub
     const BedAnalysis analysis = analyze_bed(*bed->store, options, bed->source);
     j = to_json(analysis, bed->store->size(), soft_contacts);
   }
-  j["source"] = bed->source;
+  j["file"] = bed->source;    // as `aggpack analyze --json`: the file, or where a Bed in memory came from
+  j["source"] = bed->source;  // deprecated: `file`'s former name, kept for the scripts that read it
   if (!bed->format.empty()) j["format"] = bed->format;
   return to_python(j);
 }
@@ -201,7 +202,9 @@ with `length_unit` and `timestep`, as read_bed). The container is the spheres' b
 `cubes`: virtual cube sides, placed as in docs/method.md section 2 (none: the largest that
 fits); `boxes`: explicit boxes [xmin, ymin, zmin, xmax, ymax, zmax]; for a file both are in its
 `length_unit`, for a Bed in m. Overlapping spheres deeper than `overlap_tolerance` x the
-smaller radius are refused unless `soft_contacts` (a soft-contact DEM's bed).)doc");
+smaller radius are refused unless `soft_contacts` (a soft-contact DEM's bed). Its `file`
+names the packing file (for a Bed, where it came from), as the CLI's; `source`, the same, is
+deprecated.)doc");
   m.def("specimen", &specimen, py::arg("source"), py::arg("out"), py::kw_only(), py::arg("box") = py::none(),
         py::arg("cylinder") = py::none(), py::arg("voxel") = py::none(), py::arg("itz") = 0.0,
         py::arg("min_size") = 0.0, py::arg("gap") = 0.0, py::arg("formats") = std::vector<std::string>{},

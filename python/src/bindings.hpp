@@ -5,7 +5,9 @@
 #pragma once
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,10 @@ struct FileAndOverrides {
 };
 FileAndOverrides scenario_file_of(const py::object& scenario, const std::vector<std::string>& set,
                                   const char* function);
+
+// A `seed=` argument: None (not given), or an int in the scenario file's range, 0 to 2^63 - 1
+// (InputError otherwise, rather than pybind11's TypeError of an unsigned argument).
+std::optional<std::uint64_t> seed_of(const py::object& seed);
 
 // JSON values to Python's (dict, list, str, int, float, bool, None) and back.
 py::object to_python(const nlohmann::json& value);

@@ -44,11 +44,13 @@ std::optional<double> metres(const std::optional<Length>& length, const char* na
   return parsed;
 }
 
-py::object grading(const std::string& name_or_file, const std::optional<std::string>& mix, double ca_fa,
-                   const std::optional<std::string>& band, const std::optional<Length>& d_min,
-                   const std::optional<Length>& d_max, const std::optional<std::string>& length_unit,
-                   const std::optional<std::string>& shape, std::uint64_t seed) {
+py::object grading(const std::string& name_or_file, const std::optional<std::string>& mix,
+                   const std::optional<double>& ca_fa, const std::optional<std::string>& band,
+                   const std::optional<Length>& d_min, const std::optional<Length>& d_max,
+                   const std::optional<std::string>& length_unit, const std::optional<std::string>& shape,
+                   const py::object& seed) {
   GradingQuery query;
+  query.named = OptionStyle::Keyword;
   query.grading = name_or_file;
   query.fine = mix;
   query.ca_fa = ca_fa;
@@ -62,7 +64,7 @@ py::object grading(const std::string& name_or_file, const std::optional<std::str
     query.length_unit = static_cast<double>(*factor);
   }
   if (shape) query.shape = read_shape_option(*shape, "shape");
-  query.seed = seed;
+  query.seed = seed_of(seed).value_or(1);
   nlohmann::json j;
   {
     py::gil_scoped_release released;
@@ -77,6 +79,7 @@ py::object predict_densities(const std::string& input, const std::optional<std::
                              const std::optional<double>& beta_fine,
                              const std::optional<std::filesystem::path>& calibration, const std::vector<std::string>& set) {
   PredictRequest request;
+  request.named = OptionStyle::Keyword;
   request.input = input;
   request.fine = mix;
   request.ca_fa = ca_fa;
@@ -104,6 +107,7 @@ struct DemFit {
 
 py::object calibrate_models(const py::object& scenario, const std::optional<std::filesystem::path>& out, int seeds,
                             int threads, const std::vector<std::string>& set, bool dem, const DemFit& by_dem) {
+  check_thread_count(threads, OptionStyle::Keyword);
   const FileAndOverrides source = scenario_file_of(scenario, set, "calibrate");
   if (!dem && (by_dem.measured || !by_dem.fit.empty() || !by_dem.materials.empty() || by_dem.shared || by_dem.range))
     throw InputError("calibrate: measured, fit, materials, shared and range apply to a DEM calibration: give dem=True");
@@ -156,13 +160,15 @@ py::object calibrate_models(const py::object& scenario, const std::optional<std:
 }  // namespace
 
 void bind_models(py::module_& m) {
-  m.def("grading", &grading, py::arg("grading"), py::kw_only(), py::arg("mix") = py::none(), py::arg("ca_fa") = 1.0,
-        py::arg("band") = py::none(), py::arg("d_min") = py::none(), py::arg("d_max") = py::none(),
-        py::arg("length_unit") = py::none(), py::arg("shape") = py::none(), py::arg("seed") = 1,
+  m.def("grading", &grading, py::arg("grading"), py::kw_only(), py::arg("mix") = py::none(),
+        py::arg("ca_fa") = py::none(), py::arg("band") = py::none(), py::arg("d_min") = py::none(),
+        py::arg("d_max") = py::none(), py::arg("length_unit") = py::none(), py::arg("shape") = py::none(),
+        py::arg("seed") = 1,
         R"doc(A grading described and checked, as `aggpack grading --json` gives it (a dict).
 
 `grading`: a shipped grading's name (`aggpack grading --list`) or a CSV sieve analysis; `mix`: a
-fine grading blended with it at `ca_fa` (coarse/fine by volume); `band`: a shipped band to
+fine grading blended with it at `ca_fa` (coarse/fine by volume; the two go together, `ca_fa`
+has no default); `band`: a shipped band to
 check against; `d_min`, `d_max`: cut-offs, in m or as text with a unit ("0.1 in");
 `length_unit`: of a bare `opening` column in a file; `shape`: a component's shape table as
 text ('family="angular", flakiness_index=18'), whose generated grains are measured beside the
@@ -175,7 +181,7 @@ target, drawn with `seed`.)doc");
 sizes, as `aggpack predict --json` gives them (a dict).
 
 `input`: a scenario file (.toml; `set` overrides it as --set), a shipped grading's name or a CSV
-sieve analysis; `mix`, `ca_fa`: a blend; `k`: CPM's compaction index, or `process` ("poured",
+sieve analysis; `mix`, `ca_fa`: a blend (the two go together); `k`: CPM's compaction index, or `process` ("poured",
 "rodded", "vibrated", "vibrated_compressed"); `beta`, `beta_fine`: residual packing densities;
 `calibration`: K and beta from a file `aggpack calibrate` wrote.)doc");
   m.def(

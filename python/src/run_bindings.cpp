@@ -19,6 +19,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/stop_request.hpp"
 #include "aggpack/core/version.hpp"
+#include "aggpack/io/atomic_file.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/output_folder.hpp"
 #include "aggpack/run/preflight.hpp"
@@ -26,6 +27,14 @@
 #include "bindings.hpp"
 #include "python_bed.hpp"
 #include "python_scenario.hpp"
+#include "run/report_archive.hpp"  // the library's own archive of its reports (checkpoints)
+
+namespace aggpack {
+template <class Archive>
+void serialize(Archive& ar, Interruption& i) {
+  ar(i.signal_number, i.where, i.steps_completed, i.steps_total, i.checkpoint);
+}
+}  // namespace aggpack
 
 namespace aggpack::python {
 namespace {
@@ -38,7 +47,92 @@ struct PyReport {
   std::optional<nlohmann::json> written_summary;
   std::optional<std::filesystem::path> output_directory;
   double wall_clock_s = 0.0;
+  std::optional<std::string> scenario_text;  // what its scenario was read from, when the caller gave it
 };
+
+// A Report pickled (multiprocessing hands a worker's back so): its scenario as the text it was
+// read from with its overrides, read again when unpickled; every other value of the run's
+// report in the library's binary archive (that of checkpoints: this machine's byte order, the
+// same aggpack); the sizes drawn again from the scenario's seed, as a resumed run draws them.
+constexpr int kReportPickleFormat = 1;
+
+template <class Archive>
+void archive_report(Archive& ar, RunReport& r, bool& has_sizes, std::string& libraries) {
+  ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.final, r.deposited, r.snapshots,
+     r.snapshot_times, r.frames, r.next_frame_multiple, r.simulated_time, r.lammps_exchanges, raw(r.supports),
+     r.series, r.wall_clock_s, r.largest_boundary_overlap, r.largest_pair_overlap, r.input_format,
+     r.dynamics_skipped, r.interrupted, r.resumed_from, r.checkpoint_error, r.working_directory, libraries,
+     r.grain_shape_component, has_sizes);
+}
+
+// The overrides that make the report's scenario again from its text.
+ScenarioOverrides overrides_of(const Scenario& sc) {
+  ScenarioOverrides o;
+  o.set = sc.overrides;
+  o.seed = sc.seed;
+  o.output_directory = sc.output.directory;
+  return o;
+}
+
+py::tuple report_state(const PyReport& r) {
+  const RunReport& report = *r.report;
+  const Scenario& sc = report.scenario;
+  // A run from a file (resume, import_lammps): its text now, if it still makes the same scenario.
+  const std::string text = r.scenario_text ? *r.scenario_text : read_scenario_text(sc.file);
+  if (aggpack::to_json(parse_scenario(text, sc.file, overrides_of(sc))) != aggpack::to_json(sc))
+    throw InputError(fmt::format("aggpack.Report of '{}': its scenario file {} (or a file it names) has changed since "
+                                 "the run, so the report cannot be pickled with the scenario it ran",
+                                 sc.title, sc.file.string()));
+  bool has_sizes = report.sizes.has_value();
+  std::string libraries = report.grain_libraries.dump();
+  std::ostringstream bytes;
+  {
+    cereal::BinaryOutputArchive ar(bytes);
+    archive_report(ar, const_cast<RunReport&>(report), has_sizes, libraries);
+  }
+  return py::make_tuple(kReportPickleFormat, std::string(kVersion), text, sc.file.string(), sc.overrides, sc.seed,
+                        sc.output.directory.string(), py::bytes(bytes.str()),
+                        r.written_summary ? py::cast(r.written_summary->dump()) : py::none(),
+                        r.output_directory ? py::cast(r.output_directory->string()) : py::none(), r.wall_clock_s);
+}
+
+PyReport report_from_state(const py::tuple& state) {
+  if (state.size() != 11 || state[0].cast<int>() != kReportPickleFormat ||
+      state[1].cast<std::string>() != kVersion)
+    throw InputError(fmt::format("aggpack.Report: not a report pickled by this aggpack ({}): pickle a report where "
+                                 "it is unpickled, with the same aggpack",
+                                 kVersion));
+  ScenarioOverrides overrides;
+  overrides.set = state[4].cast<std::vector<std::string>>();
+  overrides.seed = state[5].cast<std::uint64_t>();
+  overrides.output_directory = state[6].cast<std::string>();
+  const std::string bytes = state[7].cast<std::string>();
+  PyReport out;
+  out.scenario_text = state[2].cast<std::string>();
+  out.written_summary = state[8].is_none() ? std::nullopt
+                                           : std::optional(nlohmann::json::parse(state[8].cast<std::string>()));
+  out.output_directory = state[9].is_none() ? std::nullopt
+                                            : std::optional(std::filesystem::path(state[9].cast<std::string>()));
+  out.wall_clock_s = state[10].cast<double>();
+  const std::filesystem::path file = state[3].cast<std::string>();
+  py::gil_scoped_release released;
+  auto report = std::make_shared<RunReport>();
+  report->scenario = parse_scenario(*out.scenario_text, file, overrides);
+  bool has_sizes = false;
+  std::string libraries;
+  try {
+    CheckedInputArchive ar(bytes);
+    archive_report(ar, *report, has_sizes, libraries);
+    if (ar.left() > 0) throw cereal::Exception(std::to_string(ar.left()) + " bytes after the report");
+    report->grain_libraries = nlohmann::json::parse(libraries);
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("aggpack.Report: the pickled report of '{}' is damaged ({})",
+                                 report->scenario.title, e.what()));
+  }
+  if (has_sizes) report->sizes = generate_sizes(report->scenario.particles, report->scenario.seed);
+  out.report = std::move(report);
+  return out;
+}
 
 std::shared_ptr<PyBed> bed_of(const std::shared_ptr<const RunReport>& owner, const ParticleStore& store) {
   return std::make_shared<PyBed>(PyBed{std::shared_ptr<const ParticleStore>(owner, &store), "the run's bed", "", {}});
@@ -160,6 +254,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
                                     const std::shared_ptr<PyBed>& bed, int threads,
                                     const std::optional<std::string>& stop_after, bool overwrite,
                                     const py::object& progress_callback) {
+  check_thread_count(threads, OptionStyle::Keyword);  // named as the caller gave it, not as --threads
   // A run into a folder can be resumed from its scenario file alone: a bed held in memory
   // would not be there to resume from.
   if (bed && out)
@@ -177,7 +272,9 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
       options.overrides = scenario.overrides;
       options.overrides.output_directory = *out;
       std::ostringstream log;
-      return from_result(run_scenario_text(scenario.text, scenario.file, options, log));
+      PyReport result = from_result(run_scenario_text(scenario.text, scenario.file, options, log));
+      result.scenario_text = scenario.text;
+      return result;
     }
     const auto t0 = Clock::now();
     RunControls controls;
@@ -190,6 +287,7 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
     PyReport result;
     result.report = std::make_shared<const RunReport>(std::move(report));
     result.wall_clock_s = std::chrono::duration<double>(Clock::now() - t0).count();
+    result.scenario_text = scenario.text;
     return result;
   });
 }
@@ -199,29 +297,44 @@ void bind_report(py::module_& m) {
 
 `summary()` is the dict summary.json holds (for a run into a folder, the very one written
 there). The beds (`bed`, `deposited`, `snapshots`) are aggpack.Bed objects whose arrays are
-views into this report's data.)doc")
+views into this report's data. A Report pickles (for multiprocessing): its scenario is read again
+from the text it ran, the rest kept as it was.)doc")
       .def("summary",
            [](const PyReport& r) {
              return to_python(r.written_summary ? *r.written_summary : r.report->summary_json(0.0, r.wall_clock_s));
            },
            "summary.json's dict (README, \"Output files\").")
-      .def_property_readonly("density", [](const PyReport& r) { return r.report->final.density.mean; },
-                             "The final bed's mean virtual-box density (solid fraction).")
-      .def_property_readonly("analysis", [](const PyReport& r) { return to_python(to_json(r.report->final)); },
+      .def_property_readonly("density", [](const PyReport& r) { return r.report->final_density(); },
+                             "The final bed's mean virtual-box density (solid fraction); NaN for an interrupted run, "
+                             "which made no final analysis.")
+      .def_property_readonly("analysis",
+                             [](const PyReport& r) -> py::object {
+                               if (r.report->interrupted) return py::none();  // no final analysis was made
+                               return to_python(to_json(r.report->final));
+                             },
                              "The final analysis as summary.json gives it: the density of each virtual box and their "
-                             "mean, the bed's floor and surface, the coordination, the profiles.")
+                             "mean, the bed's floor and surface, the coordination, the profiles; None for an "
+                             "interrupted run.")
       .def_property_readonly("density_after_deposition",
                              [](const PyReport& r) { return r.report->density_after_deposition(); },
                              "The mean density after deposition (NaN when there was none).")
       .def_property_readonly("density_after_dynamics",
                              [](const PyReport& r) { return r.report->density_after_dynamics(); },
-                             "The mean density after the last DEM stage (NaN when no DEM ran).")
+                             "The mean density after the last DEM stage (NaN when no DEM ran, or the run was "
+                             "interrupted before its final analysis).")
       .def_property_readonly("notes", [](const PyReport& r) { return r.report->modelling_notes(); },
                              "Every modelling choice the results depend on, in words (summary.json's modelling_notes).")
       .def_property_readonly("predictions", [](const PyReport& r) { return to_python(to_json(r.report->predictions())); },
                              "The analytic models on the run's sizes (summary.json's predictions).")
-      .def_property_readonly("wall_clock", [](const PyReport& r) { return r.report->wall_clock_s; },
-                             "Seconds per stage.")
+      .def_property_readonly("wall_clock",
+                             [](const PyReport& r) {
+                               const nlohmann::json summary = r.written_summary
+                                                                  ? *r.written_summary
+                                                                  : r.report->summary_json(0.0, r.wall_clock_s);
+                               return to_python(summary["wall_clock_s"]);
+                             },
+                             "Seconds of wall clock per stage (deposition, dynamics, analysis, ...) and in all "
+                             "(`total`): summary.json's wall_clock_s.")
       .def_property_readonly("simulated_time", [](const PyReport& r) { return r.report->simulated_time; },
                              "Seconds of simulated time, every DEM step's.")
       .def_property_readonly("interrupted",
@@ -254,10 +367,13 @@ views into this report's data.)doc")
                                return d;
                              },
                              "The beds of the snapshot steps, by name.")
+      .def(py::pickle([](const PyReport& r) { return report_state(r); },
+                      [](const py::tuple& state) { return report_from_state(state); }))
       .def("__repr__", [](const PyReport& r) {
-        return "<aggpack.Report '" + r.report->scenario.title + "': density " +
-               std::to_string(r.report->final.density.mean) + ", " + std::to_string(r.report->particles.size()) +
-               " spheres>";
+        const std::string density = r.report->interrupted ? std::string("density not measured (interrupted)")
+                                                          : fmt::format("density {:.4f}", r.report->final_density());
+        return fmt::format("<aggpack.Report '{}': {}, {} spheres>", r.report->scenario.title, density,
+                           r.report->particles.size());
       });
 }
 
@@ -288,6 +404,7 @@ an exception it raises ends the run with that exception.)doc");
   m.def(
       "resume",
       [](const std::filesystem::path& folder, int threads, const py::object& progress_callback) {
+        check_thread_count(threads, OptionStyle::Keyword);
         return run_stoppably(progress_callback, [&](Progress& progress, const StopRequest& stop) {
           RunOptions options = options_of(threads, std::nullopt, false, stop);
           options.progress = &progress;
@@ -308,6 +425,13 @@ an exception it raises ends the run with that exception.)doc");
           check_output_folder_contents(folder, overwrite);
           (void)remove_earlier_run(folder, {});  // as aggpack run: the folder never mixes two runs' files
           summary = write_outputs(*r.report, folder, r.wall_clock_s);
+          // The run's scenario names the folder it would have written (its output.directory, or
+          // another run's --out): summary.json records where these files are, as `run --out` does.
+          nlohmann::json& directory = summary["scenario"]["output"]["directory"];
+          if (directory != folder.string()) {
+            directory = folder.string();
+            write_file_atomically(folder / "summary.json", summary.dump(2) + "\n");
+          }
         }
         return to_python(summary);
       },

@@ -26,7 +26,9 @@ def test_a_file_analysed_from_python_is_what_the_cli_prints(bed_file):
     expected = json.loads(printed)
     got = aggpack.analyze(bed_file, cubes=[0.1524, 0.2])
     assert without_source(got) == without_source(expected)
-    assert got["source"] == str(bed_file) == expected["file"]
+    assert got["file"] == str(bed_file) == expected["file"]  # the CLI's key
+    assert got["source"] == got["file"]  # its deprecated former name
+    assert set(got) - {"source"} == set(expected)
     assert got["format"] == expected["format"] == "CSV"
     # The same bed in millimetres: bare lengths in the file's unit, as the CLI's --length-unit.
     table = np.loadtxt(bed_file, delimiter=",", skiprows=1)

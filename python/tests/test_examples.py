@@ -36,7 +36,7 @@ def test_sweep_fa_carries_each_blend_to_its_whole_grading(tmp_path):
 
 
 def test_lammps_dump_compare_measures_lammpss_bed_beside_aggpacks(tmp_path):
-    printed = run_script("lammps_dump_compare.py", "--out", tmp_path)
+    printed = run_script("lammps_dump_compare.py", "--out", tmp_path, "--threads", "1")
     difference = float(re.search(r"LAMMPS - aggpack: ([-+]\d\.\d+)", printed).group(1))
     assert abs(difference) < 0.005, printed
     dump = next((tmp_path / "lammps" / "lammps").glob("**/*.dump"))

@@ -45,3 +45,49 @@ def test_bad_input_raises_the_clis_message():
             aggpack.grading("fu2003_table1_coarse", d_min=bad)
     with pytest.raises(aggpack.InputError):
         aggpack.predict("fu2003_table1_coarse", process="shaken")
+
+
+def test_a_blend_without_its_ratio_is_refused_as_the_cli_refuses_it():
+    # A 1:1 blend nobody asked for was described without a word (ca_fa defaulted to 1).
+    for call in (aggpack.grading, aggpack.predict):
+        with pytest.raises(aggpack.InputError, match=r"mix= and ca_fa= go together.*no default"):
+            call("fu2003_table1_coarse", mix="astm_c33_fine_mid")
+        with pytest.raises(aggpack.InputError, match=r"mix= and ca_fa= go together"):
+            call("fu2003_table1_coarse", ca_fa=1.5)
+    for command in ("grading", "predict"):
+        code, printed = cli(command, "fu2003_table1_coarse", "--mix", "astm_c33_fine_mid", check=False)
+        assert code == 2 and "--mix and --ca-fa go together" in printed, printed
+
+
+def test_errors_name_the_keyword_the_caller_gave_not_the_clis_flag(examples):
+    cases = [
+        (lambda: aggpack.grading("fu2003_table1_coarse", mix="astm_c33_fine_mid", ca_fa=-1), "ca_fa=-1: "),
+        (lambda: aggpack.grading("fu2003_table1_coarse", band="no_band"), "band=no_band: unknown band"),
+        (lambda: aggpack.predict("fu2003_table1_coarse", mix="astm_c33_fine_mid", ca_fa=0), "ca_fa=0: "),
+        (lambda: aggpack.predict("fu2003_table1_coarse", process="shaken"), "process=shaken: expected poured"),
+        (lambda: aggpack.predict("fu2003_table1_coarse", k=9, process="rodded"), "k= and process= both"),
+        (lambda: aggpack.predict("fu2003_table1_coarse", beta=2), "beta=2: expected"),
+        (lambda: aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml"), threads=-1),
+         "threads=-1: expected 0 (all cores)"),
+        (lambda: aggpack.resume(examples, threads=100000), "threads=100000: expected"),
+        (lambda: aggpack.calibrate(examples / "example1.toml", threads=-2), "threads=-2: expected"),
+    ]
+    for call, said in cases:
+        with pytest.raises(aggpack.InputError) as raised:
+            call()
+        assert said in str(raised.value), str(raised.value)
+        assert "--" not in str(raised.value), str(raised.value)
+
+
+def test_a_seed_out_of_range_is_an_input_error_naming_the_range(examples):
+    for bad in (-1, 2**63, 2**64, 1.5, "3", True):
+        with pytest.raises(aggpack.InputError, match=r"seed=.*expected an integer from 0 to 9223372036854775807"):
+            aggpack.Scenario.from_file(examples / "example1.toml", seed=bad)
+    with pytest.raises(aggpack.InputError, match=r"seed=-1: expected an integer from 0"):
+        aggpack.grading("fu2003_table1_coarse", seed=-1)
+    s = aggpack.Scenario.from_file(examples / "example1.toml", seed=2**63 - 1)
+    assert s.seed == 2**63 - 1
+    with pytest.raises(aggpack.InputError, match="seed=-5"):
+        s.with_overrides([], seed=-5)
+    import numpy as np
+    assert s.with_overrides([], seed=np.int64(4)).seed == 4

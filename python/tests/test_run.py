@@ -2,6 +2,7 @@
 import gc
 import json
 import os
+import pickle
 import signal
 import threading
 
@@ -66,9 +67,15 @@ def test_a_run_in_memory_gives_the_clis_numbers_and_writes_its_bytes_later(tmp_p
     assert report.analysis["density"] == cli_summary["density"]
     summary = report.summary()
     assert without_timing(summary) == without_timing(cli_summary)
+    # Every stage's time and the total, as summary.json's wall_clock_s (it had only input, sizes, ...).
+    assert {"deposition", "dynamics", "analysis_after_deposition", "total"} <= set(report.wall_clock)
+    assert report.wall_clock == summary["wall_clock_s"]
     written = aggpack.write_outputs(report, tmp_path / "later")
     assert (tmp_path / "later" / "particles.csv").read_bytes() == (cli_run / "particles.csv").read_bytes()
     assert without_timing(written) == without_timing(cli_summary)
+    # summary.json names the folder it is in (it named the scenario's output.directory), as `run --out`.
+    assert written["scenario"]["output"]["directory"] == str(tmp_path / "later")
+    assert json.loads((tmp_path / "later" / "summary.json").read_text()) == written
     # A folder of someone else's files is refused, as the CLI refuses it.
     (tmp_path / "theirs").mkdir()
     (tmp_path / "theirs" / "notes.txt").write_text("mine")
@@ -187,3 +194,64 @@ def test_progress_reaches_a_callback_and_its_exception_ends_the_run(examples):
         aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1, progress=stop)
     with pytest.raises(TypeError, match="progress: expected a callable"):
         aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), progress=3)
+
+
+def test_an_interrupted_run_measured_no_density_and_says_so(examples):
+    # Stopped as the DEM begins (its first progress update): no final analysis was made.
+    def stop_in_dynamics(update):
+        if update["stage"] == "dynamics":
+            os.kill(os.getpid(), signal.SIGINT)
+
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1,
+                    progress=stop_in_dynamics)
+    partial = stopped.value.report
+    assert partial.interrupted["signal"] == signal.SIGINT
+    assert np.isnan(partial.density)
+    assert np.isnan(partial.density_after_dynamics)
+    assert partial.analysis is None
+    assert partial.density_after_deposition > 0.5  # measured before the stop
+    assert "density not measured" in repr(partial) and "0.000000" not in repr(partial)
+    summary = partial.summary()
+    assert summary["interrupted"] is True
+    assert "density" not in summary and "bulk_density" not in summary
+    assert "density" not in summary["stages"].get("dynamics", {})  # a DEM stopped inside is not listed
+    again = pickle.loads(pickle.dumps(partial))
+    assert again.interrupted == partial.interrupted and np.isnan(again.density)
+
+
+TINY = {"title": "tiny", "container": {"side": 0.06, "height": 0.3}, "particles": {"diameter": 0.01, "count": 300},
+        "deposition": {}, "analysis": {"box_sides": [0.03]}}
+
+
+def _tiny_run(seed):
+    return aggpack.run(aggpack.Scenario.from_dict(TINY, seed=seed), threads=1)
+
+
+def test_a_report_pickles_whole_and_comes_back_from_a_worker_process(tmp_path, examples):
+    import multiprocessing
+    report = aggpack.run(aggpack.Scenario.from_file(examples / "example1.toml", set=SHORT), threads=1)
+    again = pickle.loads(pickle.dumps(report))
+    assert again.summary() == report.summary()
+    assert repr(again) == repr(report) and again.notes == report.notes and again.wall_clock == report.wall_clock
+    assert np.array_equal(again.bed.positions, report.bed.positions)
+    assert np.array_equal(again.deposited.positions, report.deposited.positions)
+    # Its outputs are the same bytes as the original's.
+    aggpack.write_outputs(report, tmp_path / "original")
+    aggpack.write_outputs(again, tmp_path / "unpickled")
+    for name in ("particles.csv", "timeseries.csv", "supports.csv", "particles.vtp"):
+        assert (tmp_path / "unpickled" / name).read_bytes() == (tmp_path / "original" / name).read_bytes(), name
+    # A run into a folder keeps the summary it wrote, and its folder.
+    written = aggpack.run(aggpack.Scenario.from_dict(TINY), out=tmp_path / "tiny", threads=1)
+    kept = pickle.loads(pickle.dumps(written))
+    assert kept.output_directory == written.output_directory and kept.summary() == written.summary()
+    # From a worker process, as multiprocessing returns it.
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        reports = pool.map(_tiny_run, [3, 4])
+    assert [r.density for r in reports] == [_tiny_run(3).density, _tiny_run(4).density]
+    assert reports[0].bed.count == 300
+    # A damaged pickle is an InputError, not a crash.
+    state = list(report.__getstate__())
+    state[7] = state[7][: len(state[7]) // 2]
+    with pytest.raises(aggpack.InputError, match="damaged"):
+        report.__class__.__new__(report.__class__).__setstate__(tuple(state))

@@ -15,7 +15,7 @@ def test_a_dict_of_the_files_keys_is_the_same_scenario_as_the_file(examples):
             as_dict = tomllib.load(f)
         from_dict = aggpack.Scenario.from_dict(as_dict, name=path)
         assert from_dict == from_file, name
-        assert from_dict.to_dict() == from_file.to_dict()
+        assert from_dict.to_dict(resolved=True) == from_file.to_dict(resolved=True)
         from_text = aggpack.Scenario.from_toml(path.read_text(), name=path)
         assert from_text == from_file, name
 
@@ -23,12 +23,13 @@ def test_a_dict_of_the_files_keys_is_the_same_scenario_as_the_file(examples):
 def test_overrides_and_seed_are_the_clis(examples):
     s = aggpack.Scenario.from_file(examples / "example1.toml", set=["particles.count=100"], seed=7)
     assert s.seed == 7
-    assert s.to_dict()["particles"]["classes"][0]["count"] == 100
+    assert s.to_dict(resolved=True)["particles"]["classes"][0]["count"] == 100
+    assert s.to_dict()["particles"]["count"] == 100 and s.to_dict()["seed"] == 7
     t = s.with_overrides(["dynamics.max_time=0.5"])
     assert t.overrides == ["particles.count=100", "dynamics.max_time=0.5"]
     assert t.seed == 7
-    assert t.to_dict()["dynamics"]["max_time_s"] == 0.5
-    assert s.to_dict()["dynamics"]["max_time_s"] == 2.0  # the first one unchanged
+    assert t.to_dict(resolved=True)["dynamics"]["max_time_s"] == 0.5
+    assert s.to_dict(resolved=True)["dynamics"]["max_time_s"] == 2.0  # the first one unchanged
 
 
 BAD = {
@@ -92,3 +93,62 @@ def test_check_finds_what_reading_cannot(tmp_path):
     assert code == 2
     assert str(raised.value) in printed
     assert aggpack.Scenario.from_toml(text.replace("[0.5]", "[0.05]"), name=tmp_path / "p.toml").check() is None
+
+
+def test_a_dict_nested_beyond_tomls_bound_is_refused_not_a_crash():
+    # 30 000 levels crashed the process (the stack); TOML's own bound is 256 (toml++).
+    deep = leaf = {}
+    for _ in range(30000):
+        leaf["a"] = {}
+        leaf = leaf["a"]
+    with pytest.raises(aggpack.InputError, match=r"scenario dict: a\.a\.a.*nested deeper than 256 levels"):
+        aggpack.Scenario.from_dict(deep)
+    deep_list = []
+    inner = deep_list
+    for _ in range(30000):
+        inner.append([])
+        inner = inner[0]
+    with pytest.raises(aggpack.InputError, match=r"title\[0\]\[0\].*nested deeper than 256 levels"):
+        aggpack.Scenario.from_dict({"title": deep_list})
+    itself = {"title": "t"}
+    itself["container"] = itself
+    with pytest.raises(aggpack.InputError, match="nested deeper than 256 levels"):
+        aggpack.Scenario.from_dict(itself)
+    # A scenario's real depth stays well inside the bound.
+    shallow = leaf = {}
+    for _ in range(200):
+        leaf["a"] = {}
+        leaf = leaf["a"]
+    with pytest.raises(aggpack.InputError, match="unknown key|'a'"):
+        aggpack.Scenario.from_dict(shallow)
+
+
+def test_to_dict_is_read_back_by_from_dict_for_every_shipped_scenario(examples):
+    # to_dict() gave summary.json's record (side_m, density_kg_m3, ...), which from_dict refused.
+    paths = sorted(examples.glob("*.toml"))
+    assert len(paths) > 10
+    for path in paths:
+        s = aggpack.Scenario.from_file(path)
+        again = aggpack.Scenario.from_dict(s.to_dict(), name=s.file)
+        assert again == s, path.name
+        assert again.to_dict() == s.to_dict(), path.name
+    # Its --set assignments and seed are in the dict.
+    s = aggpack.Scenario.from_file(examples / "example1.toml", set=["dynamics.max_time=0.5"], seed=9)
+    again = aggpack.Scenario.from_dict(s.to_dict(), name=s.file)
+    assert again == s and again.seed == 9
+    assert again.to_dict(resolved=True)["dynamics"]["max_time_s"] == 0.5
+
+
+def _title_of(scenario):
+    return scenario.title, scenario.seed
+
+
+def test_a_scenario_pickles_and_crosses_to_another_process(examples):
+    import multiprocessing
+    import pickle
+    s = aggpack.Scenario.from_file(examples / "example1.toml", set=["particles.count=100"], seed=7)
+    again = pickle.loads(pickle.dumps(s))
+    assert again == s and again.overrides == s.overrides and again.seed == 7 and again.text == s.text
+    assert again.file == s.file
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        assert pool.map(_title_of, [s]) == [(s.title, 7)]

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <map>
+#include <sstream>
 #include <limits>
 
 #include <unistd.h>
@@ -234,8 +235,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
   return parse_scenario(read_scenario_text(file), file, overrides);
 }
 
-Scenario parse_scenario(std::string_view text, const std::filesystem::path& file, const ScenarioOverrides& overrides) {
-  ScenarioOrigin origin{file.string(), {}};
+namespace {
+
+// The file's table with the command line's assignments applied (a calibrated_by among them
+// refused when the file has one), as the readers then read it.
+toml::table overridden_table(std::string_view text, const std::filesystem::path& file,
+                             const ScenarioOverrides& overrides, ScenarioOrigin& origin) {
   toml::table root = parse_toml(text, file);
   // The command line's calibration files replace the scenario's list: refused rather than one
   // list silently dropped.
@@ -251,6 +256,44 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
     const auto typed = overrides.typed_as.find(assignment);
     apply_override(root, assignment, typed != overrides.typed_as.end() ? typed->second : "--set " + assignment, origin);
   }
+  return root;
+}
+
+// A TOML value as JSON's (a date or time as its TOML text).
+nlohmann::json json_of(const toml::node& node) {
+  if (const auto* table = node.as_table()) {
+    nlohmann::json j = nlohmann::json::object();
+    for (const auto& [key, value] : *table) j[std::string(key.str())] = json_of(value);
+    return j;
+  }
+  if (const auto* array = node.as_array()) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const toml::node& value : *array) j.push_back(json_of(value));
+    return j;
+  }
+  if (const auto* v = node.as_string()) return v->get();
+  if (const auto* v = node.as_integer()) return v->get();
+  if (const auto* v = node.as_floating_point()) return v->get();
+  if (const auto* v = node.as_boolean()) return v->get();
+  std::ostringstream text;
+  node.visit([&](const auto& value) { text << value; });
+  return text.str();
+}
+
+}  // namespace
+
+nlohmann::json scenario_keys(std::string_view text, const std::filesystem::path& file,
+                             const ScenarioOverrides& overrides) {
+  ScenarioOrigin origin{file.string(), {}};
+  nlohmann::json keys = json_of(overridden_table(text, file, overrides, origin));
+  if (overrides.seed) keys["seed"] = *overrides.seed;
+  if (overrides.output_directory) keys["output"]["directory"] = overrides.output_directory->string();
+  return keys;
+}
+
+Scenario parse_scenario(std::string_view text, const std::filesystem::path& file, const ScenarioOverrides& overrides) {
+  ScenarioOrigin origin{file.string(), {}};
+  toml::table root = overridden_table(text, file, overrides, origin);
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "calibrated_by", "container", "particles", "material", "materials", "material_pairs",

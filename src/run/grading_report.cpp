@@ -139,9 +139,18 @@ GradingDescription describe_grading(const GradingQuery& q) {
   GradingDescription d;
   d.grading = load_grading(q.grading, q.length_unit);
   const Grading& main = d.grading;
+  const auto named = [&](std::string_view flag) { return option_name(flag, q.named); };
+  // A blend's ratio is the user's: a default of 1:1 would describe a mix nobody asked for.
+  if (q.fine.has_value() != q.ca_fa.has_value())
+    throw InputError(fmt::format("{} and {} go together: the fine grading and the coarse/fine volume ratio of the "
+                                 "blend (for example {}), which has no default",
+                                 named("--mix"), named("--ca-fa"), option_given("--ca-fa", "1.52", q.named)));
   if (q.fine) {
     d.fine = load_grading(*q.fine, q.length_unit);
-    if (!(q.ca_fa > 0.0)) throw InputError("--ca-fa: the coarse/fine volume ratio must be positive");
+    const double ca_fa = *q.ca_fa;
+    if (!(ca_fa > 0.0) || !std::isfinite(ca_fa))
+      throw InputError(fmt::format("{}: the coarse/fine volume ratio must be positive and finite",
+                                   option_given("--ca-fa", fmt::format("{:g}", ca_fa), q.named)));
     // The blend by volume at the union of both sets of sieves (both on the standard series
     // already, so a nominal sieve appears once).
     std::vector<Sieve> openings = main.sieves;
@@ -150,19 +159,19 @@ GradingDescription describe_grading(const GradingQuery& q) {
         openings.push_back(s);
     std::vector<Sieve> blend;
     for (const Sieve& s : openings) {
-      const double p = (q.ca_fa * percent_passing_at(main, s.opening) + percent_passing_at(*d.fine, s.opening)) /
-                       (1.0 + q.ca_fa);
+      const double p = (ca_fa * percent_passing_at(main, s.opening) + percent_passing_at(*d.fine, s.opening)) /
+                       (1.0 + ca_fa);
       blend.push_back({s.name, s.opening, p});
     }
-    d.ca_fa = q.ca_fa;
-    d.mix = make_grading(fmt::format("{} + {} at Ca/Fa {:g}", main.name, d.fine->name, q.ca_fa), blend, "mix", {});
+    d.ca_fa = ca_fa;
+    d.mix = make_grading(fmt::format("{} + {} at Ca/Fa {:g}", main.name, d.fine->name, ca_fa), blend, "mix", {});
   }
   const Grading& checked = d.checked();
-  if (q.d_min || q.d_max) d.cut = cut_grading(checked, q.d_min, q.d_max, "--d-min/--d-max");
+  if (q.d_min || q.d_max) d.cut = cut_grading(checked, q.d_min, q.d_max, named("--d-min") + "/" + named("--d-max"));
   if (q.band) {
     d.band = named_band(*q.band);
     if (!d.band)
-      throw InputError(fmt::format("--band {}: unknown band; shipped bands: {}", *q.band,
+      throw InputError(fmt::format("{}: unknown band; shipped bands: {}", option_given("--band", *q.band, q.named),
                                    fmt::join(named_band_names(), ", ")));
     d.band_check = check_against_band(checked, *d.band);
   }

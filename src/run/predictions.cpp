@@ -117,32 +117,44 @@ Predictions predict_scenario(const Scenario& sc, const ModelParameters& paramete
 }
 
 Predictions predict(const PredictRequest& r) {
+  const auto named = [&](std::string_view flag) { return option_name(flag, r.named); };
+  const auto given = [&](std::string_view flag, double value) {
+    return option_given(flag, fmt::format("{:g}", value), r.named);
+  };
   if (r.fine.has_value() != r.ca_fa.has_value())
-    throw InputError("--mix and --ca-fa go together: the fine grading and the coarse/fine volume ratio of the blend");
+    throw InputError(fmt::format("{} and {} go together: the fine grading and the coarse/fine volume ratio of the "
+                                 "blend (for example {}), which has no default",
+                                 named("--mix"), named("--ca-fa"), option_given("--ca-fa", "1.52", r.named)));
+  if (r.ca_fa && !(*r.ca_fa > 0.0 && std::isfinite(*r.ca_fa)))
+    throw InputError(fmt::format("{}: expected a number above 0", given("--ca-fa", *r.ca_fa)));
   if (r.compaction_index && r.process)
-    throw InputError("--k and --process both give the compaction index; give one");
+    throw InputError(fmt::format("{} and {} both give the compaction index; give one", named("--k"), named("--process")));
   if (r.calibration && (r.compaction_index || r.process || r.beta || r.beta_fine))
-    throw InputError("--calibration gives K and beta; give it alone, or --k (or --process) and --beta (and --beta-fine)");
+    throw InputError(fmt::format("{} gives K and beta; give it alone, or {} (or {}) and {} (and {})",
+                                 named("--calibration"), named("--k"), named("--process"), named("--beta"),
+                                 named("--beta-fine")));
   if (r.compaction_index && !(*r.compaction_index > 0.0))
-    throw InputError(fmt::format("--k {}: expected a positive compaction index (4.1 poured ... 9 vibrated and "
+    throw InputError(fmt::format("{}: expected a positive compaction index (4.1 poured ... 9 vibrated and "
                                  "compressed)",
-                                 *r.compaction_index));
+                                 given("--k", *r.compaction_index)));
   if (r.beta && !(*r.beta > 0.0 && *r.beta < 1.0))
-    throw InputError(fmt::format("--beta {}: expected a residual packing density between 0 and 1", *r.beta));
+    throw InputError(fmt::format("{}: expected a residual packing density between 0 and 1", given("--beta", *r.beta)));
   if (r.beta_fine && !(*r.beta_fine > 0.0 && *r.beta_fine < 1.0))
-    throw InputError(fmt::format("--beta-fine {}: expected a residual packing density between 0 and 1", *r.beta_fine));
+    throw InputError(fmt::format("{}: expected a residual packing density between 0 and 1",
+                                 given("--beta-fine", *r.beta_fine)));
   std::optional<double> process_k;
   if (r.process) {
     process_k = compaction_index_of(*r.process);
     if (!process_k)
-      throw InputError(fmt::format("--process {}: expected poured, rodded, vibrated or vibrated_compressed",
-                                   *r.process));
+      throw InputError(fmt::format("{}: expected poured, rodded, vibrated or vibrated_compressed",
+                                   option_given("--process", *r.process, r.named)));
   }
   const bool scenario = r.input.ends_with(".toml");
   std::optional<Scenario> sc;
   bool tapped = false;
   if (scenario) {
-    if (r.fine) throw InputError("--mix applies to a grading; a scenario gives its own blend");
+    if (r.fine)
+      throw InputError(fmt::format("{} applies to a grading; a scenario gives its own blend", named("--mix")));
     sc = load_scenario(r.input, r.overrides);
     tapped = protocol_taps(scenario_protocol(*sc));
   }
@@ -157,8 +169,9 @@ Predictions predict(const PredictRequest& r) {
   if (r.beta_fine) parameters.beta_fine = *r.beta_fine, parameters.beta_fine_source = "--beta-fine";
   const bool blended = r.fine || (sc && sc->particles.graded && sc->particles.graded->fine);
   if (r.beta_fine && !blended)
-    throw InputError("--beta-fine applies to a blend's fine aggregate: give --mix and --ca-fa, or a scenario with a "
-                     "coarse/fine mix");
+    throw InputError(fmt::format("{} applies to a blend's fine aggregate: give {} and {}, or a scenario with a "
+                                 "coarse/fine mix",
+                                 named("--beta-fine"), named("--mix"), named("--ca-fa")));
   if (sc) {
     if (!sc->particles.file) return predict_scenario(*sc, parameters);
     if (sc->particles.bed_from_caller())

@@ -401,10 +401,10 @@ void check_room_for_cubes(const Scenario& sc, std::span<const double> radii, dou
 
 }  // namespace
 
-void check_thread_count(int threads) {
+void check_thread_count(int threads, OptionStyle named) {
   if (threads < 0 || threads > kMaxThreads)
-    throw InputError(fmt::format("--threads {}: expected 0 (all cores) or a count from 1 to {}", threads,
-                                 kMaxThreads));
+    throw InputError(fmt::format("{}: expected 0 (all cores) or a count from 1 to {}",
+                                 option_given("--threads", std::to_string(threads), named), kMaxThreads));
 }
 
 void check_frames(const Scenario& sc) {

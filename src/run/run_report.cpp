@@ -99,6 +99,11 @@ std::string length_text(double metres, const std::string& written_unit) {
   return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), written_unit);
 }
 
+// A density, or "not measured" for the NaN of an analysis that was not made (an interrupted run's).
+std::string density_text(double density) {
+  return std::isnan(density) ? std::string("not measured") : fmt::format("{:.4f}", density);
+}
+
 // The kinds of the console summary's step lines.
 enum class StepLine { deposit, pour, settle, tap, hand_over };
 
@@ -154,16 +159,16 @@ std::string dynamics_lines(const RunReport& r) {
                                 1e-6 * d.particle_steps_per_second(), last.last.contacts.mean_overlap,
                                 last.last.contacts.max_overlap);
   if (r.analyses.contains("deposition"))
-    out += fmt::format("  density after deposition {:.4f}, after dynamics {:.4f}\n", r.density_after_deposition(),
-                       r.final.density.mean);
+    out += fmt::format("  density after deposition {:.4f}, after dynamics {}\n", r.density_after_deposition(),
+                       density_text(r.density_after_dynamics()));
   return out;
 }
 
 std::string tapping_line(const TapReport& t) {
-  const auto density_text = [](double d) { return std::isnan(d) ? std::string("-") : fmt::format("{:.4f}", d); };
+  const auto shown = [](double d) { return std::isnan(d) ? std::string("-") : fmt::format("{:.4f}", d); };
   return fmt::format("  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
-                     t.taps, t.intensity, t.frequency, density_text(t.density_before),
-                     density_text(t.samples.empty() ? std::nan("") : t.samples.back().density), t.simulated_time,
+                     t.taps, t.intensity, t.frequency, shown(t.density_before),
+                     shown(t.samples.empty() ? std::nan("") : t.samples.back().density), t.simulated_time,
                      t.wall_clock_s);
 }
 
@@ -355,7 +360,12 @@ double RunReport::density_after_deposition() const {
 }
 
 double RunReport::density_after_dynamics() const {
-  return dynamics ? final.density.mean : std::numeric_limits<double>::quiet_NaN();
+  // An interrupted run made no final analysis: its `final` holds no measurement.
+  return dynamics && !interrupted ? final.density.mean : std::numeric_limits<double>::quiet_NaN();
+}
+
+double RunReport::final_density() const {
+  return interrupted ? std::numeric_limits<double>::quiet_NaN() : final.density.mean;
 }
 
 std::string RunReport::last_dem_stage() const {
@@ -539,6 +549,14 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
   out += step_lines(*this);
   for (const auto& box : final.density.boxes)
     fmt::format_to(o, "  virtual cube {}: density {:.4f}\n", length_text(box.side, sc.written_length_unit), box.density);
+  if (interrupted) {  // no final analysis: nothing measured to print, nothing to carry to a bulk density
+    fmt::format_to(o, "  mean density not measured: interrupted by signal {} {} ({} of {} steps done), before the "
+                      "final analysis\n",
+                   interrupted->signal_number, interrupted->where, interrupted->steps_completed,
+                   interrupted->steps_total);
+    fmt::format_to(o, "  wrote {}\n", written_to.string());
+    return out;
+  }
   const auto rest = rest_state();
   fmt::format_to(o, "  mean density {:.4f} (sd {:.4f}){}, mean coordination {:.3f} over {} {}\n", final.density.mean,
                  final.density.sd, rest && !rest->settled ? " NOT SETTLED" : "", final.coordination.mean,

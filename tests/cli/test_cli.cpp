@@ -598,6 +598,10 @@ TEST_F(Cli, PredictGivesTheModelsOfAScenarioOrAGrading) {
   // Refused, exit 2, saying why.
   for (const auto& [args, words] : std::vector<std::pair<std::string, std::string>>{
            {"predict fu2003_table1_coarse --mix astm_c33_fine_mid", "--mix and --ca-fa go together"},
+           // A blend's ratio has no default in either command (grading blended 1:1 without a word).
+           {"grading fu2003_table1_coarse --mix astm_c33_fine_mid", "--mix and --ca-fa go together"},
+           {"grading fu2003_table1_coarse --ca-fa 1.5", "--mix and --ca-fa go together"},
+           {"grading fu2003_table1_coarse --mix astm_c33_fine_mid --ca-fa 0", "--ca-fa 0: expected a number above 0"},
            {"predict " + example("example1.toml") + " --k 5 --process poured", "give one"},
            {"predict " + example("example1.toml") + " --beta 1.5", "between 0 and 1"},
            {"predict " + example("example1.toml") + " --process shaken", "expected poured, rodded"},

@@ -215,6 +215,12 @@ Scenario load_scenario(const std::filesystem::path& file, const ScenarioOverride
 Scenario parse_scenario(std::string_view text, const std::filesystem::path& file,
                         const ScenarioOverrides& overrides = {});
 
+// The scenario's keys as its file gives them, --set assignments, --seed and --out applied (not
+// its calibration files' assignments: calibrated_by stays a key): what parse_scenario reads, as
+// JSON values. Read again (written as TOML, anchored at `file`), it is the same scenario.
+nlohmann::json scenario_keys(std::string_view text, const std::filesystem::path& file,
+                             const ScenarioOverrides& overrides = {});
+
 // The scenario with every value resolved, in SI units, as written to summary.json (with
 // "protocol" when the scenario gives one).
 nlohmann::json to_json(const Scenario& scenario);

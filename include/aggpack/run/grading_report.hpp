@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/core/option_names.hpp"
 #include "aggpack/grains/grain_library.hpp"
 #include "aggpack/sizes/grading.hpp"
 #include "aggpack/sizes/grading_sampler.hpp"
@@ -17,12 +18,13 @@ namespace aggpack {
 struct GradingQuery {
   std::string grading;                  // a shipped name or a CSV file
   std::optional<std::string> fine;      // a second grading, for a mix
-  double ca_fa = 1.0;                   // coarse/fine volume ratio of the mix
+  std::optional<double> ca_fa;          // coarse/fine volume ratio of the mix: given with `fine`, never guessed
   std::optional<std::string> band;      // a shipped band to check the grading (or the mix) against
   std::optional<double> d_min, d_max;   // cut-offs, m
   std::optional<double> length_unit;    // metres per unit of a bare `opening` column in files
   std::optional<GrainShapeSpec> shape;  // --shape: the grading's (the coarse one's) grains
   std::uint64_t seed = 1;               // of the sizes and templates --shape draws
+  OptionStyle named = OptionStyle::Cli;  // the options in messages: the CLI's flags or Python's keywords
 };
 
 // A shipped grading by name, or a CSV sieve analysis (`length_unit` metres per unit of a bare

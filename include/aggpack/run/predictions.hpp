@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "aggpack/core/option_names.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/models/packing_models.hpp"
 
@@ -73,6 +74,7 @@ struct PredictRequest {
   std::optional<double> beta_fine;
   std::optional<std::filesystem::path> calibration;  // an aggpack calibrate file: K and beta
   ScenarioOverrides overrides;
+  OptionStyle named = OptionStyle::Cli;  // the options in messages: the CLI's flags or Python's keywords
 };
 Predictions predict(const PredictRequest& request);
 

@@ -3,6 +3,7 @@
 #include <optional>
 #include <span>
 
+#include "aggpack/core/option_names.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/generate_sizes.hpp"
 
@@ -17,7 +18,7 @@ struct RunGrains;
 // The most OpenMP threads a run takes (--threads, RunControls::threads); 0 means OpenMP's
 // default (all cores).
 inline constexpr int kMaxThreads = 256;
-void check_thread_count(int threads);
+void check_thread_count(int threads, OptionStyle named = OptionStyle::Cli);
 
 // The particle count and memory against [limits], a grain counted as its member spheres: before
 // any sizes are drawn, the expected amount (drawn = false); after, the amount drawn.

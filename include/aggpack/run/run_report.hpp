@@ -86,9 +86,12 @@ struct RunReport {
   nlohmann::json grain_libraries;
   std::vector<std::uint32_t> grain_shape_component;
 
-  // The mean virtual-box density after deposition / after dynamics; NaN when not run.
+  // The mean virtual-box density after deposition / after dynamics; NaN when not run (after
+  // dynamics: or interrupted, before the final analysis).
   [[nodiscard]] double density_after_deposition() const;
   [[nodiscard]] double density_after_dynamics() const;
+  // The final analysis's mean virtual-box density; NaN for an interrupted run (none was made).
+  [[nodiscard]] double final_density() const;
   // The last DEM stage that moved the bed, in words ("tapping", "pour", "DEM settling"): what
   // density_after_dynamics is after.
   [[nodiscard]] std::string last_dem_stage() const;
