@@ -189,12 +189,15 @@ HWY_INLINE void EvaluateLanes(D d, ContactBatch& b, std::size_t k, V step, V sti
   Store(d, fy - ny * fn, b, C::kFy, k);
   Store(d, fz - nz * fn, b, C::kFz, k);
   const V ax = ny * fz - nz * fy, ay = nz * fx - nx * fz, az = nx * fy - ny * fx;
-  Store(d, ax * ri + rx, b, C::kTix, k);
-  Store(d, ay * ri + ry, b, C::kTiy, k);
-  Store(d, az * ri + rz, b, C::kTiz, k);
-  Store(d, ax * rj - rx, b, C::kTjx, k);
-  Store(d, ay * rj - ry, b, C::kTjy, k);
-  Store(d, az * rj - rz, b, C::kTjz, k);
+  // The lever arms: the contact point is the middle of the overlap (evaluate_each).
+  const V half_overlap = hn::Set(d, 0.5) * overlap;
+  const V arm_i = ri - half_overlap, arm_j = rj - half_overlap;
+  Store(d, ax * arm_i + rx, b, C::kTix, k);
+  Store(d, ay * arm_i + ry, b, C::kTiy, k);
+  Store(d, az * arm_i + rz, b, C::kTiz, k);
+  Store(d, ax * arm_j - rx, b, C::kTjx, k);
+  Store(d, ay * arm_j - ry, b, C::kTjy, k);
+  Store(d, az * arm_j - rz, b, C::kTjz, k);
 }
 
 void EvaluateHertzMindlin(const HertzMindlin& law, ContactBatch& b, double dt) {

@@ -116,7 +116,9 @@ TEST(ContactBatch, VectorKernelGivesTheScalarLawsBitsOnEveryTarget) {
         const Vec3 d{at(C::kDx), at(C::kDy), at(C::kDz)}, f{at(C::kFx), at(C::kFy), at(C::kFz)};
         const Vec3 n = d * (1.0 / norm(d));
         const double fn = -dot(f, n), ri = at(C::kRadiusI), rj = at(C::kRadiusJ);
-        const Vec3 torque = C::get3(reference.contact(k), C::kTix) - ri * cross(n, f + fn * n);
+        // Less the tangential force's torque, applied at the contact point (R_i - d/2 from i).
+        const double arm = ri - 0.5 * (ri + rj - norm(d));
+        const Vec3 torque = C::get3(reference.contact(k), C::kTix) - arm * cross(n, f + fn * n);
         capped += std::abs(norm(torque) - rolling * ri * rj / (ri + rj) * fn) < 1e-6 * norm(torque) ? 1 : 0;
       }
       EXPECT_GT(capped, count / 10);

@@ -153,9 +153,11 @@ void evaluate_contact(const Law& law, ContactBatch& b, std::size_t k, double dt)
   Vec3 rolling{in(C::kHx), in(C::kHy), in(C::kHz)};
   const ContactForce c = law.evaluate(kin, spring, rolling, dt);
   // j sees the opposite normal and tangential force, so the same n x F_t, and the
-  // opposite rolling torque.
+  // opposite rolling torque. The tangential force acts at the contact point, the middle of
+  // the overlap: R - d/2 from each centre (LAMMPS's pair granular, dist_to_contact).
   const Vec3 arm = cross(kin.normal, c.tangential);
-  const Vec3 ti = ri * arm + c.rolling_torque, tj = rj * arm - c.rolling_torque;
+  const double arm_i = ri - 0.5 * kin.overlap, arm_j = rj - 0.5 * kin.overlap;
+  const Vec3 ti = arm_i * arm + c.rolling_torque, tj = arm_j * arm - c.rolling_torque;
   double* const slot = b.contact(k);
   C::put3(slot, C::kUx, spring);
   C::put3(slot, C::kHx, rolling);
