@@ -65,6 +65,11 @@ py::object grading(const std::string& name_or_file, const std::optional<std::str
   }
   if (shape) query.shape = read_shape_option(*shape, "shape");
   query.seed = seed_of(seed).value_or(1);
+  // The templates of `shape` can take minutes: Python's Ctrl-C is honoured between two of them.
+  query.watch.progress = [](std::size_t, std::size_t) {
+    py::gil_scoped_acquire held;
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  };
   nlohmann::json j;
   {
     py::gil_scoped_release released;

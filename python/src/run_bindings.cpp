@@ -292,6 +292,23 @@ py::object run_scenario_from_python(const PyScenario& scenario, const std::optio
   });
 }
 
+// summary.json's dict: the one written, or the report's own.
+nlohmann::json summary_of(const PyReport& r) {
+  return r.written_summary ? *r.written_summary : r.report->summary_json(0.0, r.wall_clock_s);
+}
+
+py::object interruption_of(const PyReport& r) {
+  if (!r.report->interrupted) return py::none();
+  const Interruption& i = *r.report->interrupted;
+  py::dict d;
+  d["signal"] = i.signal_number;
+  d["where"] = i.where;
+  d["steps_completed"] = i.steps_completed;
+  d["steps_total"] = i.steps_total;
+  d["checkpoint"] = i.checkpoint;
+  return d;
+}
+
 void bind_report(py::module_& m) {
   py::class_<PyReport>(m, "Report", R"doc(What a run produced: its densities, beds, notes and summary.
 
@@ -299,10 +316,7 @@ void bind_report(py::module_& m) {
 there). The beds (`bed`, `deposited`, `snapshots`) are aggpack.Bed objects whose arrays are
 views into this report's data. A Report pickles (for multiprocessing): its scenario is read again
 from the text it ran, the rest kept as it was.)doc")
-      .def("summary",
-           [](const PyReport& r) {
-             return to_python(r.written_summary ? *r.written_summary : r.report->summary_json(0.0, r.wall_clock_s));
-           },
+      .def("summary", [](const PyReport& r) { return to_python(summary_of(r)); },
            "summary.json's dict (README, \"Output files\").")
       .def_property_readonly("density", [](const PyReport& r) { return r.report->final_density(); },
                              "The final bed's mean virtual-box density (solid fraction); NaN for an interrupted run, "
@@ -326,30 +340,12 @@ from the text it ran, the rest kept as it was.)doc")
                              "Every modelling choice the results depend on, in words (summary.json's modelling_notes).")
       .def_property_readonly("predictions", [](const PyReport& r) { return to_python(to_json(r.report->predictions())); },
                              "The analytic models on the run's sizes (summary.json's predictions).")
-      .def_property_readonly("wall_clock",
-                             [](const PyReport& r) {
-                               const nlohmann::json summary = r.written_summary
-                                                                  ? *r.written_summary
-                                                                  : r.report->summary_json(0.0, r.wall_clock_s);
-                               return to_python(summary["wall_clock_s"]);
-                             },
+      .def_property_readonly("wall_clock", [](const PyReport& r) { return to_python(summary_of(r)["wall_clock_s"]); },
                              "Seconds of wall clock per stage (deposition, dynamics, analysis, ...) and in all "
                              "(`total`): summary.json's wall_clock_s.")
       .def_property_readonly("simulated_time", [](const PyReport& r) { return r.report->simulated_time; },
                              "Seconds of simulated time, every DEM step's.")
-      .def_property_readonly("interrupted",
-                             [](const PyReport& r) -> py::object {
-                               if (!r.report->interrupted) return py::none();
-                               const Interruption& i = *r.report->interrupted;
-                               py::dict d;
-                               d["signal"] = i.signal_number;
-                               d["where"] = i.where;
-                               d["steps_completed"] = i.steps_completed;
-                               d["steps_total"] = i.steps_total;
-                               d["checkpoint"] = i.checkpoint;
-                               return d;
-                             },
-                             "None, or what an interrupted run had done (a dict).")
+      .def_property_readonly("interrupted", &interruption_of, "None, or what an interrupted run had done (a dict).")
       .def_property_readonly("output_directory", [](const PyReport& r) { return r.output_directory; },
                              "The folder a run into a folder wrote; None for a run in memory.")
       .def_property_readonly("bed", [](const PyReport& r) { return bed_of(r.report, r.report->particles); },
@@ -424,14 +420,7 @@ an exception it raises ends the run with that exception.)doc");
           check_output_directory(folder, false);
           check_output_folder_contents(folder, overwrite);
           (void)remove_earlier_run(folder, {});  // as aggpack run: the folder never mixes two runs' files
-          summary = write_outputs(*r.report, folder, r.wall_clock_s);
-          // The run's scenario names the folder it would have written (its output.directory, or
-          // another run's --out): summary.json records where these files are, as `run --out` does.
-          nlohmann::json& directory = summary["scenario"]["output"]["directory"];
-          if (directory != folder.string()) {
-            directory = folder.string();
-            write_file_atomically(folder / "summary.json", summary.dump(2) + "\n");
-          }
+          summary = write_outputs(*r.report, folder, r.wall_clock_s);  // summary.json records `folder`
         }
         return to_python(summary);
       },

@@ -160,6 +160,23 @@ FileAndOverrides scenario_file_of(const py::object& scenario, const std::vector<
   return read;
 }
 
+namespace {
+
+// A scenario pickled as what makes it: its text, its file and its overrides, read again when
+// unpickled (multiprocessing hands scenarios to its workers so).
+py::tuple scenario_state(const PyScenario& s) {
+  return py::make_tuple(s.text, s.file.string(), s.overrides.set,
+                        s.overrides.seed ? py::cast(*s.overrides.seed) : py::none());
+}
+
+PyScenario scenario_from_state(const py::tuple& state) {
+  if (state.size() != 4) throw InputError("aggpack.Scenario: a pickled state of 4 items was expected");
+  return PyScenario::from_text(state[0].cast<std::string>(), state[1].cast<std::string>(),
+                               state[2].cast<std::vector<std::string>>(), seed_of(state[3]));
+}
+
+}  // namespace
+
 void bind_scenario(py::module_& m) {
   py::class_<PyScenario>(m, "Scenario", R"doc(A scenario: the container, the particles, the protocol and the outputs of a run.
 
@@ -223,18 +240,7 @@ wrong and what is expected).)doc")
       .def_property_readonly("overrides", [](const PyScenario& s) { return s.overrides.set; }, "Its --set assignments.")
       .def_property_readonly("seed", [](const PyScenario& s) { return s.parsed.seed; }, "The random seed of its run.")
       .def_property_readonly("title", [](const PyScenario& s) { return s.parsed.title; })
-      // Pickled as what makes it: its text, its file and its overrides, read again when unpickled
-      // (multiprocessing hands scenarios to its workers so).
-      .def(py::pickle(
-          [](const PyScenario& s) {
-            return py::make_tuple(s.text, s.file.string(), s.overrides.set,
-                                  s.overrides.seed ? py::cast(*s.overrides.seed) : py::none());
-          },
-          [](const py::tuple& state) {
-            if (state.size() != 4) throw InputError("aggpack.Scenario: a pickled state of 4 items was expected");
-            return PyScenario::from_text(state[0].cast<std::string>(), state[1].cast<std::string>(),
-                                         state[2].cast<std::vector<std::string>>(), seed_of(state[3]));
-          }))
+      .def(py::pickle(&scenario_state, &scenario_from_state))
       .def("__eq__", [](const PyScenario& a, const PyScenario& b) {
         return aggpack::to_json(a.parsed) == aggpack::to_json(b.parsed);
       })

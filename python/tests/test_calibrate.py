@@ -51,13 +51,15 @@ def test_cpm_calibration_is_the_clis_file(tmp_path):
 
 
 def test_dem_calibration_is_the_clis_file(tmp_path):
+    # The measurement lies inside the lever's reach: 0.572 at rolling_friction 0, 0.531 at 0.5
+    # (since issue 55's contact lever arm, R - d/2: 0.58 was out of reach).
     scenario = written(tmp_path, "poured.toml", POURED)
-    arguments = ["--dem", "--measured", "0.58", "--seeds", "2", "--max-runs", "3", "--threads", "1", "--quiet"]
+    arguments = ["--dem", "--measured", "0.56", "--seeds", "2", "--max-runs", "3", "--threads", "1", "--quiet"]
     cli("calibrate", scenario, *arguments, "--out", tmp_path / "cli.json")
     expected = json.loads((tmp_path / "cli.json").read_text())
     with warnings.catch_warnings(record=True) as warned:
         warnings.simplefilter("always")
-        got = aggpack.calibrate(scenario, dem=True, measured=0.58, seeds=2, max_runs=3, threads=2)
+        got = aggpack.calibrate(scenario, dem=True, measured=0.56, seeds=2, max_runs=3, threads=2)
     # An unconverged search warns, as the CLI does on stderr.
     assert [str(w.message).startswith("aggpack.calibrate: NOT CONVERGED") for w in warned] == \
         ([] if expected["fit"]["converged"] else [True])

@@ -81,6 +81,10 @@ def test_a_run_in_memory_gives_the_clis_numbers_and_writes_its_bytes_later(tmp_p
     (tmp_path / "theirs" / "notes.txt").write_text("mine")
     with pytest.raises(aggpack.InputError, match="notes.txt"):
         aggpack.write_outputs(report, tmp_path / "theirs")
+    # A folder that cannot be made is an input error naming it (issue 55, item 11), not an
+    # internal filesystem error.
+    with pytest.raises(aggpack.InputError, match="/proc/x"):
+        aggpack.write_outputs(report, "/proc/x")
 
 
 def test_the_beds_arrays_are_particles_csv(cli_run, examples):
@@ -255,3 +259,28 @@ def test_a_report_pickles_whole_and_comes_back_from_a_worker_process(tmp_path, e
     state[7] = state[7][: len(state[7]) // 2]
     with pytest.raises(aggpack.InputError, match="damaged"):
         report.__class__.__new__(report.__class__).__setstate__(tuple(state))
+
+
+SLOW_TEMPLATES = 'family = "angular", templates = 400, spheres = 40'
+
+
+def test_ctrl_c_while_templates_are_made_stops_there(tmp_path):
+    # Issue 55, item 5: the templates' fit took minutes and ignored Ctrl-C; it is checked
+    # between two templates, in grading(shape=...) and in a run (nothing written then).
+    for work in (
+        lambda: aggpack.grading("fu2003_table1_coarse", d_min="0.187 in", d_max="1 in", shape=SLOW_TEMPLATES),
+        lambda: aggpack.run(
+            aggpack.Scenario.from_toml(
+                "[container]\nside = 0.05\nheight = 0.3\n[particles]\ndiameter = 0.009\ncount = 300\n"
+                "shape = { " + SLOW_TEMPLATES + " }\n[pour]\n[dynamics]\n[analysis]\nbox_sides = [0.005]\n"
+                "[limits]\nmax_template_minutes = 100\n"),
+            out=tmp_path / "slow", threads=1),
+    ):
+        timer = threading.Timer(1.0, os.kill, (os.getpid(), signal.SIGINT))
+        timer.start()
+        try:
+            with pytest.raises(KeyboardInterrupt):
+                work()
+        finally:
+            timer.cancel()
+    assert not (tmp_path / "slow" / "summary.json").exists()

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdlib>
 
+#include <fmt/format.h>
+
 namespace aggpack {
 
 namespace {
@@ -62,6 +64,12 @@ std::optional<double> parse_length(std::string_view text, std::string* why, long
     factor = *f;
   }
   return static_cast<double>(number * factor);
+}
+
+std::string length_text(double metres, const std::string& written_unit) {
+  const auto per_unit = written_unit.empty() ? std::nullopt : metres_per_unit(written_unit);
+  if (!per_unit) return fmt::format("{:.4g} m", metres);
+  return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), written_unit);
 }
 
 }  // namespace aggpack

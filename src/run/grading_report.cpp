@@ -66,7 +66,7 @@ GradingShape grading_shape(const GrainShapeSpec& spec, const Grading& grading, c
   const GrainShapeSpec* specs[] = {&spec};
   check_library_cost(specs, RunLimits{}.max_template_minutes, "--shape", "limit (a scenario's limits.max_template_minutes)");
   try {
-    shape.library = make_grain_library(spec, shape.fit_sizes, q.seed * 64);  // a run's first component's stream
+    shape.library = make_grain_library(spec, shape.fit_sizes, q.seed * 64, q.watch);  // a run's first component's stream
   } catch (const InputError& e) {
     throw InputError(fmt::format("--shape: the grains of {}: {}", grading.name, e.what()));
   }

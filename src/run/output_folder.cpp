@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <fstream>
+
+#include <unistd.h>
 #include <regex>
 
 #include <fmt/format.h>
@@ -44,19 +46,25 @@ bool file_in_run_folder_before_per_file_manifests(const fs::path& folder, const 
   return std::regex_match(path, lammps_output) && is_plain_file(folder / fs::path(path).parent_path() / "lammps.out");
 }
 
-// The manifest's list; none when there is no manifest or it cannot be read (then the folder's
-// files count as others: nothing is removed on a guess).
-std::optional<std::set<std::string>> read_manifest(const fs::path& folder) {
+// The manifest's list, in its order; none when there is no manifest or it cannot be read (then
+// the folder's files count as others: nothing is removed on a guess).
+std::optional<std::vector<std::string>> read_manifest_list(const fs::path& folder) {
   std::ifstream in(folder / kManifestFile);
   if (!in) return std::nullopt;
   try {
     const nlohmann::json manifest = nlohmann::json::parse(in);
-    std::set<std::string> files;
-    for (const auto& f : manifest.at("files")) files.insert(f.get<std::string>());
+    std::vector<std::string> files;
+    for (const auto& f : manifest.at("files")) files.push_back(f.get<std::string>());
     return files;
   } catch (const nlohmann::json::exception&) {
     return std::nullopt;
   }
+}
+
+std::optional<std::set<std::string>> read_manifest(const fs::path& folder) {
+  const auto files = read_manifest_list(folder);
+  if (!files) return std::nullopt;
+  return std::set<std::string>(files->begin(), files->end());
 }
 
 bool summary_of_an_aggpack_run(const fs::path& folder) {
@@ -103,6 +111,42 @@ bool remove_file(const fs::path& folder, const std::string& path) {
 }
 
 }  // namespace
+
+void check_output_directory(const fs::path& directory, bool create) {
+  const std::string shown = directory.string();
+  if (shown.empty()) throw InputError("output.directory: the output folder is an empty path; expected a folder name");
+  std::error_code ec;
+  // The nearest part of the path that exists must be a directory we may write into.
+  fs::path existing = directory;
+  while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
+  if (existing.empty()) existing = ".";
+  if (!fs::is_directory(existing, ec))
+    throw InputError(fmt::format("{}: cannot make the output folder: {} is a file, not a folder; expected a folder "
+                                 "path (--out or output.directory)",
+                                 shown, existing.string()));
+  if (::access(existing.c_str(), W_OK | X_OK) != 0)
+    throw InputError(fmt::format("{}: cannot write the output folder: {} is not writable; expected a folder you "
+                                 "may write (--out or output.directory)",
+                                 shown, existing.string()));
+  if (!create) return;
+  fs::create_directories(directory, ec);
+  if (ec)
+    throw InputError(fmt::format("{}: cannot make the output folder: {}", shown, ec.message()));
+  const fs::path probe = directory / fmt::format(".aggpack-write-probe.{}", ::getpid());
+  bool written = false;
+  {
+    std::ofstream out(probe);
+    out << "probe\n";
+    written = static_cast<bool>(out.flush());
+  }
+  fs::remove(probe, ec);
+  if (!written) throw InputError(fmt::format("{}: cannot write into the output folder", shown));
+  // Temporary files of an earlier run into this folder that was killed mid-write (aggpack's
+  // own name pattern only: a user's `notes.tmp.txt` stays).
+  for (const auto& entry : fs::directory_iterator(directory, ec))
+    if (is_aggpack_temporary(entry.path()) && entry.is_regular_file(ec))
+      fs::remove(entry.path(), ec);
+}
 
 OutputFolderContents output_folder_contents(const fs::path& folder) {
   OutputFolderContents contents;
@@ -165,8 +209,7 @@ std::set<std::string> files_in_run_folders(const fs::path& folder) {
 }
 
 std::vector<std::string> manifest_files(const fs::path& folder) {
-  const auto files = read_manifest(folder);
-  return files ? std::vector<std::string>(files->begin(), files->end()) : std::vector<std::string>{};
+  return read_manifest_list(folder).value_or(std::vector<std::string>{});
 }
 
 void write_manifest(const fs::path& folder, const std::vector<std::string>& files) {

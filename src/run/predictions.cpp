@@ -116,7 +116,10 @@ Predictions predict_scenario(const Scenario& sc, const ModelParameters& paramete
   return out;
 }
 
-Predictions predict(const PredictRequest& r) {
+namespace {
+
+// The request's own values, before any file is read: each named as the caller gave it.
+void check_request(const PredictRequest& r) {
   const auto named = [&](std::string_view flag) { return option_name(flag, r.named); };
   const auto given = [&](std::string_view flag, double value) {
     return option_given(flag, fmt::format("{:g}", value), r.named);
@@ -142,6 +145,13 @@ Predictions predict(const PredictRequest& r) {
   if (r.beta_fine && !(*r.beta_fine > 0.0 && *r.beta_fine < 1.0))
     throw InputError(fmt::format("{}: expected a residual packing density between 0 and 1",
                                  given("--beta-fine", *r.beta_fine)));
+}
+
+}  // namespace
+
+Predictions predict(const PredictRequest& r) {
+  check_request(r);
+  const auto named = [&](std::string_view flag) { return option_name(flag, r.named); };
   std::optional<double> process_k;
   if (r.process) {
     process_k = compaction_index_of(*r.process);

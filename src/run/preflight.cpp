@@ -3,16 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <fstream>
 #include <numbers>
 
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/core/overloaded.hpp"
-#include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/dem_setup.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze.hpp"
@@ -573,42 +570,6 @@ void check_protocol_beds(const Scenario& sc, std::span<const double> bed_radii, 
                           }},
                step.kind);
   }
-}
-
-void check_output_directory(const fs::path& directory, bool create) {
-  const std::string shown = directory.string();
-  if (shown.empty()) throw InputError("output.directory: the output folder is an empty path; expected a folder name");
-  std::error_code ec;
-  // The nearest part of the path that exists must be a directory we may write into.
-  fs::path existing = directory;
-  while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
-  if (existing.empty()) existing = ".";
-  if (!fs::is_directory(existing, ec))
-    throw InputError(fmt::format("{}: cannot make the output folder: {} is a file, not a folder; expected a folder "
-                                 "path (--out or output.directory)",
-                                 shown, existing.string()));
-  if (::access(existing.c_str(), W_OK | X_OK) != 0)
-    throw InputError(fmt::format("{}: cannot write the output folder: {} is not writable; expected a folder you "
-                                 "may write (--out or output.directory)",
-                                 shown, existing.string()));
-  if (!create) return;
-  fs::create_directories(directory, ec);
-  if (ec)
-    throw InputError(fmt::format("{}: cannot make the output folder: {}", shown, ec.message()));
-  const fs::path probe = directory / fmt::format(".aggpack-write-probe.{}", ::getpid());
-  bool written = false;
-  {
-    std::ofstream out(probe);
-    out << "probe\n";
-    written = static_cast<bool>(out.flush());
-  }
-  fs::remove(probe, ec);
-  if (!written) throw InputError(fmt::format("{}: cannot write into the output folder", shown));
-  // Temporary files of an earlier run into this folder that was killed mid-write (aggpack's
-  // own name pattern only: a user's `notes.tmp.txt` stays).
-  for (const auto& entry : fs::directory_iterator(directory, ec))
-    if (is_aggpack_temporary(entry.path()) && entry.is_regular_file(ec))
-      fs::remove(entry.path(), ec);
 }
 
 }  // namespace aggpack

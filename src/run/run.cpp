@@ -193,6 +193,7 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     if (!report.series.samples.empty()) write("timeseries.csv", report.series.csv());
     const double output_seconds = seconds_since(t0);
     nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
+    summary["scenario"]["output"]["directory"] = dir.string();  // where these files are
     write("summary.json", summary.dump(2) + "\n");
     write_manifest(dir, written);
     return summary;
@@ -225,6 +226,8 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
   }
   const double output_seconds = seconds_since(t0);
   nlohmann::json summary = report.summary_json(output_seconds, seconds_so_far + output_seconds);
+  // Where these files are: the scenario's folder, or the one a report is written into later.
+  summary["scenario"]["output"]["directory"] = dir.string();
   write("summary.json", summary.dump(2) + "\n");
   write_manifest(dir, written);
   return summary;

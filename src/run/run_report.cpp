@@ -92,13 +92,6 @@ void add_analysis(nlohmann::json& stage, const PackingReport& analysis) {
   stage["coordination"] = to_json(analysis.coordination);
 }
 
-// A length in metres, and in the unit the scenario is written in beside it ("0.1016 m (4 in)").
-std::string length_text(double metres, const std::string& written_unit) {
-  const auto per_unit = written_unit.empty() ? std::nullopt : metres_per_unit(written_unit);
-  if (!per_unit) return fmt::format("{:.4g} m", metres);
-  return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), written_unit);
-}
-
 // A density, or "not measured" for the NaN of an analysis that was not made (an interrupted run's).
 std::string density_text(double density) {
   return std::isnan(density) ? std::string("not measured") : fmt::format("{:.4f}", density);

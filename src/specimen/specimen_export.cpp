@@ -1,6 +1,7 @@
 #include "aggpack/specimen/specimen_export.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -338,33 +339,15 @@ GmshMeshSizes mesh_sizes_from(const std::vector<double>& values, const std::stri
   return {values[0], values.size() > 1 ? values[1] : 2.0 * values[0], values.size() > 2 ? values[2] : values[0]};
 }
 
-nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenRequest& request,
-                               const std::filesystem::path& out, const SpecimenHooks& hooks) {
-  if (!request.region && !source.largest_virtual_box)
-    throw InputError(fmt::format("{}: no virtual box to take as the specimen: give the specimen's box or cylinder",
-                                 source.description));
-  if (!(request.min_size >= 0.0) || !(request.itz_thickness >= 0.0) || !std::isfinite(request.itz_thickness))
-    throw InputError("the minimum size and the ITZ's thickness: expected lengths of zero or more");
-  if (!(request.max_voxels >= 1.0) || !std::isfinite(request.max_voxels))
-    throw InputError(fmt::format("the voxel limit {}: expected a count of 1 or more", request.max_voxels));
-  const SpecimenRegion region = request.region.value_or(SpecimenRegion{*source.largest_virtual_box});
-  const std::vector<std::string> formats = checked_formats(request.formats);
-  check_specimen_folder(out);
-  check_inside_bed(region, source);
-  const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
-  std::vector<std::string> notes = source.notes;
-  // Lengths in metres, and in the scenario's (or --length-unit's) unit beside them.
-  const auto per_unit = source.length_unit.empty() ? std::nullopt : metres_per_unit(source.length_unit);
-  const auto length = [&](double metres) {
-    if (!per_unit || *per_unit == 1.0L) return fmt::format("{:.4g} m", metres);
-    return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), source.length_unit);
-  };
-  if (request.gap > 0.0)
-    notes.push_back(fmt::format("each kept particle's spheres shrunk by {} (gap / 2) so that touching ones "
-                                "stand {} apart: the aggregate fraction {:.4f} as packed, {:.4f} shrunk",
-                                length(0.5 * request.gap), length(request.gap),
-                                cut_specimen(source.particles, {region, request.min_size, 0.0, 0.0}).aggregate_fraction(),
-                                s.aggregate_fraction()));
+namespace {
+
+// A length in metres, and in the source's unit beside it.
+using LengthText = std::function<std::string(double)>;
+
+// The voxel of the image: the one asked for (no wider than the specimen), else a tenth of the
+// smallest kept sphere's diameter within the default budget of voxels (said in `notes`).
+double chosen_voxel(const Specimen& s, const SpecimenRegion& region, const SpecimenRequest& request,
+                    std::vector<std::string>& notes, const LengthText& length) {
   const Vec3 sides = region_bounds(region).size();
   const double smallest_side = std::min({sides.x, sides.y, sides.z});
   // A voxel wider than the specimen would be rounded to one voxel across: an image of nothing.
@@ -384,10 +367,15 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
                                 length(budget_voxel), length(voxel), kDefaultVoxelBudget));
     voxel = budget_voxel;
   }
-  check_voxel_memory(s, voxel, request.max_voxels, has(formats, "inp"));
-  if (has(formats, "msh")) check_mesh_size(s, mesh_sizes_of(s, request));
-  const VoxelImage image = voxelize(s, voxel, request.max_voxels);
-  if (has(formats, "inp") && !(static_cast<double>(image.inside()) <= kInpElementLimit))
+  return voxel;
+}
+
+// The image against the .inp's element limit and the ITZ against the mortar, and what the
+// image holds said in `notes`.
+void check_image(const VoxelImage& image, const SpecimenRequest& request, const Specimen& s,
+                 const SpecimenRegion& region, std::vector<std::string>& notes, const LengthText& length) {
+  const bool inp = has(checked_formats(request.formats), "inp");
+  if (inp && !(static_cast<double>(image.inside()) <= kInpElementLimit))
     throw InputError(fmt::format("format inp: {:.3g} voxel elements, more than {:.2g} (some 130 bytes each in the "
                                  "file); expected a larger voxel, or the voxel image alone (vti)",
                                  static_cast<double>(image.inside()), kInpElementLimit));
@@ -411,6 +399,42 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
   if (s.dropped_particles > 0)
     notes.push_back(fmt::format("{} particles below {} ({:.4f} of the specimen's volume) are left to the mortar",
                                 s.dropped_particles, length(request.min_size), s.dropped_volume / region_volume(region)));
+}
+
+}  // namespace
+
+nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenRequest& request,
+                               const std::filesystem::path& out, const SpecimenHooks& hooks) {
+  if (!request.region && !source.largest_virtual_box)
+    throw InputError(fmt::format("{}: no virtual box to take as the specimen: give the specimen's box or cylinder",
+                                 source.description));
+  if (!(request.min_size >= 0.0) || !(request.itz_thickness >= 0.0) || !std::isfinite(request.itz_thickness))
+    throw InputError("the minimum size and the ITZ's thickness: expected lengths of zero or more");
+  if (!(request.max_voxels >= 1.0) || !std::isfinite(request.max_voxels))
+    throw InputError(fmt::format("the voxel limit {}: expected a count of 1 or more", request.max_voxels));
+  const SpecimenRegion region = request.region.value_or(SpecimenRegion{*source.largest_virtual_box});
+  const std::vector<std::string> formats = checked_formats(request.formats);
+  check_specimen_folder(out);
+  check_inside_bed(region, source);
+  const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
+  std::vector<std::string> notes = source.notes;
+  // Lengths in metres, and in the scenario's (or --length-unit's) unit beside them.
+  const auto per_unit = source.length_unit.empty() ? std::nullopt : metres_per_unit(source.length_unit);
+  const LengthText length = [&](double metres) {
+    if (!per_unit || *per_unit == 1.0L) return fmt::format("{:.4g} m", metres);
+    return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), source.length_unit);
+  };
+  if (request.gap > 0.0)
+    notes.push_back(fmt::format("each kept particle's spheres shrunk by {} (gap / 2) so that touching ones "
+                                "stand {} apart: the aggregate fraction {:.4f} as packed, {:.4f} shrunk",
+                                length(0.5 * request.gap), length(request.gap),
+                                cut_specimen(source.particles, {region, request.min_size, 0.0, 0.0}).aggregate_fraction(),
+                                s.aggregate_fraction()));
+  double voxel = chosen_voxel(s, region, request, notes, length);
+  check_voxel_memory(s, voxel, request.max_voxels, has(formats, "inp"));
+  if (has(formats, "msh")) check_mesh_size(s, mesh_sizes_of(s, request));
+  const VoxelImage image = voxelize(s, voxel, request.max_voxels);
+  check_image(image, request, s, region, notes, length);
   const std::string provenance =
       fmt::format("aggpack {} specimen: {} of {}", kVersion, region_text(region), source.description);
   nlohmann::json report = specimen_json(source, request, s, image);

@@ -143,6 +143,39 @@ void write_vti(std::ostream& out, const VoxelImage& image, std::string_view prov
   out << "\n  </AppendedData>\n</VTKFile>\n";
 }
 
+namespace {
+
+// The phases' element sets that have elements.
+std::vector<std::pair<Phase, const char*>> phase_sets(const VoxelImage& image) {
+  const std::array<std::pair<Phase, const char*>, 3> sets{
+      {{Phase::Aggregate, "AGGREGATE"}, {Phase::Mortar, "MORTAR"}, {Phase::Itz, "ITZ"}}};
+  std::vector<std::pair<Phase, const char*>> written;
+  for (const auto& set : sets)
+    if (std::find(image.phase.begin(), image.phase.end(), static_cast<std::uint8_t>(set.first)) != image.phase.end())
+      written.push_back(set);
+  return written;
+}
+
+// The .inp's comment lines: what it holds, its element sets and the node sets of the region's
+// faces (all six of a box, the bottom and top of a cylinder). Returns whether it is a box.
+bool write_inp_header(std::ostream& out, const VoxelImage& image,
+                      const std::vector<std::pair<Phase, const char*>>& written_sets, std::string_view provenance) {
+  const bool box = !std::any_of(image.phase.begin(), image.phase.end(),
+                                [](std::uint8_t p) { return p == static_cast<std::uint8_t>(Phase::Outside); });
+  std::vector<std::string> set_names;
+  for (const auto& set : written_sets) set_names.emplace_back(set.second);
+  // No *Heading: a part to *INCLUDE in a deck, which has its own (a second stops CalculiX).
+  fmt::print(out,
+             "** {}\n** A mesh to *INCLUDE in an analysis deck (no heading of its own: the deck gives one), the sections "
+             "given there.\n** C3D8 voxels; element sets (one per phase): {}\n** node sets of the faces: {}\n",
+             provenance, fmt::join(set_names, ", "),
+             box ? "XMIN, XMAX, YMIN, YMAX, ZMIN, ZMAX (the box's faces x = xmin, ...)"
+                 : "ZMIN, ZMAX (the cylinder's bottom and top)");
+  return box;
+}
+
+}  // namespace
+
 void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_view provenance) {
   const VoxelGrid& g = image.grid;
   const std::size_t nx = g.count[0] + 1, ny = g.count[1] + 1;
@@ -156,24 +189,8 @@ void write_abaqus_inp(std::ostream& out, const VoxelImage& image, std::string_vi
       for (std::size_t i = 0; i < g.count[0]; ++i)
         if (inside(index_of(g, i, j, k)))
           for (std::size_t c = 0; c < 8; ++c) node[point(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))] = 1;
-  // The phases' element sets that have elements, and the node sets of the region's faces.
-  const std::array<std::pair<Phase, const char*>, 3> sets{
-      {{Phase::Aggregate, "AGGREGATE"}, {Phase::Mortar, "MORTAR"}, {Phase::Itz, "ITZ"}}};
-  std::vector<std::pair<Phase, const char*>> written_sets;
-  for (const auto& set : sets)
-    if (std::find(image.phase.begin(), image.phase.end(), static_cast<std::uint8_t>(set.first)) != image.phase.end())
-      written_sets.push_back(set);
-  const bool box = !std::any_of(image.phase.begin(), image.phase.end(),
-                                [](std::uint8_t p) { return p == static_cast<std::uint8_t>(Phase::Outside); });
-  std::vector<std::string> set_names;
-  for (const auto& set : written_sets) set_names.emplace_back(set.second);
-  // No *Heading: a part to *INCLUDE in a deck, which has its own (a second stops CalculiX).
-  fmt::print(out,
-             "** {}\n** A mesh to *INCLUDE in an analysis deck (no heading of its own: the deck gives one), the sections "
-             "given there.\n** C3D8 voxels; element sets (one per phase): {}\n** node sets of the faces: {}\n",
-             provenance, fmt::join(set_names, ", "),
-             box ? "XMIN, XMAX, YMIN, YMAX, ZMIN, ZMAX (the box's faces x = xmin, ...)"
-                 : "ZMIN, ZMAX (the cylinder's bottom and top)");
+  const std::vector<std::pair<Phase, const char*>> written_sets = phase_sets(image);
+  const bool box = write_inp_header(out, image, written_sets, provenance);
   out << "*Node\n";
   std::size_t nodes = 0;
   for (std::size_t k = 0; k <= g.count[2]; ++k)

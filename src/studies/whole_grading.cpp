@@ -9,6 +9,7 @@
 
 #include "aggpack/analysis/bulk_density.hpp"
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/studies/calibration.hpp"
 #include "aggpack/studies/campaign.hpp"
@@ -171,7 +172,7 @@ WholeGradingEstimate estimate_whole_grading(const WholeGradingOptions& options, 
   for (std::size_t k = 0; k < cuts.size(); ++k) {
     std::vector<double> density;
     std::size_t spheres = 0;
-    const std::string at_cut = fmt::format("{} = {:.4g} m", key, cuts[k]);
+    const std::string at_cut = fmt::format("{} = {}", key, length_text(cuts[k], scenarios[k].written_length_unit));
     for (int seed = 1; seed <= options.seeds; ++seed) {
       const CaseRun c = campaign.run(at_cut, scenarios[k], static_cast<std::uint64_t>(seed), [&](const CaseRun& r) {
         return fmt::format("  whole-grading: {}, seed {}: {} spheres, density {:.4f}", at_cut, seed,

@@ -51,23 +51,26 @@ class CliCalibration : public ::testing::Test {
   }
 };
 
-// The "measurement" is the same pour made at mu_r = 0.15 (seeds 1 and 2): calibrate finds
-// mu_r again, within its band, and a run then takes the fitted value.
+// The "measurement" is the same pour made at mu_r = 0.15 (seeds 1 to 3): calibrate finds
+// mu_r again, within its band, and a run then takes the fitted value. (With two seeds and four
+// runs, the bed's chaos alone, moved by issue 55's contact lever arm, put a second crossing of
+// the measured density at mu_r = 0.28, with a band of 0.001 that did not hold 0.15: the band
+// counts the ends' standard errors, not the roughness of the density against mu_r.)
 TEST_F(CliCalibration, FindsTheRollingFrictionThatMadeTheMeasurementAndARunTakesIt) {
   const fs::path scenario = write("poured.toml", kPoured);
   double measured = 0.0;
-  for (const char* seed : {"1", "2"}) {
+  for (const char* seed : {"1", "2", "3"}) {
     const fs::path out = dir_ / (std::string("truth_") + seed);
     const auto truth = run_cli("run " + scenario.string() + " --seed " + seed +
                                " --set material.rolling_friction=0.15 --quiet --threads 1 --out " + out.string());
     ASSERT_EQ(truth.exit_code, 0) << truth.output;
-    measured += 0.5 * json_of(out / "summary.json")["density"]["mean"].get<double>();
+    measured += json_of(out / "summary.json")["density"]["mean"].get<double>() / 3.0;
   }
   const fs::path file = dir_ / "calibration.json";
   // Its runs are in memory: an output.directory it could not make is no reason to refuse them.
   write("blocker", "a file where the scenario's output folder would go\n");
   const auto r = run_cli("calibrate " + scenario.string() + " --dem --measured " + std::to_string(measured) +
-                         " --seeds 2 --max-runs 4 --threads 1 --out " + file.string() + " --set 'output.directory=\"" +
+                         " --seeds 3 --max-runs 6 --threads 1 --out " + file.string() + " --set 'output.directory=\"" +
                          (dir_ / "blocker" / "out").string() + "\"'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("aggpack: calibrated rolling_friction of default = "), std::string::npos) << r.output;
@@ -76,7 +79,7 @@ TEST_F(CliCalibration, FindsTheRollingFrictionThatMadeTheMeasurementAndARunTakes
   EXPECT_NEAR(c["measured"]["density"].get<double>(), measured, 1e-6);
   const auto& evaluations = c["evaluations"];
   ASSERT_GE(evaluations.size(), 3u);
-  ASSERT_LE(evaluations.size(), 4u);
+  ASSERT_LE(evaluations.size(), 6u);
   // The range's ends first; rolling friction loosens the poured bed.
   EXPECT_EQ(evaluations[0]["value"], 0.0);
   EXPECT_EQ(evaluations[1]["value"], 0.5);

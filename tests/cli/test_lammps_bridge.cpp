@@ -256,10 +256,14 @@ TEST_F(LammpsBridge, APourAndATappingRunInLammpsAsInAggpack) {
   EXPECT_EQ(lmp_pour.at("lowest_slab_bottom_m"), own_pour.at("lowest_slab_bottom_m"));
   // The second comes onto the first as it fell: the same within the fall's chaos.
   EXPECT_NEAR(lmp_pour.at("highest_slab_top_m").get<double>(), own_pour.at("highest_slab_top_m").get<double>(), 0.005);
-  // Poured beds of two engines (30 spheres in the box: measured 0.6132 and 0.6216).
+  // Poured beds of two engines, one seed, 30 spheres in the box: a single bed's density there
+  // scatters by 0.015 (sd) from seed to seed (aggpack, seeds 1-5: 0.577-0.614), so two engines'
+  // single beds differ by 0.021 (sd) by chance alone; within two of those. (Measured: 0.6132
+  // and 0.6216 before issue 55's contact lever arm, 0.5768 and 0.6154 after; whether the two
+  // engines pack alike on average is the forty-seed comparison's, docs/validation.md.)
   const double own_poured = own.at("stages").at("tapping").at("density_before").get<double>();
   const double lmp_poured = handed.at("stages").at("tapping").at("density_before").get<double>();
-  EXPECT_NEAR(lmp_poured, own_poured, 0.02);
+  EXPECT_NEAR(lmp_poured, own_poured, 0.045);
   // Every tap moved the bed in LAMMPS; with no acceleration the same taps leave it as it was.
   const auto taps = handed.at("stages").at("tapping").at("density_after_each_tap");
   ASSERT_EQ(taps.size(), 3u);

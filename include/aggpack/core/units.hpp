@@ -22,4 +22,8 @@ std::optional<double> parse_length(std::string_view text, std::string* why = nul
 // Metres per unit for a symbol such as "mm"; std::nullopt if unknown.
 std::optional<long double> metres_per_unit(std::string_view symbol);
 
+// A length in metres, and in the unit the scenario is written in beside it ("0.1016 m (4 in)");
+// metres alone when it is written in none.
+std::string length_text(double metres, const std::string& written_unit);
+
 }  // namespace aggpack

@@ -25,6 +25,7 @@ struct GradingQuery {
   std::optional<GrainShapeSpec> shape;  // --shape: the grading's (the coarse one's) grains
   std::uint64_t seed = 1;               // of the sizes and templates --shape draws
   OptionStyle named = OptionStyle::Cli;  // the options in messages: the CLI's flags or Python's keywords
+  LibraryWatch watch;                    // told of --shape's templates as they are made (a stop honoured there)
 };
 
 // A shipped grading by name, or a CSV sieve analysis (`length_unit` metres per unit of a bare

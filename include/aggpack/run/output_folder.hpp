@@ -33,6 +33,12 @@ struct OutputFolderContents {
 };
 OutputFolderContents output_folder_contents(const std::filesystem::path& folder);
 
+// The output folder: an existing directory that can be written, or a path where one can be
+// made. With `create`, makes it and writes and removes a probe file (what `run` does before
+// any work), and removes a killed run's temporaries; without, only looks (what `check` does,
+// which writes nothing). InputError naming the folder otherwise.
+void check_output_directory(const std::filesystem::path& directory, bool create);
+
 // Refuses (InputError, before any work) a folder holding files no aggpack run wrote, naming
 // them, unless `overwrite`: then the run writes beside them and leaves them alone.
 void check_output_folder_contents(const std::filesystem::path& folder, bool overwrite);
@@ -47,7 +53,7 @@ std::vector<std::string> remove_earlier_run(const std::filesystem::path& folder,
 // lists them: a run lists as its own those that were not there when it began.
 std::set<std::string> files_in_run_folders(const std::filesystem::path& folder);
 
-// The files the manifest of `folder` lists (none when there is none or it cannot be read).
+// The files the manifest of `folder` lists, in its order (none when there is none or it cannot be read).
 std::vector<std::string> manifest_files(const std::filesystem::path& folder);
 
 // Writes the manifest: `files` (paths relative to `folder`), written atomically. The files the

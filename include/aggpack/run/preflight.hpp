@@ -6,6 +6,7 @@
 #include "aggpack/core/option_names.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/generate_sizes.hpp"
+#include "aggpack/run/output_folder.hpp"  // check_output_directory
 
 namespace aggpack {
 
@@ -58,9 +59,5 @@ void check_imported_bed(const Scenario& scenario, ParticleStore& bed, const std:
 void check_protocol_beds(const Scenario& scenario, std::span<const double> bed_radii,
                          std::span<const double> to_place, const RunGrains* grains = nullptr);
 
-// The output folder: an existing directory that can be written, or a path where one can be
-// made. With `create`, makes it and writes and removes a probe file (what `run` does before
-// any work); without, only looks (what `check` does, which writes nothing).
-void check_output_directory(const std::filesystem::path& directory, bool create);
 
 }  // namespace aggpack
