@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <fstream>
-
-#include <unistd.h>
 #include <regex>
 
 #include <fmt/format.h>
@@ -111,42 +109,6 @@ bool remove_file(const fs::path& folder, const std::string& path) {
 }
 
 }  // namespace
-
-void check_output_directory(const fs::path& directory, bool create) {
-  const std::string shown = directory.string();
-  if (shown.empty()) throw InputError("output.directory: the output folder is an empty path; expected a folder name");
-  std::error_code ec;
-  // The nearest part of the path that exists must be a directory we may write into.
-  fs::path existing = directory;
-  while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
-  if (existing.empty()) existing = ".";
-  if (!fs::is_directory(existing, ec))
-    throw InputError(fmt::format("{}: cannot make the output folder: {} is a file, not a folder; expected a folder "
-                                 "path (--out or output.directory)",
-                                 shown, existing.string()));
-  if (::access(existing.c_str(), W_OK | X_OK) != 0)
-    throw InputError(fmt::format("{}: cannot write the output folder: {} is not writable; expected a folder you "
-                                 "may write (--out or output.directory)",
-                                 shown, existing.string()));
-  if (!create) return;
-  fs::create_directories(directory, ec);
-  if (ec)
-    throw InputError(fmt::format("{}: cannot make the output folder: {}", shown, ec.message()));
-  const fs::path probe = directory / fmt::format(".aggpack-write-probe.{}", ::getpid());
-  bool written = false;
-  {
-    std::ofstream out(probe);
-    out << "probe\n";
-    written = static_cast<bool>(out.flush());
-  }
-  fs::remove(probe, ec);
-  if (!written) throw InputError(fmt::format("{}: cannot write into the output folder", shown));
-  // Temporary files of an earlier run into this folder that was killed mid-write (aggpack's
-  // own name pattern only: a user's `notes.tmp.txt` stays).
-  for (const auto& entry : fs::directory_iterator(directory, ec))
-    if (is_aggpack_temporary(entry.path()) && entry.is_regular_file(ec))
-      fs::remove(entry.path(), ec);
-}
 
 OutputFolderContents output_folder_contents(const fs::path& folder) {
   OutputFolderContents contents;

@@ -9,14 +9,13 @@
 #include <numbers>
 #include <sstream>
 
-#include <unistd.h>
-
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/output_directory.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/specimen/voxel_image.hpp"
 
@@ -56,26 +55,6 @@ std::vector<std::string> checked_formats(const std::vector<std::string>& asked) 
     throw InputError("format msh: gmsh is not installed (Debian package gmsh); the .geo file can be meshed elsewhere");
   if (msh && std::find(formats.begin(), formats.end(), "geo") == formats.end()) formats.push_back("geo");
   return formats;
-}
-
-// The output folder, before any work: an existing path that is not a folder, or a nearest
-// existing ancestor that is not a writable folder, is refused naming it (as `run` does).
-void check_specimen_folder(const std::filesystem::path& out) {
-  namespace fs = std::filesystem;
-  const std::string shown = out.string();
-  if (shown.empty()) throw InputError("the output folder is an empty path; expected a folder name");
-  std::error_code ec;
-  fs::path existing = out;
-  while (!existing.empty() && !fs::exists(existing, ec)) existing = existing.parent_path();
-  if (existing.empty()) existing = ".";
-  if (!fs::is_directory(existing, ec))
-    throw InputError(fmt::format("{}: cannot make the output folder: {} is a file, not a folder; expected a folder "
-                                 "path",
-                                 shown, existing.string()));
-  if (::access(existing.c_str(), W_OK | X_OK) != 0)
-    throw InputError(fmt::format("{}: cannot write the output folder: {} is not writable; expected a folder you may "
-                                 "write",
-                                 shown, existing.string()));
 }
 
 // The output folder made, and an earlier specimen's files removed; any failure an InputError
@@ -414,7 +393,7 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
     throw InputError(fmt::format("the voxel limit {}: expected a count of 1 or more", request.max_voxels));
   const SpecimenRegion region = request.region.value_or(SpecimenRegion{*source.largest_virtual_box});
   const std::vector<std::string> formats = checked_formats(request.formats);
-  check_specimen_folder(out);
+  check_output_directory(out, false, "--out, or out= from Python");
   check_inside_bed(region, source);
   const Specimen s = cut_specimen(source.particles, {region, request.min_size, request.itz_thickness, request.gap});
   std::vector<std::string> notes = source.notes;

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "aggpack/io/output_directory.hpp"  // check_output_directory
+
 namespace aggpack {
 
 inline constexpr const char* kManifestFile = "aggpack-manifest.json";
@@ -32,12 +34,6 @@ struct OutputFolderContents {
   std::vector<std::string> others;
 };
 OutputFolderContents output_folder_contents(const std::filesystem::path& folder);
-
-// The output folder: an existing directory that can be written, or a path where one can be
-// made. With `create`, makes it and writes and removes a probe file (what `run` does before
-// any work), and removes a killed run's temporaries; without, only looks (what `check` does,
-// which writes nothing). InputError naming the folder otherwise.
-void check_output_directory(const std::filesystem::path& directory, bool create);
 
 // Refuses (InputError, before any work) a folder holding files no aggpack run wrote, naming
 // them, unless `overwrite`: then the run writes beside them and leaves them alone.
