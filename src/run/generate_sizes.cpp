@@ -81,10 +81,13 @@ double expected_particle_count(const ParticleSource& source) { return expected_a
 
 namespace {
 
+bool is_grain_component(const ParticleSource& source, std::size_t c) {
+  return c < source.component_shape.size() && source.component_shape[c].has_value();
+}
+
 // The spheres one particle of component c is made of: a grain's members, or itself.
 double spheres_of_component(const ParticleSource& source, std::size_t c) {
-  if (c >= source.component_shape.size() || !source.component_shape[c]) return 1.0;
-  return static_cast<double>(source.component_shape[c]->spheres);
+  return is_grain_component(source, c) ? static_cast<double>(source.component_shape[c]->spheres) : 1.0;
 }
 
 double most_spheres_of_a_component(const ParticleSource& source) {
@@ -102,7 +105,7 @@ ExpectedAmount expected_amount(const ParticleSource& source) {
     const double spheres = spheres_of_component(source, c);
     amount.particles += count;
     amount.spheres += count * spheres;
-    if (c < source.component_shape.size() && source.component_shape[c]) amount.grains += count;
+    if (is_grain_component(source, c)) amount.grains += count;
   };
   const auto add_unknown_split = [&](double count) {
     amount.particles += count;
@@ -150,7 +153,7 @@ ExpectedAmount drawn_amount(const ParticleSource& source, const GeneratedSizes& 
     const auto component = static_cast<std::size_t>(c);
     amount.particles += 1.0;
     amount.spheres += spheres_of_component(source, component);
-    if (component < source.component_shape.size() && source.component_shape[component]) amount.grains += 1.0;
+    if (is_grain_component(source, component)) amount.grains += 1.0;
   }
   return amount;
 }

@@ -1,6 +1,5 @@
 #include "run/run_session.hpp"
 
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
