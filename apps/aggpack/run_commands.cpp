@@ -13,6 +13,7 @@
 #include "aggpack/run/lammps_steps.hpp"
 #include "aggpack/run/preflight.hpp"
 #include "aggpack/run/run.hpp"
+#include "aggpack/run/run_grains.hpp"
 #include "arguments.hpp"
 #include "commands.hpp"
 
@@ -126,7 +127,12 @@ Subcommand add_check(CLI::App& app) {
   return {cmd, [a] {
             aggpack::ScenarioOverrides overrides;
             overrides.set = a->sets;
-            const auto sc = aggpack::check_scenario(a->scenario, overrides);
+            // The grains' templates can take minutes: their count on stderr as they are made.
+            aggpack::Progress progress =
+                aggpack::Progress::wanted(false) ? aggpack::Progress(std::cerr) : aggpack::Progress();
+            const auto sc =
+                aggpack::check_scenario(a->scenario, overrides, aggpack::templates_shown_on(progress, nullptr));
+            progress.clear();
             fmt::print("{}: ok ({})\n", a->scenario, sc.title);
             return 0;
           }};

@@ -37,20 +37,21 @@ double seconds_since(Clock::time_point t0) { return std::chrono::duration<double
 
 }  // namespace
 
-Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides) {
+Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides,
+                        const LibraryWatch& watch) {
   Scenario sc = load_scenario(scenario_file, overrides);
-  check_loaded_scenario(sc);
+  check_loaded_scenario(sc, nullptr, watch);
   return sc;
 }
 
-void check_loaded_scenario(const Scenario& sc, const ParticleStore* starting_bed) {
+void check_loaded_scenario(const Scenario& sc, const ParticleStore* starting_bed, const LibraryWatch& watch) {
   check_output_directory(sc.output.directory, false);
-  check_scenario_inputs(sc, starting_bed);
+  check_scenario_inputs(sc, starting_bed, watch);
 }
 
-void check_scenario_inputs(const Scenario& sc, const ParticleStore* starting_bed) {
+void check_scenario_inputs(const Scenario& sc, const ParticleStore* starting_bed, const LibraryWatch& watch) {
   const InitialBed bed = initial_bed(sc, starting_bed);
-  (void)checked_grains(sc, scenario_protocol(sc), bed);  // their templates made: a second or so
+  (void)checked_grains(sc, scenario_protocol(sc), bed, watch);  // their templates made: seconds to minutes
   if (sc.deposition || sc.pour) return;  // the boxes can only be placed in the bed once made
   analyse_bed(sc, bed.particles);        // box placement errors surface here
 }

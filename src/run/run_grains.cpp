@@ -10,6 +10,14 @@
 
 namespace aggpack {
 
+LibraryWatch templates_shown_on(Progress& progress, const StopRequest* stop) {
+  progress.start_stage("grain templates");
+  return {stop, [&progress](std::size_t drawn, std::size_t expected) {
+            progress.update({fmt::format("template {} of at most {}", drawn, expected)},
+                            static_cast<double>(drawn) / static_cast<double>(expected));
+          }};
+}
+
 RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed,
                           const LibraryWatch& watch) {
   RunGrains grains;

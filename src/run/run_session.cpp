@@ -232,12 +232,7 @@ RunSession::RunSession(const Scenario& sc, const RunControls& controls, Progress
   if (initial.sizes) context_.sphere_materials = sphere_materials(sc.particles, *initial.sizes);
   const auto t_grains = Clock::now();
   // The templates' fit can take minutes: shown, and stopped where asked.
-  LibraryWatch watch{controls.stop, [&progress](std::size_t drawn, std::size_t expected) {
-                       progress.update({fmt::format("template {} of at most {}", drawn, expected)},
-                                       static_cast<double>(drawn) / static_cast<double>(expected));
-                     }};
-  if (sc.particles.has_grains()) progress.start_stage("grain templates");
-  context_.grains = checked_grains(sc, protocol_, initial, watch);
+  context_.grains = checked_grains(sc, protocol_, initial, templates_shown_on(progress, controls.stop));
   progress.clear();
   if (!context_.grains.empty()) {
     report_.wall_clock_s["grains"] = seconds_since(t_grains);

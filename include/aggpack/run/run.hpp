@@ -114,11 +114,15 @@ RunResult run_prepared_scenario(Scenario scenario, const RunOptions& options, st
 // its stop_after is ignored (the checkpoint's holds).
 RunResult resume_run(const std::filesystem::path& run_directory, const RunOptions& options, std::ostream& log);
 
-// Validates a scenario (and the particle file it names) without running or writing.
-Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides);
+// Validates a scenario (and the particle file it names) without running or writing. `watch`
+// is told of the grains' templates as they are made (they can take minutes).
+Scenario check_scenario(const std::filesystem::path& scenario_file, const ScenarioOverrides& overrides,
+                        const LibraryWatch& watch = {});
 // The same checks on a scenario already read (its particle file, grains, output folder, boxes).
-void check_loaded_scenario(const Scenario& scenario, const ParticleStore* starting_bed = nullptr);
+void check_loaded_scenario(const Scenario& scenario, const ParticleStore* starting_bed = nullptr,
+                           const LibraryWatch& watch = {});
 // All of them but the output folder's, for a run in memory, which writes none (a study's).
-void check_scenario_inputs(const Scenario& scenario, const ParticleStore* starting_bed = nullptr);
+void check_scenario_inputs(const Scenario& scenario, const ParticleStore* starting_bed = nullptr,
+                           const LibraryWatch& watch = {});
 
 }  // namespace aggpack

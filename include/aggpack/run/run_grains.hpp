@@ -15,6 +15,7 @@
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/scenario.hpp"
 #include "aggpack/run/generate_sizes.hpp"
+#include "aggpack/run/progress.hpp"
 
 namespace aggpack {
 
@@ -73,6 +74,10 @@ std::vector<SieveInterval> grain_sieve_intervals(const ParticleStore& bed, std::
 // The run's grains from its components' shapes, the generated sizes (diameters: each grain's
 // intermediate dimension) and the seed; empty when no component has a shape. Throws InputError
 // from a library (a measure that applies to none of a component's sizes or cannot be reached).
+// The watch that counts the templates on `progress`'s line as they are made (it starts the
+// stage "grain templates"; clear the line after) and stops at `stop`'s request.
+LibraryWatch templates_shown_on(Progress& progress, const StopRequest* stop);
+
 // `watch`: told of each template drawn, over all the components (see make_grain_library).
 RunGrains make_run_grains(const ParticleSource& source, const GeneratedSizes& sizes, std::uint64_t seed,
                           const LibraryWatch& watch = {});
