@@ -201,8 +201,7 @@ class GmshChild {
       if (safe_point) safe_point();
       ::usleep(50000);
     }
-    pid_ = 0;
-    // Whatever Gmsh left in its group goes with it.
+    pid_ = 0;  // reaped: nothing left for the destructor to stop
     return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
   }
 

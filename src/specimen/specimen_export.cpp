@@ -399,10 +399,8 @@ nlohmann::json export_specimen(const SpecimenSource& source, const SpecimenReque
   std::vector<std::string> notes = source.notes;
   // Lengths in metres, and in the scenario's (or --length-unit's) unit beside them.
   const auto per_unit = source.length_unit.empty() ? std::nullopt : metres_per_unit(source.length_unit);
-  const LengthText length = [&](double metres) {
-    if (!per_unit || *per_unit == 1.0L) return fmt::format("{:.4g} m", metres);
-    return fmt::format("{:.4g} m ({:.4g} {})", metres, metres / static_cast<double>(*per_unit), source.length_unit);
-  };
+  const std::string unit = per_unit && *per_unit != 1.0L ? source.length_unit : std::string();
+  const LengthText length = [&](double metres) { return length_text(metres, unit); };
   if (request.gap > 0.0)
     notes.push_back(fmt::format("each kept particle's spheres shrunk by {} (gap / 2) so that touching ones "
                                 "stand {} apart: the aggregate fraction {:.4f} as packed, {:.4f} shrunk",
