@@ -100,7 +100,15 @@ void remove_empty_parents(const fs::path& folder, const std::string& path) {
   }
 }
 
+// A path a manifest may name: inside its folder (a damaged or edited manifest never reaches out).
+bool inside_folder(const std::string& path) {
+  const fs::path p(path);
+  if (p.empty() || p.is_absolute()) return false;
+  return std::none_of(p.begin(), p.end(), [](const fs::path& part) { return part == ".."; });
+}
+
 bool remove_file(const fs::path& folder, const std::string& path) {
+  if (!inside_folder(path)) return false;
   if (!is_plain_file(folder / path)) return false;  // a folder or a link bearing an output's name is the user's
   std::error_code ec;
   if (!fs::remove(folder / path, ec) || ec) return false;

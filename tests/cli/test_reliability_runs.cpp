@@ -366,4 +366,19 @@ TEST_F(ReliabilityRuns, ARefusedRunLeavesTheManifestDescribingTheFolder) {
   EXPECT_FALSE(fs::exists(out / "particles_unanalysed.csv"));
 }
 
+// A manifest edited or damaged to name files outside its folder removes none of them: a later
+// run into the folder removes only what lies inside it.
+TEST_F(ReliabilityRuns, AManifestNeverReachesOutOfItsFolder) {
+  const fs::path scenario = write("deposit.toml", "[container]\nside = 0.1\nheight = 0.1\n[particles]\n"
+                                                  "diameter = 0.01\ncount = 500\n[deposition]\n");
+  const fs::path out = dir_ / "out";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --out " + out.string()).exit_code, 0);
+  std::ofstream(dir_ / "victim.txt") << "mine";
+  std::ofstream(out / "aggpack-manifest.json")
+      << R"({"files": ["summary.json", "particles.csv", "particles.vtp", "supports.csv", "../victim.txt", )"
+      << "\"" << (dir_ / "victim.txt").string() << "\"]}";
+  ASSERT_EQ(run_cli("run " + scenario.string() + " --quiet --out " + out.string()).exit_code, 0);
+  EXPECT_EQ(slurp(dir_ / "victim.txt"), "mine");
+}
+
 }  // namespace
