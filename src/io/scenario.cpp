@@ -58,16 +58,6 @@ std::filesystem::path relative_to(const std::filesystem::path& dir, const std::s
   return std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : dir / file;
 }
 
-toml::table parse_toml(std::string_view text, const std::filesystem::path& file) {
-  try {
-    return toml::parse(text, file.string());
-  } catch (const toml::parse_error& e) {
-    const auto& src = e.source();
-    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
-                                 src.begin.column, e.description()));
-  }
-}
-
 // calibrated_by: a DEM calibration file or a list of them (relative to the scenario's folder).
 // Each one's assignments replace the scenario's values, after --set. A key given two values (by
 // two files, or by a file and --set) is refused: which one is meant cannot be known.
@@ -199,6 +189,16 @@ void read_order(const TomlSection& s, Scenario& sc) {
 }
 }  // namespace
 
+toml::table parse_toml(std::string_view text, const std::filesystem::path& file) {
+  try {
+    return toml::parse(text, file.string());
+  } catch (const toml::parse_error& e) {
+    const auto& src = e.source();
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
+                                 src.begin.column, e.description()));
+  }
+}
+
 // The input file that `key` names, from the scenario's folder: one that is not there is
 // refused at the key, with the path it was looked for at (absolute) and the path as given.
 // (One that is there but is no regular file is refused when it is read, saying what it is.)
@@ -259,6 +259,8 @@ toml::table overridden_table(std::string_view text, const std::filesystem::path&
   return root;
 }
 
+}  // namespace
+
 // A TOML value as JSON's (a date or time as its TOML text).
 nlohmann::json json_of(const toml::node& node) {
   if (const auto* table = node.as_table()) {
@@ -279,8 +281,6 @@ nlohmann::json json_of(const toml::node& node) {
   node.visit([&](const auto& value) { text << value; });
   return text.str();
 }
-
-}  // namespace
 
 nlohmann::json scenario_keys(std::string_view text, const std::filesystem::path& file,
                              const ScenarioOverrides& overrides) {
@@ -303,6 +303,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   sc.file = file;
   sc.overrides = overrides.set;
   sc.calibrations = apply_calibrations(root, s, file, origin);
+  apply_material_files(root, file, origin);
   sc.title = s.string("title").value_or(file.stem().string());
   sc.seed = read_seed(s, file, overrides);
   const TomlSection container = s.required(s.table("container"), "container", "a [container] table");

@@ -6,8 +6,6 @@
 
 namespace aggpack {
 
-namespace {
-
 nlohmann::json grading_source_json(const GradingSource& gs) {
   nlohmann::json out{{"key", gs.key}, {"grading", gs.grading.name}};
   for (const Sieve& s : gs.grading.sieves)
@@ -17,6 +15,8 @@ nlohmann::json grading_source_json(const GradingSource& gs) {
   if (gs.band) out["band"] = gs.band->name;
   return out;
 }
+
+namespace {
 
 nlohmann::json particles_json(const ParticleSource& particles) {
   nlohmann::json p;
@@ -103,6 +103,8 @@ nlohmann::json dynamics_json(const DynamicsStage& d, const Material& material) {
   return j;
 }
 
+}  // namespace
+
 nlohmann::json material_json(const Material& m) {
   const ContactParameters& c = m.contact;
   nlohmann::json j = {{"density_kg_m3", m.density},
@@ -120,8 +122,11 @@ nlohmann::json material_json(const Material& m) {
     j["rolling_stiffness_n_m"] = c.rolling_stiffness;
     j["rolling_damping_n_s_m"] = c.rolling_damping;
   }
+  if (!m.file.empty()) j["file"] = m.file.string();
   return j;
 }
+
+namespace {
 
 // A run of several materials: each named one (its index, 1 on: 0 is [material], "default"),
 // the pairs given their own coefficients, and the material of each component of [particles].
