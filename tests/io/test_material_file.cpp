@@ -130,6 +130,18 @@ TEST_F(MaterialFileTest, DefaultsOfAMinimalFile) {
   EXPECT_DOUBLE_EQ(m.material.contact.friction_particle, ContactParameters{}.friction_particle);
 }
 
+TEST_F(MaterialFileTest, AShapeByFamilyHasNoName) {
+  const AggregateMaterial m = parse_material_file(
+      std::string(kMinimal) + "[shape]\nfamily = \"angular\"\nflatness = 0.5\nflakiness_index = 20\n", dir_ / "f.toml");
+  ASSERT_TRUE(m.shape);
+  EXPECT_EQ(m.shape_name, "");
+  EXPECT_EQ(m.shape->family, GrainFamily::Angular);
+  EXPECT_DOUBLE_EQ(m.shape->proportions.flatness_mean, 0.5);
+  ASSERT_TRUE(m.shape->target);
+  EXPECT_EQ(m.shape->target->measure, ShapeMeasure::FlakinessIndex);
+  EXPECT_EQ(to_json(m)["shape"]["target"]["percent"], 20.0);
+}
+
 TEST_F(MaterialFileTest, OvenDrySpecificGravityAndParticleDensityByHand) {
   // SSD 2.70 with 2 % absorption: OD = 2.70 / 1.02 = 2.647059; x 997.5 kg/m3 (C127 at 23 C).
   const AggregateMaterial m = load_material_file(write(kFull));
