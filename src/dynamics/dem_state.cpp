@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstring>
 #include <string_view>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -81,8 +82,12 @@ void DemSystem::check_restored(const MadeWith& made) const {
   // byte first: any other value than 0 or 1 in a bool is undefined behaviour.
   unsigned char periodic = 0;
   std::memcpy(&periodic, &container_.periodic, 1);
+  std::underlying_type_t<ContainerShape> shape{};  // read as its integer too: a stray value is no shape
+  std::memcpy(&shape, &container_.shape, sizeof shape);
   const Box &box = container_.bounds, &made_box = made.container.bounds;
-  if (periodic != (made.container.periodic ? 1 : 0) || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
+  if (periodic != (made.container.periodic ? 1 : 0) ||
+      shape != static_cast<std::underlying_type_t<ContainerShape>>(made.container.shape) ||
+      container_.rim != made.container.rim || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
       box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
       rest_top_ != made.rest_top)
     fail("its container is not the scenario's");

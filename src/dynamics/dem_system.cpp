@@ -190,8 +190,7 @@ void DemSystem::check_not_blown_up() const {
       throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} went through the floor (its centre at z = {:.4g} m, the "
                                   "floor at {:.4g} m)",
                                   time_, user, g.position.z, b.lo.z));
-    if (!container_.periodic &&
-        (g.position.x < b.lo.x || g.position.x > b.hi.x || g.position.y < b.lo.y || g.position.y > b.hi.y))
+    if (!container_.holds_horizontally(g.position))
       throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} went through a side wall (its centre at x = {:.4g}, y = "
                                   "{:.4g} m)",
                                   time_, user, g.position.x, g.position.y));
@@ -337,7 +336,7 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
       // The wall's own motion (at rest today; a tapped container moves) enters the contact.
       kin.velocity = vi - Container::plane_velocity(wall, motion_, force_time_) + cross(ri * wi, kin.normal);
       kin.spin = wi;
-      kin.r_eff = ri;
+      kin.r_eff = container_.wall_contact_radius(wall, ri);
       kin.m_eff = mi;
       const ContactForce c = wall_law.evaluate(kin, spring[e], rolling, dt);
       f += c.force;

@@ -113,7 +113,13 @@ std::uint64_t read_seed(const TomlSection& s, const std::filesystem::path& file,
 
 // [deposition], [pour], [tapping] and [dynamics], with the checks of each against the others.
 void read_stages(const TomlSection& s, Scenario& sc) {
-  if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d, sc.container);
+  if (const auto d = s.table("deposition")) {
+    if (sc.container.is_cylinder())
+      s.fail("deposition", "container.shape = \"cylinder\": drop-and-roll deposition needs a box (its walls are "
+                           "planes); pour the particles instead ([pour], [dynamics] and, with [[protocol]], a pour "
+                           "step)");
+    sc.deposition = read_deposition(*d, sc.container);
+  }
   if (const auto p = s.table("pour")) sc.pour = read_pour(*p);
   if (const auto t = s.table("tapping")) {
     sc.tapping = read_tapping(*t);
@@ -156,7 +162,8 @@ void check_particles_placed(const TomlSection& s, const Scenario& sc) {
                                                                             : "coarse");
     if (d_max >= sc.container.length_x())
       throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) does not fit in the container "
-                                   "(side {:.6g} m)", where, d_max, sc.container.length_x()));
+                                   "({} {:.6g} m)", where, d_max, sc.container.is_cylinder() ? "diameter" : "side",
+                                   sc.container.length_x()));
     // The nearest periodic image must be unique within a roll's reach (two diameters each way).
     if (sc.container.periodic && sc.container.length_x() <= 4.0 * d_max)
       throw InputError(fmt::format("{}: container.side: with periodic sides the side ({:.6g} m) must exceed four "
@@ -308,7 +315,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   sc.seed = read_seed(s, file, overrides);
   const TomlSection container = s.required(s.table("container"), "container", "a [container] table");
   sc.container = read_container(container);
-  sc.written_length_unit = container.written_unit("side").value_or("");
+  sc.written_length_unit = container.written_unit(sc.container.is_cylinder() ? "diameter" : "side").value_or("");
   if (sc.written_length_unit == "m") sc.written_length_unit.clear();
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto m = s.table("materials")) sc.materials = read_named_materials(*m, sc.material);

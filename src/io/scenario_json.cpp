@@ -205,9 +205,16 @@ nlohmann::json to_json(const Scenario& sc) {
   j["seed"] = sc.seed;
   j["file"] = sc.file.string();
   const ContainerSides sides = sc.container.periodic ? ContainerSides::Periodic : ContainerSides::Walls;
-  j["container"] = {{"side_m", sc.container.length_x()},
-                    {"height_m", sc.container.height()},
-                    {"sides", name_of(kContainerSidesNames, sides)}};
+  // A box's echo is as it was before shapes (no "shape" key: box is the default).
+  if (sc.container.is_cylinder())
+    j["container"] = {{"shape", name_of(kContainerShapeNames, sc.container.shape)},
+                      {"diameter_m", sc.container.length_x()},
+                      {"height_m", sc.container.height()},
+                      {"rim_m", sc.container.rim}};
+  else
+    j["container"] = {{"side_m", sc.container.length_x()},
+                      {"height_m", sc.container.height()},
+                      {"sides", name_of(kContainerSidesNames, sides)}};
   j["particles"] = particles_json(sc.particles);
   add_placing_stages(j, sc);
   if (sc.dynamics) j["dynamics"] = dynamics_json(*sc.dynamics, sc.material);

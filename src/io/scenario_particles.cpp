@@ -175,7 +175,7 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
   if (p.fill_height) {
     if (*p.fill_height > container.height())
       s.fail("fill_height", "is above the container height");
-    p.amount.solid_volume = container.length_x() * container.length_y() * *p.fill_height * p.expected_density;
+    p.amount.solid_volume = container.cross_section_area() * *p.fill_height * p.expected_density;
   }
   return p;
 }

@@ -1,0 +1,104 @@
+// A cylindrical measure (ASTM C29, C1252) as a user runs one: a pour into it, end to end, with
+// the content struck off at the rim in summary.json; the keys it refuses, by name.
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "run_cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using aggpack::testing::run_cli;
+
+// 500 spheres of 6 mm poured into a 60 mm measure struck off at 25 mm (the bed about 33 mm
+// deep), soft so that it runs in seconds.
+constexpr const char* kMeasure =
+    "seed = 2\n[container]\nshape = \"cylinder\"\ndiameter = \"60 mm\"\nheight = \"100 mm\"\nrim = \"25 mm\"\n"
+    "[particles]\ndiameter = \"6 mm\"\ncount = 500\n"
+    "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\nfriction_particle = 0.3\n[dynamics]\nmax_time = 0.6\n"
+    "[analysis]\nbox_sides = [\"15 mm\"]\n[pour]\nbatches = 2\n";
+
+class CliCylinder : public ::testing::Test {
+ protected:
+  aggpack::testing::ScratchDir scratch_{"aggpack_cli_cylinder_"};
+  const fs::path& dir_ = scratch_.path();
+
+  fs::path write_scenario(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / (name + ".toml");
+    std::ofstream(path) << text;
+    return path;
+  }
+  // `aggpack check` on kMeasure with `from` replaced by `to`: exit code 2 and `message` named.
+  void expect_refused(const std::string& from, const std::string& to, const std::string& message) {
+    std::string text = kMeasure;
+    const std::size_t at = text.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const auto r = run_cli("check " + write_scenario("bad", text).string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+  }
+};
+
+TEST_F(CliCylinder, APourIntoAMeasureStaysInItsCircleAndReportsItsContent) {
+  const fs::path out = dir_ / "measure";
+  const auto r = run_cli("run " + write_scenario("measure", kMeasure).string() + " --threads 1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("measure 60 mm across, struck off at 25 mm: packing density"), std::string::npos) << r.output;
+  const auto s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(s["container"]["shape"], "cylinder");
+  EXPECT_NEAR(s["container"]["diameter_m"].get<double>(), 0.06, 1e-15);
+  EXPECT_EQ(s["scenario"]["container"]["shape"], "cylinder");
+  EXPECT_NEAR(s["scenario"]["container"]["rim_m"].get<double>(), 0.025, 1e-15);
+  const auto& m = s.at("measure");
+  EXPECT_NEAR(m["volume_m3"].get<double>(), std::numbers::pi * 0.03 * 0.03 * 0.025, 1e-15);
+  EXPECT_EQ(m["strike_off"], "exact cut at the rim");
+  // A loose pour of equal spheres in a narrow measure (10 diameters): the wall loosens it.
+  const double exact = m["packing_density"].get<double>(), whole = m["packing_density_whole_particles"].get<double>();
+  EXPECT_GT(exact, 0.50);
+  EXPECT_LT(exact, 0.64);
+  EXPECT_NEAR(whole, exact, 0.05);
+  EXPECT_GT(m["particles"].get<int>(), 250);
+  EXPECT_LT(m["particles"].get<int>(), 500);
+  // Every sphere inside the circle (to a contact's overlap), none lost.
+  std::ifstream csv(out / "particles.csv");
+  std::string line;
+  std::getline(csv, line);
+  std::size_t rows = 0;
+  double farthest = 0.0;
+  while (std::getline(csv, line)) {
+    std::istringstream row(line);
+    double id, x, y, z, radius;
+    char comma;
+    row >> id >> comma >> x >> comma >> y >> comma >> z >> comma >> radius;
+    ++rows;
+    farthest = std::max(farthest, std::hypot(x - 0.03, y - 0.03) + radius - 0.03);
+    EXPECT_GT(z, 0.0);
+  }
+  EXPECT_EQ(rows, 500u);
+  EXPECT_LT(farthest, 0.01 * 0.003);  // at most a Hertz overlap of the wall
+  // The wall profile is radial: the first ring (at the wall) looser than the core.
+  const auto& rings = s["profiles"]["wall_distance"]["solid_fraction"];
+  ASSERT_GT(rings.size(), 8u);
+  EXPECT_GT(s["density"]["mean"].get<double>(), 0.5);
+}
+
+TEST_F(CliCylinder, RefusesWhatAMeasureCannotBeByItsKey) {
+  expect_refused("diameter = \"60 mm\"", "diameter = \"60 mm\"\nside = \"60 mm\"", "container.side: a cylinder");
+  expect_refused("diameter = \"60 mm\"", "diameter = \"60 mm\"\nsides = \"periodic\"",
+                 "container.sides: a cylinder has a wall all round");
+  expect_refused("rim = \"25 mm\"", "rim = \"120 mm\"", "container.rim: 0.12 m is above the container's height");
+  expect_refused("shape = \"cylinder\"\n", "", "container.diameter: only a cylinder");
+  expect_refused("shape = \"cylinder\"", "shape = \"cone\"", "container.shape");
+  expect_refused("[pour]\nbatches = 2\n", "[deposition]\n",
+                 "container.shape = \"cylinder\": drop-and-roll deposition needs a box");
+  expect_refused("[analysis]\nbox_sides = [\"15 mm\"]", "[analysis]\nbox_sides = [\"40 mm\"]", "analysis.box_sides");
+}
+
+}  // namespace
