@@ -50,7 +50,8 @@ TEST_F(CliCylinder, APourIntoAMeasureStaysInItsCircleAndReportsItsContent) {
   const fs::path out = dir_ / "measure";
   const auto r = run_cli("run " + write_scenario("measure", kMeasure).string() + " --threads 1 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("measure 60 mm across, struck off at 25 mm: packing density"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("measure 0.06 m (60 mm) across, struck off at 0.025 m (25 mm): packing density"), std::string::npos)
+      << r.output;
   const auto s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   EXPECT_EQ(s["container"]["shape"], "cylinder");
   EXPECT_NEAR(s["container"]["diameter_m"].get<double>(), 0.06, 1e-15);
