@@ -42,12 +42,12 @@ ContactParameters wall_material(double mu) {
 }
 
 // Three spheres on the floor of a 50 mm measure, thrown at its wall at three angles, spinning;
-// the second and third meet after their bounces.
+// the first two meet after their bounces (their friction then acts).
 ParticleStore throws() {
   ParticleStore s;
   const double r[3] = {0.004, 0.005, 0.0035};
-  const Vec3 at[3] = {{0.025, 0.012, 0.004002}, {0.04, 0.03, 0.005002}, {0.015, 0.035, 0.0035}};
-  const Vec3 v[3] = {{0.05, -0.3, 0.0}, {0.25, 0.08, 0.0}, {-0.2, 0.1, 0.1}};
+  const Vec3 at[3] = {{0.025, 0.012, 0.004002}, {0.027, 0.038, 0.005002}, {0.015, 0.035, 0.0035}};
+  const Vec3 v[3] = {{0.0, -0.5, 0.0}, {0.0, 0.4, 0.0}, {-0.2, 0.1, 0.1}};
   const Vec3 w[3] = {{3.0, -5.0, 2.0}, {-4.0, 1.0, 6.0}, {2.0, 3.0, -1.0}};
   for (int i = 0; i < 3; ++i) {
     s.add(at[i], r[i], kDensity);
@@ -148,6 +148,9 @@ TEST(LammpsCylinder, SpheresBouncingOnTheCurvedWallMoveAsInLammpsStepByStep) {
       }
       EXPECT_LT(nearest, start.radius[i]) << "sphere " << i << " never reached the wall";
     }
+    double closest = 1.0;  // of the first two spheres' surfaces
+    for (const auto& now : own) closest = std::min(closest, norm(now[0].x - now[1].x) - 0.009);
+    EXPECT_LT(closest, 0.0) << "the first two spheres never met";
     double place = 0.0, speed = 0.0;
     for (std::size_t k = 0; k < own.size(); ++k)
       for (std::size_t i = 0; i < own[k].size(); ++i) {
