@@ -165,6 +165,8 @@ TEST(LammpsCylinder, SpheresBouncingOnTheCurvedWallMoveAsInLammpsStepByStep) {
 
 // 1200 spheres of 6 mm poured into an 80 mm measure, struck off at 40 mm, by both engines over
 // three seeds each: the two means of the measure's packing density within the seeds' scatter.
+// (Measured, 80 s on two cores: aggpack 0.5735, 0.5658, 0.5645, mean 0.5679; LAMMPS 0.5697,
+// 0.5679, 0.5691, mean 0.5689; the seeds' sd 0.0035.)
 TEST(LammpsCylinderLong, APourIntoAMeasureIsAsDenseInLammps) {
   testing::ScratchDir scratch("aggpack_lammps_cylinder_pour_");
   const fs::path scenario = scratch.path() / "measure.toml";
