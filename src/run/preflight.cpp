@@ -265,10 +265,12 @@ void check_box_sides(const Scenario& sc, double d_max) {
   for (const double side : sc.analysis.box_sides)
     if (side > std::min(horizontal, vertical))
       throw InputError(fmt::format(
-          "{}: analysis.box_sides: a cube of side {:.6g} m cannot fit in the container ({:.6g} x {:.6g} x {:.6g} m) "
-          "with one d_max ({:.6g} m) kept from the walls, the floor and the surface; the largest admissible side "
-          "is {:.6g} m",
-          file, side, c.length_x(), c.length_y(), c.height(), d_max, std::max(0.0, std::min(horizontal, vertical))));
+          "{}: analysis.box_sides: a cube of side {:.6g} m cannot fit in the container ({}) with one d_max ({:.6g} m) "
+          "kept from the walls, the floor and the surface; the largest admissible side is {:.6g} m",
+          file, side,
+          c.is_cylinder() ? fmt::format("a cylinder {:.6g} m across, {:.6g} m high", c.length_x(), c.height())
+                          : fmt::format("{:.6g} x {:.6g} x {:.6g} m", c.length_x(), c.length_y(), c.height()),
+          d_max, std::max(0.0, std::min(horizontal, vertical))));
 }
 
 // The time step against the contact law's stability limit.

@@ -50,7 +50,8 @@ TEST_F(CliCylinder, APourIntoAMeasureStaysInItsCircleAndReportsItsContent) {
   const fs::path out = dir_ / "measure";
   const auto r = run_cli("run " + write_scenario("measure", kMeasure).string() + " --threads 1 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("measure 60 mm across, struck off at 25 mm: packing density"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("measure 0.06 m (60 mm) across, struck off at 0.025 m (25 mm): packing density"), std::string::npos)
+      << r.output;
   const auto s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
   EXPECT_EQ(s["container"]["shape"], "cylinder");
   EXPECT_NEAR(s["container"]["diameter_m"].get<double>(), 0.06, 1e-15);
@@ -87,6 +88,15 @@ TEST_F(CliCylinder, APourIntoAMeasureStaysInItsCircleAndReportsItsContent) {
   const auto& rings = s["profiles"]["wall_distance"]["solid_fraction"];
   ASSERT_GT(rings.size(), 8u);
   EXPECT_GT(s["density"]["mean"].get<double>(), 0.5);
+  // A specimen cut from it must lie inside the wall: a box in the container's corner is refused.
+  const auto corner = run_cli("specimen " + out.string() + " --box 0,0,0.005,0.012,0.012,0.015 --formats vti --out " +
+                              (dir_ / "corner").string());
+  EXPECT_EQ(corner.exit_code, 2) << corner.output;
+  EXPECT_NE(corner.output.find("reaches 0.0424264 m from the axis of the cylindrical container"), std::string::npos)
+      << corner.output;
+  const auto core = run_cli("specimen " + out.string() + " --cylinder 0.03,0.03,0.005,0.015,0.01 --formats vti --out " +
+                            (dir_ / "core").string());
+  EXPECT_EQ(core.exit_code, 0) << core.output;
 }
 
 TEST_F(CliCylinder, RefusesWhatAMeasureCannotBeByItsKey) {
@@ -99,6 +109,20 @@ TEST_F(CliCylinder, RefusesWhatAMeasureCannotBeByItsKey) {
   expect_refused("[pour]\nbatches = 2\n", "[deposition]\n",
                  "container.shape = \"cylinder\": drop-and-roll deposition needs a box");
   expect_refused("[analysis]\nbox_sides = [\"15 mm\"]", "[analysis]\nbox_sides = [\"40 mm\"]", "analysis.box_sides");
+  // A file's sphere in the container's corner, inside its box but beyond its wall, is refused;
+  // one pressed into the wall by a contact's overlap (1e-9 m) is taken.
+  std::ofstream(dir_ / "bed.csv") << "x,y,z,r\n0.03,0.03,0.003,0.003\n0.005,0.005,0.003,0.003\n";
+  const std::string from_file =
+      "[container]\nshape = \"cylinder\"\ndiameter = 0.06\nheight = 0.1\n[particles]\nfrom = \"bed.csv\"\n";
+  const auto corner = run_cli("check " + write_scenario("corner", from_file).string());
+  EXPECT_EQ(corner.exit_code, 2) << corner.output;
+  EXPECT_NE(corner.output.find("particle 1 (data row 2)"), std::string::npos) << corner.output;
+  EXPECT_NE(corner.output.find("beyond the cylinder's wall"), std::string::npos) << corner.output;
+  std::ofstream(dir_ / "bed.csv") << "x,y,z,r\n0.03,0.03,0.003,0.003\n0.057000001,0.03,0.003,0.003\n";
+  // (Two spheres are too few a bed for a virtual cube: the check after the file's fails instead.)
+  const auto touching = run_cli("check " + write_scenario("touching", from_file).string());
+  EXPECT_EQ(touching.output.find("particle 1"), std::string::npos) << touching.output;
+  EXPECT_NE(touching.output.find("analysis.box_sides: the bed is too small"), std::string::npos) << touching.output;
 }
 
 }  // namespace
