@@ -99,6 +99,7 @@ bool fits(const RodLoop& loop, const RoddingSettings& settings, const DemSystem&
          loop.start <= system.time() && loop.start_steps <= system.steps() && loop.stroke >= 1 &&
          loop.stroke <= settings.strokes && loop.positions.size() == settings.strokes &&
          static_cast<unsigned>(loop.phase) <= static_cast<unsigned>(RodPhase::Rest) &&
+         (report.depth_mode == RodDepth::Floor || report.depth_mode == RodDepth::LayerBelow) &&
          report.stroke_records.size() == loop.stroke - (loop.phase == RodPhase::StrokeStart ? 1 : 0) &&
          (loop.phase != RodPhase::Stroke || system.tool().has_value()) && (in_stroke || loop.steps_left == 0) &&
          (loop.phase != RodPhase::Rest || loop.rest_end - system.time() <= settings.rest_time + dt) &&
