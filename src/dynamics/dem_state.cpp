@@ -33,8 +33,6 @@ void DemSystem::archive_state(Archive& ar, System& s) {
   if (s.rolling_history_) ar(raw(s.roll_));
   ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
      s.rebuilds_);
-  // Likewise the rigid bodies: a store of spheres only keeps the bytes it had.
-  if (!s.p_.bodies.empty()) ar(raw(s.body_), raw(s.body_load_), raw(s.body_of_), raw(s.arm_), raw(s.image_));
   // The rod, when there is one (its per-block forces follow from the next force pass).
   std::uint8_t has_tool = s.tool_ ? 1 : 0;
   ar(has_tool);
@@ -46,6 +44,8 @@ void DemSystem::archive_state(Archive& ar, System& s) {
   if (has_tool != 0) ar(s.tool_->radius, s.tool_->length, raw(s.tool_->path));
   ar(raw_value(s.tool_tip_), raw_value(s.tool_velocity_), raw_value(s.listed_tool_tip_), raw_value(s.tool_force_),
      s.tool_peak_);
+  // Likewise the rigid bodies: a store of spheres only keeps the bytes it had.
+  if (!s.p_.bodies.empty()) ar(raw(s.body_), raw(s.body_load_), raw(s.body_of_), raw(s.arm_), raw(s.image_));
 }
 
 void DemSystem::save_state(std::ostream& out) const {
@@ -98,14 +98,7 @@ void DemSystem::check_restored(const MadeWith& made) const {
       box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
       rest_top_ != made.rest_top)
     fail("its container is not the scenario's");
-  unsigned char profile = 0;
-  std::memcpy(&profile, &motion_.profile, 1);
-  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
-      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_) || profile > 1 ||
-      !std::isfinite(motion_.lift_acceleration) || !std::isfinite(motion_.fall_acceleration) ||
-      (profile == 1 && motion_.amplitude != 0.0 && !(motion_.lift_acceleration > 0.0 && motion_.fall_acceleration > 0.0)))
-    fail("the container's motion");
-  check_restored_tool();
+  check_restored_motion();
   // Time is counted in steps; the container stands where its motion has it then.
   if (time_ != static_cast<double>(steps_) * settings_.time_step || force_time_ != time_)
     fail(fmt::format("its time, {} s, is not its {} steps of {} s", time_, steps_, settings_.time_step));
@@ -164,6 +157,17 @@ void DemSystem::check_restored(const MadeWith& made) const {
         fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
     }
   }
+}
+
+void DemSystem::check_restored_motion() const {
+  unsigned char profile = 0;  // read as a byte: an enum of another value is undefined behaviour
+  std::memcpy(&profile, &motion_.profile, 1);
+  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
+      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_) || profile > 1 ||
+      !std::isfinite(motion_.lift_acceleration) || !std::isfinite(motion_.fall_acceleration) ||
+      (profile == 1 && motion_.amplitude != 0.0 && !(motion_.lift_acceleration > 0.0 && motion_.fall_acceleration > 0.0)))
+    throw InputError("the DEM state does not fit its run: the container's motion");
+  check_restored_tool();
 }
 
 void DemSystem::check_restored_tool() const {

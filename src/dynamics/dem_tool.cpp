@@ -74,6 +74,16 @@ void DemSystem::set_tool(std::optional<RodTool> tool) {
   build_neighbour_list();
 }
 
+void DemSystem::redirect_tool(std::vector<RodWaypoint> path) {
+  if (!tool_ || path.empty() || !(path.front().time == time_) || !(path.front().tip == tool_tip_))
+    throw std::invalid_argument("DemSystem::redirect_tool: a new path must start at the rod's place now");
+  for (std::size_t k = 1; k < path.size(); ++k)
+    if (!(path[k].time > path[k - 1].time) || !std::isfinite(path[k].time + path[k].tip.x + path[k].tip.y + path[k].tip.z))
+      throw std::invalid_argument(fmt::format("DemSystem::redirect_tool: waypoint {} is not finite or not after the one before", k));
+  tool_->path = std::move(path);
+  place_tool(time_);
+}
+
 double DemSystem::place_tool(double t) {
   if (!tool_) {
     tool_tip_ = tool_velocity_ = {};

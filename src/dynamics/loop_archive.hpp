@@ -41,7 +41,7 @@ void serialize(Archive& ar, RoddingReport& r) {
 }
 template <class Archive>
 void serialize(Archive& ar, RodLoop& l) {
-  ar(l.start, l.start_steps, l.stroke, raw_value(l.phase), l.steps_left, l.rest_end, l.rest_steps_left, l.quiet_since, l.last,
+  ar(l.start, l.start_steps, l.stroke, raw_value(l.phase), l.steps_left, l.top, l.rest_end, l.rest_steps_left, l.quiet_since, l.last,
      raw(l.positions), l.report);
 }
 template <class Archive>

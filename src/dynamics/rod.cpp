@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <numbers>
@@ -14,10 +15,10 @@
 namespace aggpack {
 
 std::string RoddingReport::csv() const {
-  std::string body = "stroke,x_m,y_m,surface_m,tip_lowest_m,depth_m,peak_force_n\n";
+  std::string body = "stroke,x_m,y_m,surface_m,tip_lowest_m,depth_m,peak_force_n,stopped_by_force\n";
   for (const RodStroke& s : stroke_records)
-    fmt::format_to(std::back_inserter(body), "{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g}\n", s.stroke, s.x, s.y,
-                   s.surface, s.tip_lowest, s.depth, s.peak_force);
+    fmt::format_to(std::back_inserter(body), "{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{}\n", s.stroke, s.x, s.y,
+                   s.surface, s.tip_lowest, s.depth, s.peak_force, s.stopped_by_force ? 1 : 0);
   return body;
 }
 
@@ -93,7 +94,8 @@ RodLoop begin_rodding(const DemSystem& system, const Container& container, const
 bool fits(const RodLoop& loop, const RoddingSettings& settings, const DemSystem& system) {
   const RoddingReport& report = loop.report;
   const double dt = system.time_step();
-  const bool in_stroke = loop.phase == RodPhase::Stroke || loop.phase == RodPhase::Transit;
+  const bool moving = loop.phase != RodPhase::StrokeStart && loop.phase != RodPhase::Rest;
+  const bool rod_in = loop.phase == RodPhase::Descend || loop.phase == RodPhase::Withdraw;
   return report.strokes == settings.strokes && report.rod_diameter == settings.rod_diameter &&
          report.speed == settings.speed && report.time_step == dt && loop.start >= 0.0 &&
          loop.start <= system.time() && loop.start_steps <= system.steps() && loop.stroke >= 1 &&
@@ -101,29 +103,60 @@ bool fits(const RodLoop& loop, const RoddingSettings& settings, const DemSystem&
          static_cast<unsigned>(loop.phase) <= static_cast<unsigned>(RodPhase::Rest) &&
          (report.depth_mode == RodDepth::Floor || report.depth_mode == RodDepth::LayerBelow) &&
          report.stroke_records.size() == loop.stroke - (loop.phase == RodPhase::StrokeStart ? 1 : 0) &&
-         (loop.phase != RodPhase::Stroke || system.tool().has_value()) && (in_stroke || loop.steps_left == 0) &&
+         rod_in == system.tool().has_value() && (moving || loop.steps_left == 0) && std::isfinite(loop.top) &&
          (loop.phase != RodPhase::Rest || loop.rest_end - system.time() <= settings.rest_time + dt) &&
          (!loop.quiet_since || std::isfinite(*loop.quiet_since));
 }
 
 namespace {
 
-// The rod of stroke k: from above the bed's top down to the target and back, from now.
+// The rod of stroke k, descending from above the bed's top to the target from now.
 RodTool stroke_tool(const DemSystem& system, const ParticleStore& particles, const RoddingSettings& settings,
                     RodLoop& loop) {
   const double r = 0.5 * settings.rod_diameter;
   const Vec3& at = loop.positions[loop.stroke - 1];
   const double surface = highest_top(particles);
-  const double top = std::max(surface, loop.report.target_tip) + settings.start_gap + r;  // the tip's centre
+  loop.top = std::max(surface, loop.report.target_tip) + settings.start_gap + r;  // the tip's centre
   const double bottom = loop.report.target_tip + r;
-  const double t0 = system.time(), travel = (top - bottom) / settings.speed;
+  const double t0 = system.time();
   RodTool tool;
   tool.radius = r;
-  tool.length = std::max(1.0, 4.0 * (top - bottom));  // its upper end never reaches the bed
-  tool.path = {{t0, {at.x, at.y, top}}, {t0 + travel, {at.x, at.y, bottom}}, {t0 + 2.0 * travel, {at.x, at.y, top}}};
+  tool.length = std::max(1.0, 4.0 * (loop.top - bottom));  // its upper end never reaches the bed
+  tool.path = {{t0, {at.x, at.y, loop.top}}, {t0 + (loop.top - bottom) / settings.speed, {at.x, at.y, bottom}}};
   loop.report.stroke_records.push_back({loop.stroke, at.x, at.y, surface, loop.report.target_tip,
-                                        surface - loop.report.target_tip, 0.0});
+                                        surface - loop.report.target_tip, 0.0, false});
   return tool;
+}
+
+// Steps of the descent between two looks at the force: half a millimetre of the rod's travel.
+std::size_t force_check_steps(const RoddingSettings& settings, double dt) {
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(5e-4 / (settings.speed * dt))));
+}
+
+// The descent, a look at the force every force_check_steps; at its end (the target, or the
+// bed's push beyond max_force) the rod is sent back up to where the stroke began.
+void descend(DemSystem& system, const RoddingSettings& settings, RodLoop& loop, const std::function<void()>& safe_point) {
+  const double dt = system.time_step();
+  const std::size_t check = force_check_steps(settings, dt);
+  RodStroke& record = loop.report.stroke_records.back();
+  while (loop.steps_left > 0) {
+    std::size_t chunk = std::min(check, loop.steps_left);
+    loop.steps_left -= chunk;
+    run_block(system, chunk, [] {});
+    if (norm(system.tool_force()) > settings.max_force && loop.steps_left > 0) {
+      record.stopped_by_force = true;
+      loop.steps_left = 0;
+    }
+    if (loop.steps_left > 0) safe_point();
+  }
+  const Vec3 tip = system.tool_tip();
+  record.tip_lowest = tip.z - 0.5 * settings.rod_diameter;
+  record.depth = record.surface - record.tip_lowest;
+  const double up = std::max(0.0, loop.top - tip.z) / settings.speed;
+  system.redirect_tool({{system.time(), tip}, {system.time() + std::max(up, dt), {tip.x, tip.y, loop.top}}});
+  // The withdrawal runs to the step after its end: the rod stands at the top again.
+  loop.steps_left = static_cast<std::size_t>(std::ceil(std::max(up, dt) / dt)) + 1;
+  loop.phase = RodPhase::Withdraw;
 }
 
 }  // namespace
@@ -137,16 +170,18 @@ void rod(DemSystem& system, const ParticleStore& particles, const RoddingSetting
     return loop.phase == RodPhase::Rest ? std::string("rest after rodding")
                                         : fmt::format("rod stroke {} of {}", loop.stroke, settings.strokes);
   };
-  const auto safe_point = [&] { hooks.at_safe_point(phase_name()); };
+  const std::function<void()> safe_point = [&] { hooks.at_safe_point(phase_name()); };
   while (true) {
     if (loop.phase == RodPhase::StrokeStart) {
       RodTool tool = stroke_tool(system, particles, settings, loop);
-      // The stroke runs to the step after its end: the rod stands at the top again.
-      loop.steps_left = static_cast<std::size_t>(std::ceil((tool.path.back().time - system.time()) / dt)) + 1;
+      loop.steps_left = static_cast<std::size_t>(std::ceil((tool.path.back().time - system.time()) / dt));
       system.set_tool(std::move(tool));
-      loop.phase = RodPhase::Stroke;
+      loop.phase = RodPhase::Descend;
       safe_point();
-    } else if (loop.phase == RodPhase::Stroke) {
+    } else if (loop.phase == RodPhase::Descend) {
+      descend(system, settings, loop, safe_point);
+      safe_point();
+    } else if (loop.phase == RodPhase::Withdraw) {
       run_block(system, loop.steps_left, safe_point);
       report.stroke_records.back().peak_force = system.tool_peak_force();
       system.set_tool(std::nullopt);
@@ -182,6 +217,18 @@ void rod(DemSystem& system, const ParticleStore& particles, const RoddingSetting
   report.density_after = hooks.density ? hooks.density(particles) : std::numeric_limits<double>::quiet_NaN();
   report.simulated_time = system.time() - loop.start;
   report.steps = system.steps() - loop.start_steps;
+}
+
+std::optional<double> layer_top(const ParticleStore& particles, std::uint32_t below_layer, double floor) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < particles.size(); ++i)
+    if (particles.layer[i] < below_layer) {
+      sum += particles.position[i].z - floor;
+      ++count;
+    }
+  if (count == 0) return std::nullopt;
+  return floor + 2.0 * sum / static_cast<double>(count);
 }
 
 }  // namespace aggpack

@@ -119,7 +119,7 @@ TappingSettings read_tapping(const TomlSection& s) {
 
 RoddingSettings read_rodding(const TomlSection& s) {
   s.allow_only({"strokes", "rod_diameter", "speed", "depth", "floor_clearance", "penetration", "wall_clearance",
-                "start_gap", "rest_time", "rest_until_quiet"});
+                "start_gap", "max_force", "rest_time", "rest_until_quiet"});
   RoddingSettings r;
   r.strokes = static_cast<std::size_t>(s.integer("strokes", 1, 10000).value_or(static_cast<std::int64_t>(r.strokes)));
   r.rod_diameter = s.length("rod_diameter").value_or(r.rod_diameter);
@@ -129,6 +129,7 @@ RoddingSettings read_rodding(const TomlSection& s) {
   r.penetration = s.length("penetration", kNonNegative).value_or(r.penetration);
   r.wall_clearance = s.length("wall_clearance", kNonNegative).value_or(r.wall_clearance);
   r.start_gap = s.length("start_gap", kNonNegative).value_or(r.start_gap);
+  r.max_force = s.number("max_force", kPositive).value_or(r.max_force);
   r.rest_time = s.number("rest_time", {0.0, 100.0, false, false}).value_or(r.rest_time);
   r.rest_until_quiet = s.boolean("rest_until_quiet").value_or(r.rest_until_quiet);
   return r;

@@ -89,6 +89,7 @@ void add_placing_stages(nlohmann::json& j, const Scenario& sc) {
                     {"penetration_m", r.penetration},
                     {"wall_clearance_m", r.wall_clearance},
                     {"start_gap_m", r.start_gap},
+                    {"max_force_n", r.max_force},
                     {"rest_time_s", r.rest_time},
                     {"rest_until_quiet", r.rest_until_quiet}};
   }

@@ -107,17 +107,23 @@ std::string shown(double d) { return std::isnan(d) ? std::string("-") : fmt::for
 }  // namespace
 
 nlohmann::json to_json(const RoddingReport& r) {
-  nlohmann::json depths = nlohmann::json::array(), forces = nlohmann::json::array();
+  nlohmann::json depths = nlohmann::json::array(), lowest = nlohmann::json::array(),
+                 forces = nlohmann::json::array();
+  std::size_t stopped = 0;
   for (const RodStroke& s : r.stroke_records) {
     depths.push_back(s.depth);
+    lowest.push_back(s.tip_lowest);
     forces.push_back(s.peak_force);
+    stopped += s.stopped_by_force ? 1 : 0;
   }
   nlohmann::json j = {{"strokes", r.strokes},
                       {"rod_diameter_m", r.rod_diameter},
                       {"speed_m_s", r.speed},
                       {"depth", std::string(name_of(kRodDepthNames, r.depth_mode))},
-                      {"tip_lowest_m", r.target_tip},
+                      {"target_tip_lowest_m", r.target_tip},
+                      {"tip_lowest_of_each_stroke_m", lowest},
                       {"depth_of_each_stroke_m", depths},
+                      {"strokes_stopped_by_force", stopped},
                       {"peak_force_of_each_stroke_n", forces},
                       {"density_before", or_null(r.density_before)},
                       {"density_after", or_null(r.density_after)},
@@ -170,8 +176,8 @@ std::string modelling_note(const RoddingReport& r) {
       "rodding: {} strokes of a {:g} mm rod with a hemispherical tip, spread evenly over the bed's section, each from "
       "just above the bed's top down to {} m ({}) and back at {:g} m/s; the rod is driven along its path whatever the "
       "bed's resistance (an infinitely massive body with the walls' contact coefficients, its force recorded in "
-      "rod_strokes.csv), moved between strokes above the bed; a hand's stroke, which slows where the bed resists "
-      "and strikes, is not modelled",
+      "rod_strokes.csv) unless the bed pushes back with more than rodding.max_force, where the stroke stops short; "
+      "moved between strokes above the bed; a hand's stroke, which slows where the bed resists, is not modelled",
       r.strokes, 1e3 * r.rod_diameter, r.target_tip,
       r.depth_mode == RodDepth::Floor ? "the floor less its clearance" : "into the layer below", r.speed);
 }

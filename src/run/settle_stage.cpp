@@ -450,8 +450,7 @@ RoddingReport rod_bed(const Scenario& sc, ParticleStore& particles, double time_
     // The top layer is the highest layer index in the bed; the layer below it, every lower one.
     std::uint32_t top_layer = 0;
     for (const std::uint32_t layer : particles.layer) top_layer = std::max(top_layer, layer);
-    RodTargets targets{sc.container.bounds.lo.z, std::nullopt};
-    if (top_layer > 0) targets.layer_below = highest_top(particles, top_layer);
+    const RodTargets targets{sc.container.bounds.lo.z, layer_top(particles, top_layer, sc.container.bounds.lo.z)};
     try {
       loop = begin_rodding(dem, sc.container, settings, targets, box_density(sc)(particles));
     } catch (const std::invalid_argument& e) {

@@ -299,7 +299,7 @@ struct BedRun {
 // Rods then jigs a bed on `threads` threads; stops at the `stop_at`-th safe point of the
 // rodding (0: never) and resumes from the state saved there.
 BedRun rod_and_jig(const ParticleStore& start, const Container& box, int threads, std::size_t stop_at,
-                   std::size_t drops, std::size_t strokes = 3) {
+                   std::size_t drops, std::size_t strokes = 3, double max_force = 1e9) {
   DemSettings settings;
   settings.time_step = 2e-5;
   settings.threads = threads;
@@ -309,6 +309,7 @@ BedRun rod_and_jig(const ParticleStore& start, const Container& box, int threads
   BedRun out{start, {}, {}};
   RoddingSettings rodding;
   rodding.strokes = strokes;
+  rodding.max_force = max_force;  // by default, driven to the target whatever the force
   rodding.speed = 2.0;
   rodding.depth = RodDepth::Floor;
   rodding.rest_time = 0.02;
@@ -371,6 +372,13 @@ TEST(Rodding, RodsASmallBedToItsFloorAndJiggingCompactsIt) {
   }
   EXPECT_TRUE(all_inside(run.bed, box));
   EXPECT_GT(r.steps, 0u);
+  // A hand's push of 2 N stops every stroke short of the floor, where the bed pushed back so.
+  const BedRun gentle = rod_and_jig(start, box, 1, 0, 0, 3, 2.0);
+  for (const RodStroke& s : gentle.rodded.stroke_records) {
+    EXPECT_TRUE(s.stopped_by_force);
+    EXPECT_GT(s.tip_lowest, 0.005 + 1e-3);
+    EXPECT_GT(s.peak_force, 2.0);
+  }
   // Jigging: the bed sinks (its mean height falls) with the drops.
   const JigReport& j = run.jigged;
   ASSERT_EQ(j.samples.size(), 3u);

@@ -119,6 +119,11 @@ class DemSystem {
   // std::invalid_argument for a path out of order or a rod of no size.
   void set_tool(std::optional<RodTool> tool);
   [[nodiscard]] const std::optional<RodTool>& tool() const { return tool_; }
+  // Sends the rod along a new path from now on, its contacts kept: the path must start where
+  // the rod is now (a rod stopped by the bed, sent back up). std::invalid_argument otherwise.
+  void redirect_tool(std::vector<RodWaypoint> path);
+  // Where the rod's tip centre is now (the system's time).
+  [[nodiscard]] Vec3 tool_tip() const { return tool_tip_; }
   // The force the bed exerts on the rod at the last step (the sum of its contacts), N, and
   // its largest magnitude since reset_tool_peak() (or since the tool was set).
   [[nodiscard]] Vec3 tool_force() const { return tool_force_; }
@@ -289,6 +294,7 @@ class DemSystem {
   void check_restored(const MadeWith& made) const;
   void check_restored_bodies() const;
   void check_restored_tool() const;
+  void check_restored_motion() const;  // and the tool's
 
   ParticleStore& p_;
   Container container_;

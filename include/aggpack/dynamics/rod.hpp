@@ -18,14 +18,17 @@ namespace aggpack {
 
 // Rodding (ASTM C29 / AASHTO T 19, README "Rodding"): `strokes` strokes of a tamping rod with
 // a hemispherical tip (DemSystem's RodTool), at points spread evenly over the bed's surface.
-// Each stroke starts `start_gap` above the bed's top, descends at `speed` to its depth and
-// withdraws at `speed` to where it started; the rod then moves to the next point above the
-// bed (it touches nothing there, so it is taken out of the DEM for the time that move takes
-// at `speed`). After the last stroke the bed rests for rest_time, or until quiet.
+// Each stroke starts `start_gap` above the bed's top, descends at `speed` to its depth (or
+// until the bed pushes back with more than `max_force`, the hand's push: then the stroke stops
+// there) and withdraws at `speed` to where it started; the rod then moves to the next point
+// above the bed (it touches nothing there, so it is taken out of the DEM for the time that
+// move takes at `speed`). After the last stroke the bed rests for rest_time, or until quiet.
+// The rod is driven: along its path it goes whatever the resistance, and only the force
+// checked every half millimetre of descent stops it.
 enum class RodDepth : std::uint8_t {
   Auto,        // to the floor when no layer is below the top one, else into the layer below
   Floor,       // the tip to `floor_clearance` above the floor (the bottom layer, "throughout its depth")
-  LayerBelow,  // the tip `penetration` into the layer below (its top: the highest sphere below the top layer)
+  LayerBelow,  // the tip `penetration` into the layer below (its top: RodTargets::layer_below)
 };
 inline constexpr std::array kRodDepthNames{EnumName<RodDepth>{RodDepth::Auto, "auto"},
                                            EnumName<RodDepth>{RodDepth::Floor, "floor"},
@@ -44,6 +47,10 @@ struct RoddingSettings {
   double penetration = 0.025;      // m into the layer below (AASHTO T 19: about 1 in)
   double wall_clearance = 0.005;   // m between the rod and the side walls
   double start_gap = 0.005;        // m between the tip and the bed's top where a stroke starts and ends
+  // N, the largest push of the bed on the rod a stroke goes on against: a firm push of a hand
+  // (about 20 kg-force). A grain caught under the tip would otherwise be crushed by a driven
+  // rod ("without forcibly striking the bottom of the measure").
+  double max_force = 200.0;
   double rest_time = 0.2;          // s after the last stroke, at most
   bool rest_until_quiet = true;    // end the rest early once the quiet criterion holds
 };
@@ -53,9 +60,10 @@ struct RodStroke {
   std::size_t stroke = 0;
   double x = 0.0, y = 0.0;       // m, the rod's axis
   double surface = 0.0;          // m, the bed's top (highest sphere top) when the stroke began
-  double tip_lowest = 0.0;       // m, the tip's lowest point reached (the rod is driven: always its target)
-  double depth = 0.0;            // m, below the bed's top
+  double tip_lowest = 0.0;       // m, the tip's lowest point reached (its target, unless max_force stopped it)
+  double depth = 0.0;            // m, of the lowest point below the bed's top
   double peak_force = 0.0;       // N, the largest force of the bed on the rod during the stroke
+  bool stopped_by_force = false; // the bed pushed back with more than max_force before the target
 };
 struct RoddingReport {
   std::size_t strokes = 0;
@@ -79,21 +87,28 @@ struct RoddingReport {
 std::vector<Vec3> rod_stroke_positions(const Container& container, std::size_t count, double margin);
 
 // Where the strokes are sent: the floor and, when there is one, the top of the layer below the
-// bed's top layer (the caller's: it knows the layers). The tip's lowest point a stroke reaches.
+// bed's top layer (the caller's: it knows the layers; layer_top() below). The tip's lowest
+// point a stroke aims at.
 struct RodTargets {
   double floor = 0.0;                 // m
-  std::optional<double> layer_below;  // m, the highest sphere top of the layers below
+  std::optional<double> layer_below;  // m, the level of the top of the layers below
 };
+// The level of the top of the store's particles of a layer below `below_layer`, resting on the
+// floor at `floor`: twice their centres' mean height above it (a layer of even thickness has
+// its centres' mean half way up; a rough top counts by its mean, not its highest grain).
+// none when no particle is below.
+std::optional<double> layer_top(const ParticleStore& particles, std::uint32_t below_layer, double floor);
 [[nodiscard]] double rod_target_tip(const RoddingSettings& settings, const RodTargets& targets, RodDepth& mode);
 
 // A rodding's loop (with the system's state, all it takes to continue it).
-enum class RodPhase : std::uint8_t { StrokeStart, Stroke, Transit, Rest };
+enum class RodPhase : std::uint8_t { StrokeStart, Descend, Withdraw, Transit, Rest };
 struct RodLoop {
   double start = 0.0;
   std::size_t start_steps = 0;
   std::size_t stroke = 1;             // the stroke in progress (or just done, in the rest)
   RodPhase phase = RodPhase::StrokeStart;
-  std::size_t steps_left = 0;         // of the stroke or the move in progress
+  std::size_t steps_left = 0;         // of the descent, the withdrawal or the move in progress
+  double top = 0.0;                   // m, the tip centre's height where the stroke began
   double rest_end = 0.0;              // s, the system's time when the rest ends
   std::size_t rest_steps_left = 0;
   std::optional<double> quiet_since;
