@@ -54,7 +54,7 @@ struct PyReport {
 // read from with its overrides, read again when unpickled; every other value of the run's
 // report in the library's binary archive (that of checkpoints: this machine's byte order, the
 // same aggpack); the sizes drawn again from the scenario's seed, as a resumed run draws them.
-constexpr int kReportPickleFormat = 1;
+constexpr int kReportPickleFormat = 2;  // 2: rodding and jigging
 
 template <class Archive>
 void archive_report(Archive& ar, RunReport& r, bool& has_sizes, std::string& libraries) {
@@ -62,7 +62,7 @@ void archive_report(Archive& ar, RunReport& r, bool& has_sizes, std::string& lib
      r.snapshot_times, r.frames, r.next_frame_multiple, r.simulated_time, r.lammps_exchanges, raw(r.supports),
      r.series, r.wall_clock_s, r.largest_boundary_overlap, r.largest_pair_overlap, r.input_format,
      r.dynamics_skipped, r.interrupted, r.resumed_from, r.checkpoint_error, r.working_directory, libraries,
-     r.grain_shape_component, has_sizes);
+     r.grain_shape_component, has_sizes, r.roddings, r.jiggings);
 }
 
 // The overrides that make the report's scenario again from its text.

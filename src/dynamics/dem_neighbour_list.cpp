@@ -99,6 +99,7 @@ void DemSystem::build_neighbour_list() {
   for (std::uint32_t i = 0; i < n; ++i) listed_position_[i] = grain_[i].position;
   listed_count_ = n;
   listed_offset_ = container_offset();
+  listed_tool_tip_ = tool_tip_;
 }
 
 void DemSystem::find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::uint32_t>& other) const {
@@ -106,7 +107,7 @@ void DemSystem::find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::
   MultilevelGrid grid(container_, p_.radius, grid_bed_volume_);
   grid.reserve(n);
   for (std::uint32_t i = 0; i < n; ++i) grid.insert(i, grain_[i].position, grain_[i].radius);
-  const std::uint32_t wall_count = container_.plane_count();
+  const std::uint32_t wall_count = wall_entries();  // the container's planes, then the rod
 
   // Calls add(owner, entry) for every pair found from slot i: a neighbour within the skin,
   // unless both are frozen, in the row of the lower slot (its owner); then every wall within
@@ -126,7 +127,7 @@ void DemSystem::find_pairs(std::vector<std::uint32_t>& offset, std::vector<std::
     if (frozen_[i]) return;
     for (std::uint32_t w = 0; w < wall_count; ++w) {
       Vec3 towards;
-      if (container_.plane_distance(w, xi, towards) < ri + skin_) add(i, n + w);
+      if (wall_distance(w, xi, towards) < ri + skin_) add(i, n + w);
     }
   };
   // The grid is searched once: each thread keeps the pairs it finds, (owner, entry). A pair

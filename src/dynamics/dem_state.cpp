@@ -17,7 +17,7 @@
 namespace aggpack {
 
 namespace {
-constexpr std::uint32_t kStateFormat = 2;  // raise when the members below change
+constexpr std::uint32_t kStateFormat = 3;  // raise when the members below change (3: the rod, the motion's profile)
 }  // namespace
 
 // The members in one list for saving and restoring. Not saved: the model and the settings
@@ -33,6 +33,17 @@ void DemSystem::archive_state(Archive& ar, System& s) {
   if (s.rolling_history_) ar(raw(s.roll_));
   ar(s.time_, s.force_time_, raw_value(s.motion_), s.rest_floor_, s.rest_top_, s.listed_offset_, s.steps_,
      s.rebuilds_);
+  // The rod, when there is one (its per-block forces follow from the next force pass).
+  std::uint8_t has_tool = s.tool_ ? 1 : 0;
+  ar(has_tool);
+  if constexpr (!std::is_const_v<System>) {
+    if (has_tool > 1) throw InputError("the DEM state's rod flag is neither 0 nor 1");
+    if (has_tool == 0) s.tool_.reset();
+    else if (!s.tool_) s.tool_.emplace();
+  }
+  if (has_tool != 0) ar(s.tool_->radius, s.tool_->length, raw(s.tool_->path));
+  ar(raw_value(s.tool_tip_), raw_value(s.tool_velocity_), raw_value(s.listed_tool_tip_), raw_value(s.tool_force_),
+     s.tool_peak_);
   // Likewise the rigid bodies: a store of spheres only keeps the bytes it had.
   if (!s.p_.bodies.empty()) ar(raw(s.body_), raw(s.body_load_), raw(s.body_of_), raw(s.arm_), raw(s.image_));
 }
@@ -97,9 +108,7 @@ void DemSystem::check_restored(const MadeWith& made) const {
       box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
       rest_top_ != made.rest_top)
     fail("its container is not the scenario's");
-  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
-      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_))
-    fail("the container's motion");
+  check_restored_motion();
   // Time is counted in steps; the container stands where its motion has it then.
   if (time_ != static_cast<double>(steps_) * settings_.time_step || force_time_ != time_)
     fail(fmt::format("its time, {} s, is not its {} steps of {} s", time_, steps_, settings_.time_step));
@@ -142,7 +151,7 @@ void DemSystem::check_restored(const MadeWith& made) const {
   check_restored_bodies();
 
   // The half neighbour list: rows of ascending entries, each a later slot or a wall.
-  const std::uint32_t walls = container_.plane_count();
+  const std::uint32_t walls = wall_entries();
   if (offset_.size() != std::size_t{n} + 1 || offset_[0] != 0 || offset_[n] != other_.size() ||
       spring_.size() != other_.size() || roll_.size() != (rolling_history_ ? other_.size() : 0))
     fail("its neighbour list's rows");
@@ -158,6 +167,32 @@ void DemSystem::check_restored(const MadeWith& made) const {
         fail(fmt::format("its neighbour list's entry {} of row {}", k - offset_[i], i));
     }
   }
+}
+
+void DemSystem::check_restored_motion() const {
+  unsigned char profile = 0;  // read as a byte: an enum of another value is undefined behaviour
+  std::memcpy(&profile, &motion_.profile, 1);
+  if (!std::isfinite(motion_.start) || !std::isfinite(motion_.amplitude) || !std::isfinite(motion_.angular_frequency) ||
+      !std::isfinite(motion_.cycles) || !std::isfinite(listed_offset_) || profile > 1 ||
+      !std::isfinite(motion_.lift_acceleration) || !std::isfinite(motion_.fall_acceleration) ||
+      (profile == 1 && motion_.amplitude != 0.0 && !(motion_.lift_acceleration > 0.0 && motion_.fall_acceleration > 0.0)))
+    throw InputError("the DEM state does not fit its run: the container's motion");
+  check_restored_tool();
+}
+
+void DemSystem::check_restored_tool() const {
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(tool_tip_) || !finite(tool_velocity_) || !finite(listed_tool_tip_) || !finite(tool_force_) ||
+      !std::isfinite(tool_peak_))
+    throw InputError("the DEM state does not fit its run: the rod's place or force");
+  if (!tool_) return;
+  const auto& path = tool_->path;
+  bool ordered = !path.empty() && tool_->radius > 0.0 && std::isfinite(tool_->radius) && tool_->length >= 0.0 &&
+                 std::isfinite(tool_->length);
+  for (std::size_t k = 0; ordered && k < path.size(); ++k)
+    ordered = finite(path[k].tip) && std::isfinite(path[k].time) && (k == 0 || path[k].time > path[k - 1].time);
+  if (!ordered || !(tool_->tip_at(time_) == tool_tip_))
+    throw InputError("the DEM state does not fit its run: the rod's size or path");
 }
 
 void DemSystem::check_restored_bodies() const {

@@ -23,7 +23,6 @@ namespace {
 
 using dem_internal::kForceBlock;
 using dem_internal::kThreadedFrom;
-constexpr std::size_t kSumBlock = 1024;  // fixed blocks make sums independent of thread count
 // Contacts gathered before the law is evaluated on them at once (whole rows: a batch may
 // hold more). Enough for the vector kernel's loop to run long; few enough to stay in cache.
 constexpr std::size_t kBatchContacts = 64;
@@ -137,7 +136,7 @@ void DemSystem::admit(const std::vector<std::uint8_t>& frozen_by_index) {
       Vec3 towards;
       const double gap = j < n_ ? norm(separation(grain_[s].position, grain_[j].position)) - grain_[s].radius -
                                       grain_[j].radius
-                                : container_.plane_distance(j - n_, grain_[s].position, towards) - grain_[s].radius;
+                                : wall_distance(j - n_, grain_[s].position, towards) - grain_[s].radius;
       if (gap < 0.0)
         throw std::invalid_argument(fmt::format("DemSystem: admitted particle {} touches another particle or a wall",
                                                 is_new(s) ? user_index_[s] : user_index_[j]));
@@ -321,10 +320,12 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
     const Grain& gi = grain_[i];
     const Vec3 xi = gi.position, vi = gi.velocity, wi = gi.angular_velocity;
     const double ri = gi.radius, mi = gi.mass;
+    const unsigned planes = container_.plane_count();  // the rod's entry follows the planes
     for (std::uint32_t e = row.walls_begin; e < offset[i + 1]; ++e) {
       const std::uint32_t wall = other[e] - n;
+      const bool rod = wall == planes;
       ContactKinematics kin;
-      const double distance = container_.plane_distance(wall, xi, kin.normal);
+      const double distance = wall_distance(wall, xi, kin.normal);
       Vec3 no_history{};
       Vec3& rolling = rolling_history ? roll[e] : no_history;
       if (distance >= ri) {
@@ -333,14 +334,18 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
         continue;
       }
       kin.overlap = ri - distance;
-      // The wall's own motion (at rest today; a tapped container moves) enters the contact.
-      kin.velocity = vi - Container::plane_velocity(wall, motion_, force_time_) + cross(ri * wi, kin.normal);
+      // The wall's own motion (a tapped container, the driven rod) enters the contact.
+      const Vec3 wall_velocity = rod ? tool_velocity_ : Container::plane_velocity(wall, motion_, force_time_);
+      kin.velocity = vi - wall_velocity + cross(ri * wi, kin.normal);
       kin.spin = wi;
-      kin.r_eff = container_.wall_contact_radius(wall, ri);
-      kin.m_eff = mi;
+      // The rod: a sphere of its radius at the tip (exact there), an approximation on its shaft;
+      // a cylinder's concave wall: its own effective radius.
+      kin.r_eff = rod ? ri * tool_->radius / (ri + tool_->radius) : container_.wall_contact_radius(wall, ri);
+      kin.m_eff = mi;  // the walls and the rod are infinitely massive
       const ContactForce c = wall_law.evaluate(kin, spring[e], rolling, dt);
       f += c.force;
       t += ri * cross(kin.normal, c.tangential) + c.rolling_torque;
+      if (rod) tool_block_force_[i / dem_internal::kForceBlock] += -c.force;
     }
     load[i].force += f;
     load[i].torque += t;
@@ -352,6 +357,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
   const std::uint32_t n = n_;
   const std::uint32_t blocks = (n + kForceBlock - 1) / kForceBlock;
   const bool spin_needed = rolling_resistance_;  // only rolling resistance reads w_i - w_j
+  if (tool_) tool_block_force_.resize(blocks);
 #pragma omp parallel if (threaded_) num_threads(threads_)
   {
     ContactBatch& batch = batches_[static_cast<std::size_t>(omp_get_thread_num())];
@@ -360,6 +366,7 @@ void DemSystem::compute_forces(const Law& particle_law, const Law& wall_law) {
       const std::uint32_t begin = b * kForceBlock, end = std::min(n, begin + kForceBlock);
       for (std::uint32_t i = begin; i < end; ++i)
         load_[i] = {frozen_[i] || is_member(i) ? Vec3{} : grain_[i].mass * settings_.gravity, {}};
+      if (tool_) tool_block_force_[b] = {};
       // Whole rows at a time: gather their contacts, evaluate the law on all of them, then
       // add the results in row and entry order, the fixed order of every sum.
       for (std::uint32_t first_row = begin; first_row < end;) {
@@ -397,6 +404,7 @@ void DemSystem::compute_forces() {
       },
       model_.particle);
   if (!body_.empty()) sum_body_loads();
+  if (tool_) sum_tool_force();
 }
 
 void DemSystem::kick(double half_step) {
@@ -463,11 +471,13 @@ void DemSystem::advance(std::size_t steps) {
     // The forces of the new positions are those at the end of the step, with the container
     // (when it moves) where it is then.
     force_time_ = static_cast<double>(steps_ + 1) * settings_.time_step;
+    // A wall or the rod that moved since the list build may have come closer by as much.
     double slack = 0.0;
     if (motion_.amplitude != 0.0) {
       place_container(force_time_);
       slack = std::abs(container_offset() - listed_offset_);
     }
+    if (tool_) slack += place_tool(force_time_);
     if (drift(slack)) {
       const auto start = std::chrono::steady_clock::now();
       build_neighbour_list();
@@ -478,100 +488,6 @@ void DemSystem::advance(std::size_t steps) {
     ++steps_;
     time_ = static_cast<double>(steps_) * settings_.time_step;
   }
-}
-
-DemSystem::KineticEnergy DemSystem::kinetic_energy() const {
-  const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
-  std::vector<KineticEnergy> partial(blocks);
-#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
-  for (std::size_t b = 0; b < blocks; ++b) {
-    KineticEnergy sum;
-    const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
-    for (std::size_t i = b * kSumBlock; i < end; ++i) {
-      if (frozen_[i] || is_member(i)) continue;
-      const Grain& g = grain_[i];
-      sum.translational += 0.5 * g.mass * norm2(g.velocity);
-      sum.rotational += 0.5 * norm2(g.angular_velocity) / g.inverse_inertia;
-    }
-    partial[b] = sum;
-  }
-  KineticEnergy total;
-  for (const KineticEnergy& s : partial) {
-    total.translational += s.translational;
-    total.rotational += s.rotational;
-  }
-  for (const Body& body : body_) {
-    total.translational += 0.5 * body.mass * norm2(body.velocity);
-    total.rotational += 0.5 * dot(body.angular_momentum, body.angular_velocity);
-  }
-  return total;
-}
-
-ContactStatistics DemSystem::contact_statistics() const {
-  // Sums over fixed blocks, then in block order: independent of the thread count.
-  struct Partial {
-    double overlap_sum = 0.0, max_overlap = 0.0;
-    std::size_t contacts = 0;
-  };
-  const std::size_t blocks = (n_ + kSumBlock - 1) / kSumBlock;
-  std::vector<Partial> partial(blocks);
-#pragma omp parallel for schedule(static) if (threaded_) num_threads(threads_)
-  for (std::size_t b = 0; b < blocks; ++b) {
-    Partial s;
-    const std::size_t end = std::min<std::size_t>(n_, (b + 1) * kSumBlock);
-    for (std::size_t i = b * kSumBlock; i < end; ++i) {
-      const double ri = grain_[i].radius;
-      const Vec3& xi = grain_[i].position;
-      for (std::uint32_t e = offset_[i]; e < offset_[i + 1]; ++e) {
-        const std::uint32_t j = other_[e];
-        double overlap, diameter;
-        if (j < n_) {
-          diameter = ri + grain_[j].radius;
-          overlap = diameter - norm(separation(xi, grain_[j].position));
-        } else {
-          Vec3 towards;
-          diameter = 2.0 * ri;
-          overlap = ri - container_.plane_distance(j - n_, xi, towards);
-        }
-        if (overlap <= 0.0) continue;
-        s.max_overlap = std::max(s.max_overlap, overlap / diameter);
-        if (j < n_) {
-          // Once for each free grain of the pair (the frozen layers below are not counted).
-          const std::size_t sides = (frozen_[i] ? 0 : 1) + (frozen_[j] ? 0 : 1);
-          s.overlap_sum += static_cast<double>(sides) * (overlap / diameter);
-          s.contacts += sides;
-        }
-      }
-    }
-    partial[b] = s;
-  }
-  Partial total;
-  for (const Partial& s : partial) {
-    total.overlap_sum += s.overlap_sum;
-    total.max_overlap = std::max(total.max_overlap, s.max_overlap);
-    total.contacts += s.contacts;
-  }
-  ContactStatistics stats;
-  stats.contacts = total.contacts;
-  stats.max_overlap = total.max_overlap;
-  if (total.contacts > 0) stats.mean_overlap = total.overlap_sum / static_cast<double>(total.contacts);
-  if (free_count_ > 0) stats.coordination = static_cast<double>(total.contacts) / static_cast<double>(free_count_);
-  return stats;
-}
-
-std::size_t DemSystem::memory_bytes() const {
-  std::size_t batches = 0;
-  for (const ContactBatch& b : batches_) batches += b.memory_bytes();
-  return grain_.capacity() * sizeof(Grain) + frozen_.capacity() + material_.capacity() +
-         body_.capacity() * sizeof(Body) + body_load_.capacity() * sizeof(ForceTorque) +
-         body_of_.capacity() * sizeof(std::uint32_t) +
-         (body_offset_.capacity() + arm_.capacity() + image_.capacity()) * sizeof(Vec3) +
-         (listed_position_.capacity() + spring_.capacity() + roll_.capacity()) * sizeof(Vec3) +
-         (load_.capacity() + cross_.capacity()) * sizeof(ForceTorque) +
-         (user_index_.capacity() + slot_of_.capacity() + offset_.capacity() + cross_begin_.capacity() +
-          other_.capacity() + slot_base_.capacity() + reverse_offset_.capacity() + reverse_.capacity()) *
-             sizeof(std::uint32_t) +
-         batches;
 }
 
 void DemSystem::finish() {

@@ -127,11 +127,25 @@ void read_stages(const TomlSection& s, Scenario& sc) {
       s.fail("tapping", "tapping moves the bed through the DEM with the [dynamics] settings; add a [dynamics] "
                         "table (it may be empty)");
   }
+  for (const char* name : {"rodding", "jigging"}) {
+    const auto t = s.table(name);
+    if (!t) continue;
+    if (name == std::string_view("rodding")) sc.rodding = read_rodding(*t);
+    else sc.jigging = read_jigging(*t);
+    if (!s.table("dynamics"))
+      s.fail(name, fmt::format("{} moves the bed through the DEM with the [dynamics] settings; add a [dynamics] "
+                               "table (it may be empty)", name));
+  }
   if (const auto d = s.table("dynamics")) {
     sc.dynamics = read_dynamics(*d, sc.material);
     if (sc.dynamics->layers > 1 && sc.pour)
       d->fail("layers", "a pour settles as it goes; to pour in parts, give [[protocol]] pour steps with layer and "
                         "layers, and expected layers = 1 here");
+    if (sc.dynamics->engine == DemEngine::Lammps)
+      for (const char* name : {"rodding", "jigging"})
+        if (s.table(name))
+          s.fail(name, fmt::format("{} runs in aggpack's own DEM only (no LAMMPS deck moves a rod or drops the "
+                                   "measure); expected dynamics.engine = \"aggpack\"", name));
     if (sc.dynamics->layers > 1 && !sc.deposition)
       d->fail("layers", "layer by layer settling deposits each layer, so it needs a [deposition] table; "
                         "expected layers = 1 for a bed read from a file");
@@ -304,7 +318,7 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
 
   const TomlSection s(root, "", origin);
   s.allow_only({"title", "seed", "calibrated_by", "container", "particles", "material", "materials", "material_pairs",
-                "analysis", "output", "deposition", "pour", "tapping", "dynamics", "protocol", "limits", "models"});
+                "analysis", "output", "deposition", "pour", "tapping", "rodding", "jigging", "dynamics", "protocol", "limits", "models"});
 
   Scenario sc;
   sc.file = file;

@@ -1,4 +1,4 @@
-// The stages' tables: [material], [dynamics], [deposition], [pour] and [tapping].
+// The stages' tables: [material], [dynamics], [deposition], [pour], [tapping], [rodding] and [jigging].
 #include <string_view>
 #include <vector>
 
@@ -119,6 +119,35 @@ TappingSettings read_tapping(const TomlSection& s) {
   t.rest_time = s.number("rest_time", {0.0, 100.0, true, false}).value_or(t.rest_time);
   t.rest_until_quiet = s.boolean("rest_until_quiet").value_or(t.rest_until_quiet);
   return t;
+}
+
+RoddingSettings read_rodding(const TomlSection& s) {
+  s.allow_only({"strokes", "rod_diameter", "speed", "depth", "floor_clearance", "penetration", "wall_clearance",
+                "start_gap", "max_force", "rest_time", "rest_until_quiet"});
+  RoddingSettings r;
+  r.strokes = static_cast<std::size_t>(s.integer("strokes", 1, 10000).value_or(static_cast<std::int64_t>(r.strokes)));
+  r.rod_diameter = s.length("rod_diameter").value_or(r.rod_diameter);
+  r.speed = s.number("speed", {0.0, 100.0, true, false}).value_or(r.speed);
+  r.depth = s.choice("depth", kRodDepthNames).value_or(r.depth);
+  r.floor_clearance = s.length("floor_clearance", kNonNegative).value_or(r.floor_clearance);
+  r.penetration = s.length("penetration", kNonNegative).value_or(r.penetration);
+  r.wall_clearance = s.length("wall_clearance", kNonNegative).value_or(r.wall_clearance);
+  r.start_gap = s.length("start_gap", kNonNegative).value_or(r.start_gap);
+  r.max_force = s.number("max_force", kPositive).value_or(r.max_force);
+  r.rest_time = s.number("rest_time", {0.0, 100.0, false, false}).value_or(r.rest_time);
+  r.rest_until_quiet = s.boolean("rest_until_quiet").value_or(r.rest_until_quiet);
+  return r;
+}
+
+JiggingSettings read_jigging(const TomlSection& s) {
+  s.allow_only({"drops", "height", "lift_acceleration", "rest_time", "rest_until_quiet"});
+  JiggingSettings j;
+  j.drops = static_cast<std::size_t>(s.integer("drops", 1, 100000).value_or(static_cast<std::int64_t>(j.drops)));
+  j.height = s.length("height").value_or(j.height);
+  j.lift_acceleration = s.number("lift_acceleration", {0.0, 1e4, true, false}).value_or(j.lift_acceleration);
+  j.rest_time = s.number("rest_time", {0.0, 100.0, true, false}).value_or(j.rest_time);
+  j.rest_until_quiet = s.boolean("rest_until_quiet").value_or(j.rest_until_quiet);
+  return j;
 }
 
 }  // namespace aggpack

@@ -79,6 +79,28 @@ void add_placing_stages(nlohmann::json& j, const Scenario& sc) {
                     {"rest_time_s", t.rest_time},
                     {"rest_until_quiet", t.rest_until_quiet}};
   }
+  if (sc.rodding) {
+    const RoddingSettings& r = *sc.rodding;
+    j["rodding"] = {{"strokes", r.strokes},
+                    {"rod_diameter_m", r.rod_diameter},
+                    {"speed_m_s", r.speed},
+                    {"depth", std::string(name_of(kRodDepthNames, r.depth))},
+                    {"floor_clearance_m", r.floor_clearance},
+                    {"penetration_m", r.penetration},
+                    {"wall_clearance_m", r.wall_clearance},
+                    {"start_gap_m", r.start_gap},
+                    {"max_force_n", r.max_force},
+                    {"rest_time_s", r.rest_time},
+                    {"rest_until_quiet", r.rest_until_quiet}};
+  }
+  if (sc.jigging) {
+    const JiggingSettings& g = *sc.jigging;
+    j["jigging"] = {{"drops", g.drops},
+                    {"height_m", g.height},
+                    {"lift_acceleration_m_s2", g.lift_acceleration},
+                    {"rest_time_s", g.rest_time},
+                    {"rest_until_quiet", g.rest_until_quiet}};
+  }
 }
 
 nlohmann::json dynamics_json(const DynamicsStage& d, const Material& material) {
@@ -186,6 +208,8 @@ nlohmann::json to_json(const Protocol& protocol) {
                           },
                           [&](const SettleStep& st) { steps.push_back({{"step", "settle"}, {"layer", st.layer}}); },
                           [&](const TapStep&) { steps.push_back({{"step", "tap"}}); },
+                          [&](const RodStep&) { steps.push_back({{"step", "rod"}}); },
+                          [&](const JigStep&) { steps.push_back({{"step", "jig"}}); },
                           [&](const AnalyseStep& a) { steps.push_back({{"step", "analyse"}, {"name", a.report_as}}); },
                           [&](const SnapshotStep& snap) { steps.push_back({{"step", "snapshot"}, {"name", snap.name}}); },
                           [&](const ExportLammpsStep& x) { steps.push_back({{"step", "export_lammps"}, {"name", x.name}}); },

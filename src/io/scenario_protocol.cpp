@@ -23,7 +23,7 @@ struct ProtocolReading {
   Protocol protocol{};
   std::optional<std::uint32_t> layers{};  // every deposit step's `layers`
   std::vector<std::size_t> deposited_by{};  // the entry that deposits each part (+1; 0: none yet)
-  std::size_t settles = 0, deposits = 0, pours = 0, taps = 0;
+  std::size_t settles = 0, deposits = 0, pours = 0, taps = 0, rods = 0, jigs = 0;
   std::vector<std::size_t> export_entries{};  // the entries of the export_lammps steps, in order
   // The names taken by each kind of step, looked up in a set: a scenario of 16 MiB holds
   // some 3x10^5 steps, and comparing each with all before it took minutes.
@@ -93,6 +93,23 @@ void read_tap_step(ProtocolReading& r, const TomlSection& e) {
   r.protocol.steps.push_back({"tapping", TapStep{}});
 }
 
+// A rod or jig step (`kind`): aggpack's DEM moves the bed with the settings of its table.
+void read_compaction_step(ProtocolReading& r, const TomlSection& e, const std::string& kind) {
+  e.allow_only({"step"});
+  const bool rod = kind == "rod";
+  const char* table = rod ? "rodding" : "jigging";
+  if (rod ? !r.sc.rodding : !r.sc.jigging)
+    e.fail("step", fmt::format("a {} step takes its settings from a [{}] table; add one", kind, table));
+  if (!r.sc.dynamics) e.fail("step", fmt::format("a {} step moves the bed through the DEM of a [dynamics] table; add one", kind));
+  if (rod) {
+    ++r.rods;
+    r.protocol.steps.push_back({"rodding", RodStep{}});
+  } else {
+    ++r.jigs;
+    r.protocol.steps.push_back({"jigging", JigStep{}});
+  }
+}
+
 void read_export_lammps_step(ProtocolReading& r, std::size_t i) {
   const TomlSection& e = r.entries[i];
   e.allow_only({"step", "name"});
@@ -148,6 +165,8 @@ void link_exports(ProtocolReading& r) {
   for (std::size_t j = r.protocol.steps.size(); j-- > 0;)
     std::visit(Overloaded{[&](const SettleStep& s) { next = s; }, [&](const PourStep& s) { next = s; },
                           [&](const TapStep& s) { next = s; },
+                          // No deck rods or jigs: an export whose next DEM step is one has none.
+                          [&](const RodStep&) { next.reset(); }, [&](const JigStep&) { next.reset(); },
                           [&](ExportLammpsStep& step) {
                             --exports_left;
                             if (next) step.next = *next;
@@ -157,7 +176,7 @@ void link_exports(ProtocolReading& r) {
                r.protocol.steps[j].kind);
   if (unfollowed)
     r.entries[*unfollowed].fail("step", "an export_lammps step writes a deck of the DEM step after it (settle, pour "
-                                        "or tap), and none follows");
+                                        "or tap), and none follows (a rod or jig step has no LAMMPS deck)");
 }
 
 // Every stage's table is used by a step, and every part of the drop sequence is placed.
@@ -171,8 +190,10 @@ void check_tables_used(const TomlSection& root, const ProtocolReading& r) {
       root.fail("protocol", fmt::format("no deposit or pour step places part {} of {}: each part is placed once", k,
                                         r.deposited_by.size()));
   if (sc.tapping && r.taps == 0) root.fail("protocol", "[tapping] is given but no tap step uses it");
-  if (sc.dynamics && r.settles == 0 && r.pours == 0 && r.taps == 0)
-    root.fail("protocol", "[dynamics] is given but no settle, pour or tap step uses it");
+  if (sc.rodding && r.rods == 0) root.fail("protocol", "[rodding] is given but no rod step uses it");
+  if (sc.jigging && r.jigs == 0) root.fail("protocol", "[jigging] is given but no jig step uses it");
+  if (sc.dynamics && r.settles == 0 && r.pours == 0 && r.taps == 0 && r.rods == 0 && r.jigs == 0)
+    root.fail("protocol", "[dynamics] is given but no settle, pour, tap, rod or jig step uses it");
 }
 
 }  // namespace
@@ -185,14 +206,15 @@ Protocol read_protocol(const TomlSection& root, const std::vector<TomlSection>& 
   for (std::size_t i = 0; i < entries.size(); ++i) {
     const TomlSection& e = entries[i];
     const std::string kind =
-        e.required(e.choice("step", {"deposit", "pour", "settle", "tap", "analyse", "snapshot", "export_lammps",
-                                     "import_lammps"}),
+        e.required(e.choice("step", {"deposit", "pour", "settle", "tap", "rod", "jig", "analyse", "snapshot",
+                                     "export_lammps", "import_lammps"}),
                    "step",
-                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"tap\", \"analyse\", \"snapshot\", "
-                   "\"export_lammps\" or \"import_lammps\"");
+                   "the kind of step: \"deposit\", \"pour\", \"settle\", \"tap\", \"rod\", \"jig\", "
+                   "\"analyse\", \"snapshot\", \"export_lammps\" or \"import_lammps\"");
     if (kind == "deposit" || kind == "pour") read_deposit_step(r, i, kind);
     else if (kind == "settle") read_settle_step(r, e);
     else if (kind == "tap") read_tap_step(r, e);
+    else if (kind == "rod" || kind == "jig") read_compaction_step(r, e, kind);
     else if (kind == "export_lammps") read_export_lammps_step(r, i);
     else if (kind == "import_lammps") read_import_lammps_step(r, e);
     else if (kind == "snapshot") read_snapshot_step(r, e);

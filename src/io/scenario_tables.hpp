@@ -87,6 +87,8 @@ DynamicsStage read_dynamics(const TomlSection& s, Material& material);
 DepositionSettings read_deposition(const TomlSection& s, const Container& container);
 PourSettings read_pour(const TomlSection& s);
 TappingSettings read_tapping(const TomlSection& s);
+RoddingSettings read_rodding(const TomlSection& s);
+JiggingSettings read_jigging(const TomlSection& s);
 
 // scenario_settings.cpp
 Container read_container(const TomlSection& s);

@@ -25,7 +25,7 @@ namespace aggpack {
 
 namespace {
 constexpr std::string_view kMagic = "aggpack checkpoint";
-constexpr std::uint32_t kFormat = 7;  // raise when what a checkpoint holds changes
+constexpr std::uint32_t kFormat = 8;  // raise when what a checkpoint holds changes (8: rodding, jigging)
 constexpr std::array<const char*, 3> kSections{"header", "run state", "step state"};
 
 template <class Archive>
@@ -91,7 +91,7 @@ void write_section(std::ostream& out, const StateWriter& write) {
 template <class Archive>
 void archive_run_state(Archive& ar, RunReport& r, RunContext& c) {
   ar(r.particles, r.deposition, raw(r.pours), r.tappings, r.dynamics, r.analyses, r.deposited, r.snapshots, r.snapshot_times, r.frames, r.next_frame_multiple, r.lammps_exchanges, raw(r.supports),
-     r.series, r.wall_clock_s, c.simulated_time, c.deposition_stopped_at);
+     r.series, r.wall_clock_s, c.simulated_time, c.deposition_stopped_at, r.roddings, r.jiggings);
 }
 }  // namespace
 

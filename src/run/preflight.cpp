@@ -208,7 +208,7 @@ double dem_samples(const Scenario& sc, const Step& step, double time_step) {
                                  const TappingSettings& t = *sc.tapping;
                                  return static_cast<double>(t.taps) * (t.rest_time / every + 2.0);
                                },
-                               [](const auto&) { return 0.0; }},
+                               [&](const auto&) { return compaction_samples(sc, step, every); }},
                     step.kind);
 }
 
@@ -436,7 +436,7 @@ void check_frames(const Scenario& sc) {
                                       const TappingSettings& t = *sc.tapping;
                                       return static_cast<double>(t.taps) * (0.5 / t.frequency + t.rest_time);
                                     },
-                                    [](const auto&) { return 0.0; }},
+                                    [&](const auto&) { return compaction_time(sc, step); }},
                          step.kind);
   const double frames = std::floor(budget / interval) + 1.0;
   if (!(frames <= kMaxFrames))
@@ -490,6 +490,7 @@ void check_sizes(const Scenario& sc, std::span<const double> radii, std::optiona
   const double time_step = sc.dynamics ? sc.dynamics->time_step.step(stable_time_scale(sc, r_min)) : 0.0;
   if (sc.dynamics) {
     if (sc.tapping) check_tapping(sc, time_step);
+    check_compaction(sc, time_step, r_min);
     if (sc.pour) check_pour(sc, radii, solid, time_step);
     check_sampling(sc, time_step);
   }

@@ -33,6 +33,8 @@ Protocol default_protocol(const Scenario& sc) {
     p.steps.push_back({before, AnalyseStep{before}});
     p.steps.push_back({"tapping", TapStep{}});
   }
+  if (sc.rodding) p.steps.push_back({"rodding", RodStep{}});
+  if (sc.jigging) p.steps.push_back({"jigging", JigStep{}});
   return p;
 }
 

@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
+
+#include <fmt/format.h>
 
 namespace aggpack {
 
@@ -96,6 +99,97 @@ nlohmann::json to_json(const PourReport& r) {
           {"lowest_slab_bottom_m", r.lowest_slab_bottom},
           {"highest_slab_top_m", r.highest_slab_top},
           {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
+}
+
+namespace {
+nlohmann::json or_null(double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); }
+std::string shown(double d) { return std::isnan(d) ? std::string("-") : fmt::format("{:.4f}", d); }
+}  // namespace
+
+nlohmann::json to_json(const RoddingReport& r) {
+  nlohmann::json depths = nlohmann::json::array(), lowest = nlohmann::json::array(),
+                 forces = nlohmann::json::array();
+  std::size_t stopped = 0;
+  for (const RodStroke& s : r.stroke_records) {
+    depths.push_back(s.depth);
+    lowest.push_back(s.tip_lowest);
+    forces.push_back(s.peak_force);
+    stopped += s.stopped_by_force ? 1 : 0;
+  }
+  nlohmann::json j = {{"strokes", r.strokes},
+                      {"rod_diameter_m", r.rod_diameter},
+                      {"speed_m_s", r.speed},
+                      {"depth", std::string(name_of(kRodDepthNames, r.depth_mode))},
+                      {"target_tip_lowest_m", r.target_tip},
+                      {"tip_lowest_of_each_stroke_m", lowest},
+                      {"depth_of_each_stroke_m", depths},
+                      {"strokes_stopped_by_force", stopped},
+                      {"peak_force_of_each_stroke_n", forces},
+                      {"density_before", or_null(r.density_before)},
+                      {"density_after", or_null(r.density_after)},
+                      {"simulated_time_s", r.simulated_time},
+                      {"steps", r.steps},
+                      {"time_step_s", r.time_step},
+                      {"wall_clock_s", r.wall_clock_s}};
+  if (r.continues_dem_system) j["continues_dem_system"] = true;
+  return j;
+}
+
+nlohmann::json to_json(const JigReport& r) {
+  nlohmann::json densities = nlohmann::json::array();
+  for (const TapSample& s : r.samples) densities.push_back(or_null(s.density));
+  nlohmann::json j = {{"drops", r.drops},
+                      {"height_m", r.height},
+                      {"lift_acceleration_m_s2", r.lift_acceleration},
+                      {"impact_speed_m_s", r.impact_speed},
+                      {"rest_time_s", r.rest_time},
+                      {"rest_until_quiet", r.rest_until_quiet},
+                      {"density_before", or_null(r.density_before)},
+                      {"density_after_each_drop", densities},
+                      {"simulated_time_s", r.simulated_time},
+                      {"steps", r.steps},
+                      {"time_step_s", r.time_step},
+                      {"wall_clock_s", r.wall_clock_s}};
+  if (r.continues_dem_system) j["continues_dem_system"] = true;
+  return j;
+}
+
+std::string console_line(const RoddingReport& r) {
+  double peak = 0.0;
+  for (const RodStroke& s : r.stroke_records) peak = std::max(peak, s.peak_force);
+  return fmt::format("  rodding: {} strokes of a {:g} mm rod at {:g} m/s ({}), largest force {:.3g} N, density {} -> {}, "
+                     "{:.3g} s simulated, {:.3g} s wall\n",
+                     r.strokes, 1e3 * r.rod_diameter, r.speed, name_of(kRodDepthNames, r.depth_mode), peak,
+                     shown(r.density_before), shown(r.density_after), r.simulated_time, r.wall_clock_s);
+}
+
+std::string console_line(const JigReport& r) {
+  return fmt::format("  jigging: {} drops from {:.3g} m (impact {:.3g} m/s), density {} -> {}, {:.3g} s simulated, "
+                     "{:.3g} s wall\n",
+                     r.drops, r.height, r.impact_speed, shown(r.density_before),
+                     shown(r.samples.empty() ? std::nan("") : r.samples.back().density), r.simulated_time,
+                     r.wall_clock_s);
+}
+
+std::string modelling_note(const RoddingReport& r) {
+  return fmt::format(
+      "rodding: {} strokes of a {:g} mm rod with a hemispherical tip, spread evenly over the bed's section, each from "
+      "just above the bed's top down to {} m ({}) and back at {:g} m/s; the rod is driven along its path whatever the "
+      "bed's resistance (an infinitely massive body with the walls' contact coefficients, its force recorded in "
+      "rod_strokes.csv) unless the bed pushes back with more than rodding.max_force, where the stroke stops short; "
+      "moved between strokes above the bed; a hand's stroke, which slows where the bed resists, is not modelled",
+      r.strokes, 1e3 * r.rod_diameter, r.target_tip,
+      r.depth_mode == RodDepth::Floor ? "the floor less its clearance" : "into the layer below", r.speed);
+}
+
+std::string modelling_note(const JigReport& r) {
+  return fmt::format(
+      "jigging: {} drops, each the container (floor and walls together) lifted {:.3g} m at {:g} m/s^2 and dropped "
+      "in free fall onto its base, where it stops dead (impact {:.3g} m/s = sqrt(2 g h)), then a rest of {:g} s{}; "
+      "ASTM C29 raises one side at a time and the measure pivots on the other, so most of its floor falls less: "
+      "the level drop from the full height is the raised side's, an upper bound on the energy per drop",
+      r.drops, r.height, r.lift_acceleration, r.impact_speed, r.rest_time,
+      r.rest_until_quiet ? " at most (less once the bed was quiet)" : "");
 }
 
 nlohmann::json to_json(const TapReport& r) {

@@ -210,7 +210,19 @@ nlohmann::json write_outputs(const RunReport& report, const std::filesystem::pat
     write("grains.csv", grains_csv(report.particles, measures, sieves, coordination));
   }
   if (sc.output.csv && sc.deposition) write("supports.csv", supports_csv(report.supports));
-  if (report.dynamics || !report.tappings.empty()) write("timeseries.csv", report.series.csv());
+  if (report.dynamics || !report.tappings.empty() || !report.roddings.empty() || !report.jiggings.empty())
+    write("timeseries.csv", report.series.csv());
+  // One header, then every step's rows.
+  const auto rows_of = [](const auto& reports) {
+    std::string all;
+    for (const auto& step : reports) {
+      const std::string rows = step.csv();
+      all += all.empty() ? rows : rows.substr(rows.find('\n') + 1);
+    }
+    return all;
+  };
+  if (!report.roddings.empty()) write("rod_strokes.csv", rows_of(report.roddings));
+  if (!report.jiggings.empty()) write("jig_drops.csv", rows_of(report.jiggings));
   if (!report.tappings.empty()) {
     std::string taps;  // one header, then every tap step's rows
     for (const TapReport& t : report.tappings) {

@@ -98,7 +98,7 @@ std::string density_text(double density) {
 }
 
 // The kinds of the console summary's step lines.
-enum class StepLine { deposit, pour, settle, tap, hand_over };
+enum class StepLine { deposit, pour, settle, tap, rod, jig, hand_over };
 
 // The step lines in the order the steps ran (a protocol's own order; the stages' default
 // order without one, and after it anything a protocol's steps did not account for).
@@ -113,6 +113,8 @@ std::vector<StepLine> step_line_order(const RunReport& r) {
             if constexpr (std::is_same_v<Kind, PourStep>) order.insert(order.end(), {StepLine::pour, StepLine::settle});
             if constexpr (std::is_same_v<Kind, SettleStep>) order.push_back(StepLine::settle);
             if constexpr (std::is_same_v<Kind, TapStep>) order.push_back(StepLine::tap);
+            if constexpr (std::is_same_v<Kind, RodStep>) order.push_back(StepLine::rod);
+            if constexpr (std::is_same_v<Kind, JigStep>) order.push_back(StepLine::jig);
             if constexpr (std::is_same_v<Kind, ExportLammpsStep> || std::is_same_v<Kind, ImportLammpsStep>)
               order.push_back(StepLine::hand_over);
           },
@@ -122,6 +124,8 @@ std::vector<StepLine> step_line_order(const RunReport& r) {
   order.insert(order.end(), r.pours.size(), StepLine::pour);
   order.push_back(StepLine::settle);
   order.insert(order.end(), r.tappings.size(), StepLine::tap);
+  order.insert(order.end(), r.roddings.size(), StepLine::rod);
+  order.insert(order.end(), r.jiggings.size(), StepLine::jig);
   order.insert(order.end(), r.lammps_exchanges.size(), StepLine::hand_over);
   return order;
 }
@@ -178,7 +182,7 @@ std::string hand_over_line(const LammpsExchange& x) {
 std::string step_lines(const RunReport& r) {
   std::string out;
   bool deposition_told = false, dynamics_told = false;
-  std::size_t next_pour = 0, next_tap = 0, next_exchange = 0;
+  std::size_t next_pour = 0, next_tap = 0, next_rod = 0, next_jig = 0, next_exchange = 0;
   for (const StepLine line : step_line_order(r)) switch (line) {
       case StepLine::deposit:
         if (r.deposition && !deposition_told) out += deposition_line(*r.deposition), deposition_told = true;
@@ -192,6 +196,12 @@ std::string step_lines(const RunReport& r) {
       case StepLine::tap:
         if (next_tap < r.tappings.size()) out += tapping_line(r.tappings[next_tap++]);
         break;
+      case StepLine::rod:
+        if (next_rod < r.roddings.size()) out += console_line(r.roddings[next_rod++]);
+        break;
+      case StepLine::jig:
+        if (next_jig < r.jiggings.size()) out += console_line(r.jiggings[next_jig++]);
+        break;
       case StepLine::hand_over:
         if (next_exchange < r.lammps_exchanges.size()) out += hand_over_line(r.lammps_exchanges[next_exchange++]);
         break;
@@ -203,7 +213,7 @@ std::string step_lines(const RunReport& r) {
 
 // Every modelling choice a result depends on, said in the output.
 std::optional<RunReport::RestState> RunReport::rest_state() const {
-  const bool moved = dynamics || !pours.empty() || !tappings.empty();
+  const bool moved = dynamics || !pours.empty() || !tappings.empty() || !roddings.empty() || !jiggings.empty();
   if (!moved || series.samples.empty() || !scenario.dynamics) return std::nullopt;
   RestState rest;
   rest.translational_energy_per_particle_mgd = series.samples.back().translational_per_particle_mgd;
@@ -305,8 +315,12 @@ std::vector<std::string> RunReport::modelling_notes() const {
   }
   for (const PourReport& p : r.pours) notes.push_back(pour_note(p, sc));
   for (const TapReport& t : r.tappings) notes.push_back(tapping_note(t));
+  for (const RoddingReport& t : r.roddings) notes.push_back(modelling_note(t));
+  for (const JigReport& t : r.jiggings) notes.push_back(modelling_note(t));
   const auto continues = [](const auto& step) { return step.continues_dem_system; };
   if (std::any_of(r.tappings.begin(), r.tappings.end(), continues) ||
+      std::any_of(r.roddings.begin(), r.roddings.end(), continues) ||
+      std::any_of(r.jiggings.begin(), r.jiggings.end(), continues) ||
       (r.dynamics && std::any_of(r.dynamics->runs.begin(), r.dynamics->runs.end(), continues)))
     notes.push_back("dynamics: consecutive DEM steps (a pour, its taps, a settling) continued one DEM system, contact "
                     "history and all, as LAMMPS keeps one system through an input deck (continues_dem_system in "
@@ -367,6 +381,8 @@ std::string RunReport::last_dem_stage() const {
   if (scenario.protocol)
     for (auto step = scenario.protocol->steps.rbegin(); step != scenario.protocol->steps.rend(); ++step) {
       if (std::holds_alternative<TapStep>(step->kind) && !tappings.empty()) return "tapping";
+      if (std::holds_alternative<RodStep>(step->kind) && !roddings.empty()) return "rodding";
+      if (std::holds_alternative<JigStep>(step->kind) && !jiggings.empty()) return "jigging";
       if (std::holds_alternative<PourStep>(step->kind) && !pours.empty()) return "pour";
       if (std::holds_alternative<SettleStep>(step->kind) && dynamics) return "DEM settling";
     }
@@ -391,6 +407,20 @@ nlohmann::json stages_json(const RunReport& r, nlohmann::json& wall_clock) {
     for (const TapReport& t : r.tappings) seconds += t.wall_clock_s;
     wall_clock["tapping"] = seconds;
   }
+  // Rodding and jigging: one step's report, or every step's under "steps".
+  const auto add_steps = [&](const char* name, const auto& reports) {
+    if (reports.empty()) return;
+    nlohmann::json all = nlohmann::json::array();
+    double seconds = 0.0;
+    for (const auto& t : reports) {
+      all.push_back(to_json(t));
+      seconds += t.wall_clock_s;
+    }
+    stages[name] = reports.size() == 1 ? all.front() : nlohmann::json{{"steps", all}};
+    wall_clock[name] = seconds;
+  };
+  add_steps("rodding", r.roddings);
+  add_steps("jigging", r.jiggings);
   if (!r.pours.empty()) {
     nlohmann::json all = nlohmann::json::array();
     for (const PourReport& p : r.pours) all.push_back(to_json(p));

@@ -362,7 +362,8 @@ std::size_t RunSession::restore(const Checkpoint& checkpoint) {
       const StepKind& kind = protocol.steps[checkpoint.steps_completed].kind;
       return report.scenario.dynamics && report.scenario.dynamics->engine == DemEngine::Aggpack &&
              (std::holds_alternative<SettleStep>(kind) || std::holds_alternative<PourStep>(kind) ||
-              std::holds_alternative<TapStep>(kind));
+              std::holds_alternative<TapStep>(kind) || std::holds_alternative<RodStep>(kind) ||
+              std::holds_alternative<JigStep>(kind));
     };
     const bool dem = checkpoint.steps_completed < total && in_dem_step();
     if (!dem) throw DamagedCheckpoint(fmt::format("a step state for step {}, not a DEM step", checkpoint.steps_completed + 1));

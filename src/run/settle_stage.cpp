@@ -13,6 +13,8 @@
 #include "aggpack/dynamics/contact_law_registry.hpp"
 #include "aggpack/dynamics/pour.hpp"
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/dynamics/jig.hpp"
+#include "aggpack/dynamics/rod.hpp"
 #include "aggpack/dynamics/tap.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/carried_dem.hpp"
@@ -72,6 +74,8 @@ InputError blow_up_error(const Scenario& sc, const ParticleStore& particles, std
 constexpr std::string_view kPourCauses = "the pour (pour.velocity, pour.gap, pour.solid_fraction: a fall too fast "
                                          "for the stiffness)";
 constexpr std::string_view kTapCauses = "the tap (tapping.intensity and tapping.frequency: the amplitude)";
+constexpr std::string_view kRodCauses = "the rod (rodding.speed: a rod driven faster than the bed can make way)";
+constexpr std::string_view kJigCauses = "the drop (jigging.height: the impact speed sqrt(2 g h))";
 
 // The highest point of the free spheres above the floor, m.
 double top_above_floor(const DemSystem& dem, const ParticleStore& particles, const Container& container) {
@@ -407,6 +411,98 @@ TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offs
   return report;
 } catch (const DemBlowUp& e) {
   throw blow_up_error(sc, particles, fmt::format("while tapping, {}", e.what()), kTapCauses);
+}
+
+// The hooks of a compaction step (rodding, jigging): samples to the recorder, safe points to
+// the checkpoint as `kind`'s loop, the box density.
+template <class Loop>
+TapHooks compaction_hooks(const Scenario& sc, const StageControls& controls, StepDem& step, SampleRecorder& recorder,
+                          const Loop& loop, double time_offset, std::string_view kind) {
+  TapHooks hooks;
+  hooks.on_sample = [&recorder, time_offset](const SettleSample& s, std::string_view phase) {
+    recorder(time_offset + s.time, s, std::string(phase));
+  };
+  hooks.at_safe_point = [&controls, &step, &loop, kind](std::string_view phase) {
+    at_safe_point(controls.safe_point, controls.stop, where_simulated(phase, step.system().time() - loop.start),
+                  [&](std::ostream& out) { step.save(out, kind, loop); });
+  };
+  hooks.density = box_density(sc);
+  return hooks;
+}
+
+double smallest_radius(const ParticleStore& particles) {
+  double r_min = std::numeric_limits<double>::infinity();
+  for (const double r : particles.radius) r_min = std::min(r_min, r);
+  return r_min;
+}
+
+RoddingReport rod_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
+                      TimeSeries& series, Progress& progress) try {
+  const RoddingSettings& settings = *sc.rodding;
+  const DemSetup setup = dem_setup(sc, smallest_radius(particles), controls.threads);
+  StepDem step(controls, particles, sc.container, setup);
+  DemSystem& dem = step.system();
+  RodLoop loop;
+  if (controls.resume_state) {
+    step.restore("rod", *controls.resume_state, loop);
+    if (!fits(loop, settings, dem)) throw DamagedCheckpoint("its rod step: its loop is not this rodding's");
+  } else {
+    // The top layer is the highest layer index in the bed; the layer below it, every lower one.
+    std::uint32_t top_layer = 0;
+    for (const std::uint32_t layer : particles.layer) top_layer = std::max(top_layer, layer);
+    const RodTargets targets{sc.container.bounds.lo.z, layer_top(particles, top_layer, sc.container.bounds.lo.z)};
+    try {
+      loop = begin_rodding(dem, sc.container, settings, targets, box_density(sc)(particles));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(fmt::format("{}: [rodding]: {}", sc.file.string(), e.what()));
+    }
+  }
+  progress.start_stage("rodding");
+  SampleRecorder recorder(sc, 0, series, progress, dem, particles,
+                          {top_above_floor(dem, particles, sc.container), settings.speed, 0.0},
+                          std::string(kRodCauses), controls.at_sample);
+  const TapHooks hooks = compaction_hooks(sc, controls, step, recorder, loop, time_offset, "rod");
+  rod(dem, particles, settings, sc.dynamics->quiet, loop, hooks);
+  dem.finish();
+  RoddingReport report = loop.report;
+  report.time_before = time_offset;
+  report.wall_clock_s = step.seconds();
+  report.continues_dem_system = step.continued();
+  return report;
+} catch (const DemBlowUp& e) {
+  throw blow_up_error(sc, particles, fmt::format("while rodding, {}", e.what()), kRodCauses);
+}
+
+JigReport jig_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
+                  TimeSeries& series, Progress& progress) try {
+  const JiggingSettings& settings = *sc.jigging;
+  const DemSetup setup = dem_setup(sc, smallest_radius(particles), controls.threads);
+  StepDem step(controls, particles, sc.container, setup);
+  DemSystem& dem = step.system();
+  const bool resumed = controls.resume_state != nullptr;
+  JigLoop loop;
+  if (resumed) {
+    step.restore("jig", *controls.resume_state, loop);
+    if (!fits(loop, settings, dem)) throw DamagedCheckpoint("its jig step: its loop is not this jigging's");
+  } else {
+    loop = begin_jigging(dem, settings, box_density(sc)(particles));
+  }
+  progress.start_stage("jigging");
+  SampleRecorder recorder(sc, 0, series, progress, dem, particles,
+                          {top_above_floor(dem, particles, sc.container) + settings.height, loop.report.impact_speed,
+                           settings.height},
+                          std::string(kJigCauses), controls.at_sample);
+  const TapHooks hooks = compaction_hooks(sc, controls, step, recorder, loop, time_offset, "jig");
+  jig(dem, particles, settings, sc.dynamics->quiet, loop, resumed, hooks);
+  dem.finish();
+  JigReport report = loop.report;
+  report.time_before = time_offset;
+  for (TapSample& s : report.samples) s.time = time_offset + s.time;
+  report.wall_clock_s = step.seconds();
+  report.continues_dem_system = step.continued();
+  return report;
+} catch (const DemBlowUp& e) {
+  throw blow_up_error(sc, particles, fmt::format("while jigging, {}", e.what()), kJigCauses);
 }
 
 // A run of several materials: each one's values, and how a pair's coefficients are made.

@@ -121,6 +121,21 @@ void run_step(const TapStep& /*step*/, RunContext& ctx) {
   r.tappings.push_back(std::move(report));
 }
 
+// Rodding and jigging: aggpack's DEM only (the scenario reader refuses them with LAMMPS).
+void run_step(const RodStep& /*step*/, RunContext& ctx) {
+  RunReport& r = ctx.report;
+  RoddingReport report = rod_bed(r.scenario, r.particles, ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
+  ctx.simulated_time += report.simulated_time;
+  r.roddings.push_back(std::move(report));
+}
+
+void run_step(const JigStep& /*step*/, RunContext& ctx) {
+  RunReport& r = ctx.report;
+  JigReport report = jig_bed(r.scenario, r.particles, ctx.simulated_time, ctx.stage_controls(), r.series, ctx.progress);
+  ctx.simulated_time += report.simulated_time;
+  r.jiggings.push_back(std::move(report));
+}
+
 void run_step(const AnalyseStep& step, RunContext& ctx) {
   const auto t0 = Clock::now();
   StageAnalysis analysis{analyse_bed(ctx.report.scenario, ctx.report.particles), 0.0};

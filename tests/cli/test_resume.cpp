@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <functional>
@@ -622,3 +623,78 @@ TEST_F(Resume, ARefusedResumeLeavesTheInterruptedRunsOutputs) {
 }
 
 }  // namespace
+
+// Rodding and jigging (README "Rodding", "Jigging"): deposited in two parts, the lower rodded to
+// the floor, the upper into the lower, then jigged; killed while rodding and while jigging,
+// resumed on another thread count, it ends with the same bytes.
+constexpr const char* kRodAndJig =
+    "seed = 6\n[container]\nside = 0.08\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
+    "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\nmax_time = 0.05\n"
+    "[analysis]\nbox_sides = [0.02]\n"
+    "[rodding]\nstrokes = 3\nspeed = 2.0\nmax_force = 20.0\nrest_time = 0.02\nrest_until_quiet = false\n"
+    "[jigging]\ndrops = 2\nheight = \"10 mm\"\nrest_time = 0.03\n"
+    "[[protocol]]\nstep = \"deposit\"\nlayer = 0\nlayers = 2\n[[protocol]]\nstep = \"rod\"\n"
+    "[[protocol]]\nstep = \"deposit\"\nlayer = 1\nlayers = 2\n[[protocol]]\nstep = \"rod\"\n"
+    "[[protocol]]\nstep = \"jig\"\n";
+
+TEST_F(Resume, ARoddedAndJiggedRunKilledWhileRoddingAndJiggingResumesToTheSameBytes) {
+  const fs::path scenario = write_scenario("rod_jig", kRodAndJig);
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The strokes reached their depths: the first rodding to 5 mm above the floor, the second
+  // 25 mm into the first part (its top, the highest sphere of the part below).
+  const auto summary = nlohmann::json::parse(std::ifstream(reference / "summary.json"));
+  const auto& rodding = summary.at("stages").at("rodding").at("steps");
+  ASSERT_EQ(rodding.size(), 2u);
+  EXPECT_EQ(rodding[0].at("depth"), "floor");
+  EXPECT_DOUBLE_EQ(rodding[0].at("target_tip_lowest_m").get<double>(), 0.005);
+  EXPECT_EQ(rodding[1].at("depth"), "layer_below");
+  EXPECT_GT(rodding[1].at("target_tip_lowest_m").get<double>(), 0.005 + 1e-4);  // above the floor mode's
+  // Each stroke reached its target, or stopped where the bed pushed back with more than max_force.
+  for (const auto& step : rodding)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const double lowest = step.at("tip_lowest_of_each_stroke_m")[k].get<double>();
+      const double force = step.at("peak_force_of_each_stroke_n")[k].get<double>();
+      EXPECT_TRUE(std::abs(lowest - step.at("target_tip_lowest_m").get<double>()) < 1e-3 || force > 20.0)
+          << lowest << " " << force;
+    }
+  for (const auto& step : rodding) {
+    ASSERT_EQ(step.at("peak_force_of_each_stroke_n").size(), 3u);
+    for (const auto& force : step.at("peak_force_of_each_stroke_n")) EXPECT_GT(force.get<double>(), 0.0);
+  }
+  const auto& jigging = summary.at("stages").at("jigging");
+  EXPECT_EQ(jigging.at("drops"), 2);
+  EXPECT_NEAR(jigging.at("impact_speed_m_s").get<double>(), std::sqrt(2.0 * 9.81 * 0.01), 1e-9);
+  EXPECT_TRUE(fs::exists(reference / "rod_strokes.csv"));
+  EXPECT_TRUE(fs::exists(reference / "jig_drops.csv"));
+
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "while rod stroke 2 of 3", SIGKILL), -SIGKILL);
+  ASSERT_EQ(resume_and_signal_when(out, "while jig drop 2 of 2", SIGKILL, "2"), -SIGKILL);
+  const auto resumed = run_cli("resume " + out.string() + " --threads 1");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expect_same_run(reference, out);
+}
+
+TEST_F(Resume, RoddingAndJiggingAreRefusedWhereTheyCannotRun) {
+  const std::string base =
+      "[container]\nside = 0.08\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 30\n[deposition]\n";
+  const auto refused = [&](const std::string& name, const std::string& text, const std::string& message) {
+    const auto r = run_cli("check " + write_scenario(name, base + text).string());
+    EXPECT_EQ(r.exit_code, 2) << name << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << name << ": " << r.output;
+  };
+  refused("lammps", "[dynamics]\nengine = \"lammps\"\n[rodding]\n",
+          "rodding runs in aggpack's own DEM only");
+  refused("lammps_jig", "[dynamics]\nengine = \"lammps\"\n[jigging]\n", "jigging runs in aggpack's own DEM only");
+  refused("no_dynamics", "[rodding]\n", "add a [dynamics] table");
+  refused("unused", "[dynamics]\n[rodding]\n[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"settle\"\n",
+          "[rodding] is given but no rod step uses it");
+  refused("no_table", "[dynamics]\n[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"jig\"\n",
+          "a jig step takes its settings from a [jigging] table");
+  refused("wide_rod", "[dynamics]\n[rodding]\nrod_diameter = 0.09\n", "does not fit the container's section");
+  refused("lift", "[dynamics]\n[jigging]\nlift_acceleration = 12\n", "is not below g");
+  refused("export", "[dynamics]\n[rodding]\n[[protocol]]\nstep = \"deposit\"\n[[protocol]]\nstep = \"export_lammps\"\n"
+          "name = \"x\"\n[[protocol]]\nstep = \"rod\"\n", "a rod or jig step has no LAMMPS deck");
+}

@@ -9,27 +9,58 @@
 
 namespace aggpack {
 
-// A vertical motion of the whole container, floor and walls together (a tapped or vibrated
-// bed): the displacement z(t) = A sin(w (t - start)) for `cycles` periods from `start`, at rest
-// before and after. A tap is half a period: the container rises and comes back, its peak
-// acceleration A w^2 (the tap intensity Gamma = A w^2 / g) downward at the top; it then stops
-// dead, as on an anvil.
+// A vertical motion of the whole container, floor and walls together (a tapped, vibrated or
+// jigged bed), at rest before `start` and after end(). Two profiles:
+// - Sine (a tap): z(t) = A sin(w (t - start)) for `cycles` periods. A tap is half a period:
+//   the container rises and comes back, its peak acceleration A w^2 (the tap intensity
+//   Gamma = A w^2 / g) downward at the top; it then stops dead, as on an anvil.
+// - LiftAndDrop (ASTM C29's jigging, README "Jigging"): raised by A = `amplitude` with a
+//   constant acceleration `lift_acceleration` for the first half of the height and the same
+//   deceleration for the second (below g, the bed rides with it and arrives at rest), then
+//   released: it falls freely, z = A - g (t - t_release)^2 / 2 with g = `fall_acceleration`,
+//   and stops dead at its rest height (the firm base), met at sqrt(2 g A).
+enum class MotionProfile : unsigned char { Sine, LiftAndDrop };
 struct ContainerMotion {
   double start = 0.0;              // s
   double amplitude = 0.0;          // m
-  double angular_frequency = 0.0;  // rad/s
-  double cycles = 0.5;
+  double angular_frequency = 0.0;  // rad/s (Sine)
+  double cycles = 0.5;             // (Sine)
+  MotionProfile profile = MotionProfile::Sine;
+  double lift_acceleration = 0.0;  // m/s^2 (LiftAndDrop), > 0
+  double fall_acceleration = 0.0;  // m/s^2 (LiftAndDrop): |g|
+
+  // A lift by `height` at `lift_acceleration` then a free fall under `g`, from `start`.
+  static ContainerMotion lift_and_drop(double start, double height, double lift_acceleration, double g) {
+    return {start, height, 0.0, 0.0, MotionProfile::LiftAndDrop, lift_acceleration, g};
+  }
   [[nodiscard]] bool moving_at(double t) const {
     return amplitude != 0.0 && t > start && t < end();
   }
+  // LiftAndDrop: the lift's duration, 2 sqrt(A / a), and the fall's, sqrt(2 A / g).
+  [[nodiscard]] double lift_time() const { return 2.0 * std::sqrt(amplitude / lift_acceleration); }
+  [[nodiscard]] double fall_time() const { return std::sqrt(2.0 * amplitude / fall_acceleration); }
   [[nodiscard]] double end() const {
-    return amplitude == 0.0 ? start : start + cycles * 2.0 * std::numbers::pi / angular_frequency;
+    if (amplitude == 0.0) return start;
+    if (profile == MotionProfile::LiftAndDrop) return start + lift_time() + fall_time();
+    return start + cycles * 2.0 * std::numbers::pi / angular_frequency;
   }
   [[nodiscard]] double offset(double t) const {
-    return moving_at(t) ? amplitude * std::sin(angular_frequency * (t - start)) : 0.0;
+    if (!moving_at(t)) return 0.0;
+    const double s = t - start;
+    if (profile == MotionProfile::Sine) return amplitude * std::sin(angular_frequency * s);
+    const double lift = lift_time();
+    if (s <= 0.5 * lift) return 0.5 * lift_acceleration * s * s;
+    if (s <= lift) return amplitude - 0.5 * lift_acceleration * (lift - s) * (lift - s);
+    return std::max(0.0, amplitude - 0.5 * fall_acceleration * (s - lift) * (s - lift));
   }
   [[nodiscard]] double velocity(double t) const {
-    return moving_at(t) ? amplitude * angular_frequency * std::cos(angular_frequency * (t - start)) : 0.0;
+    if (!moving_at(t)) return 0.0;
+    const double s = t - start;
+    if (profile == MotionProfile::Sine) return amplitude * angular_frequency * std::cos(angular_frequency * s);
+    const double lift = lift_time();
+    if (s <= 0.5 * lift) return lift_acceleration * s;
+    if (s <= lift) return lift_acceleration * (lift - s);
+    return -fall_acceleration * (s - lift);
   }
 };
 

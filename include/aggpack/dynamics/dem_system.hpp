@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <istream>
+#include <optional>
 #include <ostream>
 #include <string_view>
 #include <vector>
@@ -33,6 +34,30 @@ struct ContactStatistics {
   double max_overlap = 0.0;       // largest overlap relative to the same diameter, walls included
   double coordination = 0.0;      // particle-particle contacts per free particle
   std::size_t contacts = 0;       // particle-particle contacts (each pair once per free side)
+};
+
+// A tool the spheres touch, driven along a prescribed path (a tamping rod): a vertical
+// capsule, a cylinder of `radius` whose lower end is a hemisphere of the same radius centred
+// at the tip centre, its axis running `length` up from there. It is infinitely massive and
+// kinematic: it follows its path whatever the bed's resistance (a hand drives the rod; the
+// force it takes is recorded, not obeyed). Its contacts take the walls' coefficients.
+struct RodWaypoint {
+  double time = 0.0;  // s of the system's time
+  Vec3 tip;           // m, the tip's centre then
+};
+struct RodTool {
+  double radius = 0.0;  // m
+  double length = 0.0;  // m, of the axis above the tip centre
+  // Piecewise linear in time, times ascending; before the first point the rod stands at the
+  // first, after the last at the last.
+  std::vector<RodWaypoint> path;
+
+  [[nodiscard]] Vec3 tip_at(double t) const;
+  [[nodiscard]] Vec3 velocity_at(double t) const;
+  // Distance from x to the capsule's surface (its axis segment's nearest point, less the
+  // radius; negative inside), with the tip at `tip`; `towards` the unit normal from x
+  // towards the rod (from x to the axis).
+  [[nodiscard]] double distance(const Vec3& tip, const Vec3& x, Vec3& towards) const;
 };
 
 // Thrown by DemSystem::run when the bed has blown up: a free sphere moved more than its own
@@ -88,6 +113,22 @@ class DemSystem {
   void set_container_motion(const ContainerMotion& motion);
   // How far the container is above its rest position now, m.
   [[nodiscard]] double container_offset() const { return container_.bounds.lo.z - rest_floor_; }
+
+  // Puts a rod in the bed, or takes it out (nullopt): from the next step on, its contacts
+  // are the list's entry after the container's planes. The list is rebuilt. Throws
+  // std::invalid_argument for a path out of order or a rod of no size.
+  void set_tool(std::optional<RodTool> tool);
+  [[nodiscard]] const std::optional<RodTool>& tool() const { return tool_; }
+  // Sends the rod along a new path from now on, its contacts kept: the path must start where
+  // the rod is now (a rod stopped by the bed, sent back up). std::invalid_argument otherwise.
+  void redirect_tool(std::vector<RodWaypoint> path);
+  // Where the rod's tip centre is now (the system's time).
+  [[nodiscard]] Vec3 tool_tip() const { return tool_tip_; }
+  // The force the bed exerts on the rod at the last step (the sum of its contacts), N, and
+  // its largest magnitude since reset_tool_peak() (or since the tool was set).
+  [[nodiscard]] Vec3 tool_force() const { return tool_force_; }
+  [[nodiscard]] double tool_peak_force() const { return tool_peak_; }
+  void reset_tool_peak() { tool_peak_ = 0.0; }
 
   // Takes in the particles appended to the store since the system last read it (a pour's
   // new batch): free, with the store's positions and velocities. The others keep their state
@@ -227,6 +268,17 @@ class DemSystem {
   bool drift(double slack);
   // Puts the container where its motion has it at time t.
   void place_container(double t);
+  // Entry `wall` of a row (0 .. plane_count() - 1 the container's planes, plane_count() the
+  // rod): the distance from x to it and the unit normal towards it, as Container::plane_distance.
+  [[nodiscard]] double wall_distance(unsigned wall, const Vec3& x, Vec3& towards) const {
+    return wall < container_.plane_count() ? container_.plane_distance(wall, x, towards)
+                                           : tool_->distance(tool_tip_, x, towards);
+  }
+  [[nodiscard]] unsigned wall_entries() const { return container_.plane_count() + (tool_ ? 1u : 0u); }
+  // Moves the rod to time t; returns how far it is from where it was at the list build.
+  double place_tool(double t);
+  // Sums the blocks' forces on the rod in block order (any thread count: the same bits).
+  void sum_tool_force();
   // Derives the list's cross-block parts (cross_begin_, slot_base_, cross_, reverse_offset_,
   // reverse_) from its rows (offset_, other_).
   void index_cross_block_entries();
@@ -241,6 +293,8 @@ class DemSystem {
   };
   void check_restored(const MadeWith& made) const;
   void check_restored_bodies() const;
+  void check_restored_tool() const;
+  void check_restored_motion() const;  // and the tool's
 
   ParticleStore& p_;
   Container container_;
@@ -301,6 +355,12 @@ class DemSystem {
   double rest_floor_ = 0.0, rest_top_ = 0.0;  // m, the container's floor and top at rest
   double listed_offset_ = 0.0;       // the container's offset when the list was built
   std::size_t steps_ = 0, rebuilds_ = 0;
+  // The rod (README, "Rodding"): its tip now and at the list build, the force on it (per
+  // block of kForceBlock slots, then summed) and its peak.
+  std::optional<RodTool> tool_;
+  Vec3 tool_tip_, tool_velocity_, listed_tool_tip_, tool_force_;
+  std::vector<Vec3> tool_block_force_;
+  double tool_peak_ = 0.0;
 };
 
 }  // namespace aggpack

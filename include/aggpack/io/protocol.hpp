@@ -33,6 +33,12 @@ struct SettleStep {
 };
 // Tapping of the bed as it is now ([tapping] settings, the DEM of [dynamics]).
 struct TapStep {};
+// Rodding of the bed's top layer as it is now ([rodding] settings, the DEM of [dynamics];
+// README "Rodding"): aggpack's DEM only.
+struct RodStep {};
+// Jigging of the bed as it is now ([jigging] settings, the DEM of [dynamics]; README
+// "Jigging"): aggpack's DEM only.
+struct JigStep {};
 // The virtual-box analysis of the bed as it is now, reported as `stages.<report_as>`
 // (density and coordination; with the deposition's own keys when that is "deposition").
 struct AnalyseStep {
@@ -57,7 +63,7 @@ struct ImportLammpsStep {
   std::optional<std::int64_t> timestep;
 };
 using StepKind = std::variant<DepositStep, PourStep, SettleStep, TapStep, AnalyseStep, SnapshotStep, ExportLammpsStep,
-                              ImportLammpsStep>;
+                              ImportLammpsStep, RodStep, JigStep>;
 
 struct Step {
   std::string stage;  // the stage it belongs to: what --stop-after names

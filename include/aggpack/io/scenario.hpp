@@ -15,6 +15,8 @@
 #include "aggpack/dynamics/dem_system.hpp"
 #include "aggpack/dynamics/materials.hpp"
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/dynamics/jig.hpp"
+#include "aggpack/dynamics/rod.hpp"
 #include "aggpack/dynamics/tap.hpp"
 #include "aggpack/io/dem_calibration_file.hpp"
 #include "aggpack/grains/grain_library.hpp"
@@ -174,6 +176,8 @@ struct Scenario {
   std::optional<DepositionSettings> deposition;  // [deposition]; fill_height resolved (default: the container)
   std::optional<PourSettings> pour;              // [pour]
   std::optional<TappingSettings> tapping;        // [tapping] (dynamics/tap.hpp)
+  std::optional<RoddingSettings> rodding;        // [rodding] (dynamics/rod.hpp)
+  std::optional<JiggingSettings> jigging;        // [jigging] (dynamics/jig.hpp)
   std::optional<DynamicsStage> dynamics;
   AnalysisSettings analysis;
   RunLimits limits;

@@ -32,6 +32,15 @@ void check_amount(const Scenario& scenario, const ExpectedAmount& amount, bool d
 inline constexpr double kMaxFrames = 10000;
 void check_frames(const Scenario& scenario);
 
+// Rodding and jigging (run/preflight_compaction.cpp): the rod against the container's section,
+// the rod's speed and the drop's impact speed against the time step (each at most a tenth of
+// the smallest radius per step), the lift below g. InputError naming the key.
+void check_compaction(const Scenario& scenario, double time_step, double smallest_radius);
+// A rod or jig step's most samples (one a sample interval `every`) and most simulated time;
+// 0 for any other step.
+double compaction_samples(const Scenario& scenario, const Step& step, double every);
+double compaction_time(const Scenario& scenario, const Step& step);
+
 // Once the radii are known (generated, or read from the particle file): the spheres against
 // the container, the fill height and the boxes; the time step against the contact law's
 // stability limit; the neighbour grid's cells and the profiles' bins against [limits].

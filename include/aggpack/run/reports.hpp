@@ -1,12 +1,15 @@
 #pragma once
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "aggpack/deposition/drop_and_roll.hpp"
+#include "aggpack/dynamics/jig.hpp"
 #include "aggpack/dynamics/pour.hpp"
+#include "aggpack/dynamics/rod.hpp"
 #include "aggpack/dynamics/settle.hpp"
 #include "aggpack/dynamics/tap.hpp"
 
@@ -31,6 +34,15 @@ nlohmann::json to_json(const PourReport& report);
 
 // A tapping step: the density after every tap (taps.csv) and what it cost (dynamics/tap.hpp).
 nlohmann::json to_json(const TapReport& report);
+// A rod step: each stroke's position, depth and peak force (rod_strokes.csv), the densities
+// before and after (dynamics/rod.hpp); a jig step: the density after every drop (jig_drops.csv).
+nlohmann::json to_json(const RoddingReport& report);
+nlohmann::json to_json(const JigReport& report);
+// Their lines of the console summary and their modelling notes.
+std::string console_line(const RoddingReport& report);
+std::string console_line(const JigReport& report);
+std::string modelling_note(const RoddingReport& report);
+std::string modelling_note(const JigReport& report);
 
 // One settling run (a layer, or the whole bed).
 struct SettlingRun {

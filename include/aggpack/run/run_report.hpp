@@ -62,6 +62,8 @@ struct RunReport {
   std::optional<DepositionReport> deposition;   // all deposit steps added up
   std::vector<PourReport> pours;                // every pour step's insertion (its DEM run is in dynamics)
   std::vector<TapReport> tappings;              // every tap step's compaction curve
+  std::vector<RoddingReport> roddings;          // every rod step's strokes (dynamics/rod.hpp)
+  std::vector<JigReport> jiggings;              // every jig step's compaction curve (dynamics/jig.hpp)
   std::optional<SettlingReport> dynamics;       // every settle and pour step's DEM run
   std::map<std::string, StageAnalysis> analyses;  // by the analyse step's report_as
   PackingReport final;                            // the bed at the end

@@ -72,6 +72,15 @@ PourRun pour_bed(const Scenario& sc, ParticleStore& particles, std::span<const d
 TapReport tap_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
                   TimeSeries& series, Progress& progress);
 
+// Rods the bed's top layer with the scenario's [rodding] (into the layer below when the bed has
+// layers below its top one, else to the floor: RodDepth::Auto), [dynamics] and [material].
+RoddingReport rod_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
+                      TimeSeries& series, Progress& progress);
+// Jigs the bed with the scenario's [jigging]: each drop lifts the container and drops it on its
+// base, then the bed rests; the box density is measured after every rest.
+JigReport jig_bed(const Scenario& sc, ParticleStore& particles, double time_offset, const StageControls& controls,
+                  TimeSeries& series, Progress& progress);
+
 // Modelling notes for the dynamics stage: the law, the stiffness, what ended each run.
 std::vector<std::string> dynamics_notes(const Scenario& sc, const SettlingReport& report);
 

@@ -42,6 +42,8 @@ void run_step(const DepositStep& step, RunContext& context);
 void run_step(const PourStep& step, RunContext& context);
 void run_step(const SettleStep& step, RunContext& context);
 void run_step(const TapStep& step, RunContext& context);
+void run_step(const RodStep& step, RunContext& context);
+void run_step(const JigStep& step, RunContext& context);
 void run_step(const AnalyseStep& step, RunContext& context);
 void run_step(const SnapshotStep& step, RunContext& context);
 void run_step(const ExportLammpsStep& step, RunContext& context);
