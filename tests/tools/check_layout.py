@@ -36,6 +36,7 @@ MODULE_DEPENDENCIES = {
     "run": {"io", "report", "analysis", "dynamics", "models", "lammps"},
     "studies": {"run"},
     "specimen": {"analysis", "io"},
+    "labtests": {"studies"},
 }
 
 

@@ -1,0 +1,95 @@
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "aggpack/io/material_file.hpp"
+#include "aggpack/labtests/standards.hpp"
+#include "aggpack/studies/campaign.hpp"
+
+namespace aggpack {
+
+// `aggpack test c29|c1252 MATERIAL --method M` (README, "The lab's tests, simulated"): the
+// standard's test of one aggregate, simulated in the standard's measure by its procedure, over
+// seeds. A test is a scenario aggpack writes (scenario.toml in the output folder: the user can
+// read it, change it and run it with `aggpack run`), made of the material's file and the
+// standard's numbers, run by the run engine like any other.
+enum class LabTestKind { C29, C1252 };
+inline constexpr std::array kLabTestNames{EnumName<LabTestKind>{LabTestKind::C29, "c29"},
+                                          EnumName<LabTestKind>{LabTestKind::C1252, "c1252"}};
+
+struct LabTestOptions {
+  std::filesystem::path material;
+  LabTestKind test = LabTestKind::C29;
+  std::string method;                 // C29: shovelling, rodding, jigging; C1252: A, B, C
+  int seeds = 3;
+  int threads = 0;
+  bool quiet = false;
+  std::vector<std::string> set;       // --set assignments applied to the test's scenario
+  // C1252's representative bed: the measure's own diameter, this fraction of its height (the
+  // floor's and the rim's zones measured and carried to the full height); 1: the full measure.
+  std::optional<double> height_fraction;
+  double finest_size_m = 0.0;         // cut-off of fines (m); 0: the test's default
+};
+
+// One simulated test (C29, C1252 A or C) or one of C1252 B's three fractions.
+struct LabTestPart {
+  std::string label;          // "ASTM C29 rodding", "ASTM C1252 B, 1.18-2.36 mm"
+  std::string scenario_text;  // what is run, seed by seed
+  double measure_diameter_m = 0.0, measure_height_m = 0.0;  // the standard's measure
+  double simulated_height_m = 0.0;  // the rim of the simulated measure (a representative bed's is lower)
+  double cut_off_m = 0.0;           // finer material left out (0: none)
+  double cut_off_percent = 0.0;     // of the mass
+};
+
+// What a test will simulate, known before any run: `plan_lab_test` checks the material, the
+// method and the sizes against the standard and refuses (InputError) what it does not define.
+struct LabTestPlan {
+  AggregateMaterial material;
+  LabTestKind test = LabTestKind::C29;
+  std::string method;               // the standard's name of it
+  std::string standard;             // "ASTM C29/C29M-17a", ...
+  double nominal_maximum_size_m = 0.0;
+  std::string measure_name;         // "1/3 ft3 (9.3 L)", "C1252 cylinder (100 mL)"
+  std::vector<LabTestPart> parts;   // C1252 B: three; else one
+  std::vector<std::string> modelling;  // every modelling choice, said in the outputs
+};
+LabTestPlan plan_lab_test(const LabTestOptions& options);
+
+// A part's result over the seeds: the packing fraction of the struck-off measure's content.
+struct LabTestPartResult {
+  std::string label;
+  std::vector<double> packing;        // per seed, exact cut at the rim (full-height equivalent for a representative bed)
+  std::vector<double> packing_whole;  // per seed, particles whose centre is below the rim counted whole
+  std::vector<std::size_t> particles;
+  SeedStatistics packing_stats, packing_whole_stats;
+  double wall_clock_s = 0.0;
+};
+
+// The test's answer, in the lab's units.
+struct LabTestResult {
+  LabTestPlan plan;
+  std::vector<std::uint64_t> seeds;
+  std::vector<LabTestPartResult> parts;
+  SeedStatistics packing;                 // of the test (C1252 B: the mean of the parts, per seed)
+  double bulk_density_kg_m3 = 0.0;        // C29: packing x oven-dry particle density
+  double bulk_density_sd_kg_m3 = 0.0;
+  double voids_percent = 0.0, voids_sd_percent = 0.0;  // C29's voids, C1252's U
+  std::optional<double> lab_value;        // the material file's measurement of this test and method
+  double wall_clock_s = 0.0;
+};
+
+// Runs the plan's parts over seeds 1..N through `campaign` (numbered, timed, in memory).
+LabTestResult run_lab_test(const LabTestOptions& options, std::ostream& log);
+LabTestResult run_lab_test(const LabTestPlan& plan, const LabTestOptions& options, Campaign& campaign);
+
+nlohmann::json to_json(const LabTestResult& result);
+// The console's lines: the test, the measure, the answer with its spread, the lab's value.
+std::string describe(const LabTestResult& result);
+
+}  // namespace aggpack

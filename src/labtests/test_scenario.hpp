@@ -1,0 +1,38 @@
+#pragma once
+// Private to labtests: a test's scenario text, from the material and the standard's numbers.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "aggpack/io/material_file.hpp"
+#include "aggpack/labtests/lab_test.hpp"
+#include "aggpack/labtests/standards.hpp"
+
+namespace aggpack {
+
+// The packing the lab measured for this test (the amount to generate), or a typical one.
+[[nodiscard]] double expected_packing(const AggregateMaterial& m, LabTestKind test);
+
+struct C29Setup {
+  const AggregateMaterial* material = nullptr;
+  C29Method method = C29Method::Rodding;
+  Measure measure;
+  double cut_off_m = 0.0;  // finer material not generated
+  double expected_packing = 0.6;
+  double max_time_s = 2.0;  // each DEM step's budget of simulated time
+};
+// The scenario's text; `modelling` gets the choices it makes (also written as its comments).
+std::string c29_scenario(const C29Setup& setup, std::vector<std::string>& modelling);
+
+struct C1252Setup {
+  const AggregateMaterial* material = nullptr;
+  std::string label;                      // "A", "B, 1.18-2.36 mm", "C"
+  std::optional<Grading> standard_grading;  // A and B: the standard's sample; C: none (the material's, < 4.75 mm)
+  double simulated_height_m = 0.0;        // the simulated measure's rim
+  double cut_off_m = 0.0;
+  double expected_packing = 0.57;
+  double max_time_s = 2.0;
+};
+std::string c1252_scenario(const C1252Setup& setup, std::vector<std::string>& modelling);
+
+}  // namespace aggpack
