@@ -12,6 +12,8 @@
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/material_file.hpp"
+#include "aggpack/labtests/material_calibration.hpp"
 #include "aggpack/run/preflight.hpp"
 #include "aggpack/studies/calibration.hpp"
 #include "aggpack/studies/dem_calibration.hpp"
@@ -38,7 +40,50 @@ struct CalibrateArguments {
   bool by_dem = false;
   std::optional<double> measured;
   std::string range, out;
+  std::string test, method;  // --test: the positional is a material file, fitted to its lab test
 };
+
+// calibrate MATERIAL --test c29|c1252 --method M: the material's contact parameter fitted to its
+// own lab test; writes the calibrated material file (and the search beside it, FILE.json).
+int calibrate_on_test(CalibrateArguments& a) {
+  aggpack::MaterialCalibrationOptions o;
+  o.test.material = a.calibration.scenario;
+  const auto test = aggpack::value_of(aggpack::kLabTestNames, a.test);
+  if (!test) throw aggpack::InputError(fmt::format("--test {}: expected c29 or c1252", a.test));
+  o.test.test = *test;
+  o.test.method = a.method;
+  o.test.seeds = a.calibration.seeds;
+  o.test.threads = a.calibration.threads;
+  o.test.quiet = a.calibration.quiet;
+  o.test.set = a.calibration.overrides.set;
+  if (a.dem.fit.size() > 1) throw aggpack::InputError("--fit: one parameter: one lab value fixes one");
+  if (!a.dem.fit.empty()) o.parameter = a.dem.fit.front();
+  if (!a.range.empty()) o.range = numbers_argument(a.range, "--range");
+  o.max_evaluations = a.dem.max_evaluations;
+  const std::filesystem::path material = o.test.material;
+  const std::filesystem::path out =
+      a.out.empty() ? material.parent_path() / (material.stem().string() + "_calibrated.toml")
+                    : std::filesystem::path(a.out);
+  check_output_file("--out", out.string(), "the calibrated material file's name");
+  const std::string original = aggpack::read_scenario_text(material);  // the same limits as a scenario's
+  const aggpack::MaterialCalibration c = aggpack::calibrate_material(o, std::cout);
+  const std::string text = aggpack::calibrated_material_text(c, original);
+  aggpack::parse_material_file(text, out);  // what is written reads back
+  aggpack::write_file_atomically(out, text);
+  aggpack::write_file_atomically(out.string() + ".json", aggpack::to_json(c).dump(1) + "\n");
+  if (!o.test.quiet)
+    fmt::print("aggpack: calibrated {} of {} = {:.4g} (band {:.4g} to {:.4g}{}) to its {} {} {:.6g} {}, from {} values x "
+               "{} seeds; wrote {} and {}.json\n",
+               c.parameter, c.plan.material.name, c.search.value, c.search.band_low, c.search.band_high,
+               c.search.band_clipped ? ", cut at the range's end" : "", c.plan.standard, c.plan.method, c.lab_value,
+               c.plan.test == aggpack::LabTestKind::C29 ? "kg/m3" : "% voids", c.search.evaluations.size(), c.seeds,
+               out.string(), out.string());
+  if (!c.search.converged)
+    fmt::print(stderr, "aggpack: warning: NOT CONVERGED: no value's seed mean came within its standard error of the "
+                       "lab's value in {} values; the value is interpolated between the last two (raise --max-runs)\n",
+               c.search.evaluations.size());
+  return 0;
+}
 
 int calibrate_by_dem(CalibrateArguments& a) {
   if (!a.measured)
@@ -71,8 +116,12 @@ Subcommand add_calibrate(CLI::App& app) {
       "calibrate",
       "CPM's K and beta from simulations of a scenario's protocol: a monosized bed and the scenario's mix; with --dem, "
       "a material's rolling friction or friction fitted by DEM runs to a measured density");
-  cmd->add_option("scenario", calibration.scenario, "Scenario of two sizes or more (TOML)")->required();
-  cmd->add_option("--out", a->out, "The calibration file to write (JSON)")->required();
+  cmd->add_option("scenario", calibration.scenario,
+                  "Scenario of two sizes or more (TOML); with --test, the material file")
+      ->required();
+  cmd->add_option("--out", a->out,
+                  "The calibration file to write (JSON); with --test, the calibrated material file (default "
+                  "<material>_calibrated.toml beside it)");
   cmd->add_option("--seeds", calibration.seeds, "Seeds per packing (default 3)")->check(CLI::Range(1, 100));
   add_threads_option(cmd, calibration.threads);
   cmd->add_option("--set", calibration.overrides.set, "Override a scenario key: key.path=value");
@@ -81,21 +130,33 @@ Subcommand add_calibrate(CLI::App& app) {
                             "Fit a contact parameter by DEM runs of the scenario's own protocol to --measured");
   cmd->add_option("--measured", a->measured, "With --dem: the measured packing density of the scenario's bed")
       ->needs(dem);
-  cmd->add_option("--fit", a->dem.fit, "With --dem: rolling_friction (default) or friction")
-      ->delimiter(',')
-      ->needs(dem);
+  auto* test = cmd->add_option("--test", a->test,
+                               "Fit the material file's contact parameter to its lab test: c29 or c1252")
+                   ->excludes(dem);
+  cmd->add_option("--method", a->method, "With --test: the test's method (rodding, ..., A, B, C)")->needs(test);
+  cmd->add_option("--fit", a->dem.fit,
+                  "With --dem or --test: rolling_friction (--dem's default) or friction; --test's default: "
+                  "rolling_friction for spheres, friction for grains")
+      ->delimiter(',');
   cmd->add_option("--materials", a->dem.materials,
                   "With --dem: the material(s) whose value is fitted (default: the bed's one material)")
       ->delimiter(',')
       ->needs(dem);
   cmd->add_flag("--shared", a->dem.shared, "With --dem: one value for every material of --materials")->needs(dem);
   cmd->add_option("--range", a->range,
-                  "With --dem: LOW,HIGH searched (default 0,0.5 for rolling_friction, 0.1,1 for friction)")
-      ->needs(dem);
+                  "With --dem or --test: LOW,HIGH searched (default 0,0.5 for rolling_friction, 0.1,1 for friction)");
   cmd->add_option("--max-runs", a->dem.max_evaluations,
-                  "With --dem: values simulated at most, the range's ends included (default 6; each over --seeds)")
-      ->needs(dem);
-  return {cmd, [a] {
+                  "With --dem or --test: values simulated at most, the range's ends included (default 6; each over "
+                  "--seeds)");
+  return {cmd, [a, cmd] {
+            if (!a->test.empty()) {
+              if (cmd->count("--fit") == 0) a->dem.fit.clear();  // --test's default depends on the material
+              return calibrate_on_test(*a);
+            }
+            for (const char* option : {"--fit", "--range", "--max-runs"})
+              if (!a->by_dem && cmd->count(option) > 0)
+                throw aggpack::InputError(fmt::format("{}: only with --dem or --test", option));
+            if (a->out.empty()) throw aggpack::InputError("--out is missing: the calibration file to write (JSON)");
             check_output_file("--out", a->out, "the calibration file's name");
             if (a->by_dem) return calibrate_by_dem(*a);
             const aggpack::Calibration c = aggpack::calibrate(a->calibration, std::cout);

@@ -155,10 +155,23 @@ AggregateMaterial read_material_table(const toml::table& root, const std::filesy
 
 }  // namespace
 
+namespace {
+// The calibration `aggpack calibrate --test` appended: its [calibration.contact] values take the
+// place of [contact]'s, so that every reader of the file's contact keys sees the fitted ones.
+toml::table with_calibration(toml::table root) {
+  const toml::table* fitted = root.at_path("calibration.contact").as_table();
+  if (!fitted) return root;
+  if (!root["contact"].as_table()) root.insert("contact", toml::table{});
+  toml::table& contact = *root["contact"].as_table();
+  for (const auto& [key, value] : *fitted) contact.insert_or_assign(key, value);
+  return root;
+}
+}  // namespace
+
 MaterialFileRead read_material_file(const std::filesystem::path& file) {
   // A material file is a page of TOML: 1 MiB is far beyond any real one.
   const std::string text = read_input_text(file, "the material file", std::uintmax_t{1} << 20);
-  MaterialFileRead read{{}, parse_toml(text, file)};
+  MaterialFileRead read{{}, with_calibration(parse_toml(text, file))};
   read.material = read_material_table(read.root, file);
   return read;
 }
@@ -166,8 +179,10 @@ MaterialFileRead read_material_file(const std::filesystem::path& file) {
 AggregateMaterial load_material_file(const std::filesystem::path& file) { return read_material_file(file).material; }
 
 AggregateMaterial parse_material_file(std::string_view text, const std::filesystem::path& file) {
-  return read_material_table(parse_toml(text, file), file);
+  return read_material_table(with_calibration(parse_toml(text, file)), file);
 }
+
+toml::table material_file_tables(const std::filesystem::path& file) { return read_material_file(file).root; }
 
 double oven_dry_specific_gravity(const AggregateMaterial& m) {
   // C127: SG(SSD) = B / (B - C), SG(OD) = A / (B - C), absorption = (B - A) / A: OD = SSD / (1 + absorption).

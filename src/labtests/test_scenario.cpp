@@ -27,7 +27,7 @@ std::string metres(double m) { return fmt::format("{:.10g} m", m); }
 
 // The material file's table `key` (none: an empty table), its `file` made absolute.
 toml::table material_table(const std::filesystem::path& material_file, const std::string& key) {
-  toml::table root = toml::parse_file(material_file.string());
+  const toml::table root = material_file_tables(material_file);
   toml::table out;
   if (const toml::table* t = root[key].as_table()) out = *t;
   if (const auto* file = out.get_as<std::string>("file")) {

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "aggpack/core/enum_names.hpp"
 #include "aggpack/grains/grain_library.hpp"
@@ -74,6 +75,9 @@ inline constexpr double kKgPerM3PerLbPerFt3 = 0.45359237 / (0.3048 * 0.3048 * 0.
 // expected. Relative paths in it (a grading's file) are taken from its folder.
 AggregateMaterial load_material_file(const std::filesystem::path& file);
 AggregateMaterial parse_material_file(std::string_view text, const std::filesystem::path& file);
+// The file's tables as a run takes them: its [calibration.contact] values (aggpack calibrate
+// --test) in place of [contact]'s. Checked as load_material_file checks them.
+toml::table material_file_tables(const std::filesystem::path& file);
 
 // The bulk specific gravity on the oven-dry basis: as given, or SSD / (1 + absorption).
 [[nodiscard]] double oven_dry_specific_gravity(const AggregateMaterial& m);
