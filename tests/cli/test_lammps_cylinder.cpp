@@ -163,6 +163,30 @@ TEST(LammpsCylinder, SpheresBouncingOnTheCurvedWallMoveAsInLammpsStepByStep) {
   }
 }
 
+// A pour and taps of a measure handed to LAMMPS: the tap deck's container a region cylinder
+// (its floor the lower cap, moved by the taps), and the taps compact the bed as aggpack's do.
+TEST(LammpsCylinder, APourAndTapsOfAMeasureRunInLammps) {
+  testing::ScratchDir scratch("aggpack_lammps_cylinder_tap_");
+  const fs::path scenario = scratch.path() / "tap.toml";
+  std::ofstream(scenario) << "seed = 6\n[container]\nshape = \"cylinder\"\ndiameter = 0.06\nheight = 0.2\nrim = 0.025\n"
+                             "[particles]\ndiameter = 0.006\ncount = 400\n[material]\nyoungs_modulus = 1e8\n"
+                             "wall_youngs_modulus = 1e8\n[pour]\n[dynamics]\nmax_time = 0.3\n[tapping]\ntaps = 2\n"
+                             "intensity = 3\nrest_time = 0.03\n[analysis]\nbox_sides = [0.012]\n";
+  const fs::path out = scratch.path() / "handed";
+  const auto r = testing::run_cli("run " + scenario.string() + " --quiet --out " + out.string() +
+                                  " --set dynamics.engine='\"lammps\"'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string deck = testing::slurp(out / "lammps" / "tap_1" / "tap.in");
+  EXPECT_NE(deck.find("region container cylinder z 0.0299"), std::string::npos) << deck;
+  EXPECT_NE(testing::slurp(out / "lammps" / "pour_part_1" / "pour.in").find("wall/gran/region"), std::string::npos);
+  const auto summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  const auto& tapping = summary.at("stages").at("tapping");
+  EXPECT_EQ(tapping.at("engine"), "lammps");
+  // Measured: 0.6136 poured, 0.6428 after two taps of 3 g.
+  EXPECT_GT(tapping.at("density_after_each_tap")[1].get<double>(), tapping.at("density_before").get<double>() + 0.005);
+  EXPECT_GT(summary.at("measure").at("packing_density").get<double>(), 0.5);
+}
+
 // 1200 spheres of 6 mm poured into an 80 mm measure, struck off at 40 mm, by both engines over
 // three seeds each: the two means of the measure's packing density within the seeds' scatter.
 // (Measured, 80 s on two cores: aggpack 0.5735, 0.5658, 0.5645, mean 0.5679; LAMMPS 0.5697,
