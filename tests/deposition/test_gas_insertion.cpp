@@ -39,8 +39,9 @@ void expect_valid_gas(const Container& c, const InsertionRegion& region, const s
       EXPECT_GE(at[i].y - r, c.bounds.lo.y);
       EXPECT_LE(at[i].y + r, c.bounds.hi.y);
     }
-    if (c.is_cylinder())
+    if (c.is_cylinder()) {
       EXPECT_LE(std::hypot(at[i].x - c.axis_x(), at[i].y - c.axis_y()) + r, c.radius()) << i;
+    }
     for (std::size_t j = 0; j < i; ++j)
       ASSERT_GE(norm(c.minimum_image(at[i] - at[j])), r + radii[j]) << i << " " << j;
   }
