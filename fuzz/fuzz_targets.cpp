@@ -3,6 +3,7 @@
 #include "aggpack/analysis/density.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/grains/grain_library.hpp"
+#include "aggpack/io/material_file.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/io/shape_option.hpp"
 #include "aggpack/io/scenario.hpp"
@@ -107,6 +108,16 @@ void shape_reader(std::string_view bytes) {
     check_library_cost(specs, 0.05, "--shape", "limit");
     const std::vector<double> widths{0.006, 0.01, 0.014, 0.02};
     (void)make_grain_library(spec, widths, 1);
+  } catch (const InputError&) {
+  }
+}
+
+void material_file_reader(std::string_view bytes) {
+  // The bytes as a material file (`aggpack material`): read, checked, and shown both ways.
+  try {
+    const AggregateMaterial m = parse_material_file(bytes, "/nonexistent/fuzz/material.toml");
+    (void)to_json(m).dump();
+    (void)describe(m);
   } catch (const InputError&) {
   }
 }

@@ -18,5 +18,6 @@ void calibration_reader(std::string_view bytes);
 void checkpoint_reader(std::string_view bytes);
 void material_reader(std::string_view bytes);
 void shape_reader(std::string_view bytes);
+void material_file_reader(std::string_view bytes);
 
 }  // namespace aggpack::fuzz

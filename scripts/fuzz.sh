@@ -3,17 +3,18 @@
 # SECONDS (default 600) on its seed corpus in fuzz/corpus, one target after another, or
 # TARGET alone. Findings go to build-fuzz/findings/<target>/; copy each into
 # tests/fuzz_regressions/<target>/ once fixed, so the normal test suite replays it.
-#   bash scripts/fuzz.sh [SECONDS] [scenario_reader|grading_reader|particle_file_reader|calibration_reader|checkpoint_reader]
+#   bash scripts/fuzz.sh [SECONDS] [scenario_reader|grading_reader|particle_file_reader|calibration_reader|checkpoint_reader|material_reader|shape_reader|material_file_reader]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-600}"
-targets="${2:-scenario_reader grading_reader particle_file_reader calibration_reader checkpoint_reader material_reader shape_reader}"
+targets="${2:-scenario_reader grading_reader particle_file_reader calibration_reader checkpoint_reader material_reader shape_reader material_file_reader}"
 command -v clang++ >/dev/null || { echo "scripts/fuzz.sh needs clang (apt-get install clang libomp-dev)" >&2; exit 2; }
 cmake -S . -B build-fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
   -DAGGPACK_FUZZ=ON -DAGGPACK_BUILD_TESTS=OFF -DAGGPACK_BUILD_BENCH=OFF >/dev/null
 ninja -C build-fuzz $(for t in $targets; do echo "fuzz/fuzz_$t"; done)
 declare -A corpus=([scenario_reader]=scenario [grading_reader]=grading [particle_file_reader]=particles
-                  [calibration_reader]=calibration [checkpoint_reader]=checkpoint)
+                  [calibration_reader]=calibration [checkpoint_reader]=checkpoint [material_reader]=materials
+                  [shape_reader]=shape [material_file_reader]=material_file)
 for t in $targets; do
   work="build-fuzz/corpus/$t" findings="build-fuzz/findings/$t"
   mkdir -p "$work" "$findings" "tests/fuzz_regressions/${corpus[$t]}"  # libFuzzer needs every corpus folder

@@ -1,4 +1,5 @@
-// The subcommands on one bed or one grading, with no simulation: analyze, grading and predict.
+// The subcommands on one bed, one grading or one material, with no simulation: analyze, grading,
+// predict and material.
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -11,6 +12,7 @@
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
+#include "aggpack/io/material_file.hpp"
 #include "aggpack/io/particle_file.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/analyze_bed.hpp"
@@ -188,9 +190,28 @@ Subcommand add_predict(CLI::App& app) {
           }};
 }
 
+Subcommand add_material(CLI::App& app) {
+  struct Arguments {
+    std::string file;
+    bool json = false;
+  };
+  const auto a = std::make_shared<Arguments>();
+  auto* cmd = app.add_subcommand("material", "Check a material file (one aggregate: specific gravity, grading, shape, "
+                                             "contact, lab results) and print it");
+  cmd->add_option("file", a->file, "A material file (.toml): README.md, \"Materials: one file per aggregate\"")
+      ->required();
+  cmd->add_flag("--json", a->json, "Print machine-readable JSON");
+  return {cmd, [a] {
+            const aggpack::AggregateMaterial material = aggpack::load_material_file(a->file);
+            if (a->json) std::cout << aggpack::to_json(material).dump(2) << "\n";
+            else fmt::print("{}", aggpack::describe(material));
+            return 0;
+          }};
+}
+
 }  // namespace
 
 // A braced list is evaluated in order: the subcommands are added, and listed, in this order.
 std::vector<Subcommand> add_bed_commands(CLI::App& app) {
-  return {add_analyze(app), add_grading(app), add_predict(app)};
+  return {add_analyze(app), add_grading(app), add_predict(app), add_material(app)};
 }

@@ -22,7 +22,7 @@ CLI::Option* add_threads_option(CLI::App* cmd, int& threads);
 
 // run, resume and check (run_commands.cpp).
 std::vector<Subcommand> add_run_commands(CLI::App& app);
-// analyze, grading and predict: one bed or one grading, no simulation (bed_commands.cpp).
+// analyze, grading, predict and material: one bed, grading or material file, no simulation (bed_commands.cpp).
 std::vector<Subcommand> add_bed_commands(CLI::App& app);
 // calibrate, whole-grading, reproduce and sweep: series of runs (study_commands.cpp). reproduce
 // finds the shipped scenarios from argv[0] and records the command line.

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/analysis/sphere_box_volume.hpp"
+#include "aggpack/analysis/sphere_cylinder_volume.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/quaternion.hpp"
 #include "aggpack/grains/union_mass_properties.hpp"
@@ -138,7 +139,8 @@ Profile vertical_profile_by(const ParticleStore& particles, const Container& con
     });
   });
   Profile profile;
-  const double slab_volume = container.length_x() * container.length_y() * thickness;
+  // A cylinder's spheres all lie inside its wall: their volume in the bounds' slab is theirs in its circle's.
+  const double slab_volume = container.cross_section_area() * thickness;
   for (long k = 0; k < bins; ++k) {
     profile.position.push_back(z0 + thickness * (static_cast<double>(k) + 0.5));
     profile.solid_fraction.push_back(volume[static_cast<std::size_t>(k)] / slab_volume);
@@ -151,10 +153,63 @@ Profile vertical_profile(const ParticleStore& particles, const Container& contai
   return vertical_profile_by(particles, container, thickness, piece_volume_in_box);
 }
 
+namespace {
+// A piece's volume inside a vertical cylinder: a sphere's exact (lens areas over z); a grain's
+// by its spheres' shares of its union's volume, as piece_share_in_box does for boxes.
+double piece_share_in_cylinder(const ParticleStore& p, const Piece& piece, const VerticalCylinder& cylinder) {
+  if (!piece.body) return sphere_cylinder_volume(piece.centre, piece.reach, cylinder, 1e-9);
+  const std::size_t b = piece.index;
+  const Quaternion& q = p.bodies.orientation[b];
+  double inside = 0.0, all = 0.0;
+  for (std::uint32_t i = p.bodies.first_member[b]; i < p.bodies.first_member[b] + p.bodies.member_count[b]; ++i) {
+    const double r = p.radius[i];
+    inside += sphere_cylinder_volume(piece.centre + rotate(q, p.body_offset[i]), r, cylinder, 1e-9);
+    all += 4.0 / 3.0 * std::numbers::pi * r * r * r;
+  }
+  return p.bodies.volume[b] * inside / all;
+}
+
+// A cylinder's shells: ring k holds the points whose distance from the wall is in
+// [k t, (k + 1) t), the volume inside the cylinder of radius R - k t less that inside R - (k + 1) t.
+Profile radial_wall_profile(const ParticleStore& particles, const Container& container, double thickness,
+                            double z_lo, double z_hi) {
+  Profile profile;
+  const double radius = container.radius();
+  const auto bins = static_cast<std::size_t>(std::floor(radius / thickness));
+  const auto inset = [&](double depth) {
+    return VerticalCylinder{container.axis_x(), container.axis_y(), z_lo, z_hi, std::max(radius - depth, 0.0)};
+  };
+  std::vector<double> volume(bins, 0.0);
+  for_each_piece(particles, [&](const Piece& piece) {
+    const Vec3& c = piece.centre;
+    const double r = piece.reach;
+    if (c.z + r <= z_lo || c.z - r >= z_hi) return;
+    Vec3 outward;
+    const double near = container.plane_distance(Container::kCylinderWall, c, outward);
+    const long first = std::max(static_cast<long>(std::floor((near - r) / thickness)), 0L);
+    const long last = std::min(static_cast<long>(std::floor((near + r) / thickness)), static_cast<long>(bins) - 1);
+    if (first > last) return;
+    double outer = piece_share_in_cylinder(particles, piece, inset(thickness * static_cast<double>(first)));
+    for (long k = first; k <= last; ++k) {
+      const double inner = piece_share_in_cylinder(particles, piece, inset(thickness * static_cast<double>(k + 1)));
+      volume[static_cast<std::size_t>(k)] += outer - inner;
+      outer = inner;
+    }
+  });
+  for (std::size_t k = 0; k < bins; ++k) {
+    const double a = radius - thickness * static_cast<double>(k), b = a - thickness;
+    profile.position.push_back(thickness * (static_cast<double>(k) + 0.5));
+    profile.solid_fraction.push_back(volume[k] / (std::numbers::pi * (a * a - b * b) * (z_hi - z_lo)));
+  }
+  return profile;
+}
+}  // namespace
+
 Profile wall_distance_profile(const ParticleStore& particles, const Container& container,
                               double thickness, double z_lo, double z_hi) {
   Profile profile;
   if (container.periodic || z_hi <= z_lo) return profile;
+  if (container.is_cylinder()) return radial_wall_profile(particles, container, thickness, z_lo, z_hi);
   const Box& f = container.bounds;
   const double half_width = 0.5 * std::min(container.length_x(), container.length_y());
   const auto bins = static_cast<std::size_t>(std::floor(half_width / thickness));
@@ -214,7 +269,7 @@ BedGeometry measure_bed(const ParticleStore& particles, const Container& contain
   // grain split among the slices by its spheres' shares: an estimate, as this height is).
   const Profile slices = vertical_profile_by(particles, container, bed.d_max, piece_share_in_box);
   const double bulk_fraction = median(slices.solid_fraction);
-  const double footprint = container.length_x() * container.length_y();
+  const double footprint = container.cross_section_area();
   bed.surface = bulk_fraction > 0.0 ? std::min(bed.floor + solid / (footprint * bulk_fraction), bed.top) : bed.top;
   return bed;
 }
@@ -229,14 +284,14 @@ Box place_virtual_cube(double side, const Container& container, const BedGeometr
   const auto fail = [&](const char* what, double largest) {
     throw InputError(fmt::format(
         "a virtual cube of side {:.6g} m comes closer than d_max = {:.6g} m to {} "
-        "(floor {:.6g} m, free surface {:.6g} m, container {:.6g} x {:.6g} m); the largest admissible side is "
+        "(floor {:.6g} m, free surface {:.6g} m, container {}{:.6g} x {:.6g} m); the largest admissible side is "
         "{:.6g} m",
-        side, bed.d_max, what, bed.floor, bed.surface, container.length_x(), container.length_y(),
+        side, bed.d_max, what, bed.floor, bed.surface, container.is_cylinder() ? "a cylinder in " : "",
+        container.length_x(), container.length_y(),
         std::max(largest, 0.0)));
   };
   const double vertical_limit = bed.surface - bed.floor - 2.0 * bed.d_max;
-  const double width = std::min(container.length_x(), container.length_y());
-  const double horizontal_limit = container.periodic ? width : width - 2.0 * bed.d_max;
+  const double horizontal_limit = container.widest_centred_square(bed.d_max);
   if (side > vertical_limit + slack)
     fail("the floor or the free surface", std::min(vertical_limit, horizontal_limit));
   if (side > horizontal_limit + slack) fail("a side wall", std::min(vertical_limit, horizontal_limit));

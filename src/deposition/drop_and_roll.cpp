@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace aggpack {
 
@@ -138,6 +139,9 @@ DropAndRoll::DropAndRoll(ParticleStore& bed, const Container& container, std::sp
       rng_(rng),
       grid_(container, all_radii(bed, radii_to_come), expected_bed_volume(bed, radii_to_come, container)),
       supports_(bed.size()) {
+  // Its contacts take the walls as planes; the scenario reader refuses a cylinder before this.
+  if (container.is_cylinder())
+    throw std::invalid_argument("DropAndRoll: a cylindrical container has a curved wall; drop-and-roll needs a box");
   grid_.reserve(bed.size() + radii_to_come.size());
   supports_.reserve(bed.size() + radii_to_come.size());
   for (std::size_t i = 0; i < bed.size(); ++i)

@@ -13,7 +13,7 @@ namespace aggpack {
 
 InsertionRegion insertion_region(const Container& container, double bottom, double solid_volume,
                                  double solid_fraction) {
-  const double area = container.length_x() * container.length_y();
+  const double area = container.cross_section_area();
   return {bottom, bottom + solid_volume / (solid_fraction * area)};
 }
 
@@ -28,7 +28,7 @@ std::vector<Vec3> random_gas(const Container& container, const InsertionRegion& 
   double solid = 0.0;
   for (const double r : radii) solid += 4.0 / 3.0 * std::numbers::pi * r * r * r;
   const Box& b = container.bounds;
-  const double slab_volume = container.length_x() * container.length_y() * (region.top - region.bottom);
+  const double slab_volume = container.cross_section_area() * (region.top - region.bottom);
   // The grid's cells are sized for the gas; its z layers are allocated as the slab is filled.
   Container slab = container;
   slab.bounds.lo.z = region.bottom;
@@ -37,7 +37,9 @@ std::vector<Vec3> random_gas(const Container& container, const InsertionRegion& 
   for (std::size_t n = 0; n < order.size(); ++n) {
     const std::uint32_t k = order[n];
     const double r = radii[k];
-    // Centres that keep the sphere inside: the slab always, the side walls unless periodic.
+    // Centres that keep the sphere inside: the slab always, the side walls unless periodic
+    // (a cylinder's: within R - r of the axis, the square around that circle sampled and the
+    // corners' draws refused, each an attempt).
     const double margin = container.periodic ? 0.0 : r;
     const Vec3 lo{b.lo.x + margin, b.lo.y + margin, region.bottom + r};
     const Vec3 hi{b.hi.x - margin, b.hi.y - margin, region.top - r};
@@ -48,6 +50,8 @@ std::vector<Vec3> random_gas(const Container& container, const InsertionRegion& 
     bool done = false;
     for (std::size_t attempt = 0; attempt < max_attempts && !done; ++attempt) {
       const Vec3 c{rng.uniform(lo.x, hi.x), rng.uniform(lo.y, hi.y), rng.uniform(lo.z, hi.z)};
+      Vec3 outward;
+      if (container.is_cylinder() && container.plane_distance(Container::kCylinderWall, c, outward) < r) continue;
       bool clear = true;
       grid.for_each_near(c, r, [&](std::uint32_t j) {
         if (!clear) return;

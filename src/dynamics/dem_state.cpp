@@ -80,6 +80,19 @@ void DemSystem::restore_state(std::string_view bytes) {
   batches_.assign(static_cast<std::size_t>(governor_.most()), ContactBatch{});
 }
 
+namespace {
+// Whether a restored container is of the run's kind: its periodic flag and shape read as their
+// bytes first (any other value than 0 or 1 in a bool, or a stray value of an enum, is no value).
+bool same_kind(const Container& restored, const Container& made) {
+  unsigned char periodic = 0;
+  std::memcpy(&periodic, &restored.periodic, 1);
+  std::underlying_type_t<ContainerShape> shape{};
+  std::memcpy(&shape, &restored.shape, sizeof shape);
+  return periodic == (made.periodic ? 1 : 0) &&
+         shape == static_cast<std::underlying_type_t<ContainerShape>>(made.shape) && restored.rim == made.rim;
+}
+}  // namespace
+
 void DemSystem::check_restored(const MadeWith& made) const {
   const auto fail = [](std::string_view what) {
     throw InputError(fmt::format("the DEM state does not fit its run: {}", what));
@@ -89,12 +102,9 @@ void DemSystem::check_restored(const MadeWith& made) const {
   // The count first: every check below indexes the store and the run's flags by it.
   if (n != p_.size() || n != made.frozen_by_index.size())
     fail(fmt::format("its particle count, {}, is not the run's {}", n, p_.size()));
-  // The container: the scenario's, moved up or down by its motion only. Its flag is read as a
-  // byte first: any other value than 0 or 1 in a bool is undefined behaviour.
-  unsigned char periodic = 0;
-  std::memcpy(&periodic, &container_.periodic, 1);
+  // The container: the scenario's, moved up or down by its motion only.
   const Box &box = container_.bounds, &made_box = made.container.bounds;
-  if (periodic != (made.container.periodic ? 1 : 0) || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
+  if (!same_kind(container_, made.container) || box.lo.x != made_box.lo.x || box.hi.x != made_box.hi.x ||
       box.lo.y != made_box.lo.y || box.hi.y != made_box.hi.y || rest_floor_ != made.rest_floor ||
       rest_top_ != made.rest_top)
     fail("its container is not the scenario's");

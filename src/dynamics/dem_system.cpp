@@ -189,8 +189,7 @@ void DemSystem::check_not_blown_up() const {
       throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} went through the floor (its centre at z = {:.4g} m, the "
                                   "floor at {:.4g} m)",
                                   time_, user, g.position.z, b.lo.z));
-    if (!container_.periodic &&
-        (g.position.x < b.lo.x || g.position.x > b.hi.x || g.position.y < b.lo.y || g.position.y > b.hi.y))
+    if (!container_.holds_horizontally(g.position))
       throw DemBlowUp(fmt::format("at {:.4g} s simulated, sphere {} went through a side wall (its centre at x = {:.4g}, y = "
                                   "{:.4g} m)",
                                   time_, user, g.position.x, g.position.y));
@@ -339,9 +338,10 @@ void DemSystem::scatter_contacts(const ContactBatch& batch, std::uint32_t first_
       const Vec3 wall_velocity = rod ? tool_velocity_ : Container::plane_velocity(wall, motion_, force_time_);
       kin.velocity = vi - wall_velocity + cross(ri * wi, kin.normal);
       kin.spin = wi;
-      // The rod: a sphere of its radius at the tip (exact there), an approximation on its shaft.
-      kin.r_eff = rod ? ri * tool_->radius / (ri + tool_->radius) : ri;
-      kin.m_eff = mi;  // the wall and the rod are infinitely massive
+      // The rod: a sphere of its radius at the tip (exact there), an approximation on its shaft;
+      // a cylinder's concave wall: its own effective radius.
+      kin.r_eff = rod ? ri * tool_->radius / (ri + tool_->radius) : container_.wall_contact_radius(wall, ri);
+      kin.m_eff = mi;  // the walls and the rod are infinitely massive
       const ContactForce c = wall_law.evaluate(kin, spring[e], rolling, dt);
       f += c.force;
       t += ri * cross(kin.normal, c.tangential) + c.rolling_torque;

@@ -98,7 +98,7 @@ std::optional<std::string> find_blow_up(const DemSystem& system, const ParticleS
     if (p.z < b.lo.z - budget.floor_travel)
       return fmt::format("sphere {} went through the floor (its centre at z = {:.4g} m, the floor at {:.4g} m)", i,
                          p.z, b.lo.z);
-    if (!container.periodic && (p.x < b.lo.x || p.x > b.hi.x || p.y < b.lo.y || p.y > b.hi.y))
+    if (!container.holds_horizontally(p))
       return fmt::format("sphere {} went through a side wall (its centre at x = {:.4g}, y = {:.4g} m)", i, p.x, p.y);
   }
   if (!std::isfinite(d_min)) return std::nullopt;  // nothing free to move

@@ -58,16 +58,6 @@ std::filesystem::path relative_to(const std::filesystem::path& dir, const std::s
   return std::filesystem::path(file).is_absolute() ? std::filesystem::path(file) : dir / file;
 }
 
-toml::table parse_toml(std::string_view text, const std::filesystem::path& file) {
-  try {
-    return toml::parse(text, file.string());
-  } catch (const toml::parse_error& e) {
-    const auto& src = e.source();
-    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
-                                 src.begin.column, e.description()));
-  }
-}
-
 // calibrated_by: a DEM calibration file or a list of them (relative to the scenario's folder).
 // Each one's assignments replace the scenario's values, after --set. A key given two values (by
 // two files, or by a file and --set) is refused: which one is meant cannot be known.
@@ -123,7 +113,13 @@ std::uint64_t read_seed(const TomlSection& s, const std::filesystem::path& file,
 
 // [deposition], [pour], [tapping] and [dynamics], with the checks of each against the others.
 void read_stages(const TomlSection& s, Scenario& sc) {
-  if (const auto d = s.table("deposition")) sc.deposition = read_deposition(*d, sc.container);
+  if (const auto d = s.table("deposition")) {
+    if (sc.container.is_cylinder())
+      s.fail("deposition", "container.shape = \"cylinder\": drop-and-roll deposition needs a box (its walls are "
+                           "planes); pour the particles instead ([pour], [dynamics] and, with [[protocol]], a pour "
+                           "step)");
+    sc.deposition = read_deposition(*d, sc.container);
+  }
   if (const auto p = s.table("pour")) sc.pour = read_pour(*p);
   if (const auto t = s.table("tapping")) {
     sc.tapping = read_tapping(*t);
@@ -180,7 +176,8 @@ void check_particles_placed(const TomlSection& s, const Scenario& sc) {
                                                                             : "coarse");
     if (d_max >= sc.container.length_x())
       throw InputError(fmt::format("{}: particles: the largest diameter ({:.6g} m) does not fit in the container "
-                                   "(side {:.6g} m)", where, d_max, sc.container.length_x()));
+                                   "({} {:.6g} m)", where, d_max, sc.container.is_cylinder() ? "diameter" : "side",
+                                   sc.container.length_x()));
     // The nearest periodic image must be unique within a roll's reach (two diameters each way).
     if (sc.container.periodic && sc.container.length_x() <= 4.0 * d_max)
       throw InputError(fmt::format("{}: container.side: with periodic sides the side ({:.6g} m) must exceed four "
@@ -212,6 +209,16 @@ void read_order(const TomlSection& s, Scenario& sc) {
   if (steps) sc.protocol = read_protocol(s, *steps, sc);
 }
 }  // namespace
+
+toml::table parse_toml(std::string_view text, const std::filesystem::path& file) {
+  try {
+    return toml::parse(text, file.string());
+  } catch (const toml::parse_error& e) {
+    const auto& src = e.source();
+    throw InputError(fmt::format("{}:{}:{}: TOML syntax error: {}", file.string(), src.begin.line,
+                                 src.begin.column, e.description()));
+  }
+}
 
 // The input file that `key` names, from the scenario's folder: one that is not there is
 // refused at the key, with the path it was looked for at (absolute) and the path as given.
@@ -273,6 +280,8 @@ toml::table overridden_table(std::string_view text, const std::filesystem::path&
   return root;
 }
 
+}  // namespace
+
 // A TOML value as JSON's (a date or time as its TOML text).
 nlohmann::json json_of(const toml::node& node) {
   if (const auto* table = node.as_table()) {
@@ -293,8 +302,6 @@ nlohmann::json json_of(const toml::node& node) {
   node.visit([&](const auto& value) { text << value; });
   return text.str();
 }
-
-}  // namespace
 
 nlohmann::json scenario_keys(std::string_view text, const std::filesystem::path& file,
                              const ScenarioOverrides& overrides) {
@@ -317,11 +324,12 @@ Scenario parse_scenario(std::string_view text, const std::filesystem::path& file
   sc.file = file;
   sc.overrides = overrides.set;
   sc.calibrations = apply_calibrations(root, s, file, origin);
+  apply_material_files(root, file, origin);
   sc.title = s.string("title").value_or(file.stem().string());
   sc.seed = read_seed(s, file, overrides);
   const TomlSection container = s.required(s.table("container"), "container", "a [container] table");
   sc.container = read_container(container);
-  sc.written_length_unit = container.written_unit("side").value_or("");
+  sc.written_length_unit = container.written_unit(sc.container.is_cylinder() ? "diameter" : "side").value_or("");
   if (sc.written_length_unit == "m") sc.written_length_unit.clear();
   if (const auto m = s.table("material")) sc.material = read_material(*m);
   if (const auto m = s.table("materials")) sc.materials = read_named_materials(*m, sc.material);

@@ -27,22 +27,26 @@ void read_rolling_model(const TomlSection& s, ContactParameters& c) {
 
 }  // namespace
 
-Material read_material(const TomlSection& s, Material base) {
-  s.allow_only({"density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
-                "friction_particle", "friction_wall", "restitution", "rolling_friction", "rolling_model",
-                "rolling_stiffness", "rolling_damping"});
-  Material m = std::move(base);
-  ContactParameters& c = m.contact;
-  const NumberRange poisson{-1.0, 0.5, true, true};
-  m.density = s.number("density", kPositive).value_or(m.density);
+void read_contact_keys(const TomlSection& s, ContactParameters& c) {
   c.youngs_modulus = s.number("youngs_modulus", kPositive).value_or(c.youngs_modulus);
-  c.poisson_ratio = s.number("poisson_ratio", poisson).value_or(c.poisson_ratio);
-  c.wall_youngs_modulus = s.number("wall_youngs_modulus", kPositive).value_or(c.wall_youngs_modulus);
-  c.wall_poisson_ratio = s.number("wall_poisson_ratio", poisson).value_or(c.wall_poisson_ratio);
+  c.poisson_ratio = s.number("poisson_ratio", kPoissonRatio).value_or(c.poisson_ratio);
   c.friction_particle = s.number("friction_particle", kNonNegative).value_or(c.friction_particle);
   c.friction_wall = s.number("friction_wall", kNonNegative).value_or(c.friction_wall);
   c.restitution = s.number("restitution", kFraction).value_or(c.restitution);
   c.rolling_friction = s.number("rolling_friction", kNonNegative).value_or(c.rolling_friction);
+}
+
+Material read_material(const TomlSection& s, Material base) {
+  s.allow_only({"file", "density", "youngs_modulus", "poisson_ratio", "wall_youngs_modulus", "wall_poisson_ratio",
+                "friction_particle", "friction_wall", "restitution", "rolling_friction", "rolling_model",
+                "rolling_stiffness", "rolling_damping"});
+  Material m = std::move(base);
+  ContactParameters& c = m.contact;
+  m.file = s.string("file").value_or("");  // applied before (apply_material_files): kept for the echo
+  m.density = s.number("density", kPositive).value_or(m.density);
+  c.wall_youngs_modulus = s.number("wall_youngs_modulus", kPositive).value_or(c.wall_youngs_modulus);
+  c.wall_poisson_ratio = s.number("wall_poisson_ratio", kPoissonRatio).value_or(c.wall_poisson_ratio);
+  read_contact_keys(s, c);
   read_rolling_model(s, c);
   return m;
 }

@@ -6,8 +6,6 @@
 
 namespace aggpack {
 
-namespace {
-
 nlohmann::json grading_source_json(const GradingSource& gs) {
   nlohmann::json out{{"key", gs.key}, {"grading", gs.grading.name}};
   for (const Sieve& s : gs.grading.sieves)
@@ -17,6 +15,8 @@ nlohmann::json grading_source_json(const GradingSource& gs) {
   if (gs.band) out["band"] = gs.band->name;
   return out;
 }
+
+namespace {
 
 nlohmann::json particles_json(const ParticleSource& particles) {
   nlohmann::json p;
@@ -125,6 +125,8 @@ nlohmann::json dynamics_json(const DynamicsStage& d, const Material& material) {
   return j;
 }
 
+}  // namespace
+
 nlohmann::json material_json(const Material& m) {
   const ContactParameters& c = m.contact;
   nlohmann::json j = {{"density_kg_m3", m.density},
@@ -142,8 +144,11 @@ nlohmann::json material_json(const Material& m) {
     j["rolling_stiffness_n_m"] = c.rolling_stiffness;
     j["rolling_damping_n_s_m"] = c.rolling_damping;
   }
+  if (!m.file.empty()) j["file"] = m.file.string();
   return j;
 }
+
+namespace {
 
 // A run of several materials: each named one (its index, 1 on: 0 is [material], "default"),
 // the pairs given their own coefficients, and the material of each component of [particles].
@@ -224,9 +229,16 @@ nlohmann::json to_json(const Scenario& sc) {
   j["seed"] = sc.seed;
   j["file"] = sc.file.string();
   const ContainerSides sides = sc.container.periodic ? ContainerSides::Periodic : ContainerSides::Walls;
-  j["container"] = {{"side_m", sc.container.length_x()},
-                    {"height_m", sc.container.height()},
-                    {"sides", name_of(kContainerSidesNames, sides)}};
+  // A box's echo is as it was before shapes (no "shape" key: box is the default).
+  if (sc.container.is_cylinder())
+    j["container"] = {{"shape", name_of(kContainerShapeNames, sc.container.shape)},
+                      {"diameter_m", sc.container.length_x()},
+                      {"height_m", sc.container.height()},
+                      {"rim_m", sc.container.rim}};
+  else
+    j["container"] = {{"side_m", sc.container.length_x()},
+                      {"height_m", sc.container.height()},
+                      {"sides", name_of(kContainerSidesNames, sides)}};
   j["particles"] = particles_json(sc.particles);
   add_placing_stages(j, sc);
   if (sc.dynamics) j["dynamics"] = dynamics_json(*sc.dynamics, sc.material);

@@ -54,9 +54,16 @@ std::vector<std::uint8_t> read_classes(const std::vector<TomlSection>& classes, 
   return materials;
 }
 
-GradingSource read_grading_source(const TomlSection& s, const std::filesystem::path& scenario_dir) {
+// A graded component's table: its grading, material and shape.
+GradingSource read_component_grading(const TomlSection& s, const std::filesystem::path& scenario_dir) {
   s.allow_only({"name", "file", "length_unit", "percent_column", "sieves", "law", "law_d_max", "q", "law_d_min",
                 "d_min", "d_max", "band", "material", "shape"});
+  return read_grading_source(s, scenario_dir);
+}
+
+}  // namespace
+
+GradingSource read_grading_source(const TomlSection& s, const std::filesystem::path& scenario_dir) {
   GradingSource g;
   g.key = s.path();
   const int ways = int(s.has("name")) + int(s.has("file")) + int(s.has("sieves")) + int(s.has("law"));
@@ -127,6 +134,8 @@ GradingSource read_grading_source(const TomlSection& s, const std::filesystem::p
   return g;
 }
 
+namespace {
+
 GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& scenario_dir,
                             const Container& container, std::span<const std::string> material_names,
                             std::vector<std::uint8_t>& component_materials,
@@ -137,15 +146,15 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
     if (s.has("grading")) s.fail("grading", "give either 'grading' or a 'coarse' and 'fine' mix, not both");
     const TomlSection coarse = s.required(s.table("coarse"), "coarse", "a [particles.coarse] table");
     const TomlSection fine = s.required(s.table("fine"), "fine", "a [particles.fine] table");
-    p.main = read_grading_source(coarse, scenario_dir);
-    p.fine = read_grading_source(fine, scenario_dir);
+    p.main = read_component_grading(coarse, scenario_dir);
+    p.fine = read_component_grading(fine, scenario_dir);
     p.ca_fa = s.required(s.number("ca_fa", kPositive), "ca_fa", "the coarse/fine volume ratio, such as 1.52");
     component_materials = {component_material(coarse, material_names), component_material(fine, material_names)};
     component_shapes = {read_grain_shape(coarse), read_grain_shape(fine)};
   } else {
     if (s.has("ca_fa")) s.fail("ca_fa", "applies only to a coarse/fine mix");
     const TomlSection grading = *s.table("grading");
-    p.main = read_grading_source(grading, scenario_dir);
+    p.main = read_component_grading(grading, scenario_dir);
     component_materials = {component_material(grading, material_names)};
     component_shapes = {read_grain_shape(grading)};
   }
@@ -166,7 +175,7 @@ GradedParticles read_graded(const TomlSection& s, const std::filesystem::path& s
   if (p.fill_height) {
     if (*p.fill_height > container.height())
       s.fail("fill_height", "is above the container height");
-    p.amount.solid_volume = container.length_x() * container.length_y() * *p.fill_height * p.expected_density;
+    p.amount.solid_volume = container.cross_section_area() * *p.fill_height * p.expected_density;
   }
   return p;
 }

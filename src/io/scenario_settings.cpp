@@ -19,11 +19,30 @@ std::string quoted_names(const std::vector<std::string_view>& names, std::string
 }  // namespace
 
 Container read_container(const TomlSection& s) {
-  s.allow_only({"side", "height", "sides"});
-  const double side = s.required(s.length("side"), "side", "a length such as \"12 in\"");
-  const double height = s.required(s.length("height"), "height", "a length such as \"24 in\"");
-  const ContainerSides sides = s.choice("sides", kContainerSidesNames).value_or(ContainerSides::Walls);
-  return Container::square(side, height, sides == ContainerSides::Periodic);
+  s.allow_only({"shape", "side", "diameter", "height", "rim", "sides"});
+  const ContainerShape shape = s.choice("shape", kContainerShapeNames).value_or(ContainerShape::Box);
+  const auto height = [&] { return s.required(s.length("height"), "height", "a length such as \"24 in\""); };
+  if (shape == ContainerShape::Box) {
+    for (const std::string_view key : {"diameter", "rim"})
+      if (s.has(key))
+        s.fail(key, "only a cylinder (shape = \"cylinder\") has a diameter and a rim; expected side for a box");
+    const double side = s.required(s.length("side"), "side", "a length such as \"12 in\"");
+    const double box_height = height();
+    const ContainerSides sides = s.choice("sides", kContainerSidesNames).value_or(ContainerSides::Walls);
+    return Container::square(side, box_height, sides == ContainerSides::Periodic);
+  }
+  if (s.has("side"))
+    s.fail("side", "a cylinder (shape = \"cylinder\") has no side; expected diameter (and height, rim)");
+  if (s.choice("sides", kContainerSidesNames).value_or(ContainerSides::Walls) == ContainerSides::Periodic)
+    s.fail("sides", "a cylinder has a wall all round and cannot be periodic; expected sides = \"walls\" or no key");
+  const double diameter = s.required(s.length("diameter"), "diameter", "a length such as \"155 mm\"");
+  Container c = Container::cylinder(diameter, height());
+  c.rim = s.length("rim").value_or(c.height());
+  if (c.rim > c.height())
+    s.fail("rim", fmt::format("{:.6g} m is above the container's height ({:.6g} m); expected at most the height (the "
+                              "walls above the rim are a collar)",
+                              c.rim, c.height()));
+  return c;
 }
 
 AnalysisSettings read_analysis(const TomlSection& s) {

@@ -1,6 +1,7 @@
 #include "aggpack/io/toml_reader.hpp"
 
 #include <algorithm>
+#include <span>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -96,12 +97,16 @@ void TomlSection::fail(std::string_view key, std::string_view what) const {
 }
 
 void TomlSection::missing(std::string_view key, std::string_view expected) const {
-  const std::string where = path_.empty() ? "the scenario" : "[" + path_ + "]";
+  const std::string where = path_.empty() ? origin_->root_name : "[" + path_ + "]";
   throw InputError(fmt::format("{}: {}: missing required key '{}' in {} (expected {})",
                                node_location(*table_, path_), key_path(key), key, where, expected));
 }
 
 void TomlSection::allow_only(std::initializer_list<std::string_view> allowed) const {
+  allow_only(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+}
+
+void TomlSection::allow_only(std::span<const std::string_view> allowed) const {
   for (const auto& [k, v] : *table_) {
     const std::string_view key = k.str();
     if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;

@@ -205,12 +205,18 @@ void deck_motion(Out o, const DeckBasis& b, const ParticleStore& bed) {
   fmt::format_to(o, "thermo_style custom step time atoms v_energy c_top\nthermo {}\n", 100 * b.steps_per_sample);
 }
 
-// The container at rest: fix wall/gran planes (the floor only with periodic sides), one set per
-// material of several (a wall/gran fix has one set of coefficients for its group).
+// The container at rest: fix wall/gran planes (the floor only with periodic sides; a
+// cylinder's floor and its wall by wall/gran/region), one set per material of several (a wall/gran fix has one set of coefficients for its group).
 void deck_static_walls(Out o, const DeckBasis& b) {
   const Container& c = b.sc.container;
+  // A cylinder's wall: a region's curved side alone (its caps open; the floor is the plane below).
+  if (c.is_cylinder())
+    fmt::format_to(o, "region measure cylinder z {:.17g} {:.17g} {:.17g} {:.17g} INF side in open 1 open 2 units box\n",
+                   c.axis_x(), c.axis_y(), c.radius(), c.bounds.lo.z);
   for (const auto& [group, suffix, wall] : wall_groups(b)) {
-    if (!c.periodic) {
+    if (c.is_cylinder())
+      fmt::format_to(o, "fix wall_side{} {} wall/gran/region granular {} region measure\n", suffix, group, wall);
+    else if (!c.periodic) {
       fmt::format_to(o, "fix wall_x{} {} wall/gran granular {} xplane {:.17g} {:.17g}\n", suffix, group, wall,
                      c.bounds.lo.x, c.bounds.hi.x);
       fmt::format_to(o, "fix wall_y{} {} wall/gran granular {} yplane {:.17g} {:.17g}\n", suffix, group, wall,
@@ -507,6 +513,10 @@ LammpsDeck tap_deck(const Scenario& sc, const ParticleStore& bed) {
   if (c.periodic)
     fmt::format_to(o, "region container plane 0 0 {:.17g} 0 0 1 side in move NULL NULL v_lift units box\n",
                    c.bounds.lo.z);
+  else if (c.is_cylinder())  // its floor (cap 1) and curved side; the top open
+    fmt::format_to(o, "region container cylinder z {:.17g} {:.17g} {:.17g} {:.17g} INF side in open 2 move NULL NULL "
+                      "v_lift units box\n",
+                   c.axis_x(), c.axis_y(), c.radius(), c.bounds.lo.z);
   else
     fmt::format_to(o, "region container block {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} INF side in open 6 move NULL "
                       "NULL v_lift units box\n",

@@ -15,8 +15,15 @@ namespace {
 void check_inside(const Box& box, const Container& container) {
   const Box& c = container.bounds;
   const double slack = 1e-9 * std::max({c.hi.x - c.lo.x, c.hi.y - c.lo.y, c.hi.z - c.lo.z});
-  const bool horizontal_ok = container.periodic || (box.lo.x >= c.lo.x - slack && box.hi.x <= c.hi.x + slack &&
-                                                    box.lo.y >= c.lo.y - slack && box.hi.y <= c.hi.y + slack);
+  bool horizontal_ok = container.periodic || (box.lo.x >= c.lo.x - slack && box.hi.x <= c.hi.x + slack &&
+                                              box.lo.y >= c.lo.y - slack && box.hi.y <= c.hi.y + slack);
+  if (container.is_cylinder())  // each of its four vertical edges within the circle
+    for (const double x : {box.lo.x, box.hi.x})
+      for (const double y : {box.lo.y, box.hi.y}) {
+        Vec3 outward;
+        horizontal_ok = horizontal_ok &&
+                        container.plane_distance(Container::kCylinderWall, {x, y, c.lo.z}, outward) >= -slack;
+      }
   if (!horizontal_ok || box.lo.z < c.lo.z - slack || box.hi.z > c.hi.z + slack)
     throw InputError(fmt::format("the box {} does not lie inside the packing, which spans {}; give the box in the "
                                  "file's length unit (--length-unit) or with a unit on each number",
@@ -29,8 +36,7 @@ std::vector<Box> virtual_boxes(const Container& container, const BedGeometry& be
   for (const Box& b : boxes) check_inside(b, container);
   for (double side : request.cube_sides) boxes.push_back(place_virtual_cube(side, container, bed));
   if (boxes.empty()) {
-    const double width = std::min(container.length_x(), container.length_y());
-    const double horizontal = container.periodic ? width : width - 2.0 * bed.d_max;
+    const double horizontal = container.widest_centred_square(bed.d_max);
     const double largest = std::min(horizontal, bed.surface - bed.floor - 2.0 * bed.d_max);
     if (largest <= 0.0)
       throw InputError("the bed is too small for a virtual box that keeps one d_max from the walls, the floor "
@@ -102,6 +108,7 @@ PackingReport analyze_packing(const ParticleStore& particles, const Container& c
   report.wall_profile_z_lo = bed.floor + bed.d_max;
   report.wall_profile_z_hi = bed.surface - bed.d_max;
   report.wall = wall_distance_profile(particles, container, shell, report.wall_profile_z_lo, report.wall_profile_z_hi);
+  if (container.is_cylinder()) report.measure = measure_content(particles, container);
   return report;
 }
 
@@ -133,7 +140,19 @@ nlohmann::json to_json(const PackingReport& r) {
   j["profiles"]["wall_distance"] = {{"distance_m", r.wall.position},
                                     {"solid_fraction", r.wall.solid_fraction},
                                     {"z_range_m", {r.wall_profile_z_lo, r.wall_profile_z_hi}}};
+  if (r.measure) j["measure"] = to_json(*r.measure);
   return j;
+}
+
+nlohmann::json to_json(const MeasureContent& m) {
+  return {{"diameter_m", m.diameter},
+          {"rim_m", m.rim},
+          {"volume_m3", m.volume},
+          {"particles", m.particles},
+          {"particles_cut_by_rim", m.particles_cut},
+          {"packing_density", m.packing_density},
+          {"packing_density_whole_particles", m.packing_density_whole_particles},
+          {"strike_off", "exact cut at the rim"}};
 }
 
 }  // namespace aggpack

@@ -129,7 +129,7 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
   const auto [r_lo, r_hi] = std::minmax_element(radii.begin(), radii.end());
   const double r_min = *r_lo, d_max = 2.0 * *r_hi;
   const double batches = static_cast<double>(std::min<std::size_t>(pour.batches, radii.size()));
-  const double slab = solid / batches / (pour.solid_fraction * c.length_x() * c.length_y());
+  const double slab = solid / batches / (pour.solid_fraction * c.cross_section_area());
   const double gap = pour.gap.value_or(d_max);
   // The highest a sphere starts: the slab on a bed at most as deep as the container.
   const double top = c.height() + gap + slab;
@@ -256,8 +256,7 @@ void check_box_sides(const Scenario& sc, double d_max) {
   const std::string file = sc.file.string();
   const Container& c = sc.container;
   // A virtual cube keeps one d_max from the walls: a side beyond that can never be placed.
-  const double width = std::min(c.length_x(), c.length_y());
-  const double horizontal = c.periodic ? width : width - 2.0 * d_max;
+  const double horizontal = c.widest_centred_square(d_max);
   const double vertical = c.height() - 2.0 * d_max;
   if (sc.analysis.box_sides.size() > kMaxAnalysisBoxes)
     throw InputError(fmt::format("{}: analysis.box_sides: {} sides; expected at most {} (each cube is a pass over every "
@@ -266,10 +265,12 @@ void check_box_sides(const Scenario& sc, double d_max) {
   for (const double side : sc.analysis.box_sides)
     if (side > std::min(horizontal, vertical))
       throw InputError(fmt::format(
-          "{}: analysis.box_sides: a cube of side {:.6g} m cannot fit in the container ({:.6g} x {:.6g} x {:.6g} m) "
-          "with one d_max ({:.6g} m) kept from the walls, the floor and the surface; the largest admissible side "
-          "is {:.6g} m",
-          file, side, c.length_x(), c.length_y(), c.height(), d_max, std::max(0.0, std::min(horizontal, vertical))));
+          "{}: analysis.box_sides: a cube of side {:.6g} m cannot fit in the container ({}) with one d_max ({:.6g} m) "
+          "kept from the walls, the floor and the surface; the largest admissible side is {:.6g} m",
+          file, side,
+          c.is_cylinder() ? fmt::format("a cylinder {:.6g} m across, {:.6g} m high", c.length_x(), c.height())
+                          : fmt::format("{:.6g} x {:.6g} x {:.6g} m", c.length_x(), c.length_y(), c.height()),
+          d_max, std::max(0.0, std::min(horizontal, vertical))));
 }
 
 // The time step against the contact law's stability limit.
@@ -381,7 +382,7 @@ void check_run_memory(const Scenario& sc, std::span<const double> radii, const P
 // if even that leaves no room for a virtual cube, the run would fail after all its work.
 void check_room_for_cubes(const Scenario& sc, std::span<const double> radii, double solid, double d_max) {
   const Container& c = sc.container;
-  double deepest = std::min(c.height(), solid / (0.5 * c.length_x() * c.length_y()));
+  double deepest = std::min(c.height(), solid / (0.5 * c.cross_section_area()));
   if (sc.deposition) deepest = std::min(deepest, sc.deposition->fill_height);
   const double room = deepest - 2.0 * d_max;
   const double needed = sc.analysis.box_sides.empty()
@@ -500,7 +501,8 @@ void check_sizes(const Scenario& sc, std::span<const double> radii, std::optiona
   if (sc.deposition || sc.pour) check_room_for_cubes(sc, radii, own_solid, d_max);
 }
 
-// Particles from a file must lie in the container; periodic sides wrap x and y. A bed
+// Particles from a file must lie in the container (a cylinder's: inside its circle); periodic
+// sides wrap x and y. A bed
 // settled by DEM presses into the floor and walls by a Hertz overlap (about 1e-4 r at rock
 // stiffness, more when the stiffness is reduced): overlaps up to `tolerance` x r are kept
 // as they are; a deeper one is an intrusion and is refused. Returns the largest overlap / r.
@@ -520,9 +522,16 @@ double fit_into_container(ParticleStore& particles, const Container& container, 
                                                                {(p.x + r) - b.hi.x, "the wall x = x_max"},
                                                                {b.lo.y - (p.y - r), "the wall y = y_min"},
                                                                {(p.y + r) - b.hi.y, "the wall y = y_max"}}};
-    const auto deepest = std::max_element(reach.begin(), container.periodic ? reach.begin() + 2 : reach.end(),
-                                          [](const auto& a, const auto& c) { return a.first < c.first; });
-    const auto [overlap, where] = *deepest;
+    auto [overlap, where] = *std::max_element(reach.begin(), container.periodic ? reach.begin() + 2 : reach.end(),
+                                              [](const auto& a, const auto& c) { return a.first < c.first; });
+    if (container.is_cylinder()) {  // its one wall in place of the box's four
+      Vec3 outward;
+      const double floor_or_top = std::max(reach[0].first, reach[1].first);
+      const double wall = r - container.plane_distance(Container::kCylinderWall, p, outward);
+      overlap = std::max(floor_or_top, wall);
+      where = wall >= floor_or_top ? "the cylinder's wall" : reach[0].first >= reach[1].first ? reach[0].second
+                                                                                             : reach[1].second;
+    }
     if (overlap > tolerance * r)
       throw InputError(fmt::format(
           "{}: particle {} (data row {}) at ({:.6g}, {:.6g}, {:.6g}) m, radius {:.6g} m, reaches {:.3g} m "

@@ -34,6 +34,14 @@ void serialize(Archive& ar, PackingReport& r) {
   ar(raw_value(r.bed), raw(r.density.boxes), r.density.mean, r.density.sd, r.coordination.mean,
      r.coordination.particles_counted, r.coordination.histogram, r.coordination.relative_tolerance, r.vertical, r.wall,
      r.wall_profile_z_lo, r.wall_profile_z_hi);
+  // A cylinder's measure: a flag, then the plain record.
+  bool has_measure = r.measure.has_value();
+  ar(has_measure);
+  if (!has_measure) r.measure.reset();
+  else {
+    if (!r.measure) r.measure.emplace();
+    ar(raw_value(*r.measure));
+  }
 }
 template <class Archive>
 void serialize(Archive& ar, StageAnalysis& a) {

@@ -487,6 +487,12 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
   const Box& b = sc.container.bounds;
   summary["container"] = {{"lo", {b.lo.x, b.lo.y, b.lo.z}}, {"hi", {b.hi.x, b.hi.y, b.hi.z}},
                           {"periodic", sc.container.periodic}};
+  if (sc.container.is_cylinder()) {  // a box's keys are as they were before shapes
+    summary["container"]["shape"] = name_of(kContainerShapeNames, sc.container.shape);
+    summary["container"]["diameter_m"] = 2.0 * sc.container.radius();
+    summary["container"]["rim_m"] = sc.container.rim;
+  }
+  if (final.measure) summary["measure"] = to_json(*final.measure);
   nlohmann::json wall_clock = nlohmann::json::object();
   summary["stages"] = stages_json(*this, wall_clock);
   if (sizes) summary["sizes"] = to_json(sizes->report);
@@ -586,6 +592,12 @@ std::string RunReport::console_summary(const std::filesystem::path& written_to) 
                  final.coordination.particles_counted, kinds_of_particles(particles));
   const double grains = particle_density(sc, particles);
   fmt::format_to(o, "  {} (particle density {:g} kg/m3)\n", describe(bulk_density(final.density.mean, grains)), grains);
+  if (const auto& m = final.measure)
+    fmt::format_to(o, "  measure {} across, struck off at {}: packing density {:.4f} (exact cut at the rim; {:.4f} "
+                      "counting the {} particles centred below it whole), {}\n",
+                   length_text(m->diameter, sc.written_length_unit), length_text(m->rim, sc.written_length_unit),
+                   m->packing_density, m->packing_density_whole_particles, m->particles,
+                   describe(bulk_density(m->packing_density, grains)));
   if (rest && !rest->settled)
     fmt::format_to(o, "  not settled: the DEM ended with a kinetic energy of {:.2e} m g d per particle, above the "
                       "quiet criterion's {:.0e}; the density is that of a bed still moving (raise dynamics.max_time)\n",

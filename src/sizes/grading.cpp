@@ -361,6 +361,18 @@ double fineness_modulus(const Grading& grading) {
   return sum / 100.0;
 }
 
+namespace {
+// The smallest of the grading's sieves passing at least `percent` (the largest passes 100).
+double smallest_sieve_passing(const Grading& grading, double percent) {
+  for (const Sieve& s : grading.sieves)
+    if (s.percent_passing >= percent - 1e-9) return s.opening;
+  return grading.largest();
+}
+}  // namespace
+
+double maximum_size(const Grading& grading) { return smallest_sieve_passing(grading, 100.0); }
+double nominal_maximum_size(const Grading& grading) { return smallest_sieve_passing(grading, 90.0); }
+
 BandCheck check_against_band(const Grading& grading, const Band& band) {
   BandCheck check;
   for (const BandSieve& b : band.sieves) {

@@ -8,10 +8,12 @@
 #include <map>
 #include <numbers>
 #include <sstream>
+#include <variant>
 
 #include <fmt/format.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/core/overloaded.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/atomic_file.hpp"
@@ -42,6 +44,25 @@ void check_inside_bed(const SpecimenRegion& region, const SpecimenSource& source
     throw InputError(fmt::format("the specimen {} is not inside the bed ({}: {}, its highest particle's top as its "
                                  "top); expected a region within it",
                                  region_text(region), source.description, box_text(b)));
+  // A cylindrical container's corners hold no bed: the region's footprint within its wall.
+  if (const auto& wall = source.container_wall) {
+    const double reach = std::visit(
+        Overloaded{[&](const Box& box) {
+                     double far = 0.0;
+                     for (const double x : {box.lo.x, box.hi.x})
+                       for (const double y : {box.lo.y, box.hi.y})
+                         far = std::max(far, std::hypot(x - wall->x, y - wall->y));
+                     return far;
+                   },
+                   [&](const VerticalCylinder& core) {
+                     return std::hypot(core.x - wall->x, core.y - wall->y) + core.radius;
+                   }},
+        region);
+    if (reach > wall->radius + slack)
+      throw InputError(fmt::format("the specimen {} is not inside the bed: it reaches {:.6g} m from the axis of the "
+                                   "cylindrical container ({}), whose wall is at {:.6g} m; expected a region within it",
+                                   region_text(region), reach, source.description, wall->radius));
+  }
 }
 
 std::vector<std::string> checked_formats(const std::vector<std::string>& asked) {

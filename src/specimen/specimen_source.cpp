@@ -154,6 +154,11 @@ SpecimenSource read_run_folder(const std::filesystem::path& folder) {
     const nlohmann::json& c = summary.at("container");
     source.bed_bounds = {vec_of(c.at("lo")), vec_of(c.at("hi"))};
     const bool periodic = c.at("periodic").get<bool>();
+    if (c.value("shape", "box") == "cylinder") {
+      const Box& b = source.bed_bounds;
+      source.container_wall = VerticalCylinder{0.5 * (b.lo.x + b.hi.x), 0.5 * (b.lo.y + b.hi.y), b.lo.z, b.hi.z,
+                                               0.5 * c.at("diameter_m").get<double>()};
+    }
     const PackingFile file = read_packing_file(bed_file, 1.0, 1.0);
     const std::vector<double> widths = file.grains.empty() ? std::vector<double>{} : grain_widths(folder / "grains.csv");
     source.particles = particles_of(file, widths, bed_file.string());

@@ -286,6 +286,27 @@ TEST_F(Resume, APeriodicRunKilledBetweenTwoDemStepsResumesToTheSameBytes) {
   expect_same_run(reference, out);
 }
 
+// A cylindrical measure (its shape and rim in the checkpoint's container), poured, settled and
+// tapped, killed in the tap and resumed: the same bytes, the measure's content the same.
+TEST_F(Resume, ACylinderRunKilledInItsTapResumesToTheSameBytes) {
+  const fs::path scenario = write_scenario(
+      "cylinder",
+      "seed = 6\n[container]\nshape = \"cylinder\"\ndiameter = 0.06\nheight = 0.2\nrim = 0.025\n"
+      "[particles]\ndiameter = 0.006\ncount = 400\n[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n"
+      "[pour]\n[dynamics]\nmax_time = 0.3\n[tapping]\ntaps = 2\nintensity = 3\nrest_time = 0.03\n"
+      "[analysis]\nbox_sides = [0.012]\n[[protocol]]\nstep = \"pour\"\n[[protocol]]\nstep = \"settle\"\n"
+      "[[protocol]]\nstep = \"tap\"\n");
+  const fs::path reference = dir_ / "reference";
+  const auto r = run_cli("run " + scenario.string() + " --quiet --threads 1 --no-checkpoint --out " + reference.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(nlohmann::json::parse(std::ifstream(reference / "summary.json")).contains("measure"));
+  const fs::path out = dir_ / "killed";
+  ASSERT_EQ(run_and_signal_when(scenario, out, "before step 3 of 3", SIGKILL), -SIGKILL);
+  const auto resumed = run_cli("resume " + out.string() + " --threads 2");
+  ASSERT_EQ(resumed.exit_code, 0) << resumed.output;
+  expect_same_run(reference, out);
+}
+
 // Killed in a later layer (the layers below frozen), resumed, killed again, resumed again.
 TEST_F(Resume, ALayeredRunKilledTwiceResumesToTheSameBytes) {
   const fs::path scenario = write_scenario("layered", kLayered);

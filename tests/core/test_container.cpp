@@ -62,3 +62,53 @@ TEST(Container, PlanesGiveTheDistanceNormalEquationAndVelocity) {
 
 }  // namespace
 }  // namespace aggpack
+
+namespace aggpack {
+namespace {
+
+// A cylinder of diameter 2 about (1, 1): its wall's distance is R less the distance from the
+// axis, towards the horizontal direction out of the axis through the point.
+TEST(Container, ACylindersWallIsAtTheRadiusFromItsAxis) {
+  const Container c = Container::cylinder(2.0, 3.0);
+  EXPECT_TRUE(c.is_cylinder());
+  EXPECT_FALSE(c.periodic);
+  EXPECT_EQ(c.plane_count(), 2u);
+  EXPECT_DOUBLE_EQ(c.radius(), 1.0);
+  EXPECT_DOUBLE_EQ(c.rim, 3.0);
+  EXPECT_DOUBLE_EQ(c.cross_section_area(), std::numbers::pi);
+  EXPECT_DOUBLE_EQ(Container::square(2.0, 3.0, false).cross_section_area(), 4.0);
+  Vec3 towards;
+  // On the axis: the whole radius, some horizontal unit vector.
+  EXPECT_DOUBLE_EQ(c.plane_distance(Container::kCylinderWall, {1.0, 1.0, 0.7}, towards), 1.0);
+  EXPECT_DOUBLE_EQ(norm(towards), 1.0);
+  EXPECT_EQ(towards.z, 0.0);
+  // Halfway out along (3, 4) / 5, at any height.
+  EXPECT_NEAR(c.plane_distance(Container::kCylinderWall, {1.3, 1.4, 2.5}, towards), 0.5, 1e-15);
+  EXPECT_NEAR(towards.x, 0.6, 1e-15);
+  EXPECT_NEAR(towards.y, 0.8, 1e-15);
+  EXPECT_EQ(towards.z, 0.0);
+  // On the wall, and beyond it (negative).
+  EXPECT_NEAR(c.plane_distance(Container::kCylinderWall, {1.0 - std::sqrt(0.5), 1.0 + std::sqrt(0.5), 1.0}, towards),
+              0.0, 1e-15);
+  EXPECT_NEAR(towards.x, -std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(c.plane_distance(Container::kCylinderWall, {3.0, 1.0, 1.0}, towards), -1.0, 1e-15);
+  EXPECT_EQ(towards, (Vec3{1.0, 0.0, 0.0}));
+  // The floor is a box's floor; the corners of the bounds are outside.
+  EXPECT_DOUBLE_EQ(c.plane_distance(Container::kFloor, {1.3, 1.4, 2.5}, towards), 2.5);
+  EXPECT_EQ(towards, (Vec3{0, 0, -1}));
+  EXPECT_TRUE(c.holds_horizontally({1.5, 1.5, 0.0}));
+  EXPECT_FALSE(c.holds_horizontally({0.1, 0.1, 0.0}));
+  // The largest centred square keeping 0.1 from the wall: its corners at R - 0.1.
+  EXPECT_NEAR(c.widest_centred_square(0.1), std::sqrt(2.0) * 0.9, 1e-15);
+  EXPECT_DOUBLE_EQ(Container::square(2.0, 3.0, false).widest_centred_square(0.1), 1.8);
+  EXPECT_DOUBLE_EQ(Container::square(2.0, 3.0, true).widest_centred_square(0.1), 2.0);
+}
+
+TEST(Container, ShapesHaveTheirNames) {
+  EXPECT_EQ(name_of(kContainerShapeNames, ContainerShape::Cylinder), "cylinder");
+  EXPECT_EQ(value_of(kContainerShapeNames, "box"), ContainerShape::Box);
+  EXPECT_FALSE(value_of(kContainerShapeNames, "cone").has_value());
+}
+
+}  // namespace
+}  // namespace aggpack

@@ -39,6 +39,9 @@ void expect_valid_gas(const Container& c, const InsertionRegion& region, const s
       EXPECT_GE(at[i].y - r, c.bounds.lo.y);
       EXPECT_LE(at[i].y + r, c.bounds.hi.y);
     }
+    if (c.is_cylinder()) {
+      EXPECT_LE(std::hypot(at[i].x - c.axis_x(), at[i].y - c.axis_y()) + r, c.radius()) << i;
+    }
     for (std::size_t j = 0; j < i; ++j)
       ASSERT_GE(norm(c.minimum_image(at[i] - at[j])), r + radii[j]) << i << " " << j;
   }
@@ -59,6 +62,21 @@ TEST(GasInsertion, PlacesEverySphereWithoutOverlapInsideTheSlab) {
     Rng rng = pour_stream(3, 0);
     expect_valid_gas(c, region, radii, random_gas(c, region, radii, rng));
   }
+}
+
+// A cylinder's slab: its circle's area times its height; every sphere within R - r of the axis,
+// and they spread over the circle (each quadrant a quarter of them, roughly).
+TEST(GasInsertion, ACylindersGasFillsItsCircle) {
+  const Container c = Container::cylinder(0.15, 0.3);
+  const std::vector<double> radii = mixed_radii(1500);
+  const InsertionRegion region = insertion_region(c, 0.05, solid_volume(radii), 0.25);
+  EXPECT_NEAR(solid_volume(radii) / (std::numbers::pi * 0.075 * 0.075 * (region.top - region.bottom)), 0.25, 1e-12);
+  Rng rng = pour_stream(3, 0);
+  const std::vector<Vec3> gas = random_gas(c, region, radii, rng);
+  expect_valid_gas(c, region, radii, gas);
+  std::size_t east = 0;
+  for (const Vec3& at : gas) east += at.x > c.axis_x() ? 1 : 0;
+  EXPECT_NEAR(static_cast<double>(east) / 1500.0, 0.5, 0.05);
 }
 
 TEST(GasInsertion, SameSeedSameGasOtherPartOtherGas) {

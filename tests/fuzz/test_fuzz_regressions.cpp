@@ -42,4 +42,7 @@ TEST(FuzzRegressions, CalibrationReader) {
 }
 TEST(FuzzRegressions, CheckpointReader) { EXPECT_GE(replay("checkpoint", aggpack::fuzz::checkpoint_reader), 4u); }
 TEST(FuzzRegressions, MaterialReader) { EXPECT_GE(replay("materials", aggpack::fuzz::material_reader), 4u); }
+TEST(FuzzRegressions, MaterialFileReader) {
+  EXPECT_GE(replay("material_file", aggpack::fuzz::material_file_reader), 4u);
+}
 TEST(FuzzRegressions, ShapeReader) { EXPECT_GE(replay("shape", aggpack::fuzz::shape_reader), 5u); }

@@ -61,6 +61,23 @@ TEST(Grading, FinenessModulusOfTheC33MidBand) {
   EXPECT_NEAR(fineness_modulus(*named_grading("astm_c33_fine_mid")), 2.80, 1e-12);
 }
 
+TEST(Grading, MaximumAndNominalMaximumSizesOfASieveAnalysis) {
+  // C33 No. 67 mid-band: 100 % through 1 in, 95 % through 3/4 in: maximum 25 mm, nominal 19 mm.
+  const Grading no67 = *named_grading("astm_c33_67_mid");
+  EXPECT_DOUBLE_EQ(maximum_size(no67), 0.025);
+  EXPECT_DOUBLE_EQ(nominal_maximum_size(no67), 0.019);
+  // 89 % through 3/4 in retains more than 10 % there: the nominal maximum size is one sieve up.
+  const Grading coarse = make_grading("g", {{"1in", 0.025, 100}, {"3/4in", 0.019, 89}, {"#4", 0.00475, 0}}, "t", {});
+  EXPECT_DOUBLE_EQ(nominal_maximum_size(coarse), 0.025);
+  // Exactly 90 % passes: permitted (C33's 90 to 100 %).
+  const Grading edge = make_grading("g", {{"1in", 0.025, 100}, {"3/4in", 0.019, 90}, {"#4", 0.00475, 0}}, "t", {});
+  EXPECT_DOUBLE_EQ(nominal_maximum_size(edge), 0.019);
+  // A grading whose top sieve alone passes 100 %: both sizes are that sieve.
+  const Grading top = make_grading("g", {{"1in", 0.025, 100}, {"3/4in", 0.019, 50}}, "t", {});
+  EXPECT_DOUBLE_EQ(maximum_size(top), 0.025);
+  EXPECT_DOUBLE_EQ(nominal_maximum_size(top), 0.025);
+}
+
 TEST(Grading, InterpolatesLinearlyInLogOpening) {
   const Grading g = make_grading("g", {{"a", 1.0, 0.0}, {"b", 4.0, 100.0}}, "test", {});
   EXPECT_NEAR(percent_passing_at(g, 2.0), 50.0, 1e-12);

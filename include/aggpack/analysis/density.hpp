@@ -56,7 +56,8 @@ struct Profile {
 Profile vertical_profile(const ParticleStore& particles, const Container& container, double thickness);
 
 // Solid fraction in square shells by distance from the nearest side wall (walls only),
-// between heights z_lo and z_hi, each shell exact.
+// between heights z_lo and z_hi, each shell exact; in a cylinder, rings by distance from its
+// wall (a sphere's exact, a grain's by its spheres' shares).
 Profile wall_distance_profile(const ParticleStore& particles, const Container& container,
                               double thickness, double z_lo, double z_hi);
 

@@ -1,9 +1,11 @@
 #pragma once
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "aggpack/core/box.hpp"
+#include "aggpack/core/enum_names.hpp"
 
 namespace aggpack {
 
@@ -62,17 +64,52 @@ struct ContainerMotion {
   }
 };
 
+// container.shape: a box (floor and four side walls, or periodic sides) or a vertical
+// cylinder (floor and one curved wall: the measures of ASTM C29 and C1252).
+enum class ContainerShape { Box, Cylinder };
+inline constexpr std::array kContainerShapeNames{EnumName<ContainerShape>{ContainerShape::Box, "box"},
+                                                 EnumName<ContainerShape>{ContainerShape::Cylinder, "cylinder"}};
+
 // The container, the one owner of the boundary: a floor at bounds.lo.z and side walls at
-// the x and y faces of `bounds`; with periodic sides, x and y wrap instead. Deposition, the
-// DEM, the grid and the analysis ask it for gaps, normals, images and the walls' motion.
-// Scenarios make square containers with the floor at z = 0; a packing file from another
-// tool gets its own bounding box.
+// the x and y faces of `bounds`; with periodic sides, x and y wrap instead. A cylinder has
+// one side wall, the circle inscribed in the bounds' x-y square (its axis vertical through
+// the bounds' centre), and is never periodic. Deposition, the DEM, the grid and the analysis
+// ask it for gaps, normals, images and the walls' motion. Scenarios make containers with the
+// floor at z = 0; a packing file from another tool gets its own bounding box.
 struct Container {
   Box bounds;
   bool periodic = false;
+  ContainerShape shape = ContainerShape::Box;
+  // A cylinder's rim above the floor, where its content is struck off (the walls above it
+  // are a collar); 0 for a box.
+  double rim = 0.0;
 
   static Container square(double side, double height, bool periodic) {
     return {{{0.0, 0.0, 0.0}, {side, side, height}}, periodic};
+  }
+  static Container cylinder(double diameter, double height) {
+    return {{{0.0, 0.0, 0.0}, {diameter, diameter, height}}, false, ContainerShape::Cylinder, height};
+  }
+  [[nodiscard]] bool is_cylinder() const { return shape == ContainerShape::Cylinder; }
+  [[nodiscard]] double radius() const { return 0.5 * length_x(); }
+  [[nodiscard]] double axis_x() const { return 0.5 * (bounds.lo.x + bounds.hi.x); }
+  [[nodiscard]] double axis_y() const { return 0.5 * (bounds.lo.y + bounds.hi.y); }
+  // The floor's area: side x side, or pi R^2.
+  [[nodiscard]] double cross_section_area() const {
+    return is_cylinder() ? std::numbers::pi * radius() * radius() : length_x() * length_y();
+  }
+  // The side of the largest square, centred in the footprint, that keeps `margin` from the
+  // side walls (the whole width with periodic sides; sqrt 2 (R - margin) in a cylinder).
+  [[nodiscard]] double widest_centred_square(double margin) const {
+    const double width = std::min(length_x(), length_y());
+    if (periodic) return width;
+    return is_cylinder() ? std::numbers::sqrt2 * (radius() - margin) : width - 2.0 * margin;
+  }
+  // Whether a centre p lies within the side walls (always with periodic sides).
+  [[nodiscard]] bool holds_horizontally(const Vec3& p) const {
+    if (periodic) return true;
+    if (is_cylinder()) return std::hypot(p.x - axis_x(), p.y - axis_y()) <= radius();
+    return p.x >= bounds.lo.x && p.x <= bounds.hi.x && p.y >= bounds.lo.y && p.y <= bounds.hi.y;
   }
   [[nodiscard]] double length_x() const { return bounds.hi.x - bounds.lo.x; }
   [[nodiscard]] double length_y() const { return bounds.hi.y - bounds.lo.y; }
@@ -124,12 +161,20 @@ struct Container {
   }
 
   // The planes a sphere can touch, by index: the floor, then the four side walls (x low,
-  // x high, y low, y high) unless the sides are periodic.
+  // x high, y low, y high) unless the sides are periodic; a cylinder's floor and its one
+  // curved wall (kCylinderWall).
   enum Plane : unsigned { kFloor = 0, kXLow, kXHigh, kYLow, kYHigh };
-  [[nodiscard]] unsigned plane_count() const { return periodic ? 1u : 5u; }
+  static constexpr unsigned kCylinderWall = 1;
+  [[nodiscard]] unsigned plane_count() const { return periodic ? 1u : is_cylinder() ? 2u : 5u; }
   // Distance from a centre x to plane w (positive inside the container); `towards` is set
-  // to the unit normal from x towards the plane.
+  // to the unit normal from x towards the plane. A cylinder's wall: R minus x's distance
+  // from the axis, towards the horizontal direction from the axis through x (+x on the axis).
   [[nodiscard]] double plane_distance(unsigned w, const Vec3& x, Vec3& towards) const {
+    if (w != kFloor && is_cylinder()) {
+      const double dx = x.x - axis_x(), dy = x.y - axis_y(), rho = std::hypot(dx, dy);
+      towards = rho > 0.0 ? Vec3{dx / rho, dy / rho, 0.0} : Vec3{1.0, 0.0, 0.0};
+      return radius() - rho;
+    }
     switch (w) {
       case kFloor: towards = {0, 0, -1}; return x.z - bounds.lo.z;
       case kXLow: towards = {-1, 0, 0}; return x.x - bounds.lo.x;
@@ -138,7 +183,16 @@ struct Container {
       default: towards = {0, 1, 0}; return bounds.hi.y - x.y;
     }
   }
-  // Plane w as n . x = offset with n its inward unit normal.
+  // The effective radius of a sphere of radius r in contact with plane w: r for a plane; for a
+  // cylinder's wall, concave, 1 / (1/r - 1/(2R)) (its curvature halved: curved one way, flat
+  // the other), as LAMMPS's region walls take it (region cylinder's contact radius -2R).
+  [[nodiscard]] double wall_contact_radius(unsigned w, double r) const {
+    if (w == kFloor || !is_cylinder()) return r;
+    const double twice_radius = 2.0 * radius();
+    return r * twice_radius / (twice_radius - r);
+  }
+  // Plane w as n . x = offset with n its inward unit normal. Drop-and-roll's alone, which
+  // the scenario reader allows in boxes only (a cylinder's wall is no plane).
   struct PlaneEquation {
     Vec3 inward;
     double offset;

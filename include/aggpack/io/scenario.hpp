@@ -89,6 +89,7 @@ struct ParticleSource {
 struct Material {
   double density = 2650.0;  // kg/m^3
   ContactParameters contact;
+  std::filesystem::path file;  // the material file it was read from (`file = ...`), or empty
 };
 
 // [materials.NAME]: a material of its own for the components that name it (`material =

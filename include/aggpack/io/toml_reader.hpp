@@ -4,6 +4,7 @@
 #include <initializer_list>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,6 +17,7 @@ namespace aggpack {
 struct ScenarioOrigin {
   std::string file;
   std::map<std::string, std::string> overrides;  // dotted key -> "--set key=value"
+  std::string root_name = "the scenario";         // the root table, in messages ("the material file")
 };
 
 // Closed or open numeric bounds, with the wording used in error messages.
@@ -42,6 +44,7 @@ class TomlSection {
 
   // Rejects keys not in `allowed`, suggesting the nearest valid key for a typo.
   void allow_only(std::initializer_list<std::string_view> allowed) const;
+  void allow_only(std::span<const std::string_view> allowed) const;
 
   [[nodiscard]] bool has(std::string_view key) const;
   // The table's keys, in alphabetical order.

@@ -7,6 +7,7 @@
 
 #include "aggpack/analysis/coordination.hpp"
 #include "aggpack/analysis/density.hpp"
+#include "aggpack/analysis/measure.hpp"
 
 namespace aggpack {
 
@@ -43,6 +44,7 @@ struct PackingReport {
   Profile vertical;                 // solid fraction vs height
   Profile wall;                     // solid fraction vs distance from the side walls
   double wall_profile_z_lo = 0.0, wall_profile_z_hi = 0.0;
+  std::optional<MeasureContent> measure;  // a cylinder's content below its rim
 };
 
 // The boxes of a request placed in a bed. Throws InputError when a cube does not fit.
@@ -55,5 +57,7 @@ PackingReport analyze_packing(const ParticleStore& particles, const Container& c
 nlohmann::json to_json(const DensityResult& density);
 nlohmann::json to_json(const CoordinationResult& coordination);
 nlohmann::json to_json(const PackingReport& report);
+// summary.json's "measure": the content of a cylindrical measure, struck off at its rim.
+nlohmann::json to_json(const MeasureContent& measure);
 
 }  // namespace aggpack

@@ -68,6 +68,14 @@ Grading parse_grading_csv(std::string_view text, const std::string& file,
 // 3/8, 3/4, 1-1/2, 3 and 6 in (fineness_modulus_sieves, m), divided by 100.
 [[nodiscard]] double fineness_modulus(const Grading& grading);
 const std::vector<double>& fineness_modulus_sieves();
+// The sizes of ASTM C125 on a sieve analysis (its own sieves): the maximum size, the smallest
+// sieve through which all of it passes (100 %), and the nominal maximum size, the smallest
+// sieve through which all of it is permitted to pass under a grading specification. ASTM C33's
+// gradings permit 90 to 100 % passing on that sieve, so on a measured analysis it is the
+// smallest sieve passing at least 90 % (AASHTO M 323's "one sieve size larger than the first
+// sieve to retain more than 10 percent").
+[[nodiscard]] double maximum_size(const Grading& grading);
+[[nodiscard]] double nominal_maximum_size(const Grading& grading);
 
 // A band of acceptable gradings (ASTM C33): per sieve, minimum and maximum percent passing.
 struct BandSieve {

@@ -10,32 +10,19 @@
 #include <variant>
 #include <vector>
 
+#include "aggpack/analysis/sphere_cylinder_volume.hpp"
 #include "aggpack/core/box.hpp"
 #include "aggpack/core/vec3.hpp"
 #include "aggpack/grains/union_mass_properties.hpp"
 
 namespace aggpack {
 
-// A cylinder with a vertical axis through (x, y), from z_lo to z_hi (a core drilled from the bed).
-struct VerticalCylinder {
-  double x = 0.0, y = 0.0, z_lo = 0.0, z_hi = 0.0, radius = 0.0;
-  [[nodiscard]] Box bounds() const { return {{x - radius, y - radius, z_lo}, {x + radius, y + radius, z_hi}}; }
-  [[nodiscard]] double volume() const;
-  [[nodiscard]] bool contains(const Vec3& p) const;
-};
 using SpecimenRegion = std::variant<Box, VerticalCylinder>;
 [[nodiscard]] Box region_bounds(const SpecimenRegion& region);
 [[nodiscard]] double region_volume(const SpecimenRegion& region);
 [[nodiscard]] bool region_contains(const SpecimenRegion& region, const Vec3& p);
 // "box [..] x [..] x [..] m" or "cylinder of radius .. m about (x, y), z from .. to .. m", for messages.
 [[nodiscard]] std::string region_text(const SpecimenRegion& region);
-
-// The exact volume of a ball inside a vertical cylinder: the area of the lens where each
-// horizontal slice of the ball (a disc) meets the cylinder's (a disc), integrated over z by
-// adaptive Gauss-Kronrod quadrature (7/15 points) between the heights where the lens changes
-// form, to `relative_tolerance` of the ball's volume.
-[[nodiscard]] double sphere_cylinder_volume(const Vec3& centre, double radius, const VerticalCylinder& cylinder,
-                                            double relative_tolerance = 1e-10);
 
 // The particles of a bed: spheres, each of its particle (a grain's members share one).
 struct PackedParticles {

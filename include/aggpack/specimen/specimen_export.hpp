@@ -24,6 +24,7 @@ struct SpecimenSource {
   std::string description;            // "the final bed of the run in out/x", "the packing file bed.csv"
   Box bed_bounds;                     // the container's sides (or the spheres' extent), floor to the highest top
   std::optional<Box> largest_virtual_box;  // a run's: the default region
+  std::optional<VerticalCylinder> container_wall;  // a cylindrical container's: a region lies inside it
   nlohmann::json run;                 // a run's version, scenario file and seed; null for a file
   std::vector<std::string> notes;     // what reading it chose (periodic images, a grain's size)
   // The unit its lengths are shown in beside metres ("in" for a scenario written in inches; a
