@@ -154,6 +154,29 @@ nlohmann::json to_json(const JigReport& r) {
   return j;
 }
 
+std::string console_line(const TapReport& t) {
+  return fmt::format("  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
+                     t.taps, t.intensity, t.frequency, shown(t.density_before),
+                     shown(t.samples.empty() ? std::nan("") : t.samples.back().density), t.simulated_time,
+                     t.wall_clock_s);
+}
+
+// What a tapping step's numbers depend on.
+std::string modelling_note(const TapReport& t) {
+  return fmt::format(
+        "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
+        "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
+        "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
+        "protocol (intensity, frequency, rest) as a lab's tapped density does{}",
+        t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
+        t.rest_until_quiet ? " at most (less once the bed was quiet)" : "",
+        t.lammps_ranks > 0 ? fmt::format("; run by LAMMPS ({} rank{}), the container a moving region of fix "
+                                         "wall/gran/region whose velocity LAMMPS takes from the change of position "
+                                         "over a step (aggpack: the exact derivative)",
+                                         t.lammps_ranks, t.lammps_ranks == 1 ? "" : "s")
+                           : std::string());
+}
+
 std::string console_line(const RoddingReport& r) {
   double peak = 0.0;
   for (const RodStroke& s : r.stroke_records) peak = std::max(peak, s.peak_force);

@@ -161,13 +161,6 @@ std::string dynamics_lines(const RunReport& r) {
   return out;
 }
 
-std::string tapping_line(const TapReport& t) {
-  const auto shown = [](double d) { return std::isnan(d) ? std::string("-") : fmt::format("{:.4f}", d); };
-  return fmt::format("  tapping: {} taps at Gamma {:g} ({:g} Hz), density {} -> {}, {:.3g} s simulated, {:.3g} s wall\n",
-                     t.taps, t.intensity, t.frequency, shown(t.density_before),
-                     shown(t.samples.empty() ? std::nan("") : t.samples.back().density), t.simulated_time,
-                     t.wall_clock_s);
-}
 
 std::string hand_over_line(const LammpsExchange& x) {
   if (x.direction == "import")
@@ -194,7 +187,7 @@ std::string step_lines(const RunReport& r) {
         if (r.dynamics && !dynamics_told) out += dynamics_lines(r), dynamics_told = true;
         break;
       case StepLine::tap:
-        if (next_tap < r.tappings.size()) out += tapping_line(r.tappings[next_tap++]);
+        if (next_tap < r.tappings.size()) out += console_line(r.tappings[next_tap++]);
         break;
       case StepLine::rod:
         if (next_rod < r.roddings.size()) out += console_line(r.roddings[next_rod++]);
@@ -236,21 +229,6 @@ std::string pour_note(const PourReport& p, const Scenario& sc) {
         p.highest_slab_top - sc.container.bounds.lo.z, p.gap, p.velocity);
 }
 
-// What a tapping step's numbers depend on.
-std::string tapping_note(const TapReport& t) {
-  return fmt::format(
-        "tapping: {} taps, each the container (floor and walls together) moved up and back through half a sine "
-        "period of {:g} Hz (amplitude {:.3g} m, peak acceleration Gamma = {:g} g, then stopped dead), followed by a "
-        "rest of {:g} s{}; the density is measured after each rest (taps.csv). The compaction depends on this "
-        "protocol (intensity, frequency, rest) as a lab's tapped density does{}",
-        t.taps, t.frequency, t.amplitude, t.intensity, t.rest_time,
-        t.rest_until_quiet ? " at most (less once the bed was quiet)" : "",
-        t.lammps_ranks > 0 ? fmt::format("; run by LAMMPS ({} rank{}), the container a moving region of fix "
-                                         "wall/gran/region whose velocity LAMMPS takes from the change of position "
-                                         "over a step (aggpack: the exact derivative)",
-                                         t.lammps_ranks, t.lammps_ranks == 1 ? "" : "s")
-                           : std::string());
-}
 
 // How far a particle file's spheres overlap the container and each other, where they do.
 std::vector<std::string> particle_file_notes(const RunReport& r) {
@@ -314,7 +292,7 @@ std::vector<std::string> RunReport::modelling_notes() const {
                                   d.stats.placed, d.requested));
   }
   for (const PourReport& p : r.pours) notes.push_back(pour_note(p, sc));
-  for (const TapReport& t : r.tappings) notes.push_back(tapping_note(t));
+  for (const TapReport& t : r.tappings) notes.push_back(modelling_note(t));
   for (const RoddingReport& t : r.roddings) notes.push_back(modelling_note(t));
   for (const JigReport& t : r.jiggings) notes.push_back(modelling_note(t));
   const auto continues = [](const auto& step) { return step.continues_dem_system; };

@@ -108,7 +108,8 @@ namespace {
 bool has_dem_step(const Protocol& protocol) {
   return std::any_of(protocol.steps.begin(), protocol.steps.end(), [](const Step& s) {
     return std::holds_alternative<PourStep>(s.kind) || std::holds_alternative<SettleStep>(s.kind) ||
-           std::holds_alternative<TapStep>(s.kind);
+           std::holds_alternative<TapStep>(s.kind) || std::holds_alternative<RodStep>(s.kind) ||
+           std::holds_alternative<JigStep>(s.kind);
   });
 }
 

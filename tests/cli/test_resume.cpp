@@ -631,7 +631,7 @@ constexpr const char* kRodAndJig =
     "seed = 6\n[container]\nside = 0.08\nheight = 0.3\n[particles]\ndiameter = 0.01\ncount = 300\n"
     "[material]\nyoungs_modulus = 1e8\nwall_youngs_modulus = 1e8\n[deposition]\n[dynamics]\nmax_time = 0.05\n"
     "[analysis]\nbox_sides = [0.02]\n"
-    "[rodding]\nstrokes = 3\nspeed = 2.0\nmax_force = 20.0\nrest_time = 0.02\nrest_until_quiet = false\n"
+    "[rodding]\nstrokes = 3\nspeed = 2.0\nmax_force = 20.0\npenetration = \"10 mm\"\nrest_time = 0.02\nrest_until_quiet = false\n"
     "[jigging]\ndrops = 2\nheight = \"10 mm\"\nrest_time = 0.03\n"
     "[[protocol]]\nstep = \"deposit\"\nlayer = 0\nlayers = 2\n[[protocol]]\nstep = \"rod\"\n"
     "[[protocol]]\nstep = \"deposit\"\nlayer = 1\nlayers = 2\n[[protocol]]\nstep = \"rod\"\n"

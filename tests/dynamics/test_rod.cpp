@@ -418,3 +418,41 @@ TEST(Rodding, OneAndTwoThreadsGiveTheSameBytes) {
 
 }  // namespace
 }  // namespace aggpack
+
+namespace aggpack {
+namespace {
+
+// In a cylinder (the measure of ASTM C29): the strokes spread over the disc less the margin,
+// and a bed in it is rodded to its floor without a sphere leaving it.
+TEST(Rodding, InACylinderTheStrokesSpreadOverTheDiscAndReachTheFloor) {
+  const Container measure = Container::cylinder(0.08, 0.2);
+  const double margin = 0.013;
+  const std::vector<Vec3> points = rod_stroke_positions(measure, 25, margin);
+  ASSERT_EQ(points.size(), 25u);
+  double farthest = 0.0;
+  for (const Vec3& p : points) {
+    const double from_axis = std::hypot(p.x - 0.04, p.y - 0.04);
+    EXPECT_LE(from_axis, 0.04 - margin + 1e-12);
+    farthest = std::max(farthest, from_axis);
+  }
+  EXPECT_GT(farthest, 0.8 * (0.04 - margin));  // out to the rim, not bunched at the axis
+
+  // Drop and roll needs a box: the bed is made in a square inscribed in the disc, moved into it.
+  ParticleStore start = deposited_bed(200, 0.003, 0.004, Container::square(0.05, 0.2, false));
+  for (Vec3& x : start.position) x = x + Vec3{0.015, 0.015, 0.0};
+  const BedRun run = rod_and_jig(start, measure, 1, 0, 1);
+  ASSERT_EQ(run.rodded.stroke_records.size(), 3u);
+  for (const RodStroke& s : run.rodded.stroke_records) {
+    EXPECT_DOUBLE_EQ(s.tip_lowest, 0.005);
+    EXPECT_GT(s.peak_force, 0.0);
+  }
+  for (std::size_t i = 0; i < run.bed.size(); ++i) {
+    const Vec3& x = run.bed.position[i];
+    EXPECT_LT(std::hypot(x.x - 0.04, x.y - 0.04), 0.04) << i;
+    EXPECT_GT(x.z, 0.0) << i;
+  }
+  EXPECT_GT(run.jigged.samples.back().density, run.jigged.density_before);
+}
+
+}  // namespace
+}  // namespace aggpack

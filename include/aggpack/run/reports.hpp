@@ -38,7 +38,9 @@ nlohmann::json to_json(const TapReport& report);
 // before and after (dynamics/rod.hpp); a jig step: the density after every drop (jig_drops.csv).
 nlohmann::json to_json(const RoddingReport& report);
 nlohmann::json to_json(const JigReport& report);
-// Their lines of the console summary and their modelling notes.
+// Their lines of the console summary and their modelling notes (and a tapping's).
+std::string console_line(const TapReport& report);
+std::string modelling_note(const TapReport& report);
 std::string console_line(const RoddingReport& report);
 std::string console_line(const JigReport& report);
 std::string modelling_note(const RoddingReport& report);
