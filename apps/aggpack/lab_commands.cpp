@@ -64,9 +64,6 @@ Subcommand add_test_kind(CLI::App* test, aggpack::LabTestKind kind, const char* 
   cmd->add_option("--out", a->out, "Output folder (default out/test_<test>_<method>_<material>)");
   cmd->add_option("--set", a->options.set, "Override a key of the test's scenario: key.path=value");
   cmd->add_option("--finest", a->finest, "Cut-off of fines, a length (\"2.36 mm\"): finer material is left out");
-  if (kind == aggpack::LabTestKind::C1252)
-    cmd->add_option("--height-fraction", a->options.height_fraction,
-                    "A representative bed: this fraction of the measure's height (default 1: the whole measure)");
   cmd->add_flag("--json", a->json, "Print summary.json instead of the lines");
   cmd->add_flag("--quiet", a->options.quiet, "Print nothing on success");
   return {cmd, [a] { return run_test(*a); }};

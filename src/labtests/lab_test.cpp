@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
@@ -79,8 +78,14 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
   setup.material = &plan.material;
   setup.label = std::move(label);
   setup.standard_grading = std::move(grading);
-  setup.simulated_height_m = kC1252Height * options.height_fraction.value_or(1.0);
-  setup.cut_off_m = options.finest_size_m;
+  setup.simulated_height_m = kC1252Height;
+  // Method C's sand as received: the fines below C1252 A's finest sieve, 0.150 mm, left out
+  // unless --finest says otherwise (a sand's passing 0.075 mm would be tens of millions of grains).
+  const bool as_received = !setup.standard_grading;
+  setup.cut_off_m = options.finest_size_m > 0.0 ? options.finest_size_m
+                    : as_received && plan.material.grading.grading.smallest() < kC1252FinestDefault
+                        ? kC1252FinestDefault
+                        : 0.0;
   setup.expected_packing = expected_packing(plan.material, LabTestKind::C1252);
   LabTestPart part;
   part.label = fmt::format("ASTM C1252 {}", setup.label);
@@ -90,6 +95,10 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
   part.cut_off_m = setup.cut_off_m;
   const Grading& g = setup.standard_grading ? *setup.standard_grading : plan.material.grading.grading;
   part.cut_off_percent = setup.cut_off_m > 0.0 ? percent_passing_at(g, setup.cut_off_m) : 0.0;
+  if (setup.cut_off_m > 0.0)
+    plan.modelling.push_back(fmt::format("{}: fines below {:.3g} mm ({:.1f} % of the mass) left out, the rest "
+                                         "renormalised",
+                                         part.label, setup.cut_off_m / kMm, part.cut_off_percent));
   std::vector<std::string> modelling;
   part.scenario_text = c1252_scenario(setup, modelling);
   for (const std::string& note : modelling)
@@ -106,9 +115,6 @@ void plan_c1252(LabTestPlan& plan, const LabTestOptions& options) {
   const Grading& grading = plan.material.grading.grading;
   check_c1252_grading(method, grading, fmt::format("{}: grading", plan.material.file.string()));
   plan.nominal_maximum_size_m = nominal_maximum_size(grading);
-  if (options.height_fraction && (*options.height_fraction <= 0.0 || *options.height_fraction > 1.0))
-    throw InputError(fmt::format("--height-fraction {}: expected a fraction of the measure's height in (0, 1]",
-                                 *options.height_fraction));
   if (method == C1252Method::A) {
     plan.parts.push_back(c1252_part(plan, options, "A", grading_of_fractions(c1252_method_a_fractions(), "C1252 A")));
   } else if (method == C1252Method::B) {
@@ -119,11 +125,6 @@ void plan_c1252(LabTestPlan& plan, const LabTestOptions& options) {
   } else {
     plan.parts.push_back(c1252_part(plan, options, "C", std::nullopt));
   }
-  if (options.height_fraction && *options.height_fraction < 1.0)
-    plan.modelling.push_back(fmt::format(
-        "a representative bed: the measure's own diameter, {:.0f} % of its height (the side wall's effect "
-        "simulated as it is)",
-        *options.height_fraction * 100));
 }
 
 // A part's run: the packing of the struck-off content and the particles it holds.
@@ -136,8 +137,6 @@ PartOutcome outcome_of(const CaseRun& run) {
   if (!measure) throw std::logic_error("a lab test's run has no measure (its container is a cylinder)");
   return {measure->packing_density, measure->packing_density_whole_particles, measure->particles};
 }
-
-SeedStatistics statistics(const std::vector<double>& values) { return seed_statistics(values); }
 
 }  // namespace
 
@@ -171,11 +170,11 @@ LabTestResult run_lab_test(const LabTestPlan& plan, const LabTestOptions& option
       pr.wall_clock_s += run.result.wall_clock_s;
       per_seed_mean[k] += o.packing / static_cast<double>(plan.parts.size());
     }
-    pr.packing_stats = statistics(pr.packing);
-    pr.packing_whole_stats = statistics(pr.packing_whole);
+    pr.packing_stats = seed_statistics(pr.packing);
+    pr.packing_whole_stats = seed_statistics(pr.packing_whole);
     result.parts.push_back(std::move(pr));
   }
-  result.packing = statistics(per_seed_mean);
+  result.packing = seed_statistics(per_seed_mean);
   const AggregateMaterial& m = plan.material;
   const double sd = std::isnan(result.packing.sd) ? 0.0 : result.packing.sd;
   if (plan.test == LabTestKind::C29) {

@@ -178,7 +178,8 @@ std::string c1252_scenario(const C1252Setup& s, std::vector<std::string>& modell
     grading.insert("sieves", sieves);
   } else {
     grading = material_table(m.file, "grading");
-    grading.insert_or_assign("d_max", metres(4.75e-3));
+    if (m.grading.grading.largest() > 4.75e-3)  // C1252 C: the sand passing 4.75 mm
+      grading.insert_or_assign("d_max", metres(4.75e-3));
   }
   if (s.cut_off_m > 0.0) grading.insert_or_assign("d_min", metres(s.cut_off_m));
   toml::table shape = material_table(m.file, "shape");

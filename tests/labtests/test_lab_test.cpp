@@ -76,5 +76,15 @@ TEST(LabTest, C1252MethodBIsThreeFractionsEachInTheStandardsCylinder) {
   }
 }
 
+TEST(LabTest, C1252MethodCTakesTheSandAsReceivedAboveItsFinestFraction) {
+  const LabTestPlan plan = plan_lab_test(options("natural_sand.toml", LabTestKind::C1252, "C"));
+  ASSERT_EQ(plan.parts.size(), 1u);
+  EXPECT_DOUBLE_EQ(plan.parts[0].cut_off_m, 0.150e-3);  // its 0.075 mm sieve's fines left out, and said
+  EXPECT_NEAR(plan.parts[0].cut_off_percent, 4.0, 1e-9);  // natural_sand.csv: 4 % passes 0.150 mm
+  const Scenario sc = parse_scenario(plan.parts[0].scenario_text, kMaterials / "natural_sand.toml");
+  ASSERT_TRUE(sc.particles.graded.has_value());
+  EXPECT_NEAR(*sc.particles.graded->main.d_max, 4.75e-3, 1e-12);
+}
+
 }  // namespace
 }  // namespace aggpack

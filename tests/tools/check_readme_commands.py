@@ -6,7 +6,7 @@
 Every line of a ```sh block that starts with ./build/aggpack is taken. `analyze`, `grading`
 and `check` run as written; a `run` line is checked as `aggpack check` with the same scenario
 and --set overrides (a run takes seconds to hours; the tests run the examples elsewhere);
-`reproduce`, `sweep`, `calibrate` and `whole-grading` lines (minutes of simulation), `specimen` lines (they
+`reproduce`, `sweep`, `calibrate`, `whole-grading` and `test` lines (minutes of simulation), `specimen` lines (they
 need a run's folder; tests/cli/test_cli_specimen.cpp runs the command), and lines with a placeholder in capitals (SCENARIO, DIR),
 are listed as skipped. Exits 1 if a command fails.
 """
@@ -46,7 +46,7 @@ def main(root, exe):
     failed = ran = 0
     for number, words in commands((root / "README.md").read_text()):
         args = words[1:]
-        if any(re.fullmatch(r"[A-Z_]+", a) for a in args) or args[0] in ("reproduce", "sweep", "calibrate", "whole-grading", "specimen"):
+        if any(re.fullmatch(r"[A-Z_]+", a) for a in args) or args[0] in ("reproduce", "sweep", "calibrate", "whole-grading", "specimen", "test"):
             print(f"README.md:{number}: skipped: {' '.join(words)}")
             continue
         if args[0] == "run":

@@ -31,9 +31,6 @@ struct LabTestOptions {
   int threads = 0;
   bool quiet = false;
   std::vector<std::string> set;       // --set assignments applied to the test's scenario
-  // C1252's representative bed: the measure's own diameter, this fraction of its height (the
-  // floor's and the rim's zones measured and carried to the full height); 1: the full measure.
-  std::optional<double> height_fraction;
   double finest_size_m = 0.0;         // cut-off of fines (m); 0: the test's default
 };
 
