@@ -82,6 +82,8 @@ std::string header(const std::string& title, const std::vector<std::string>& mod
   return out + "\n";
 }
 
+double impact_speed(double height) { return std::sqrt(2.0 * kGravity * height); }
+
 std::string text_of(const toml::table& root) {
   std::ostringstream os;
   os << toml::toml_formatter{root};
@@ -110,8 +112,8 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   root.insert("particles", particles);
   root.insert("material", material_keys(m, modelling));
 
-  // Each layer a random gas that falls onto the bed; shovelling lets it fall from the height
-  // the standard allows above the rim, the layered methods from just above the bed.
+  // Each layer a random gas that falls onto the bed from just above it (the pour's gap): for
+  // shovelling, lower than the standard's discharge from up to 50 mm above the rim, and said so.
   toml::table pour{{"solid_fraction", 0.2}, {"batches", s.method == C29Method::Shovelling ? 3 : 1}};
   root.insert("pour", pour);
   toml::table dynamics{{"max_time", s.max_time_s}};
@@ -121,8 +123,8 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   if (s.method == C29Method::Shovelling) {
     protocol.push_back(layer_step("pour", 0, 1));
     modelling.push_back(fmt::format(
-        "shovelling: the aggregate poured as a random gas in batches falling onto the bed from above (the "
-        "standard discharges it from at most {:.0f} mm above the rim)",
+        "shovelling: the aggregate poured as a random gas in batches, each falling from just above the bed (the "
+        "standard discharges it from at most {:.0f} mm above the rim: the first grains fall further in the lab)",
         kC29ShovelHeight * 1e3));
   } else {
     for (int layer = 0; layer < kC29Layers; ++layer) {
@@ -161,8 +163,6 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
       "below it, as C29 asks); the particles whose centre is below the rim, counted whole, are given beside it");
   return header(title, modelling) + text_of(root);
 }
-
-double impact_speed(double height) { return std::sqrt(2.0 * kGravity * height); }
 
 std::string c1252_scenario(const C1252Setup& s, std::vector<std::string>& modelling) {
   const AggregateMaterial& m = *s.material;
