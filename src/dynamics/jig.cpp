@@ -11,13 +11,7 @@
 namespace aggpack {
 
 std::string JigReport::csv() const {
-  std::string body = "drop,time_s,density,translational_energy_per_particle_mgd\n";
-  const auto density_text = [](double d) { return std::isnan(d) ? std::string() : fmt::format("{:.6f}", d); };
-  fmt::format_to(std::back_inserter(body), "0,{:.9g},{},\n", time_before, density_text(density_before));
-  for (const TapSample& s : samples)
-    fmt::format_to(std::back_inserter(body), "{},{:.9g},{},{:.6g}\n", s.tap, s.time, density_text(s.density),
-                   s.translational_per_particle_mgd);
-  return body;
+  return dynamics_internal::compaction_curve_csv("drop", time_before, density_before, samples);
 }
 
 ContainerMotion jig_motion(const JiggingSettings& settings, double start, double g) {

@@ -4,11 +4,31 @@
 #include <cmath>
 #include <cstddef>
 #include <functional>
+#include <iterator>
 #include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "aggpack/dynamics/settle.hpp"
+#include "aggpack/dynamics/tap.hpp"
 
 namespace aggpack::dynamics_internal {
+
+// A compaction curve as CSV (taps.csv, jig_drops.csv): row 0 the bed before the first cycle,
+// then one row per cycle, counted in the first column (`counter`: "tap", "drop").
+inline std::string compaction_curve_csv(std::string_view counter, double time_before, double density_before,
+                                        const std::vector<TapSample>& samples) {
+  std::string body = fmt::format("{},time_s,density,translational_energy_per_particle_mgd\n", counter);
+  const auto density_text = [](double d) { return std::isnan(d) ? std::string() : fmt::format("{:.6f}", d); };
+  fmt::format_to(std::back_inserter(body), "0,{:.9g},{},\n", time_before, density_text(density_before));
+  for (const TapSample& s : samples)
+    fmt::format_to(std::back_inserter(body), "{},{:.9g},{},{:.6g}\n", s.tap, s.time, density_text(s.density),
+                   s.translational_per_particle_mgd);
+  return body;
+}
 
 // A rest's state, as it stands in a loop's saved fields.
 struct RestState {

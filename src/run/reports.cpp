@@ -216,7 +216,6 @@ std::string modelling_note(const JigReport& r) {
 }
 
 nlohmann::json to_json(const TapReport& r) {
-  const auto or_null = [](double v) { return std::isnan(v) ? nlohmann::json() : nlohmann::json(v); };
   nlohmann::json densities = nlohmann::json::array();
   for (const TapSample& s : r.samples) densities.push_back(or_null(s.density));
   nlohmann::json j = {{"taps", r.taps},
