@@ -25,6 +25,12 @@ double batch_fall_time(double velocity, double g, double height) {
   return g > 0.0 ? (std::sqrt(velocity * velocity + 2.0 * g * height) - velocity) / g : 0.0;
 }
 
+double poured_speed(const PourSettings& settings, double g, double height) {
+  if (!settings.release_height) return settings.velocity;
+  const double fall = std::max(0.0, *settings.release_height - height);
+  return std::sqrt(settings.velocity * settings.velocity + 2.0 * g * fall);
+}
+
 BatchGas batch_gas(const Container& container, double bottom, std::span<const double> batch, double solid_fraction,
                    Rng& rng) {
   BatchGas gas{insertion_region(container, bottom, solid_volume(batch), solid_fraction), {}};
@@ -44,6 +50,7 @@ PourReport planned_pour(const PourSettings& settings, std::span<const double> ra
   planned.solid_fraction = settings.solid_fraction;
   planned.velocity = settings.velocity;
   planned.gap = settings.gap.value_or(2.0 * r_max);
+  planned.release_height = settings.release_height;
   planned.lowest_slab_bottom = std::numeric_limits<double>::infinity();
   return planned;
 }
@@ -60,7 +67,8 @@ PourLoop begin_pour(const DemSystem& system, const PourSettings& settings, std::
 bool fits(const PourLoop& loop, const PourReport& planned, const DemSystem& system) {
   const PourReport& r = loop.report;
   return r.poured == planned.poured && r.batches == planned.batches && r.solid_fraction == planned.solid_fraction &&
-         r.velocity == planned.velocity && r.gap == planned.gap && loop.batch < r.batches &&
+         r.velocity == planned.velocity && r.gap == planned.gap &&
+         r.release_height == planned.release_height && loop.batch < r.batches &&
          loop.start >= 0.0 && loop.start <= system.time() && loop.start_steps <= system.steps() &&
          std::isfinite(loop.next) && std::isfinite(loop.weight) && std::isfinite(loop.poured_at) &&
          loop.pour_steps <= system.steps() - loop.start_steps && !loop.rng.stuck();
@@ -87,20 +95,23 @@ void insert_batch(DemSystem& system, ParticleStore& particles, const Container& 
   const BatchGas gas =
       batch_gas(container, top_of_bed(particles, container) + report.gap, batch, settings.solid_fraction, loop.rng);
   const auto first = static_cast<std::size_t>(batch.data() - radii.data());  // of the batch in the pour's spheres
+  const double g = norm(system.gravity()), floor = container.bounds.lo.z;
   for (std::size_t k = 0; k < batch.size(); ++k) {
     const RigidBodyShape* shape = shapes.shape(first + k);
+    const double speed = poured_speed(settings, g, gas.positions[k].z - floor);
     // An orientation drawn for a grain only: a pour of spheres keeps its stream.
     add_poured(particles, gas.positions[k], batch[k], shape, shape ? random_orientation(loop.rng) : Quaternion{},
-               {0.0, 0.0, -settings.velocity}, materials.density_of(first + k), part, materials.material(first + k));
+               {0.0, 0.0, -speed}, materials.density_of(first + k), part, materials.material(first + k));
   }
   report.insertion_wall_clock_s += std::chrono::duration<double>(Clock::now() - t_insert).count();
   report.lowest_slab_bottom = std::min(report.lowest_slab_bottom, gas.slab.bottom);
   report.highest_slab_top = std::max(report.highest_slab_top, gas.slab.top);
   system.admit_new_particles();
   loop.weight = weight_energy(system, particles);
-  // After the last batch, this is when the pour has reached the bed.
+  // After the last batch, this is when the pour has reached the bed (its slowest, top particles
+  // through the slab).
   loop.next = (system.time() - loop.start) +
-              batch_fall_time(settings.velocity, norm(system.gravity()), gas.slab.top - gas.slab.bottom);
+              batch_fall_time(poured_speed(settings, g, gas.slab.top - floor), g, gas.slab.top - gas.slab.bottom);
 }
 
 }  // namespace

@@ -100,13 +100,14 @@ DepositionSettings read_deposition(const TomlSection& s, const Container& contai
 }
 
 PourSettings read_pour(const TomlSection& s) {
-  s.allow_only({"solid_fraction", "batches", "velocity", "gap"});
+  s.allow_only({"solid_fraction", "batches", "velocity", "gap", "release_height"});
   PourSettings p;
   p.solid_fraction = s.number("solid_fraction", {0.0, 0.3, true, false}).value_or(p.solid_fraction);
   p.batches = static_cast<std::size_t>(s.integer("batches", 1, 10000).value_or(1));
   p.velocity = s.number("velocity", {0.0, 100.0, false, false}).value_or(p.velocity);
   // No gap is allowed: the gas's spheres lie inside their slab, so none starts in the bed.
   p.gap = s.length("gap", kNonNegative);
+  p.release_height = s.length("release_height", kNonNegative);
   return p;
 }
 

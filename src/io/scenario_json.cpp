@@ -69,6 +69,7 @@ void add_placing_stages(nlohmann::json& j, const Scenario& sc) {
   if (sc.pour) {
     const PourSettings& pour = *sc.pour;
     j["pour"] = {{"solid_fraction", pour.solid_fraction}, {"batches", pour.batches}, {"velocity_m_s", pour.velocity}};
+    if (pour.release_height) j["pour"]["release_height_m"] = *pour.release_height;
     if (pour.gap) j["pour"]["gap_m"] = *pour.gap;
   }
   if (sc.tapping) {

@@ -112,9 +112,11 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   root.insert("particles", particles);
   root.insert("material", material_keys(m, modelling));
 
-  // Each layer a random gas that falls onto the bed from just above it (the pour's gap): for
-  // shovelling, lower than the standard's discharge from up to 50 mm above the rim, and said so.
+  // Each layer a random gas that comes in just above the bed. Shovelled, it arrives as from the
+  // standard's shovel, discharged from 50 mm above the rim: each grain at the speed of a fall
+  // from there.
   toml::table pour{{"solid_fraction", 0.2}, {"batches", s.method == C29Method::Shovelling ? 3 : 1}};
+  if (s.method == C29Method::Shovelling) pour.insert("release_height", metres(s.measure.height_m + kC29ShovelHeight));
   root.insert("pour", pour);
   toml::table dynamics{{"max_time", s.max_time_s}};
   root.insert("dynamics", dynamics);
@@ -123,8 +125,9 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   if (s.method == C29Method::Shovelling) {
     protocol.push_back(layer_step("pour", 0, 1));
     modelling.push_back(fmt::format(
-        "shovelling: the aggregate poured as a random gas in batches, each falling from just above the bed (the "
-        "standard discharges it from at most {:.0f} mm above the rim: the first grains fall further in the lab)",
+        "shovelling: the aggregate poured as a random gas in batches, each grain arriving as if discharged from "
+        "{:.0f} mm above the rim (the standard's most), at the speed of a free fall from there; the shovel's stream "
+        "(where it lands, how fast it flows) is not modelled",
         kC29ShovelHeight * 1e3));
   } else {
     for (int layer = 0; layer < kC29Layers; ++layer) {

@@ -315,10 +315,20 @@ struct PourBatches {
   double highest = 0.0;  // the highest a slab can reach: every slab above the one before, each a gap higher
 };
 
+// The deck lets every batch in at pour.velocity: a release height (aggpack's DEM's) is refused.
+void check_no_release_height(const Scenario& sc) {
+  if (sc.pour && sc.pour->release_height)
+    throw InputError(fmt::format("{}: pour.release_height: the LAMMPS deck lets the pour's batches in at "
+                                 "pour.velocity, not from a release height (aggpack's own DEM's); expected "
+                                 "pour.velocity instead, or no export_lammps step",
+                                 sc.file.string()));
+}
+
 PourBatches pour_batches(const DeckBasis& b, const ParticleStore& bed, const PourStep& step,
                          std::span<const double> radii, std::span<const std::uint8_t> materials,
                          const PourSchedule& schedule, double gap) {
   const Scenario& sc = b.sc;
+  check_no_release_height(sc);
   const SphereMaterials of{materials, b.densities};
   const double g = b.g;
   const PourSettings& pour = *sc.pour;
@@ -388,6 +398,7 @@ LammpsDeck pour_deck_with_grains(const Scenario& sc, const ParticleStore& bed, c
                                  std::span<const double> radii, std::span<const std::uint8_t> materials,
                                  const PouredShapes& shapes, const DeckBasis& b, double gap, LammpsDeck out) {
   const PourSettings& pour = *sc.pour;
+  check_no_release_height(sc);
   if (pour_schedule(pour, radii.size()).batches > 1)
     throw InputError(fmt::format("{}: pour.batches: a pour with grains (of them, or into a bed of them) goes to LAMMPS "
                                  "in one batch, as LAMMPS's fix rigid/small takes its grains once, when it is "

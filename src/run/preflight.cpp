@@ -147,6 +147,11 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
   // fast as that), the spheres rebound out of the open top and the bed never forms.
   constexpr double kMaxDropHeights = 10.0;
   const double drop = pour.velocity * pour.velocity / (2.0 * g);
+  if (pour.release_height && !(*pour.release_height <= kMaxDropHeights * c.height()))
+    throw InputError(fmt::format("{}: pour.release_height: {} m above the floor, more than {:g} times the container's "
+                                 "height ({} m): the grains would rebound out of the open container; expected a "
+                                 "release from about the container's height",
+                                 file, shown(*pour.release_height), kMaxDropHeights, shown(c.height())));
   if (!(gap <= kMaxDropHeights * c.height()) || !(drop <= kMaxDropHeights * c.height()))
     throw InputError(fmt::format(
         "{}: {}: the spheres {} m above the bed, more than {:g} times the container's height ({} m): they "
@@ -166,15 +171,18 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
         "{} m tall): the run would end with the spheres still in the air; expected a max_time of at least {} s "
         "and the time to settle",
         file, shown(max_time), batches, batches == 1 ? "" : "es", shown(fall), shown(slab), shown(2.0 * batches * fall)));
-  const double impact = std::sqrt(pour.velocity * pour.velocity + 2.0 * g * (gap + slab));
+  // The fastest arrival: from the top of a slab over the bed, or released at the release height
+  // and falling to the floor.
+  const double fall_height = std::max(gap + slab, pour.release_height.value_or(0.0));
+  const double impact = std::sqrt(pour.velocity * pour.velocity + 2.0 * g * fall_height);
   const double overlap = largest_impact_overlap(sc, r_min, impact);
   const double per_step = impact * time_step;
   if (!(overlap <= 0.5 * r_min) || !(per_step <= 0.1 * r_min))
     throw InputError(fmt::format(
-        "{}: pour.velocity, pour.gap, pour.solid_fraction: a sphere poured at {} m/s from up to {} m above the bed "
-        "(the gap and a {} m slab) reaches it at {} m/s: the smallest sphere (radius {} m) would {}; expected a "
-        "slower or lower pour",
-        file, shown(pour.velocity), shown(gap + slab), shown(slab), shown(impact), shown(r_min),
+        "{}: pour.velocity, pour.gap, pour.release_height, pour.solid_fraction: a sphere poured at {} m/s that falls "
+        "up to {} m (the gap and a {} m slab above the bed, or from the release height to the floor) arrives at {} "
+        "m/s: the smallest sphere (radius {} m) would {}; expected a slower or lower pour",
+        file, shown(pour.velocity), shown(fall_height), shown(slab), shown(impact), shown(r_min),
         overlap > 0.5 * r_min
             ? fmt::format("press {} of its radius into the bed (a Hertz impact at this stiffness), passing through",
                           shown(overlap / r_min))

@@ -90,7 +90,7 @@ nlohmann::json to_json(const DepositionReport& r) {
 }
 
 nlohmann::json to_json(const PourReport& r) {
-  return {{"method", "random_gas"},
+  nlohmann::json j = {{"method", "random_gas"},
           {"particles_poured", r.poured},
           {"batches", r.batches},
           {"solid_fraction", r.solid_fraction},
@@ -99,6 +99,8 @@ nlohmann::json to_json(const PourReport& r) {
           {"lowest_slab_bottom_m", r.lowest_slab_bottom},
           {"highest_slab_top_m", r.highest_slab_top},
           {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
+  if (r.release_height) j["release_height_m"] = *r.release_height;
+  return j;
 }
 
 namespace {

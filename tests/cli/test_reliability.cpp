@@ -222,6 +222,11 @@ std::vector<BadInput> bad_inputs() {
                {"s.toml", "pour.velocity", "rebound"}),
       scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\ngap = \"1000 m\"\n[dynamics]\n",
                {"s.toml", "pour.gap", "rebound"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\nrelease_height = \"1000 m\"\n[dynamics]\n",
+               {"s.toml", "pour.release_height", "rebound"}),
+      scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\nrelease_height = 0.2\n[dynamics]\n"
+                      "engine = \"lammps\"\n",
+               {"s.toml", "pour.release_height", "aggpack's own DEM"}),
       scenario(kBox + "[particles]\ndiameter = 0.01\ncount = 50\n[pour]\n[dynamics]\nmax_time = 0.001\n",
                {"s.toml", "dynamics.max_time", "in the air"}),
       // `check` refuses what `run` would refuse at a protocol step: an import_lammps file that

@@ -17,6 +17,10 @@ struct PourSettings {
   std::size_t batches = 1;        // equal parts by count; the next once the last has fallen its slab's height
   double velocity = 0.0;          // m/s, initial downward speed
   std::optional<double> gap;      // m, from the bed's top to the slab's bottom; default one largest diameter
+  // m above the container's floor: each particle comes in at the speed of a free fall from
+  // there to its height (with `velocity` as the speed it leaves from there), as aggregate
+  // discharged from a shovel held at that height; none: every particle at `velocity`.
+  std::optional<double> release_height;
 };
 
 // Where a pour puts its spheres: a slab of the container's footprint between two heights.

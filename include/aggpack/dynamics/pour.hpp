@@ -38,6 +38,11 @@ double solid_volume(std::span<const double> radii);
 // `height` tall under gravity g (0 without gravity: the next batch comes at once).
 double batch_fall_time(double velocity, double g, double height);
 
+// The downward speed (m/s) a poured particle comes in with at `height` above the floor:
+// `velocity`, or with a release height H, the speed of a fall from H leaving it at `velocity`,
+// sqrt(velocity^2 + 2 g max(0, H - height)).
+double poured_speed(const PourSettings& settings, double g, double height);
+
 // A batch's random gas (random_gas) in a slab of the container's footprint whose bottom is at
 // `bottom`, drawn from the pour's stream. Throws PourInsertionError when the batch finds no room.
 struct BatchGas {
@@ -58,6 +63,7 @@ struct PourReport {
   double solid_fraction = 0.0;          // of each insertion slab
   double velocity = 0.0;                // m/s downward at insertion
   double gap = 0.0;                     // m, from the bed's top to a slab's bottom
+  std::optional<double> release_height;  // m above the floor (PourSettings)
   double lowest_slab_bottom = 0.0, highest_slab_top = 0.0;  // m, over the batches
   double insertion_wall_clock_s = 0.0;  // placing the gas (the DEM is in the settling run)
 };
