@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/version.hpp"
@@ -43,6 +44,58 @@ double c29_cut_off(const AggregateMaterial& m, double nms, const LabTestOptions&
   return nms / 8.0 > m.grading.grading.smallest() ? nms / 8.0 : 0.0;
 }
 
+// A representative measure at least this many largest particles across: narrower, its wall
+// layers would leave it no core to read.
+constexpr double kLeastRepresentativeSizes = 4.0;
+
+// Writes a part's scenario for a simulated measure, adding its modelling notes.
+using ScenarioWriter = std::function<std::string(const SimulatedMeasure&, std::vector<std::string>&)>;
+
+void add_notes(std::vector<std::string>& to, const std::vector<std::string>& notes) {
+  for (const std::string& note : notes)
+    if (std::find(to.begin(), to.end(), note) == to.end()) to.push_back(note);
+}
+
+// The part's measure and scenario: the standard's measure, or where `may_scale` and it would
+// hold more than --max-particles, a representative one of the same proportions scaled by
+// cbrt(max / expected), refused when it would be narrower than kLeastRepresentativeSizes.
+void size_part(LabTestPlan& plan, LabTestPart& part, SimulatedMeasure full, const ScenarioWriter& write,
+               const LabTestOptions& options, bool may_scale) {
+  std::vector<std::string> notes;
+  part.scenario_text = write(full, notes);
+  part.simulated_diameter_m = full.diameter_m;
+  part.simulated_height_m = full.rim_m;
+  part.largest_size_m = full.largest_size_m;
+  part.full_size_particles = expected_particle_count(load_part(part, options).particles);
+  if (may_scale && part.full_size_particles > options.max_particles) {
+    part.scale = std::cbrt(options.max_particles / part.full_size_particles);
+    SimulatedMeasure scaled = full;
+    scaled.diameter_m *= part.scale;
+    scaled.rim_m *= part.scale;
+    const double least = kLeastRepresentativeSizes * full.largest_size_m;
+    if (scaled.diameter_m < least)
+      throw InputError(fmt::format(
+          "--max-particles {:.0f}: {} would hold about {:.0f} particles; a representative measure of {:.0f} would be "
+          "{:.1f} mm across, narrower than {:g} of its largest particles ({:.2f} mm); expected --max-particles of at "
+          "least {:.0f}",
+          options.max_particles, part.label, part.full_size_particles, options.max_particles, scaled.diameter_m / kMm,
+          kLeastRepresentativeSizes, full.largest_size_m / kMm,
+          std::ceil(part.full_size_particles * std::pow(least / full.diameter_m, 3))));
+    notes.clear();
+    part.scenario_text = write(scaled, notes);
+    part.simulated_diameter_m = scaled.diameter_m;
+    part.simulated_height_m = scaled.rim_m;
+    notes.push_back(fmt::format(
+        "{}: a representative measure, the standard's scaled by {:.3f} ({:.1f} mm across, {:.1f} mm high, about {:.0f} "
+        "particles instead of {:.0f}); the standard measure's content read from it as core - (core - its content) x "
+        "{:.3f}, the walls' loss of density being a layer of the same loss per unit area at any size (the core: "
+        "farther than one largest particle from its wall); checked against a full-size run in docs/validation.md",
+        part.label, part.scale, scaled.diameter_m / kMm, scaled.rim_m / kMm, options.max_particles,
+        part.full_size_particles, part.scale));
+  }
+  add_notes(plan.modelling, notes);
+}
+
 void plan_c29(LabTestPlan& plan, const LabTestOptions& options) {
   const AggregateMaterial& m = plan.material;
   const C29Method method = method_named(kC29MethodNames, options.method, "ASTM C29");
@@ -61,14 +114,19 @@ void plan_c29(LabTestPlan& plan, const LabTestOptions& options) {
   LabTestPart part;
   part.label = fmt::format("ASTM C29 {}", plan.method);
   part.measure_diameter_m = setup.measure.diameter_m;
-  part.measure_height_m = part.simulated_height_m = setup.measure.height_m;
+  part.measure_height_m = setup.measure.height_m;
   part.cut_off_m = setup.cut_off_m;
   if (part.cut_off_m > 0.0) {
     part.cut_off_percent = percent_passing_at(m.grading.grading, setup.cut_off_m);
     plan.modelling.push_back(fmt::format("fines below {:.3g} mm ({:.1f} % of the mass) left out, the rest renormalised",
                                          part.cut_off_m / kMm, part.cut_off_percent));
   }
-  part.scenario_text = c29_scenario(setup, plan.modelling);
+  // Always the standard's measure: a smaller one would change what 25 strokes of the rod do.
+  const SimulatedMeasure full{setup.measure.diameter_m, setup.measure.height_m, m.grading.grading.largest()};
+  size_part(plan, part, full, [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
+    setup.simulated = simulated;
+    return c29_scenario(setup, notes);
+  }, options, false);
   plan.parts.push_back(std::move(part));
 }
 
@@ -78,7 +136,6 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
   setup.material = &plan.material;
   setup.label = std::move(label);
   setup.standard_grading = std::move(grading);
-  setup.simulated_height_m = kC1252Height;
   // Method C's sand as received: the fines below C1252 A's finest sieve, 0.150 mm, left out
   // unless --finest says otherwise (a sand's passing 0.075 mm would be tens of millions of grains).
   const bool as_received = !setup.standard_grading;
@@ -91,7 +148,6 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
   part.label = fmt::format("ASTM C1252 {}", setup.label);
   part.measure_diameter_m = kC1252Diameter;
   part.measure_height_m = kC1252Height;
-  part.simulated_height_m = setup.simulated_height_m;
   part.cut_off_m = setup.cut_off_m;
   const Grading& g = setup.standard_grading ? *setup.standard_grading : plan.material.grading.grading;
   part.cut_off_percent = setup.cut_off_m > 0.0 ? percent_passing_at(g, setup.cut_off_m) : 0.0;
@@ -99,11 +155,14 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
     plan.modelling.push_back(fmt::format("{}: fines below {:.3g} mm ({:.1f} % of the mass) left out, the rest "
                                          "renormalised",
                                          part.label, setup.cut_off_m / kMm, part.cut_off_percent));
-  std::vector<std::string> modelling;
-  part.scenario_text = c1252_scenario(setup, modelling);
-  for (const std::string& note : modelling)
-    if (std::find(plan.modelling.begin(), plan.modelling.end(), note) == plan.modelling.end())
-      plan.modelling.push_back(note);
+  // Method C: the sand passing 4.75 mm (c1252_scenario cuts it there).
+  const double largest = setup.standard_grading ? g.largest() : std::min(g.largest(), kC1252MethodCLargest);
+  size_part(plan, part, {kC1252Diameter, kC1252Height, largest},
+            [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
+              setup.simulated = simulated;
+              return c1252_scenario(setup, notes);
+            },
+            options, true);
   return part;
 }
 
@@ -127,15 +186,44 @@ void plan_c1252(LabTestPlan& plan, const LabTestOptions& options) {
   }
 }
 
-// A part's run: the packing of the struck-off content and the particles it holds.
+// The packing of a cylinder's core: its rings of the wall profile (over the bed's height less
+// one largest particle at the floor and at the surface) farther than `clearance` from the wall,
+// weighted by their areas.
+double core_packing(const PackingReport& report, double clearance) {
+  const double radius = 0.5 * report.measure->diameter;
+  const Profile& rings = report.wall;
+  const double half = rings.position.size() > 1 ? 0.5 * (rings.position[1] - rings.position[0]) : 0.0;
+  double solid = 0.0, area = 0.0;
+  for (std::size_t k = 0; k < rings.position.size(); ++k) {
+    const double inner = radius - std::min(radius, rings.position[k] + half);
+    const double outer = radius - (rings.position[k] - half);
+    if (rings.position[k] - half < clearance || outer <= 0.0) continue;
+    const double a = outer * outer - inner * inner;
+    solid += rings.solid_fraction[k] * a;
+    area += a;
+  }
+  if (!(area > 0.0)) throw std::logic_error("a lab test's measure has no core (narrower than two largest particles)");
+  return solid / area;
+}
+
+// A part's run: the packing of the struck-off content and the particles it holds, read as the
+// standard measure's from a representative one (LabTestPartResult::packing).
 struct PartOutcome {
-  double packing = 0.0, packing_whole = 0.0;
+  double packing = 0.0, packing_whole = 0.0, simulated = 0.0, core = 0.0;
   std::size_t particles = 0;
 };
-PartOutcome outcome_of(const CaseRun& run) {
-  const auto& measure = run.result.report.final.measure;
-  if (!measure) throw std::logic_error("a lab test's run has no measure (its container is a cylinder)");
-  return {measure->packing_density, measure->packing_density_whole_particles, measure->particles};
+PartOutcome outcome_of(const CaseRun& run, const LabTestPart& part) {
+  const PackingReport& report = run.result.report.final;
+  if (!report.measure) throw std::logic_error("a lab test's run has no measure (its container is a cylinder)");
+  const MeasureContent& measure = *report.measure;
+  PartOutcome o{measure.packing_density, measure.packing_density_whole_particles, measure.packing_density, 0.0,
+                measure.particles};
+  o.core = core_packing(report, part.largest_size_m);
+  if (part.scale < 1.0) {
+    o.packing = o.core - (o.core - measure.packing_density) * part.scale;
+    o.packing_whole = o.core - (o.core - measure.packing_density_whole_particles) * part.scale;
+  }
+  return o;
 }
 
 }  // namespace
@@ -163,9 +251,11 @@ LabTestResult run_lab_test(const LabTestPlan& plan, const LabTestOptions& option
     pr.label = part.label;
     for (std::size_t k = 0; k < result.seeds.size(); ++k) {
       const CaseRun run = campaign.run(part.label, load_part(part, options), result.seeds[k]);
-      const PartOutcome o = outcome_of(run);
+      const PartOutcome o = outcome_of(run, part);
       pr.packing.push_back(o.packing);
       pr.packing_whole.push_back(o.packing_whole);
+      pr.packing_simulated.push_back(o.simulated);
+      pr.packing_core.push_back(o.core);
       pr.particles.push_back(o.particles);
       pr.wall_clock_s += run.result.wall_clock_s;
       per_seed_mean[k] += o.packing / static_cast<double>(plan.parts.size());

@@ -34,11 +34,17 @@ nlohmann::json to_json(const LabTestResult& r) {
     parts.push_back({{"label", pr.label},
                      {"measure_diameter_m", part.measure_diameter_m},
                      {"measure_height_m", part.measure_height_m},
+                     {"simulated_diameter_m", part.simulated_diameter_m},
                      {"simulated_height_m", part.simulated_height_m},
+                     {"scale", part.scale},
+                     {"representative", part.scale < 1.0},
+                     {"full_size_particles_expected", part.full_size_particles},
                      {"cut_off_m", part.cut_off_m},
                      {"cut_off_percent_of_mass", part.cut_off_percent},
                      {"packing_density", pr.packing},
                      {"packing_density_whole_particles", pr.packing_whole},
+                     {"packing_density_simulated_measure", pr.packing_simulated},
+                     {"packing_density_core", pr.packing_core},
                      {"particles", pr.particles},
                      {"packing_density_statistics", to_json(pr.packing_stats)},
                      {"packing_density_whole_particles_statistics", to_json(pr.packing_whole_stats)},
@@ -90,11 +96,17 @@ std::string describe(const LabTestResult& r) {
                        with_spread(r.voids_percent, r.voids_sd_percent, "{:.1f}"), with_spread(r.packing.mean, sd, "{:.4f}"));
     if (r.lab_value) out += fmt::format("  lab: U = {:.1f} % (method {})\n", *r.lab_value, p.method);
   }
-  for (const LabTestPartResult& pr : r.parts)
-    out += fmt::format("  {}: packing {} (whole particles below the rim: {}), {} particles\n", pr.label,
+  for (std::size_t i = 0; i < r.parts.size(); ++i) {
+    const LabTestPartResult& pr = r.parts[i];
+    const LabTestPart& part = p.parts[i];
+    out += fmt::format("  {}: packing {} (whole particles below the rim: {}), {} particles{}\n", pr.label,
                        with_spread(pr.packing_stats.mean, pr.packing_stats.sd, "{:.4f}"),
                        with_spread(pr.packing_whole_stats.mean, pr.packing_whole_stats.sd, "{:.4f}"),
-                       pr.particles.empty() ? 0 : pr.particles.front());
+                       pr.particles.empty() ? 0 : pr.particles.front(),
+                       part.scale < 1.0 ? fmt::format(" in a representative measure {:.1f} mm across (x {:.3f})",
+                                                      part.simulated_diameter_m * 1e3, part.scale)
+                                        : "");
+  }
   for (const std::string& m : p.modelling) out += fmt::format("  note: {}\n", m);
   return out;
 }

@@ -17,11 +17,17 @@ namespace aggpack {
 namespace {
 
 constexpr double kGravity = 9.81;
-// The walls of the simulated measure go on above its rim, a collar holding the overfill that the
-// lab lets heap above the rim before striking it off.
+// The measure filled to overflowing, 10 % more than its volume at the expected density, and
+// at least two largest particles above the rim (a short representative measure's 10 % is less:
+// its rim would cut the heap's loose surface layer).
+constexpr double kOverfill = 0.10;
+constexpr double kOverfillSizes = 2.0;
+// The walls of the simulated measure go on above its rim, a collar holding the overfill that
+// the lab lets heap above the rim before striking it off: 30 % of the rim, at least the overfill
+// and two largest particles more.
 constexpr double kCollar = 0.3;
-// The measure filled to overflowing: 10 % more than its volume at the expected density.
-constexpr double kOverfill = 1.10;
+
+double overfill(const SimulatedMeasure& m) { return std::max(kOverfill * m.rim_m, kOverfillSizes * m.largest_size_m); }
 
 std::string metres(double m) { return fmt::format("{:.10g} m", m); }
 
@@ -55,16 +61,17 @@ toml::table material_keys(const AggregateMaterial& m, std::vector<std::string>& 
   return t;
 }
 
-toml::table cylinder(double diameter, double rim) {
+toml::table cylinder(const SimulatedMeasure& m) {
+  const double collar = std::max(kCollar * m.rim_m, overfill(m) + kOverfillSizes * m.largest_size_m);
   return toml::table{{"shape", "cylinder"},
-                     {"diameter", metres(diameter)},
-                     {"height", metres(rim * (1.0 + kCollar))},
-                     {"rim", metres(rim)}};
+                     {"diameter", metres(m.diameter_m)},
+                     {"height", metres(m.rim_m + collar)},
+                     {"rim", metres(m.rim_m)}};
 }
 
 // The amount: the measure filled to overflowing at the expected packing.
-toml::table amount(double rim, double expected_packing) {
-  return toml::table{{"fill_height", metres(rim * kOverfill)}, {"expected_density", expected_packing}};
+toml::table amount(const SimulatedMeasure& m, double expected_packing) {
+  return toml::table{{"fill_height", metres(m.rim_m + overfill(m))}, {"expected_density", expected_packing}};
 }
 
 toml::table step(std::string kind) { return toml::table{{"step", std::move(kind)}}; }
@@ -102,8 +109,8 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   const AggregateMaterial& m = *s.material;
   const std::string title = fmt::format("ASTM C29 {}: {}", name_of(kC29MethodNames, s.method), m.name);
   toml::table root{{"title", title}, {"seed", 1}};
-  root.insert("container", cylinder(s.measure.diameter_m, s.measure.height_m));
-  toml::table particles = amount(s.measure.height_m, s.expected_packing);
+  root.insert("container", cylinder(s.simulated));
+  toml::table particles = amount(s.simulated, s.expected_packing);
   toml::table grading = material_table(m.file, "grading");
   if (s.cut_off_m > 0.0) grading.insert_or_assign("d_min", metres(s.cut_off_m));
   toml::table shape = material_table(m.file, "shape");
@@ -116,7 +123,7 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   // standard's shovel, discharged from 50 mm above the rim: each grain at the speed of a fall
   // from there.
   toml::table pour{{"solid_fraction", 0.2}, {"batches", s.method == C29Method::Shovelling ? 3 : 1}};
-  if (s.method == C29Method::Shovelling) pour.insert("release_height", metres(s.measure.height_m + kC29ShovelHeight));
+  if (s.method == C29Method::Shovelling) pour.insert("release_height", metres(s.simulated.rim_m + kC29ShovelHeight));
   root.insert("pour", pour);
   toml::table dynamics{{"max_time", s.max_time_s}};
   root.insert("dynamics", dynamics);
@@ -159,8 +166,9 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
 
   modelling.push_back(fmt::format(
       "the measure: {} modelled as a steel cylinder {:.1f} mm across and {:.1f} mm high (C29 6.1: height about "
-      "the diameter), its wall continued {:.0f} % above the rim as a collar that holds the overfill",
-      s.measure.name, s.measure.diameter_m * 1e3, s.measure.height_m * 1e3, kCollar * 100));
+      "the diameter), filled {:.0f} mm above its rim, its wall continued above the rim as a collar that holds "
+      "the overfill",
+      s.measure.name, s.measure.diameter_m * 1e3, s.measure.height_m * 1e3, overfill(s.simulated) * 1e3));
   modelling.push_back(
       "strike-off: the content below the rim plane, cut exactly (projections above the rim balance the voids "
       "below it, as C29 asks); the particles whose centre is below the rim, counted whole, are given beside it");
@@ -171,8 +179,8 @@ std::string c1252_scenario(const C1252Setup& s, std::vector<std::string>& modell
   const AggregateMaterial& m = *s.material;
   const std::string title = fmt::format("ASTM C1252 {}: {}", s.label, m.name);
   toml::table root{{"title", title}, {"seed", 1}};
-  root.insert("container", cylinder(kC1252Diameter, s.simulated_height_m));
-  toml::table particles = amount(s.simulated_height_m, s.expected_packing);
+  root.insert("container", cylinder(s.simulated));
+  toml::table particles = amount(s.simulated, s.expected_packing);
   toml::table grading;
   if (s.standard_grading) {
     toml::array sieves;
@@ -181,8 +189,8 @@ std::string c1252_scenario(const C1252Setup& s, std::vector<std::string>& modell
     grading.insert("sieves", sieves);
   } else {
     grading = material_table(m.file, "grading");
-    if (m.grading.grading.largest() > 4.75e-3)  // C1252 C: the sand passing 4.75 mm
-      grading.insert_or_assign("d_max", metres(4.75e-3));
+    if (m.grading.grading.largest() > kC1252MethodCLargest)  // C1252 C: the sand passing 4.75 mm
+      grading.insert_or_assign("d_max", metres(kC1252MethodCLargest));
   }
   if (s.cut_off_m > 0.0) grading.insert_or_assign("d_min", metres(s.cut_off_m));
   toml::table shape = material_table(m.file, "shape");

@@ -13,10 +13,18 @@ namespace aggpack {
 // The packing the lab measured for this test (the amount to generate), or a typical one.
 [[nodiscard]] double expected_packing(const AggregateMaterial& m, LabTestKind test);
 
+// The cylinder a test simulates: the standard's measure, or a smaller one of the same
+// proportions (a representative measure) where the standard's would hold too many particles.
+struct SimulatedMeasure {
+  double diameter_m = 0.0, rim_m = 0.0;
+  double largest_size_m = 0.0;  // of the particles it holds: the overfill and the collar hold a few of them
+};
+
 struct C29Setup {
   const AggregateMaterial* material = nullptr;
   C29Method method = C29Method::Rodding;
-  Measure measure;
+  Measure measure;             // the standard's
+  SimulatedMeasure simulated;  // the cylinder run
   double cut_off_m = 0.0;  // finer material not generated
   double expected_packing = 0.6;
   double max_time_s = 2.0;  // each DEM step's budget of simulated time
@@ -28,7 +36,7 @@ struct C1252Setup {
   const AggregateMaterial* material = nullptr;
   std::string label;                      // "A", "B, 1.18-2.36 mm", "C"
   std::optional<Grading> standard_grading;  // A and B: the standard's sample; C: none (the material's, < 4.75 mm)
-  double simulated_height_m = 0.0;        // the simulated measure's rim
+  SimulatedMeasure simulated;             // the cylinder run
   double cut_off_m = 0.0;
   double expected_packing = 0.57;
   double max_time_s = 2.0;

@@ -4,10 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/run/generate_sizes.hpp"
 
 namespace aggpack {
 namespace {
@@ -77,13 +79,57 @@ TEST(LabTest, C1252MethodBIsThreeFractionsEachInTheStandardsCylinder) {
 }
 
 TEST(LabTest, C1252MethodCTakesTheSandAsReceivedAboveItsFinestFraction) {
-  const LabTestPlan plan = plan_lab_test(options("natural_sand.toml", LabTestKind::C1252, "C"));
+  LabTestOptions o = options("natural_sand.toml", LabTestKind::C1252, "C");
+  o.max_particles = 1e6;
+  const LabTestPlan plan = plan_lab_test(o);
   ASSERT_EQ(plan.parts.size(), 1u);
   EXPECT_DOUBLE_EQ(plan.parts[0].cut_off_m, 0.150e-3);  // its 0.075 mm sieve's fines left out, and said
   EXPECT_NEAR(plan.parts[0].cut_off_percent, 4.0, 1e-9);  // natural_sand.csv: 4 % passes 0.150 mm
   const Scenario sc = parse_scenario(plan.parts[0].scenario_text, kMaterials / "natural_sand.toml");
   ASSERT_TRUE(sc.particles.graded.has_value());
   EXPECT_NEAR(*sc.particles.graded->main.d_max, 4.75e-3, 1e-12);
+}
+
+// Method A's sample in the 100 mL cylinder is some 10^6 grains: it is simulated in a cylinder of
+// the same proportions scaled to hold --max-particles, and says so.
+TEST(LabTest, AC1252TooBigToSimulateRunsInARepresentativeCylinderOfTheSameProportions) {
+  LabTestOptions o = options("natural_sand.toml", LabTestKind::C1252, "A");
+  const LabTestPlan plan = plan_lab_test(o);
+  ASSERT_EQ(plan.parts.size(), 1u);
+  const LabTestPart& part = plan.parts[0];
+  EXPECT_GT(part.full_size_particles, 1e6);
+  EXPECT_NEAR(part.scale, std::cbrt(o.max_particles / part.full_size_particles), 1e-12);
+  EXPECT_NEAR(part.simulated_diameter_m, 0.039 * part.scale, 1e-15);
+  EXPECT_NEAR(part.simulated_height_m, 0.086 * part.scale, 1e-15);
+  EXPECT_DOUBLE_EQ(part.measure_diameter_m, 0.039);  // the standard's, reported as the test's
+  const Scenario sc = parse_scenario(part.scenario_text, kMaterials / "natural_sand.toml");
+  EXPECT_NEAR(sc.container.radius(), 0.5 * part.simulated_diameter_m, 1e-10);
+  EXPECT_NEAR(sc.container.rim, part.simulated_height_m, 1e-10);
+  // It holds about --max-particles: more by its overfill of two largest grains over the rim, a
+  // larger share of a short cylinder than the standard's 10 %.
+  const double count = expected_particle_count(sc.particles);
+  EXPECT_GT(count, o.max_particles);
+  EXPECT_LT(count, 1.25 * o.max_particles);
+  bool said = false;
+  for (const std::string& note : plan.modelling) said = said || note.find("representative measure") != std::string::npos;
+  EXPECT_TRUE(said);
+  // A cylinder that fits is the standard's.
+  o.max_particles = 1e8;
+  EXPECT_EQ(plan_lab_test(o).parts[0].scale, 1.0);
+  // One narrower than four of its largest grains is refused, naming the option and what it needs.
+  o = options("natural_sand.toml", LabTestKind::C1252, "C");
+  const std::string why = refusal(o);
+  EXPECT_NE(why.find("--max-particles 40000"), std::string::npos) << why;
+  EXPECT_NE(why.find("expected --max-particles of at least"), std::string::npos) << why;
+}
+
+// C29's measure is never scaled: a smaller one would change what 25 strokes of the rod do.
+TEST(LabTest, C29RunsInTheStandardsMeasureWhateverItHolds) {
+  LabTestOptions o = options("crushed_stone_19mm.toml", LabTestKind::C29, "rodding");
+  o.max_particles = 1000;
+  const LabTestPlan plan = plan_lab_test(o);
+  EXPECT_GT(plan.parts[0].full_size_particles, 1000);
+  EXPECT_EQ(plan.parts[0].scale, 1.0);
 }
 
 }  // namespace

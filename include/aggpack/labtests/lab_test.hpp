@@ -32,6 +32,11 @@ struct LabTestOptions {
   bool quiet = false;
   std::vector<std::string> set;       // --set assignments applied to the test's scenario
   double finest_size_m = 0.0;         // cut-off of fines (m); 0: the test's default
+  // C1252: the most particles a simulated measure holds: a cylinder that would hold more is
+  // simulated as a representative one, smaller in the same proportions (LabTestPart::scale).
+  // C29's measure is always the standard's (a smaller one would change what the rod does).
+  double max_particles = kDefaultMaxParticles;
+  static constexpr double kDefaultMaxParticles = 40000;
 };
 
 // One simulated test (C29, C1252 A or C) or one of C1252 B's three fractions.
@@ -39,7 +44,13 @@ struct LabTestPart {
   std::string label;          // "ASTM C29 rodding", "ASTM C1252 B, 1.18-2.36 mm"
   std::string scenario_text;  // what is run, seed by seed
   double measure_diameter_m = 0.0, measure_height_m = 0.0;  // the standard's measure
-  double simulated_height_m = 0.0;  // the rim of the simulated measure (a representative bed's is lower)
+  // The measure simulated: the standard's (scale 1), or a representative one, the standard's
+  // scaled by `scale` < 1 in diameter and height, whose content is read as the full measure's
+  // (LabTestPartResult::packing).
+  double simulated_diameter_m = 0.0, simulated_height_m = 0.0;
+  double scale = 1.0;
+  double full_size_particles = 0.0;  // expected in the standard's measure
+  double largest_size_m = 0.0;       // of the particles simulated
   double cut_off_m = 0.0;           // finer material left out (0: none)
   double cut_off_percent = 0.0;     // of the mass
 };
@@ -61,8 +72,14 @@ LabTestPlan plan_lab_test(const LabTestOptions& options);
 // A part's result over the seeds: the packing fraction of the struck-off measure's content.
 struct LabTestPartResult {
   std::string label;
-  std::vector<double> packing;        // per seed, exact cut at the rim (full-height equivalent for a representative bed)
-  std::vector<double> packing_whole;  // per seed, particles whose centre is below the rim counted whole
+  // Per seed, the standard measure's content struck off by an exact cut at the rim. A
+  // representative measure's reads as the full measure's: the walls' loss of density is a layer
+  // of the same loss per unit area at any size, so in measures of the same proportions it falls
+  // as 1 / size: packing = core - (core - simulated) x scale.
+  std::vector<double> packing;
+  std::vector<double> packing_whole;  // the same, the particles whose centre is below the rim counted whole
+  std::vector<double> packing_simulated;  // per seed, the simulated measure's own content (exact cut)
+  std::vector<double> packing_core;       // per seed, its core: farther than one largest particle from the wall
   std::vector<std::size_t> particles;
   SeedStatistics packing_stats, packing_whole_stats;
   double wall_clock_s = 0.0;

@@ -51,6 +51,8 @@ inline constexpr double kC1252Height = 0.086;
 inline constexpr double kC1252FunnelOpening = 0.0127;
 inline constexpr double kC1252FunnelHeight = 0.115;
 inline constexpr double kC1252SampleMassKg = 0.190;
+// Method C's sample: the sand as received, passing 4.75 mm.
+inline constexpr double kC1252MethodCLargest = 4.75e-3;
 // The finest sieve of method A's sample (0.150 mm): aggpack's default cut-off for method C.
 inline constexpr double kC1252FinestDefault = 0.150e-3;
 
