@@ -66,7 +66,7 @@ Subcommand add_test_kind(CLI::App* test, aggpack::LabTestKind kind, const char* 
   cmd->add_option("--finest", a->finest, "Cut-off of fines, a length (\"2.36 mm\"): finer material is left out");
   if (kind == aggpack::LabTestKind::C1252)
     cmd->add_option("--max-particles", a->options.max_particles,
-                    "The most particles a simulated cylinder holds (default 40000): a test whose cylinder would "
+                    "The most particles a simulated cylinder holds (default 50000): a test whose cylinder would "
                     "hold more is simulated in a smaller one of its proportions, read as the full one's")
         ->check(CLI::Range(100.0, 1e8));
   cmd->add_flag("--json", a->json, "Print summary.json instead of the lines");

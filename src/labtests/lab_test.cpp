@@ -104,6 +104,7 @@ void plan_c29(LabTestPlan& plan, const LabTestOptions& options) {
   const std::string source = fmt::format("{}: grading", m.file.string());
   plan.nominal_maximum_size_m = nominal_maximum_size(m.grading.grading);
   check_c29_method(method, plan.nominal_maximum_size_m, source);
+  plan.grain_volume_ratio = grain_volume_ratio(m);  // after the checks: it draws the grains' templates
   C29Setup setup;
   setup.material = &plan.material;
   setup.method = method;
@@ -122,7 +123,8 @@ void plan_c29(LabTestPlan& plan, const LabTestOptions& options) {
                                          part.cut_off_m / kMm, part.cut_off_percent));
   }
   // Always the standard's measure: a smaller one would change what 25 strokes of the rod do.
-  const SimulatedMeasure full{setup.measure.diameter_m, setup.measure.height_m, m.grading.grading.largest()};
+  const SimulatedMeasure full{setup.measure.diameter_m, setup.measure.height_m, m.grading.grading.largest(),
+                              plan.grain_volume_ratio};
   size_part(plan, part, full, [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
     setup.simulated = simulated;
     return c29_scenario(setup, notes);
@@ -157,7 +159,7 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
                                          part.label, setup.cut_off_m / kMm, part.cut_off_percent));
   // Method C: the sand passing 4.75 mm (c1252_scenario cuts it there).
   const double largest = setup.standard_grading ? g.largest() : std::min(g.largest(), kC1252MethodCLargest);
-  size_part(plan, part, {kC1252Diameter, kC1252Height, largest},
+  size_part(plan, part, {kC1252Diameter, kC1252Height, largest, plan.grain_volume_ratio},
             [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
               setup.simulated = simulated;
               return c1252_scenario(setup, notes);
@@ -173,6 +175,7 @@ void plan_c1252(LabTestPlan& plan, const LabTestOptions& options) {
   plan.measure_name = "C1252 cylinder, 100 mL (39 mm x 86 mm)";
   const Grading& grading = plan.material.grading.grading;
   check_c1252_grading(method, grading, fmt::format("{}: grading", plan.material.file.string()));
+  plan.grain_volume_ratio = grain_volume_ratio(plan.material);  // after the checks: it draws the grains' templates
   plan.nominal_maximum_size_m = nominal_maximum_size(grading);
   if (method == C1252Method::A) {
     plan.parts.push_back(c1252_part(plan, options, "A", grading_of_fractions(c1252_method_a_fractions(), "C1252 A")));
@@ -216,6 +219,13 @@ PartOutcome outcome_of(const CaseRun& run, const LabTestPart& part) {
   const PackingReport& report = run.result.report.final;
   if (!report.measure) throw std::logic_error("a lab test's run has no measure (its container is a cylinder)");
   const MeasureContent& measure = *report.measure;
+  // Filled to overflowing, or the content is not the test's (the amount is planned for it).
+  if (!(report.bed.surface > measure.rim + part.largest_size_m))
+    throw std::runtime_error(fmt::format(
+        "{}: the bed's surface ({:.1f} mm) is not a largest particle above the rim ({:.1f} mm): the measure was not "
+        "filled, and its content is not the test's; expected a fill above the rim (report it: the test plans its "
+        "amount from the packing expected)",
+        part.label, report.bed.surface * 1e3, measure.rim * 1e3));
   PartOutcome o{measure.packing_density, measure.packing_density_whole_particles, measure.packing_density, 0.0,
                 measure.particles};
   o.core = core_packing(report, part.largest_size_m);

@@ -6,21 +6,24 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 #include <toml++/toml.h>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/grains/grain_library.hpp"
 
 namespace aggpack {
 
 namespace {
 
 constexpr double kGravity = 9.81;
-// The measure filled to overflowing, 10 % more than its volume at the expected density, and
-// at least two largest particles above the rim (a short representative measure's 10 % is less:
-// its rim would cut the heap's loose surface layer).
-constexpr double kOverfill = 0.10;
+// The measure filled to overflowing, 15 % more than its volume at the expected density (a
+// denser bed than expected still reaches above the rim), and at least two largest particles
+// above the rim (a short representative measure's 15 % is less: its rim would cut the heap's
+// loose surface layer).
+constexpr double kOverfill = 0.15;
 constexpr double kOverfillSizes = 2.0;
 // The walls of the simulated measure go on above its rim, a collar holding the overfill that
 // the lab lets heap above the rim before striking it off: 30 % of the rim, at least the overfill
@@ -38,7 +41,8 @@ toml::table material_table(const std::filesystem::path& material_file, const std
   if (const toml::table* t = root[key].as_table()) out = *t;
   if (const auto* file = out.get_as<std::string>("file")) {
     const std::filesystem::path p(file->get());
-    out.insert_or_assign("file", (p.is_absolute() ? p : material_file.parent_path() / p).lexically_normal().string());
+    const std::filesystem::path folder = std::filesystem::absolute(material_file).parent_path();
+    out.insert_or_assign("file", (p.is_absolute() ? p : folder / p).lexically_normal().string());
   }
   return out;
 }
@@ -69,9 +73,18 @@ toml::table cylinder(const SimulatedMeasure& m) {
                      {"rim", metres(m.rim_m)}};
 }
 
-// The amount: the measure filled to overflowing at the expected packing.
-toml::table amount(const SimulatedMeasure& m, double expected_packing) {
-  return toml::table{{"fill_height", metres(m.rim_m + overfill(m))}, {"expected_density", expected_packing}};
+// The amount: the measure filled to overflowing at the expected packing. Grains are counted as
+// the generator counts them, each the sphere of its size: their own solid is less by the ratio.
+toml::table amount(const SimulatedMeasure& m, double expected_packing, std::vector<std::string>& modelling) {
+  const double fill = m.rim_m + overfill(m);
+  if (m.grain_volume_ratio == 1.0) return toml::table{{"fill_height", metres(fill)}, {"expected_density", expected_packing}};
+  const double solid = 0.25 * std::numbers::pi * m.diameter_m * m.diameter_m * fill * expected_packing;
+  modelling.push_back(fmt::format(
+      "the amount: the grains' solid for the measure filled {:.1f} mm deep at a packing of {:.3f}, generated as "
+      "solid_volume {:.4g} m^3 (the generator counts each grain as the sphere of its sieve size; the grains' own "
+      "volume is {:.3f} of that, the mean of their templates)",
+      fill * 1e3, expected_packing, solid / m.grain_volume_ratio, m.grain_volume_ratio));
+  return toml::table{{"solid_volume", solid / m.grain_volume_ratio}};
 }
 
 toml::table step(std::string kind) { return toml::table{{"step", std::move(kind)}}; }
@@ -99,6 +112,25 @@ std::string text_of(const toml::table& root) {
 
 }  // namespace
 
+double grain_volume_ratio(const AggregateMaterial& m) {
+  if (!m.shape) return 1.0;
+  // The sizes the library is fitted at (a shape measure's fit needs them): the grading's sieves.
+  std::vector<double> sizes;
+  for (const Sieve& s : m.grading.grading.sieves)
+    if (s.opening > m.grading.grading.smallest()) sizes.push_back(s.opening);
+  // Twice the templates a run draws: a library of 12 varies by some 5 % in this mean (the
+  // overfill covers what is left, and the run checks that the bed reached above the rim).
+  GrainShapeSpec spec = *m.shape;
+  spec.templates = 2 * spec.templates;
+  const GrainLibrary library = make_grain_library(spec, sizes, 1);
+  double sum = 0.0;
+  for (const LibraryGrain& g : library.grains) {
+    const double reach_per_width = g.reach / g.grain.dimensions.width;
+    sum += g.unit_volume * std::pow(reach_per_width, 3) / (std::numbers::pi / 6.0);
+  }
+  return sum / static_cast<double>(library.grains.size());
+}
+
 double expected_packing(const AggregateMaterial& m, LabTestKind test) {
   if (test == LabTestKind::C29 && m.c29) return 1.0 - voids_percent(m, m.c29->kg_per_m3) / 100.0;
   if (test == LabTestKind::C1252 && m.c1252) return 1.0 - m.c1252->percent / 100.0;
@@ -110,7 +142,7 @@ std::string c29_scenario(const C29Setup& s, std::vector<std::string>& modelling)
   const std::string title = fmt::format("ASTM C29 {}: {}", name_of(kC29MethodNames, s.method), m.name);
   toml::table root{{"title", title}, {"seed", 1}};
   root.insert("container", cylinder(s.simulated));
-  toml::table particles = amount(s.simulated, s.expected_packing);
+  toml::table particles = amount(s.simulated, s.expected_packing, modelling);
   toml::table grading = material_table(m.file, "grading");
   if (s.cut_off_m > 0.0) grading.insert_or_assign("d_min", metres(s.cut_off_m));
   toml::table shape = material_table(m.file, "shape");
@@ -180,7 +212,7 @@ std::string c1252_scenario(const C1252Setup& s, std::vector<std::string>& modell
   const std::string title = fmt::format("ASTM C1252 {}: {}", s.label, m.name);
   toml::table root{{"title", title}, {"seed", 1}};
   root.insert("container", cylinder(s.simulated));
-  toml::table particles = amount(s.simulated, s.expected_packing);
+  toml::table particles = amount(s.simulated, s.expected_packing, modelling);
   toml::table grading;
   if (s.standard_grading) {
     toml::array sieves;

@@ -13,11 +13,17 @@ namespace aggpack {
 // The packing the lab measured for this test (the amount to generate), or a typical one.
 [[nodiscard]] double expected_packing(const AggregateMaterial& m, LabTestKind test);
 
+// The material's grains' own solid over the generator's count of it, each particle the sphere
+// of its size (pi/6 I^3, I the sieve size): the mean over its library of templates; 1 for
+// spheres. The amount generated is divided by it, so that the measure fills.
+[[nodiscard]] double grain_volume_ratio(const AggregateMaterial& m);
+
 // The cylinder a test simulates: the standard's measure, or a smaller one of the same
 // proportions (a representative measure) where the standard's would hold too many particles.
 struct SimulatedMeasure {
   double diameter_m = 0.0, rim_m = 0.0;
   double largest_size_m = 0.0;  // of the particles it holds: the overfill and the collar hold a few of them
+  double grain_volume_ratio = 1.0;  // of the material's grains (grain_volume_ratio)
 };
 
 struct C29Setup {

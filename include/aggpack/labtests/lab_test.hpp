@@ -36,7 +36,7 @@ struct LabTestOptions {
   // simulated as a representative one, smaller in the same proportions (LabTestPart::scale).
   // C29's measure is always the standard's (a smaller one would change what the rod does).
   double max_particles = kDefaultMaxParticles;
-  static constexpr double kDefaultMaxParticles = 40000;
+  static constexpr double kDefaultMaxParticles = 50000;
 };
 
 // One simulated test (C29, C1252 A or C) or one of C1252 B's three fractions.
@@ -65,6 +65,9 @@ struct LabTestPlan {
   double nominal_maximum_size_m = 0.0;
   std::string measure_name;         // "1/3 ft3 (9.3 L)", "C1252 cylinder (100 mL)"
   std::vector<LabTestPart> parts;   // C1252 B: three; else one
+  // The grains' own solid over the spheres of their sizes (1 for spheres): the amount of grains
+  // generated is divided by it, the generator counting each grain as the sphere of its size.
+  double grain_volume_ratio = 1.0;
   std::vector<std::string> modelling;  // every modelling choice, said in the outputs
 };
 LabTestPlan plan_lab_test(const LabTestOptions& options);
