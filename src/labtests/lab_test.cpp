@@ -123,7 +123,7 @@ void plan_c29(LabTestPlan& plan, const LabTestOptions& options) {
                                          part.cut_off_m / kMm, part.cut_off_percent));
   }
   // Always the standard's measure: a smaller one would change what 25 strokes of the rod do.
-  const SimulatedMeasure full{setup.measure.diameter_m, setup.measure.height_m, m.grading.grading.largest(),
+  const SimulatedMeasure full{setup.measure.diameter_m, setup.measure.height_m, maximum_size(m.grading.grading),
                               plan.grain_volume_ratio};
   size_part(plan, part, full, [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
     setup.simulated = simulated;
@@ -158,7 +158,7 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
                                          "renormalised",
                                          part.label, setup.cut_off_m / kMm, part.cut_off_percent));
   // Method C: the sand passing 4.75 mm (c1252_scenario cuts it there).
-  const double largest = setup.standard_grading ? g.largest() : std::min(g.largest(), kC1252MethodCLargest);
+  const double largest = std::min(maximum_size(g), kC1252MethodCLargest);
   size_part(plan, part, {kC1252Diameter, kC1252Height, largest, plan.grain_volume_ratio},
             [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
               setup.simulated = simulated;
@@ -236,6 +236,25 @@ PartOutcome outcome_of(const CaseRun& run, const LabTestPart& part) {
   return o;
 }
 
+// Adds a run's time, stage by stage, to a part's.
+void add_timing(LabTestTiming& t, const RunReport& r) {
+  const auto seconds = [&](const char* key) {
+    const auto it = r.wall_clock_s.find(key);
+    return it == r.wall_clock_s.end() ? 0.0 : it->second;
+  };
+  t.sizes_s += seconds("sizes");
+  t.grains_s += seconds("grains");
+  t.analysis_s += seconds("analysis");
+  if (r.dynamics) {
+    t.pour_s += r.dynamics->wall_clock_s();
+    t.dem_steps += r.dynamics->steps();
+  }
+  for (const RoddingReport& rod : r.roddings) t.rodding_s += rod.wall_clock_s, t.dem_steps += rod.steps;
+  for (const JigReport& jig : r.jiggings) t.jigging_s += jig.wall_clock_s, t.dem_steps += jig.steps;
+  t.spheres = r.particles.size();
+  t.simulated_s += r.simulated_time;
+}
+
 }  // namespace
 
 LabTestPlan plan_lab_test(const LabTestOptions& options) {
@@ -268,6 +287,7 @@ LabTestResult run_lab_test(const LabTestPlan& plan, const LabTestOptions& option
       pr.packing_core.push_back(o.core);
       pr.particles.push_back(o.particles);
       pr.wall_clock_s += run.result.wall_clock_s;
+      add_timing(pr.timing, run.result.report);
       per_seed_mean[k] += o.packing / static_cast<double>(plan.parts.size());
     }
     pr.packing_stats = seed_statistics(pr.packing);

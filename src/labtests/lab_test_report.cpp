@@ -23,6 +23,13 @@ std::string with_spread(double mean, double sd, const char* format) {
   return std::isnan(sd) || sd == 0.0 ? m : m + " +- " + fmt::format(fmt::runtime(format), sd);
 }
 
+// Where the time went, over the seeds.
+nlohmann::json to_json(const LabTestTiming& t) {
+  return {{"sizes_s", t.sizes_s},         {"grains_s", t.grains_s},     {"pour_s", t.pour_s},
+          {"rodding_s", t.rodding_s},     {"jigging_s", t.jigging_s},   {"analysis_s", t.analysis_s},
+          {"dem_steps", t.dem_steps},     {"spheres", t.spheres},       {"simulated_s", t.simulated_s}};
+}
+
 }  // namespace
 
 nlohmann::json to_json(const LabTestResult& r) {
@@ -48,7 +55,8 @@ nlohmann::json to_json(const LabTestResult& r) {
                      {"particles", pr.particles},
                      {"packing_density_statistics", to_json(pr.packing_stats)},
                      {"packing_density_whole_particles_statistics", to_json(pr.packing_whole_stats)},
-                     {"wall_clock_s", pr.wall_clock_s}});
+                     {"wall_clock_s", pr.wall_clock_s},
+                     {"time", to_json(pr.timing)}});
   }
   nlohmann::json lab = nullptr;
   if (r.lab_value)

@@ -72,6 +72,17 @@ struct LabTestPlan {
 };
 LabTestPlan plan_lab_test(const LabTestOptions& options);
 
+// Where a part's time went, summed over its seeds (wall clock, s): BENCHMARKS.md's breakdown.
+struct LabTestTiming {
+  double sizes_s = 0.0, grains_s = 0.0;  // drawing the sizes; the grains' templates
+  double pour_s = 0.0;                   // the DEM of the pours and their settling
+  double rodding_s = 0.0, jigging_s = 0.0;
+  double analysis_s = 0.0;
+  std::size_t dem_steps = 0;             // of every DEM stage
+  std::size_t spheres = 0;               // of the last seed's bed (a grain's members each one)
+  double simulated_s = 0.0;              // of every DEM stage
+};
+
 // A part's result over the seeds: the packing fraction of the struck-off measure's content.
 struct LabTestPartResult {
   std::string label;
@@ -86,6 +97,7 @@ struct LabTestPartResult {
   std::vector<std::size_t> particles;
   SeedStatistics packing_stats, packing_whole_stats;
   double wall_clock_s = 0.0;
+  LabTestTiming timing;
 };
 
 // The test's answer, in the lab's units.
