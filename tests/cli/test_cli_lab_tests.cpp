@@ -44,6 +44,13 @@ TEST_F(CliLabTests, AShovelledC29GivesTheLabsUnitsAndItsScenarioRunsToTheSamePac
   ASSERT_EQ(s["parts"].size(), 1u);
   ASSERT_EQ(s["parts"][0]["packing_density"].size(), 1u);
   EXPECT_FALSE(s["modelling"].empty());
+  // Where the time went: the pour's DEM, over steps of the bed's spheres (beads: one a particle).
+  const nlohmann::json& time = s["parts"][0]["time"];
+  EXPECT_GT(time["dem_steps"].get<double>(), 1000);
+  EXPECT_GT(time["pour_s"].get<double>(), 0.0);
+  EXPECT_LE(time["pour_s"].get<double>(), s["parts"][0]["wall_clock_s"].get<double>());
+  EXPECT_EQ(time["rodding_s"].get<double>(), 0.0);
+  EXPECT_GE(time["spheres"].get<std::size_t>(), s["parts"][0]["particles"][0].get<std::size_t>());
   // The scenario it wrote is the test: run again with seed 1, its measure holds the same packing.
   const auto again = run_cli("run " + (out / "scenario_1.toml").string() + " --seed 1 --out " + (dir_ / "run").string());
   ASSERT_EQ(again.exit_code, 0) << again.output;
