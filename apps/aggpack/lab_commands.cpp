@@ -42,10 +42,11 @@ int run_test(TestArguments& a) {
   const std::filesystem::path folder = a.out.empty() ? default_folder(o) : std::filesystem::path(a.out);
   const aggpack::LabTestPlan plan = aggpack::plan_lab_test(o);  // every check before any run or file
   aggpack::check_output_directory(folder, true, "--out");
-  aggpack::Campaign campaign(o.threads, o.quiet || a.json, std::cerr, plan.parts.size() * std::size_t(o.seeds));
-  const aggpack::LabTestResult result = aggpack::run_lab_test(plan, o, campaign);
+  // The scenarios first: what runs can be read (and run alone) while it runs.
   for (std::size_t i = 0; i < plan.parts.size(); ++i)
     aggpack::write_file_atomically(folder / fmt::format("scenario_{}.toml", i + 1), plan.parts[i].scenario_text);
+  aggpack::Campaign campaign(o.threads, o.quiet || a.json, std::cerr, plan.parts.size() * std::size_t(o.seeds));
+  const aggpack::LabTestResult result = aggpack::run_lab_test(plan, o, campaign);
   const nlohmann::json summary = aggpack::to_json(result);
   aggpack::write_file_atomically(folder / "summary.json", summary.dump(1) + "\n");
   if (a.json) fmt::print("{}\n", summary.dump(1));
