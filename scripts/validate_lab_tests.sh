@@ -5,8 +5,8 @@
 #     tapped (spheres first: loose and tapped monosized beads against the literature);
 #   - one size (9.5-12.5 mm) of crushed stone and of gravel, the same in all but the shape,
 #     shovelled and rodded: the sign and size of the shape effect and of compaction;
-#   - C1252 of glass beads 1.18-2.36 mm in the whole 100 mL cylinder and in a representative
-#     cylinder (--max-particles 2000): the check of the representative cylinder.
+#   - C1252 of glass beads 1.18-2.36 mm in the whole 100 mL cylinder and in representative
+#     cylinders (--max-particles 2000 and 8000): the check of the representative cylinder.
 # Cost on one core: beads minutes; each stone run tens of minutes shovelled, hours rodded; the
 # whole C1252 cylinder about an hour. Usage:
 #   bash scripts/validate_lab_tests.sh [OUT_DIR] [CASES]
@@ -17,7 +17,7 @@ set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 out=$(realpath -m "${1:-$repo/out/validate_lab_tests}")
 exe=$(realpath -m "${AGGPACK_EXE:-$repo/build/aggpack}")  # AGGPACK_EXE: a copy, to rebuild while it runs
-all="beads_shovelling beads_rodding beads_tapped sand_whole sand_representative crushed_shovelling gravel_shovelling crushed_rodding gravel_rodding"
+all="beads_shovelling beads_rodding beads_tapped sand_whole sand_representative sand_representative_large crushed_shovelling gravel_shovelling crushed_rodding gravel_rodding"
 cases=${2:-$all}
 m="$repo/examples/materials"
 [ -x "$exe" ] || { echo "validate_lab_tests.sh: no $exe; build first (bash scripts/build.sh)" >&2; exit 2; }
@@ -47,6 +47,7 @@ run_case() {  # name; a finished case is kept
     beads_rodding) args=(c29 "$m/glass_beads_11mm.toml" --method rodding --seeds 3) ;;
     sand_whole) args=(c1252 "$m/glass_sand_2mm.toml" --method C --seeds 2) ;;
     sand_representative) args=(c1252 "$m/glass_sand_2mm.toml" --method C --seeds 4 --max-particles 2000) ;;
+    sand_representative_large) args=(c1252 "$m/glass_sand_2mm.toml" --method C --seeds 3 --max-particles 8000) ;;
     crushed_shovelling) args=(c29 "$m/crushed_stone_12mm_single.toml" --method shovelling --seeds 2) ;;
     gravel_shovelling) args=(c29 "$m/gravel_12mm_single.toml" --method shovelling --seeds 2) ;;
     crushed_rodding) args=(c29 "$m/crushed_stone_12mm_single.toml" --method rodding --seeds 1) ;;
