@@ -81,17 +81,17 @@ void size_part(LabTestPlan& plan, LabTestPart& part, SimulatedMeasure full, cons
           options.max_particles, part.label, part.full_size_particles, options.max_particles, scaled.diameter_m / kMm,
           kLeastRepresentativeSizes, full.largest_size_m / kMm,
           std::ceil(part.full_size_particles * std::pow(least / full.diameter_m, 3))));
-    notes.clear();
-    part.scenario_text = write(scaled, notes);
-    part.simulated_diameter_m = scaled.diameter_m;
-    part.simulated_height_m = scaled.rim_m;
-    notes.push_back(fmt::format(
+    // Said first, so that the scenario's own comments say it too.
+    notes.assign(1, fmt::format(
         "{}: a representative measure, the standard's scaled by {:.3f} ({:.1f} mm across, {:.1f} mm high, about {:.0f} "
         "particles instead of {:.0f}); the standard measure's content read from it as core - (core - its content) x "
         "{:.3f}, the walls' loss of density being a layer of the same loss per unit area at any size (the core: "
         "farther than one largest particle from its wall); checked against a full-size run in docs/validation.md",
         part.label, part.scale, scaled.diameter_m / kMm, scaled.rim_m / kMm, options.max_particles,
         part.full_size_particles, part.scale));
+    part.scenario_text = write(scaled, notes);
+    part.simulated_diameter_m = scaled.diameter_m;
+    part.simulated_height_m = scaled.rim_m;
   }
   add_notes(plan.modelling, notes);
 }

@@ -114,6 +114,7 @@ TEST(LabTest, AC1252TooBigToSimulateRunsInARepresentativeCylinderOfTheSamePropor
   bool said = false;
   for (const std::string& note : plan.modelling) said = said || note.find("representative measure") != std::string::npos;
   EXPECT_TRUE(said);
+  EXPECT_NE(part.scenario_text.find("representative measure"), std::string::npos);  // its comments say it too
   // A cylinder that fits is the standard's.
   o.max_particles = 1e8;
   EXPECT_EQ(plan_lab_test(o).parts[0].scale, 1.0);
