@@ -67,11 +67,10 @@ PourLoop begin_pour(const DemSystem& system, const PourSettings& settings, std::
 bool fits(const PourLoop& loop, const PourReport& planned, const DemSystem& system) {
   const PourReport& r = loop.report;
   return r.poured == planned.poured && r.batches == planned.batches && r.solid_fraction == planned.solid_fraction &&
-         r.velocity == planned.velocity && r.gap == planned.gap &&
-         r.release_height == planned.release_height && loop.batch < r.batches &&
-         loop.start >= 0.0 && loop.start <= system.time() && loop.start_steps <= system.steps() &&
-         std::isfinite(loop.next) && std::isfinite(loop.weight) && std::isfinite(loop.poured_at) &&
-         loop.pour_steps <= system.steps() - loop.start_steps && !loop.rng.stuck();
+         r.velocity == planned.velocity && r.gap == planned.gap && r.release_height == planned.release_height &&
+         loop.batch < r.batches && loop.start >= 0.0 && loop.start <= system.time() &&
+         loop.start_steps <= system.steps() && std::isfinite(loop.next) && std::isfinite(loop.weight) &&
+         std::isfinite(loop.poured_at) && loop.pour_steps <= system.steps() - loop.start_steps && !loop.rng.stuck();
 }
 
 namespace {

@@ -147,9 +147,10 @@ void read_stages(const TomlSection& s, Scenario& sc) {
           s.fail(name, fmt::format("{} runs in aggpack's own DEM only (no LAMMPS deck moves a rod or drops the "
                                    "measure); expected dynamics.engine = \"aggpack\"", name));
     if (sc.dynamics->engine == DemEngine::Lammps && sc.pour && sc.pour->release_height)
-      s.fail("pour.release_height", "the pour's release height is aggpack's own DEM's (the LAMMPS deck lets its "
-                                    "batches in at pour.velocity); expected dynamics.engine = \"aggpack\", or "
-                                    "pour.velocity instead");
+      s.fail("pour.release_height",
+             "the pour's release height is aggpack's own DEM's (the LAMMPS deck lets its "
+             "batches in at pour.velocity); expected dynamics.engine = \"aggpack\", or "
+             "pour.velocity instead");
     if (sc.dynamics->layers > 1 && !sc.deposition)
       d->fail("layers", "layer by layer settling deposits each layer, so it needs a [deposition] table; "
                         "expected layers = 1 for a bed read from a file");

@@ -82,13 +82,17 @@ void size_part(LabTestPlan& plan, LabTestPart& part, SimulatedMeasure full, cons
           kLeastRepresentativeSizes, full.largest_size_m / kMm,
           std::ceil(part.full_size_particles * std::pow(least / full.diameter_m, 3))));
     // Said first, so that the scenario's own comments say it too.
-    notes.assign(1, fmt::format(
-        "{}: a representative measure, the standard's scaled by {:.3f} ({:.1f} mm across, {:.1f} mm high, about {:.0f} "
-        "particles instead of {:.0f}); the standard measure's content read from it as core - (core - its content) x "
-        "{:.3f}, the walls' loss of density being a layer of the same loss per unit area at any size (the core: "
-        "farther than one largest particle from its wall); checked against a full-size run in docs/validation.md",
-        part.label, part.scale, scaled.diameter_m / kMm, scaled.rim_m / kMm, options.max_particles,
-        part.full_size_particles, part.scale));
+    notes.assign(
+        1,
+        fmt::format(
+            "{}: a representative measure, the standard's scaled by {:.3f} ({:.1f} mm across, {:.1f} mm high, about "
+            "{:.0f} "
+            "particles instead of {:.0f}); the standard measure's content read from it as core - (core - its content) "
+            "x "
+            "{:.3f}, the walls' loss of density being a layer of the same loss per unit area at any size (the core: "
+            "farther than one largest particle from its wall); checked against a full-size run in docs/validation.md",
+            part.label, part.scale, scaled.diameter_m / kMm, scaled.rim_m / kMm, options.max_particles,
+            part.full_size_particles, part.scale));
     part.scenario_text = write(scaled, notes);
     part.simulated_diameter_m = scaled.diameter_m;
     part.simulated_height_m = scaled.rim_m;
@@ -125,10 +129,13 @@ void plan_c29(LabTestPlan& plan, const LabTestOptions& options) {
   // Always the standard's measure: a smaller one would change what 25 strokes of the rod do.
   const SimulatedMeasure full{setup.measure.diameter_m, setup.measure.height_m, maximum_size(m.grading.grading),
                               plan.grain_volume_ratio};
-  size_part(plan, part, full, [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
-    setup.simulated = simulated;
-    return c29_scenario(setup, notes);
-  }, options, false);
+  size_part(
+      plan, part, full,
+      [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
+        setup.simulated = simulated;
+        return c29_scenario(setup, notes);
+      },
+      options, false);
   plan.parts.push_back(std::move(part));
 }
 
@@ -159,12 +166,13 @@ LabTestPart c1252_part(LabTestPlan& plan, const LabTestOptions& options, std::st
                                          part.label, setup.cut_off_m / kMm, part.cut_off_percent));
   // Method C: the sand passing 4.75 mm (c1252_scenario cuts it there).
   const double largest = std::min(maximum_size(g), kC1252MethodCLargest);
-  size_part(plan, part, {kC1252Diameter, kC1252Height, largest, plan.grain_volume_ratio},
-            [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
-              setup.simulated = simulated;
-              return c1252_scenario(setup, notes);
-            },
-            options, true);
+  size_part(
+      plan, part, {kC1252Diameter, kC1252Height, largest, plan.grain_volume_ratio},
+      [&](const SimulatedMeasure& simulated, std::vector<std::string>& notes) {
+        setup.simulated = simulated;
+        return c1252_scenario(setup, notes);
+      },
+      options, true);
   return part;
 }
 

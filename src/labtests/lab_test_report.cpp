@@ -25,9 +25,9 @@ std::string with_spread(double mean, double sd, const char* format) {
 
 // Where the time went, over the seeds.
 nlohmann::json to_json(const LabTestTiming& t) {
-  return {{"sizes_s", t.sizes_s},         {"grains_s", t.grains_s},     {"pour_s", t.pour_s},
-          {"rodding_s", t.rodding_s},     {"jigging_s", t.jigging_s},   {"analysis_s", t.analysis_s},
-          {"dem_steps", t.dem_steps},     {"spheres", t.spheres},       {"simulated_s", t.simulated_s}};
+  return {{"sizes_s", t.sizes_s},     {"grains_s", t.grains_s},   {"pour_s", t.pour_s},
+          {"rodding_s", t.rodding_s}, {"jigging_s", t.jigging_s}, {"analysis_s", t.analysis_s},
+          {"dem_steps", t.dem_steps}, {"spheres", t.spheres},     {"simulated_s", t.simulated_s}};
 }
 
 }  // namespace

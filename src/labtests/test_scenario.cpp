@@ -4,12 +4,11 @@
 #include "test_scenario.hpp"
 
 #include <fmt/format.h>
+#include <toml++/toml.h>
 
 #include <cmath>
 #include <numbers>
 #include <sstream>
-
-#include <toml++/toml.h>
 
 #include "aggpack/core/error.hpp"
 #include "aggpack/grains/grain_library.hpp"
@@ -30,7 +29,9 @@ constexpr double kOverfillSizes = 2.0;
 // and two largest particles more.
 constexpr double kCollar = 0.3;
 
-double overfill(const SimulatedMeasure& m) { return std::max(kOverfill * m.rim_m, kOverfillSizes * m.largest_size_m); }
+double overfill(const SimulatedMeasure& m) {
+  return std::max(kOverfill * m.rim_m, kOverfillSizes * m.largest_size_m);
+}
 
 std::string metres(double m) { return fmt::format("{:.10g} m", m); }
 
@@ -77,7 +78,8 @@ toml::table cylinder(const SimulatedMeasure& m) {
 // the generator counts them, each the sphere of its size: their own solid is less by the ratio.
 toml::table amount(const SimulatedMeasure& m, double expected_packing, std::vector<std::string>& modelling) {
   const double fill = m.rim_m + overfill(m);
-  if (m.grain_volume_ratio == 1.0) return toml::table{{"fill_height", metres(fill)}, {"expected_density", expected_packing}};
+  if (m.grain_volume_ratio == 1.0)
+    return toml::table{{"fill_height", metres(fill)}, {"expected_density", expected_packing}};
   const double solid = 0.25 * std::numbers::pi * m.diameter_m * m.diameter_m * fill * expected_packing;
   modelling.push_back(fmt::format(
       "the amount: the grains' solid for the measure filled {:.1f} mm deep at a packing of {:.3f}, generated as "

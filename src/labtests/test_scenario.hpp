@@ -22,7 +22,7 @@ namespace aggpack {
 // proportions (a representative measure) where the standard's would hold too many particles.
 struct SimulatedMeasure {
   double diameter_m = 0.0, rim_m = 0.0;
-  double largest_size_m = 0.0;  // of the particles it holds: the overfill and the collar hold a few of them
+  double largest_size_m = 0.0;      // of the particles it holds: the overfill and the collar hold a few of them
   double grain_volume_ratio = 1.0;  // of the material's grains (grain_volume_ratio)
 };
 
@@ -42,7 +42,7 @@ struct C1252Setup {
   const AggregateMaterial* material = nullptr;
   std::string label;                      // "A", "B, 1.18-2.36 mm", "C"
   std::optional<Grading> standard_grading;  // A and B: the standard's sample; C: none (the material's, < 4.75 mm)
-  SimulatedMeasure simulated;             // the cylinder run
+  SimulatedMeasure simulated;               // the cylinder run
   double cut_off_m = 0.0;
   double expected_packing = 0.57;
   double max_time_s = 2.0;

@@ -318,10 +318,11 @@ struct PourBatches {
 // The deck lets every batch in at pour.velocity: a release height (aggpack's DEM's) is refused.
 void check_no_release_height(const Scenario& sc) {
   if (sc.pour && sc.pour->release_height)
-    throw InputError(fmt::format("{}: pour.release_height: the LAMMPS deck lets the pour's batches in at "
-                                 "pour.velocity, not from a release height (aggpack's own DEM's); expected "
-                                 "pour.velocity instead, or no export_lammps step",
-                                 sc.file.string()));
+    throw InputError(
+        fmt::format("{}: pour.release_height: the LAMMPS deck lets the pour's batches in at "
+                    "pour.velocity, not from a release height (aggpack's own DEM's); expected "
+                    "pour.velocity instead, or no export_lammps step",
+                    sc.file.string()));
 }
 
 PourBatches pour_batches(const DeckBasis& b, const ParticleStore& bed, const PourStep& step,

@@ -148,10 +148,11 @@ void check_pour(const Scenario& sc, std::span<const double> radii, double solid,
   constexpr double kMaxDropHeights = 10.0;
   const double drop = pour.velocity * pour.velocity / (2.0 * g);
   if (pour.release_height && !(*pour.release_height <= kMaxDropHeights * c.height()))
-    throw InputError(fmt::format("{}: pour.release_height: {} m above the floor, more than {:g} times the container's "
-                                 "height ({} m): the grains would rebound out of the open container; expected a "
-                                 "release from about the container's height",
-                                 file, shown(*pour.release_height), kMaxDropHeights, shown(c.height())));
+    throw InputError(
+        fmt::format("{}: pour.release_height: {} m above the floor, more than {:g} times the container's "
+                    "height ({} m): the grains would rebound out of the open container; expected a "
+                    "release from about the container's height",
+                    file, shown(*pour.release_height), kMaxDropHeights, shown(c.height())));
   if (!(gap <= kMaxDropHeights * c.height()) || !(drop <= kMaxDropHeights * c.height()))
     throw InputError(fmt::format(
         "{}: {}: the spheres {} m above the bed, more than {:g} times the container's height ({} m): they "

@@ -91,14 +91,14 @@ nlohmann::json to_json(const DepositionReport& r) {
 
 nlohmann::json to_json(const PourReport& r) {
   nlohmann::json j = {{"method", "random_gas"},
-          {"particles_poured", r.poured},
-          {"batches", r.batches},
-          {"solid_fraction", r.solid_fraction},
-          {"velocity_m_s", r.velocity},
-          {"gap_m", r.gap},
-          {"lowest_slab_bottom_m", r.lowest_slab_bottom},
-          {"highest_slab_top_m", r.highest_slab_top},
-          {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
+                      {"particles_poured", r.poured},
+                      {"batches", r.batches},
+                      {"solid_fraction", r.solid_fraction},
+                      {"velocity_m_s", r.velocity},
+                      {"gap_m", r.gap},
+                      {"lowest_slab_bottom_m", r.lowest_slab_bottom},
+                      {"highest_slab_top_m", r.highest_slab_top},
+                      {"insertion_wall_clock_s", r.insertion_wall_clock_s}};
   if (r.release_height) j["release_height_m"] = *r.release_height;
   return j;
 }

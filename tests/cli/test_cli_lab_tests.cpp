@@ -75,9 +75,11 @@ TEST_F(CliLabTests, WhatTheStandardDoesNotDefineIsRefusedBeforeAnyRunOrFolder) {
   // A material named by a relative path finds its grading file beside it (the scenario is
   // read through), and method C of a sand to 4.75 mm with its fines is more than a
   // representative cylinder of --max-particles can hold: the option is named with what it needs.
-  const auto sand = aggpack::testing::run_command("cd " + kBeads.parent_path().parent_path().string() + " && " +
-                                                  AGGPACK_EXE + " test c1252 materials/natural_sand.toml --method C "
-                                                  "--out " + out.string());
+  const auto sand =
+      aggpack::testing::run_command("cd " + kBeads.parent_path().parent_path().string() + " && " + AGGPACK_EXE +
+                                    " test c1252 materials/natural_sand.toml --method C "
+                                    "--out " +
+                                    out.string());
   EXPECT_EQ(sand.exit_code, 2) << sand.output;
   EXPECT_NE(sand.output.find("--max-particles 50000"), std::string::npos) << sand.output;
   EXPECT_NE(sand.output.find("expected --max-particles of at least"), std::string::npos) << sand.output;

@@ -1,7 +1,5 @@
 // A lab test's plan: the standard's measure and procedure from a material file, every check
 // before any run, and the scenario it writes read back as `aggpack run` reads it.
-#include "aggpack/labtests/lab_test.hpp"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +7,7 @@
 #include <fstream>
 
 #include "aggpack/core/error.hpp"
+#include "aggpack/labtests/lab_test.hpp"
 #include "aggpack/run/generate_sizes.hpp"
 #include "aggpack/run/run_grains.hpp"
 
@@ -112,7 +111,8 @@ TEST(LabTest, AC1252TooBigToSimulateRunsInARepresentativeCylinderOfTheSamePropor
   EXPECT_GT(count, o.max_particles);
   EXPECT_LT(count, 1.25 * o.max_particles);
   bool said = false;
-  for (const std::string& note : plan.modelling) said = said || note.find("representative measure") != std::string::npos;
+  for (const std::string& note : plan.modelling)
+    said = said || note.find("representative measure") != std::string::npos;
   EXPECT_TRUE(said);
   EXPECT_NE(part.scenario_text.find("representative measure"), std::string::npos);  // its comments say it too
   // A cylinder that fits is the standard's.

@@ -63,7 +63,7 @@ struct PourReport {
   double solid_fraction = 0.0;          // of each insertion slab
   double velocity = 0.0;                // m/s downward at insertion
   double gap = 0.0;                     // m, from the bed's top to a slab's bottom
-  std::optional<double> release_height;  // m above the floor (PourSettings)
+  std::optional<double> release_height;                     // m above the floor (PourSettings)
   double lowest_slab_bottom = 0.0, highest_slab_top = 0.0;  // m, over the batches
   double insertion_wall_clock_s = 0.0;  // placing the gas (the DEM is in the settling run)
 };

@@ -78,9 +78,9 @@ struct LabTestTiming {
   double pour_s = 0.0;                   // the DEM of the pours and their settling
   double rodding_s = 0.0, jigging_s = 0.0;
   double analysis_s = 0.0;
-  std::size_t dem_steps = 0;             // of every DEM stage
-  std::size_t spheres = 0;               // of the last seed's bed (a grain's members each one)
-  double simulated_s = 0.0;              // of every DEM stage
+  std::size_t dem_steps = 0;  // of every DEM stage
+  std::size_t spheres = 0;    // of the last seed's bed (a grain's members each one)
+  double simulated_s = 0.0;   // of every DEM stage
 };
 
 // A part's result over the seeds: the packing fraction of the struck-off measure's content.
@@ -91,7 +91,7 @@ struct LabTestPartResult {
   // of the same loss per unit area at any size, so in measures of the same proportions it falls
   // as 1 / size: packing = core - (core - simulated) x scale.
   std::vector<double> packing;
-  std::vector<double> packing_whole;  // the same, the particles whose centre is below the rim counted whole
+  std::vector<double> packing_whole;      // the same, the particles whose centre is below the rim counted whole
   std::vector<double> packing_simulated;  // per seed, the simulated measure's own content (exact cut)
   std::vector<double> packing_core;       // per seed, its core: farther than one largest particle from the wall
   std::vector<std::size_t> particles;
