@@ -268,6 +268,8 @@ void add_timing(LabTestTiming& t, const RunReport& r) {
 LabTestPlan plan_lab_test(const LabTestOptions& options) {
   if (options.seeds < 1 || options.seeds > 100)
     throw InputError(fmt::format("--seeds {}: expected 1 to 100", options.seeds));
+  if (!(options.max_particles >= 100.0 && options.max_particles <= 1e8))  // NaN too
+    throw InputError(fmt::format("--max-particles {}: expected 100 to 1e8", options.max_particles));
   LabTestPlan plan;
   plan.material = load_material_file(options.material);
   plan.test = options.test;

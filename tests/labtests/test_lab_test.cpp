@@ -63,6 +63,9 @@ TEST(LabTest, RefusesWhatTheStandardDoesNotDefineBeforeAnyRun) {
   o.seeds = 0;
   EXPECT_NE(refusal(o).find("--seeds"), std::string::npos);
   o = options("crushed_stone_19mm.toml", LabTestKind::C29, "rodding");
+  o.max_particles = std::nan("");  // CLI11's range check lets NaN through
+  EXPECT_NE(refusal(o).find("--max-particles"), std::string::npos);
+  o = options("crushed_stone_19mm.toml", LabTestKind::C29, "rodding");
   o.set = {"container.rim=\"2 m\""};  // a key of the test's scenario, checked as a run checks it
   EXPECT_FALSE(refusal(o).empty());
 }
