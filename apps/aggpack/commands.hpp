@@ -31,6 +31,8 @@ std::vector<Subcommand> add_study_commands(CLI::App& app, int argc, char** argv)
 std::vector<Subcommand> add_lammps_commands(CLI::App& app);
 // test c29 and test c1252: a standard's test of one aggregate, simulated (lab_commands.cpp).
 std::vector<Subcommand> add_lab_commands(CLI::App& app);
+// blend: blends of materials by CPM at their betas (blend_command.cpp).
+Subcommand add_blend_command(CLI::App& app);
 // specimen: a concrete specimen for meso-model codes (specimen_command.cpp).
 Subcommand add_specimen_command(CLI::App& app);
 

@@ -33,6 +33,8 @@ double overfill(const SimulatedMeasure& m) {
   return std::max(kOverfill * m.rim_m, kOverfillSizes * m.largest_size_m);
 }
 
+}  // namespace
+
 std::string metres(double m) { return fmt::format("{:.10g} m", m); }
 
 // The material file's table `key` (none: an empty table), its `file` made absolute.
@@ -66,6 +68,8 @@ toml::table material_keys(const AggregateMaterial& m, std::vector<std::string>& 
   return t;
 }
 
+namespace {
+
 toml::table cylinder(const SimulatedMeasure& m) {
   const double collar = std::max(kCollar * m.rim_m, overfill(m) + kOverfillSizes * m.largest_size_m);
   return toml::table{{"shape", "cylinder"},
@@ -89,6 +93,8 @@ toml::table amount(const SimulatedMeasure& m, double expected_packing, std::vect
   return toml::table{{"solid_volume", solid / m.grain_volume_ratio}};
 }
 
+}  // namespace
+
 toml::table step(std::string kind) { return toml::table{{"step", std::move(kind)}}; }
 toml::table layer_step(std::string kind, int layer, int layers) {
   toml::table t = step(std::move(kind));
@@ -111,8 +117,6 @@ std::string text_of(const toml::table& root) {
   os << toml::toml_formatter{root};
   return os.str() + "\n";
 }
-
-}  // namespace
 
 double grain_volume_ratio(const AggregateMaterial& m) {
   if (!m.shape) return 1.0;

@@ -1,14 +1,31 @@
 #pragma once
 // Private to labtests: a test's scenario text, from the material and the standard's numbers.
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <toml++/toml.h>
 
 #include "aggpack/io/material_file.hpp"
 #include "aggpack/labtests/lab_test.hpp"
 #include "aggpack/labtests/standards.hpp"
 
 namespace aggpack {
+
+// The pieces every test's scenario is written with.
+std::string metres(double m);  // "0.0125 m": every digit a double needs
+// The material file's table `key` (none: an empty table), its `file` made absolute.
+toml::table material_table(const std::filesystem::path& material_file, const std::string& key);
+// [material]: the aggregate's oven-dry particle density and the material file's contact keys (a
+// reduced Young's modulus when it gives none, said in `modelling`).
+toml::table material_keys(const AggregateMaterial& m, std::vector<std::string>& modelling);
+toml::table step(std::string kind);
+toml::table layer_step(std::string kind, int layer, int layers);
+// The header: what the file is and every modelling choice, as TOML comments.
+std::string header(const std::string& title, const std::vector<std::string>& modelling);
+[[nodiscard]] double impact_speed(double height);  // of a free fall from `height`
+std::string text_of(const toml::table& root);
 
 // The packing the lab measured for this test (the amount to generate), or a typical one.
 [[nodiscard]] double expected_packing(const AggregateMaterial& m, LabTestKind test);

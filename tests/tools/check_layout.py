@@ -37,6 +37,7 @@ MODULE_DEPENDENCIES = {
     "studies": {"run"},
     "specimen": {"analysis", "io"},
     "labtests": {"studies"},
+    "blends": {"labtests"},
 }
 
 

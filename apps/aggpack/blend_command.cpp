@@ -1,0 +1,152 @@
+// `aggpack blend STONE.toml SAND.toml [MORE.toml] --sweep 20:60:1 | --fractions 0.6,0.4`: the
+// blends' packing predicted by CPM at each material's betas, in seconds.
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "aggpack/blends/blend_report.hpp"
+#include "aggpack/blends/simulated_betas.hpp"
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/text.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/io/output_directory.hpp"
+#include "arguments.hpp"
+#include "commands.hpp"
+
+namespace {
+
+struct BlendArguments {
+  std::vector<std::filesystem::path> materials;
+  std::string sweep;
+  std::vector<std::string> fractions;
+  std::string process = "rodded";
+  std::string route = "auto";
+  std::string out;
+  aggpack::SimulatedBetaOptions beds;
+  bool json = false, quiet = false;
+};
+
+aggpack::TestProcess process_named(const std::string& name) {
+  const std::string model = name == "loose" ? "poured" : name;
+  const auto k = aggpack::compaction_index_of(model);
+  if (!k || model == "vibrated_compressed")
+    throw aggpack::InputError(fmt::format("--process {}: expected loose, rodded or vibrated", name));
+  return {model, *k};
+}
+
+std::vector<double> fractions_of(const std::string& text) {
+  std::vector<double> out;
+  std::string field;
+  for (const char ch : text + ",") {
+    if (ch != ',') {
+      field.push_back(ch);
+      continue;
+    }
+    const auto x = aggpack::parse_finite_number(aggpack::trim(field));
+    if (!x) throw aggpack::InputError(fmt::format("--fractions {}: '{}' is not a number; expected volume fractions "
+                                                  "summing to 1, one a material, e.g. 0.6,0.4",
+                                                  text, field));
+    out.push_back(*x);
+    field.clear();
+  }
+  return out;
+}
+
+// A material's betas by `route`: "lab" (its lab number), "simulation" (its beds, or the cache).
+aggpack::MaterialBetas betas_of(const BlendArguments& a, const std::filesystem::path& file, const std::string& route) {
+  if (route == "lab") return aggpack::lab_route_betas(aggpack::load_material_file(file));
+  aggpack::SimulatedBetaOptions o = a.beds;
+  o.material = file;
+  o.quiet = a.quiet || a.json;
+  return aggpack::simulated_betas(o, std::cerr);
+}
+
+// --route auto: a calibrated material by simulation, another by its lab number.
+std::string route_of(const std::string& asked, const aggpack::AggregateMaterial& m) {
+  if (asked != "auto") return asked;
+  return m.calibration.is_null() ? "lab" : "simulation";
+}
+
+aggpack::BlendCurve curve(const BlendArguments& a, const std::vector<std::string>& routes,
+                          const aggpack::TestProcess& process) {
+  aggpack::BlendCurve c;
+  for (std::size_t i = 0; i < a.materials.size(); ++i) c.materials.push_back(betas_of(a, a.materials[i], routes[i]));
+  const bool all_lab = std::all_of(routes.begin(), routes.end(), [](const std::string& r) { return r == "lab"; });
+  const bool all_sim = std::all_of(routes.begin(), routes.end(), [](const std::string& r) { return r != "lab"; });
+  c.route = all_lab ? "lab_test" : all_sim ? "simulation" : "mixed";
+  if (!a.sweep.empty()) {
+    c.points = aggpack::sweep_binary(c.materials, aggpack::parse_sweep(a.sweep, "--sweep"), process.compaction_index);
+    c.densest = aggpack::densest(c.points);
+  } else {
+    for (const std::string& f : a.fractions)
+      c.points.push_back(aggpack::predict_blend(c.materials, fractions_of(f), process.compaction_index));
+  }
+  return c;
+}
+
+int run_blend(BlendArguments& a) {
+  const auto start = std::chrono::steady_clock::now();
+  if (a.sweep.empty() == a.fractions.empty())
+    throw aggpack::InputError("aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,...");
+  if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
+    throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
+  aggpack::BlendResult r;
+  r.process = process_named(a.process);
+  r.sweep = !a.sweep.empty();
+  std::vector<std::string> routes;
+  bool all_have_lab = true;
+  for (const auto& file : a.materials) {  // every file read and checked before any simulation
+    const aggpack::AggregateMaterial m = aggpack::load_material_file(file);
+    routes.push_back(route_of(a.route, m));
+    all_have_lab = all_have_lab && (m.c29 || m.c1252);
+    if (routes.back() == "lab") aggpack::lab_route_betas(m);
+  }
+  if (!a.sweep.empty()) aggpack::parse_sweep(a.sweep, "--sweep");
+  for (const std::string& f : a.fractions) fractions_of(f);
+  if (!a.out.empty()) aggpack::check_output_directory(a.out, true, "--out");
+  r.curves.push_back(curve(a, routes, r.process));
+  const bool any_simulated = std::any_of(routes.begin(), routes.end(), [](const std::string& x) { return x != "lab"; });
+  if (any_simulated && all_have_lab)  // the lab route beside it: what the simulation adds
+    r.curves.push_back(curve(a, std::vector<std::string>(routes.size(), "lab"), r.process));
+  r.modelling.push_back(fmt::format(
+      "CPM (de Larrard 1999): every class of every material at its own beta, its loosening and wall effects at their "
+      "published coefficients; the packing of a bulk bed (no container wall) at K {:g} ({})",
+      r.process.compaction_index, r.process.name));
+  r.modelling.push_back("volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
+                        "particle densities; bulk density oven-dry");
+  r.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const nlohmann::json summary = aggpack::to_json(r);
+  if (!a.out.empty()) {
+    const std::filesystem::path folder(a.out);
+    aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
+    if (r.sweep) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
+  }
+  if (a.json) fmt::print("{}\n", summary.dump(1));
+  else if (!a.quiet) fmt::print("{}", aggpack::describe(r));
+  return 0;
+}
+
+}  // namespace
+
+Subcommand add_blend_command(CLI::App& app) {
+  const auto a = std::make_shared<BlendArguments>();
+  auto* cmd = app.add_subcommand("blend", "The packing of blends of materials, predicted by CPM in seconds");
+  cmd->add_option("materials", a->materials, "Two or more material files (TOML), coarse first")->required()->expected(2, 20);
+  cmd->add_option("--sweep", a->sweep, "FROM:TO:STEP: the second material's volume percent (two materials)");
+  cmd->add_option("--fractions", a->fractions, "F1,F2,...: the materials' volume fractions (repeatable)");
+  cmd->add_option("--process", a->process, "loose, rodded or vibrated: the K of CPM (default rodded)");
+  cmd->add_option("--route", a->route,
+                  "auto (a calibrated material by simulation, another by its lab number), lab or simulation");
+  cmd->add_option("--out", a->out, "Folder for blend.json and blend.svg");
+  cmd->add_option("--seeds", a->beds.seeds, "Simulation route: seeds of each class's beds (default 3)");
+  cmd->add_option("--bed-particles", a->beds.particles, "Simulation route: particles in each bed (default 3000)");
+  add_threads_option(cmd, a->beds.threads);
+  cmd->add_flag("--json", a->json, "Print blend.json instead of the table");
+  cmd->add_flag("--quiet", a->quiet, "Print nothing on success");
+  return {cmd, [a] { return run_blend(*a); }};
+}

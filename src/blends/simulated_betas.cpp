@@ -1,0 +1,219 @@
+// The simulation route: a material's sieve fractions in periodic beds, their betas, the cache.
+#include "aggpack/blends/simulated_betas.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "aggpack/core/error.hpp"
+#include "aggpack/core/version.hpp"
+#include "aggpack/io/atomic_file.hpp"
+#include "aggpack/labtests/class_bed.hpp"
+#include "aggpack/studies/campaign.hpp"
+
+namespace aggpack {
+
+namespace {
+
+constexpr double kMm = 1e-3;
+constexpr const char* kCacheKind = "aggpack betas";
+
+TestProcess process_of(const BedProcedure& p) {
+  if (p.test == LabTestKind::C1252) return c1252_process();
+  return c29_process(*value_of(kC29MethodNames, p.method));
+}
+
+nlohmann::json settings_json(const SimulatedBetaOptions& o, const BedProcedure& p) {
+  return {{"seeds", o.seeds},
+          {"particles_per_bed", o.particles},
+          {"finest_simulated_m", o.finest_simulated_m},
+          {"test", name_of(kLabTestNames, p.test)},
+          {"method", p.method}};
+}
+
+// A cache's betas, every field checked: anything missing or of the wrong type is damage.
+MaterialBetas betas_from_json(const nlohmann::json& j) {
+  MaterialBetas b;
+  b.file = j.at("file").get<std::string>();
+  b.material = j.at("material").get<std::string>();
+  b.route = BetaRoute::Simulation;
+  b.source = j.at("source").get<std::string>();
+  b.particle_density_kg_m3 = j.at("particle_density_kg_m3").get<double>();
+  b.modelling = j.at("modelling").get<std::vector<std::string>>();
+  for (const nlohmann::json& c : j.at("classes")) {
+    ClassBeta k{c.at("d_lo_m").get<double>(),     c.at("d_hi_m").get<double>(), c.at("diameter_m").get<double>(),
+                c.at("volume_fraction").get<double>(), c.at("beta").get<double>(), c.at("beta_sd").get<double>(),
+                c.at("packing").get<std::vector<double>>()};
+    if (!(k.beta > 0.0 && k.beta < 1.0) || !(k.volume_fraction >= 0.0) || !(k.d_lo > 0.0 && k.d_lo < k.d_hi))
+      throw std::runtime_error("a class's values are out of range");
+    b.classes.push_back(std::move(k));
+  }
+  if (b.classes.empty()) throw std::runtime_error("no classes");
+  return b;
+}
+
+struct SimulatedClass {
+  ClassBeta beta;
+  std::string procedure;  // what was done to its beds; "" when it took a simulated class's beta
+};
+
+}  // namespace
+
+BedProcedure bed_procedure(const AggregateMaterial& m) {
+  if (m.calibration.is_object() && m.calibration.contains("test") && m.calibration.contains("method")) {
+    const std::string test = m.calibration["test"].get<std::string>();
+    if (const auto kind = value_of(kLabTestNames, test))
+      return {*kind, m.calibration["method"].get<std::string>(), "the test it was calibrated on"};
+  }
+  if (m.c29) return {LabTestKind::C29, std::string(name_of(kC29MethodNames, m.c29->method)), "its lab number's test"};
+  if (m.c1252)
+    return {LabTestKind::C1252, std::string(name_of(kC1252MethodNames, m.c1252->method)), "its lab number's test"};
+  return {LabTestKind::C29, "shovelling", "no test named (no calibration, no lab number): C29's loose procedure"};
+}
+
+nlohmann::json beta_cache_key(const AggregateMaterial& m, const SimulatedBetaOptions& o) {
+  nlohmann::json material = to_json(m);
+  for (const char* k : {"file", "notes", "lab", "name"}) material.erase(k);
+  if (material["grading"].is_object()) material["grading"].erase("file");
+  return {{"aggpack_version", kVersion}, {"material", material}, {"settings", settings_json(o, bed_procedure(m))}};
+}
+
+std::filesystem::path beta_cache_file(const SimulatedBetaOptions& o) {
+  if (o.cache) return *o.cache;
+  return o.material.parent_path() / (o.material.stem().string() + ".betas.json");
+}
+
+std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, const nlohmann::json& key,
+                                             std::string& stale) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    stale = "no cache yet";
+    return std::nullopt;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text.str());
+    if (j.at("kind").get<std::string>() != kCacheKind) throw std::runtime_error("not a betas cache");
+    const nlohmann::json& had = j.at("key");
+    for (const char* part : {"aggpack_version", "material", "settings"})
+      if (had.at(part) != key.at(part)) {
+        stale = std::string(part) == "aggpack_version"
+                    ? fmt::format("made by aggpack {}, this is {}", had.at(part).dump(), kVersion)
+                    : fmt::format("its {} changed", part);
+        return std::nullopt;
+      }
+    return betas_from_json(j.at("betas"));
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: a damaged betas cache ({}); expected what aggpack blend writes: remove it to "
+                                 "simulate the betas again",
+                                 file.string(), e.what()));
+  }
+}
+
+MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) {
+  if (o.seeds < 2 || o.seeds > 100) throw InputError(fmt::format("--seeds {}: expected 2 to 100", o.seeds));
+  if (!(o.particles >= 200.0 && o.particles <= 1e7))
+    throw InputError(fmt::format("--bed-particles {}: expected 200 to 1e7", o.particles));
+  const AggregateMaterial m = load_material_file(o.material);
+  const nlohmann::json key = beta_cache_key(m, o);
+  const std::filesystem::path cache = beta_cache_file(o);
+  std::string stale;
+  if (std::optional<MaterialBetas> warm = read_beta_cache(cache, key, stale)) {
+    if (!o.quiet) log << fmt::format("aggpack: {}: betas from the cache {}\n", m.name, cache.string());
+    warm->file = o.material;
+    return *warm;
+  }
+  if (!o.quiet) log << fmt::format("aggpack: {}: simulating the betas ({}: {})\n", m.name, cache.string(), stale);
+
+  const BedProcedure procedure = bed_procedure(m);
+  const TestProcess process = process_of(procedure);
+  const ModelDistribution classes = grading_classes(m.grading.grading);
+  // Every bed's scenario first: all are checked before any runs.
+  struct Planned {
+    ModelClass size;
+    std::optional<ClassBed> bed;
+  };
+  std::vector<Planned> planned;
+  for (const ModelClass& c : classes.classes) {
+    Planned p{c, std::nullopt};
+    if (c.d_hi > o.finest_simulated_m)
+      p.bed = class_bed({&m, c.d_lo, c.d_hi, procedure.test, procedure.method, o.particles});
+    planned.push_back(std::move(p));
+  }
+  const auto scenario_of = [&](const Planned& p) {
+    return parse_scenario(p.bed->scenario_text,
+                          o.material.parent_path() /
+                              fmt::format("{} ({:g}-{:g} mm bed)", o.material.filename().string(), p.size.d_lo / kMm,
+                                          p.size.d_hi / kMm));
+  };
+  std::size_t beds = 0;
+  for (const Planned& p : planned)
+    if (p.bed) scenario_of(p), ++beds;
+  if (beds == 0)
+    throw InputError(fmt::format("{}: no size class above the finest simulated size {:g} mm", o.material.string(),
+                                 o.finest_simulated_m / kMm));
+
+  MaterialBetas out;
+  out.file = o.material;
+  out.material = m.name;
+  out.route = BetaRoute::Simulation;
+  out.particle_density_kg_m3 = oven_dry_particle_density(m);
+  Campaign campaign(o.threads, o.quiet, log, beds * static_cast<std::size_t>(o.seeds));
+  std::vector<std::string> procedures;
+  for (const Planned& p : planned) {
+    ClassBeta k{p.size.d_lo, p.size.d_hi, p.size.diameter, p.size.volume_fraction, 0.0, 0.0, {}};
+    if (p.bed) {
+      std::vector<double> betas;
+      for (int seed = 1; seed <= o.seeds; ++seed) {
+        const CaseRun run = campaign.run(fmt::format("{:g}-{:g} mm", p.size.d_lo / kMm, p.size.d_hi / kMm),
+                                         scenario_of(p), static_cast<std::uint64_t>(seed));
+        k.packing.push_back(run.final_density());
+        betas.push_back(run.final_density() * (1.0 + 1.0 / process.compaction_index));
+      }
+      const SeedStatistics s = seed_statistics(betas);
+      k.beta = s.mean;
+      k.beta_sd = s.sd;
+      for (const std::string& note : p.bed->modelling)
+        if (std::find(out.modelling.begin(), out.modelling.end(), note) == out.modelling.end() &&
+            note.rfind("the bed:", 0) != 0)
+          out.modelling.push_back(note);
+      procedures.push_back(fmt::format("{:g}-{:g} mm {}", p.size.d_lo / kMm, p.size.d_hi / kMm, p.bed->procedure));
+    }
+    out.classes.push_back(std::move(k));
+  }
+  // The classes not simulated take the finest simulated class's beta (and spread).
+  for (std::size_t i = out.classes.size(); i-- > 0;)
+    if (!planned[i].bed)
+      for (std::size_t j = i; j-- > 0;)
+        if (planned[j].bed) {
+          out.classes[i].beta = out.classes[j].beta;
+          out.classes[i].beta_sd = out.classes[j].beta_sd;
+          break;
+        }
+  out.source = fmt::format("simulated: each sieve fraction alone in a periodic bed, {} seeds, by ASTM {} {} ({}), "
+                           "beta = phi (1 + 1/K) at K {:g} ({})",
+                           o.seeds, procedure.test == LabTestKind::C29 ? "C29" : "C1252", procedure.method,
+                           procedure.why, process.compaction_index, process.name);
+  out.modelling.push_back(fmt::format("the beds: {}", fmt::join(procedures, "; ")));
+  out.modelling.push_back(fmt::format("each bed periodic (no wall), about {:.0f} particles, its packing read in the "
+                                      "largest cube clear of the floor and the surface",
+                                      o.particles));
+  if (beds < planned.size())
+    out.modelling.push_back(fmt::format("classes finer than {:g} mm not simulated: they take the finest simulated "
+                                        "class's beta",
+                                        o.finest_simulated_m / kMm));
+  if (m.calibration.is_null())
+    out.modelling.push_back("the material is not calibrated: its contact values are the file's own");
+  nlohmann::json cache_json{{"kind", kCacheKind}, {"key", key}, {"betas", to_json(out)}, {"wall_clock_s", campaign.seconds()}};
+  write_file_atomically(cache, cache_json.dump(1) + "\n");
+  if (!o.quiet) log << fmt::format("aggpack: {}: betas written to {}\n", m.name, cache.string());
+  return out;
+}
+
+}  // namespace aggpack
