@@ -4,15 +4,18 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <fmt/format.h>
 
+#include "aggpack/blends/blend_check.hpp"
 #include "aggpack/blends/blend_report.hpp"
 #include "aggpack/blends/simulated_betas.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/text.hpp"
+#include "aggpack/core/units.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/output_directory.hpp"
 #include "arguments.hpp"
@@ -28,6 +31,8 @@ struct BlendArguments {
   std::string route = "auto";
   std::string out;
   aggpack::SimulatedBetaOptions beds;
+  std::string check, check_cut;     // --check P1,P2: the DEM of the blend at those fine percents
+  double check_particles = 400;     // coarse particles in each blend bed
   bool json = false, quiet = false;
 };
 
@@ -89,6 +94,30 @@ aggpack::BlendCurve curve(const BlendArguments& a, const std::vector<std::string
   return c;
 }
 
+// --check's points and bed: two materials, the fine's volume percents, its cut, the betas' beds.
+aggpack::BlendCheckOptions check_options(const BlendArguments& a) {
+  if (a.materials.size() != 2)
+    throw aggpack::InputError(fmt::format("--check: the DEM check takes two materials, {} given", a.materials.size()));
+  aggpack::BlendCheckOptions o;
+  o.coarse = a.materials[0];
+  o.fine = a.materials[1];
+  for (const double f : fractions_of(a.check)) o.percents.push_back(f);
+  if (!a.check_cut.empty()) {
+    std::string why;
+    const auto cut = aggpack::parse_length(a.check_cut, &why);
+    if (!cut || !(*cut > 0.0))
+      throw aggpack::InputError(fmt::format("--check-cut {}: expected a length with its unit (\"1.18 mm\"){}",
+                                            a.check_cut, why.empty() ? "" : ": " + why));
+    o.fine_d_min = *cut;
+  }
+  if (!(a.check_particles >= 20.0 && a.check_particles <= 1e6))
+    throw aggpack::InputError(fmt::format("--check-particles {}: expected 20 to 1e6", a.check_particles));
+  o.coarse_particles = a.check_particles;
+  o.betas = a.beds;
+  o.betas.quiet = a.quiet || a.json;
+  return o;
+}
+
 int run_blend(BlendArguments& a) {
   const auto start = std::chrono::steady_clock::now();
   if (a.sweep.empty() == a.fractions.empty())
@@ -108,6 +137,8 @@ int run_blend(BlendArguments& a) {
   }
   if (!a.sweep.empty()) aggpack::parse_sweep(a.sweep, "--sweep");
   for (const std::string& f : a.fractions) fractions_of(f);
+  std::optional<aggpack::BlendCheckOptions> check;
+  if (!a.check.empty()) check = check_options(a);
   if (!a.out.empty()) aggpack::check_output_directory(a.out, true, "--out");
   r.curves.push_back(curve(a, routes, r.process));
   const bool any_simulated = std::any_of(routes.begin(), routes.end(), [](const std::string& x) { return x != "lab"; });
@@ -120,14 +151,19 @@ int run_blend(BlendArguments& a) {
   r.modelling.push_back("volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
                         "particle densities; bulk density oven-dry");
   r.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const nlohmann::json summary = aggpack::to_json(r);
+  nlohmann::json summary = aggpack::to_json(r);
+  std::optional<aggpack::BlendCheck> checked;
+  if (check) {
+    checked = aggpack::check_blend(*check, std::cerr);
+    summary["check"] = aggpack::to_json(*checked);
+  }
   if (!a.out.empty()) {
     const std::filesystem::path folder(a.out);
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
     if (r.sweep) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
   }
   if (a.json) fmt::print("{}\n", summary.dump(1));
-  else if (!a.quiet) fmt::print("{}", aggpack::describe(r));
+  else if (!a.quiet) fmt::print("{}{}", aggpack::describe(r), checked ? aggpack::describe(*checked) : "");
   return 0;
 }
 
@@ -145,6 +181,15 @@ Subcommand add_blend_command(CLI::App& app) {
   cmd->add_option("--out", a->out, "Folder for blend.json and blend.svg");
   cmd->add_option("--seeds", a->beds.seeds, "Simulation route: seeds of each class's beds (default 3)");
   cmd->add_option("--bed-particles", a->beds.particles, "Simulation route: particles in each bed (default 3000)");
+  cmd->add_option("--beds", a->beds.procedure,
+                  "Simulation route: the beds' procedure for every material, c29:shovelling|rodding|jigging or "
+                  "c1252:A|B|C (default: each material's calibration test, else its lab test's)");
+  cmd->add_option("--betas-cache", a->beds.cache_folder,
+                  "Simulation route: the folder of the betas' caches (default: each material file's folder)");
+  cmd->add_option("--check", a->check,
+                  "P1,P2,...: the DEM of the blend (two materials, in a periodic bed) at these fine volume percents");
+  cmd->add_option("--check-cut", a->check_cut, "--check: the fine material cut at this size (\"1.18 mm\")");
+  cmd->add_option("--check-particles", a->check_particles, "--check: coarse particles in each bed (default 400)");
   add_threads_option(cmd, a->beds.threads);
   cmd->add_flag("--json", a->json, "Print blend.json instead of the table");
   cmd->add_flag("--quiet", a->quiet, "Print nothing on success");

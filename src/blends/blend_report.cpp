@@ -45,8 +45,8 @@ void describe_curve(fmt::memory_buffer& o, const BlendCurve& c) {
   for (const MaterialBetas& m : c.materials) {
     double lo = 1.0, hi = 0.0;
     for (const ClassBeta& k : m.classes) lo = std::min(lo, k.beta), hi = std::max(hi, k.beta);
-    fmt::format_to(std::back_inserter(o), "  {}: {} classes, beta {:.3f}{}; {}\n", m.material, m.classes.size(), lo,
-                   hi > lo ? fmt::format("-{:.3f}", hi) : "", m.source);
+    fmt::format_to(std::back_inserter(o), "  {}: {} class{}, beta {:.3f}{}; {}\n", m.material, m.classes.size(),
+                   m.classes.size() == 1 ? "" : "es", lo, hi > lo ? fmt::format("-{:.3f}", hi) : "", m.source);
   }
   fmt::format_to(std::back_inserter(o), "  {:>16} {:>16} {:>8} {:>17} {:>7} {:>7}\n", "volume %", "mass %", "packing",
                  "band (beta +-sd)", "voids %", "kg/m3");

@@ -73,19 +73,33 @@ BedProcedure bed_procedure(const AggregateMaterial& m) {
   if (m.c29) return {LabTestKind::C29, std::string(name_of(kC29MethodNames, m.c29->method)), "its lab number's test"};
   if (m.c1252)
     return {LabTestKind::C1252, std::string(name_of(kC1252MethodNames, m.c1252->method)), "its lab number's test"};
-  return {LabTestKind::C29, "shovelling", "no test named (no calibration, no lab number): C29's loose procedure"};
+  return {LabTestKind::C29, "shovelling", "no test named, the material having no calibration and no lab number: C29's loose procedure"};
+}
+
+BedProcedure bed_procedure(const AggregateMaterial& m, const SimulatedBetaOptions& o) {
+  if (o.procedure.empty()) return bed_procedure(m);
+  const std::size_t colon = o.procedure.find(':');
+  const std::string test = o.procedure.substr(0, colon), method = colon == std::string::npos ? "" : o.procedure.substr(colon + 1);
+  const auto kind = value_of(kLabTestNames, test);
+  const bool known = kind && (*kind == LabTestKind::C29 ? value_of(kC29MethodNames, method).has_value()
+                                                        : value_of(kC1252MethodNames, method).has_value());
+  if (!known)
+    throw InputError(fmt::format("--beds {}: expected c29:shovelling, c29:rodding, c29:jigging, c1252:A, c1252:B or "
+                                 "c1252:C",
+                                 o.procedure));
+  return {*kind, method, "asked for (--beds)"};
 }
 
 nlohmann::json beta_cache_key(const AggregateMaterial& m, const SimulatedBetaOptions& o) {
   nlohmann::json material = to_json(m);
   for (const char* k : {"file", "notes", "lab", "name"}) material.erase(k);
   if (material["grading"].is_object()) material["grading"].erase("file");
-  return {{"aggpack_version", kVersion}, {"material", material}, {"settings", settings_json(o, bed_procedure(m))}};
+  return {{"aggpack_version", kVersion}, {"material", material}, {"settings", settings_json(o, bed_procedure(m, o))}};
 }
 
 std::filesystem::path beta_cache_file(const SimulatedBetaOptions& o) {
-  if (o.cache) return *o.cache;
-  return o.material.parent_path() / (o.material.stem().string() + ".betas.json");
+  const std::filesystem::path name = o.material.stem().string() + ".betas.json";
+  return o.cache_folder ? *o.cache_folder / name : o.material.parent_path() / name;
 }
 
 std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, const nlohmann::json& key,
@@ -104,7 +118,8 @@ std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, 
     for (const char* part : {"aggpack_version", "material", "settings"})
       if (had.at(part) != key.at(part)) {
         stale = std::string(part) == "aggpack_version"
-                    ? fmt::format("made by aggpack {}, this is {}", had.at(part).dump(), kVersion)
+                    ? fmt::format("made by aggpack {}, this is {}", had.at(part).get<std::string>(),
+                                  key.at(part).get<std::string>())
                     : fmt::format("its {} changed", part);
         return std::nullopt;
       }
@@ -114,6 +129,12 @@ std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, 
                                  "simulate the betas again",
                                  file.string(), e.what()));
   }
+}
+
+void write_beta_cache(const std::filesystem::path& file, const nlohmann::json& key, const MaterialBetas& betas,
+                      double wall_clock_s) {
+  const nlohmann::json cache{{"kind", kCacheKind}, {"key", key}, {"betas", to_json(betas)}, {"wall_clock_s", wall_clock_s}};
+  write_file_atomically(file, cache.dump(1) + "\n");
 }
 
 MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) {
@@ -131,7 +152,7 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
   }
   if (!o.quiet) log << fmt::format("aggpack: {}: simulating the betas ({}: {})\n", m.name, cache.string(), stale);
 
-  const BedProcedure procedure = bed_procedure(m);
+  const BedProcedure procedure = bed_procedure(m, o);
   const TestProcess process = process_of(procedure);
   const ModelDistribution classes = grading_classes(m.grading.grading);
   // Every bed's scenario first: all are checked before any runs.
@@ -196,7 +217,7 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
           out.classes[i].beta_sd = out.classes[j].beta_sd;
           break;
         }
-  out.source = fmt::format("simulated: each sieve fraction alone in a periodic bed, {} seeds, by ASTM {} {} ({}), "
+  out.source = fmt::format("simulated: each sieve fraction alone in a periodic bed, {} seeds, by ASTM {} {} ({}); "
                            "beta = phi (1 + 1/K) at K {:g} ({})",
                            o.seeds, procedure.test == LabTestKind::C29 ? "C29" : "C1252", procedure.method,
                            procedure.why, process.compaction_index, process.name);
@@ -210,8 +231,7 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
                                         o.finest_simulated_m / kMm));
   if (m.calibration.is_null())
     out.modelling.push_back("the material is not calibrated: its contact values are the file's own");
-  nlohmann::json cache_json{{"kind", kCacheKind}, {"key", key}, {"betas", to_json(out)}, {"wall_clock_s", campaign.seconds()}};
-  write_file_atomically(cache, cache_json.dump(1) + "\n");
+  write_beta_cache(cache, key, out, campaign.seconds());
   if (!o.quiet) log << fmt::format("aggpack: {}: betas written to {}\n", m.name, cache.string());
   return out;
 }

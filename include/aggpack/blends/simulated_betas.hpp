@@ -23,7 +23,11 @@ struct SimulatedBetaOptions {
   // Classes finer than this (m) are not simulated: they take the finest simulated class's beta
   // (a bed of 0.1 mm grains costs as many steps as ten of 10 mm ones; they are a few % of a sand).
   double finest_simulated_m = 0.3e-3;
-  std::optional<std::filesystem::path> cache;  // default: <material folder>/<stem>.betas.json
+  // The beds' procedure for every material ("c29:shovelling", "c1252:A"); empty: each
+  // material's own (bed_procedure).
+  std::string procedure;
+  // The cache's folder (default: the material file's): the cache is <folder>/<stem>.betas.json.
+  std::optional<std::filesystem::path> cache_folder;
   bool quiet = false;
 };
 
@@ -35,6 +39,9 @@ struct BedProcedure {
   std::string why;  // "calibrated on it", "its lab number's", "no test named: the loose procedure"
 };
 BedProcedure bed_procedure(const AggregateMaterial& material);
+// The options' procedure when they name one (InputError for a test or method that is not one),
+// else the material's own.
+BedProcedure bed_procedure(const AggregateMaterial& material, const SimulatedBetaOptions& options);
 
 // What the cache is keyed by: the build (kVersion), the material as read (every value, the
 // calibrated contact values included, but not its path or comments) and the settings.
@@ -46,6 +53,10 @@ nlohmann::json beta_cache_key(const AggregateMaterial& material, const Simulated
 // (damaged): never a silently different curve.
 std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, const nlohmann::json& key,
                                              std::string& stale);
+
+// Writes the cache (atomically): the key, the betas and what the beds cost.
+void write_beta_cache(const std::filesystem::path& file, const nlohmann::json& key, const MaterialBetas& betas,
+                      double wall_clock_s);
 
 // The betas: from the cache when it is warm; else simulated (the beds, through the campaign
 // runner, progress on `log`) and the cache written (atomically). `log` says which, and why a

@@ -32,4 +32,19 @@ struct ClassBed {
 // poured (said in `procedure` and `modelling`).
 ClassBed class_bed(const ClassBedSetup& setup);
 
+// A blend of two materials in a periodic bed by the same procedure: the DEM check of a blend's
+// prediction (blends/blend_check.hpp). Each material's whole grading, its grains and its contact
+// values; the fine one's cut at `fine_d_min` (0: none).
+struct BlendBedSetup {
+  const AggregateMaterial* coarse = nullptr;
+  const AggregateMaterial* fine = nullptr;
+  double fine_volume_fraction = 0.4;  // of the solid, the fine's share after its cut
+  double fine_d_min = 0.0;            // m
+  LabTestKind test = LabTestKind::C29;
+  std::string method;
+  double coarse_particles = 400;      // about, in the bed: the bed's side from them
+  double max_time_s = 2.0;
+};
+ClassBed blend_bed(const BlendBedSetup& setup);
+
 }  // namespace aggpack

@@ -1,0 +1,144 @@
+// A blend's prediction against the DEM of the blend.
+#include "aggpack/blends/blend_check.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "aggpack/blends/blend.hpp"
+#include "aggpack/core/error.hpp"
+#include "aggpack/labtests/class_bed.hpp"
+
+namespace aggpack {
+
+namespace {
+constexpr double kMm = 1e-3;
+}  // namespace
+
+MaterialBetas cut_below(const MaterialBetas& b, double d_min) {
+  if (!(d_min > 0.0)) return b;
+  MaterialBetas out = b;
+  out.classes.clear();
+  double total = 0.0;
+  for (ClassBeta c : b.classes) {
+    if (c.d_hi <= d_min * (1.0 + 1e-12)) continue;
+    if (c.d_lo < d_min) {
+      c.volume_fraction *= std::log(c.d_hi / d_min) / std::log(c.d_hi / c.d_lo);
+      c.d_lo = d_min;
+      c.diameter = std::sqrt(c.d_lo * c.d_hi);
+    }
+    total += c.volume_fraction;
+    out.classes.push_back(c);
+  }
+  if (out.classes.empty() || !(total > 0.0))
+    throw InputError(fmt::format("{}: nothing of {} is coarser than {:g} mm", b.file.string(), b.material, d_min / kMm));
+  for (ClassBeta& c : out.classes) c.volume_fraction /= total;
+  out.source += fmt::format("; cut at {:g} mm", d_min / kMm);
+  return out;
+}
+
+double BlendCheck::largest_difference() const {
+  double worst = 0.0;
+  for (const BlendCheckPoint& p : points) worst = std::max(worst, std::abs(p.predicted - p.simulated.mean));
+  return worst;
+}
+
+BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
+  const AggregateMaterial coarse = load_material_file(o.coarse), fine = load_material_file(o.fine);
+  if (o.percents.empty()) throw InputError("--check: no points; expected fine volume percents, e.g. 30,40");
+  for (const double pc : o.percents)
+    if (!(pc > 0.0 && pc < 100.0)) throw InputError(fmt::format("--check {}: expected a percent between 0 and 100", pc));
+  const BedProcedure procedure = bed_procedure(coarse, o.betas), fine_procedure = bed_procedure(fine, o.betas);
+  if (procedure.test != fine_procedure.test || procedure.method != fine_procedure.method)
+    throw InputError(fmt::format("--check: {} is filled by {} {} and {} by {} {}; a blend bed has one procedure: "
+                                 "expected materials calibrated on the same test and method",
+                                 o.coarse.string(), name_of(kLabTestNames, procedure.test), procedure.method,
+                                 o.fine.string(), name_of(kLabTestNames, fine_procedure.test), fine_procedure.method));
+  BlendCheck check;
+  // Every bed planned (and its scenario read) before any simulation.
+  std::vector<ClassBed> beds;
+  for (const double pc : o.percents)
+    beds.push_back(blend_bed({&coarse, &fine, pc / 100.0, o.fine_d_min, procedure.test, procedure.method,
+                              o.coarse_particles}));
+  const auto scenario_of = [&](std::size_t i) {
+    return parse_scenario(beds[i].scenario_text,
+                          o.coarse.parent_path() / fmt::format("blend bed, {:g} % {}", o.percents[i], o.fine.filename().string()));
+  };
+  for (std::size_t i = 0; i < beds.size(); ++i) scenario_of(i);
+
+  SimulatedBetaOptions b = o.betas;
+  b.material = o.coarse;
+  check.coarse = simulated_betas(b, log);
+  b.material = o.fine;
+  b.finest_simulated_m = std::max(b.finest_simulated_m, o.fine_d_min);  // what the cut leaves out is not needed
+  check.fine = cut_below(simulated_betas(b, log), o.fine_d_min);
+  check.process = procedure.test == LabTestKind::C1252 ? c1252_process()
+                                                       : c29_process(*value_of(kC29MethodNames, procedure.method));
+  check.procedure = beds.front().procedure;
+  check.modelling = beds.front().modelling;
+  check.modelling.erase(std::remove_if(check.modelling.begin(), check.modelling.end(),
+                                       [](const std::string& m) { return m.rfind("the bed:", 0) == 0; }),
+                        check.modelling.end());
+  check.modelling.push_back(fmt::format("CPM at K {:g} ({}), the K of the beds' procedure", check.process.compaction_index,
+                                        check.process.name));
+  const MaterialBetas pair[2] = {check.coarse, check.fine};
+  Campaign campaign(b.threads, b.quiet, log, beds.size() * static_cast<std::size_t>(b.seeds));
+  for (std::size_t i = 0; i < beds.size(); ++i) {
+    BlendCheckPoint p;
+    p.percent = o.percents[i];
+    const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
+    const BlendPoint predicted = predict_blend(pair, fractions, check.process.compaction_index);
+    p.predicted = predicted.packing;
+    p.predicted_low = predicted.packing_low;
+    p.predicted_high = predicted.packing_high;
+    for (int seed = 1; seed <= b.seeds; ++seed) {
+      const CaseRun run = campaign.run(fmt::format("blend {:g} %", p.percent), scenario_of(i), static_cast<std::uint64_t>(seed));
+      p.packing.push_back(run.final_density());
+      p.particles = run.particle_count;
+      p.wall_clock_s += run.result.wall_clock_s;
+    }
+    p.simulated = seed_statistics(p.packing);
+    check.points.push_back(std::move(p));
+  }
+  return check;
+}
+
+nlohmann::json to_json(const BlendCheck& c) {
+  nlohmann::json points = nlohmann::json::array();
+  for (const BlendCheckPoint& p : c.points)
+    points.push_back({{"fine_volume_percent", p.percent},
+                      {"simulated", p.packing},
+                      {"simulated_mean", p.simulated.mean},
+                      {"simulated_sd", std::isnan(p.simulated.sd) ? 0.0 : p.simulated.sd},
+                      {"predicted", p.predicted},
+                      {"predicted_low", p.predicted_low},
+                      {"predicted_high", p.predicted_high},
+                      {"difference", p.predicted - p.simulated.mean},
+                      {"particles", p.particles},
+                      {"wall_clock_s", p.wall_clock_s}});
+  return {{"process", c.process.name},
+          {"compaction_index", c.process.compaction_index},
+          {"procedure", c.procedure},
+          {"coarse", to_json(c.coarse)},
+          {"fine", to_json(c.fine)},
+          {"points", points},
+          {"largest_difference", c.largest_difference()},
+          {"modelling", c.modelling}};
+}
+
+std::string describe(const BlendCheck& c) {
+  std::string out = fmt::format("\ncheck against the DEM of the blend ({} beds; CPM at K {:g}, {}):\n", c.procedure,
+                                c.process.compaction_index, c.process.name);
+  out += fmt::format("  {:>8} {:>18} {:>10} {:>11} {:>10}\n", "fine %", "simulated", "predicted", "difference",
+                     "particles");
+  for (const BlendCheckPoint& p : c.points)
+    out += fmt::format("  {:>8.1f} {:>9.4f} +- {:<6.4f} {:>10.4f} {:>+11.4f} {:>10}\n", p.percent, p.simulated.mean,
+                       std::isnan(p.simulated.sd) ? 0.0 : p.simulated.sd, p.predicted, p.predicted - p.simulated.mean,
+                       p.particles);
+  out += fmt::format("  largest difference {:.4f}\n", c.largest_difference());
+  for (const std::string& m : c.modelling) out += fmt::format("  - {}\n", m);
+  return out;
+}
+
+}  // namespace aggpack
