@@ -1,7 +1,7 @@
-# Writes version.hpp with the build's name (run at every build by the target aggpack_version,
+# Writes version.cpp with the build's name (run at every build by the target aggpack_version,
 # so that a new commit renames the build without a new configure; configure_file leaves the
-# header untouched, and nothing recompiles, when the name is the same).
-#   cmake -DSOURCE_DIR=... -DPROJECT_VERSION=... -DINPUT=version.hpp.in -DOUTPUT=version.hpp -P aggpack_version.cmake
+# file untouched, and nothing recompiles, when the name is the same).
+#   cmake -DSOURCE_DIR=... -DPROJECT_VERSION=... -DINPUT=src/core/version.cpp.in -DOUTPUT=version.cpp -P aggpack_version.cmake
 # The name: PROJECT_VERSION+git.<commit>[.dirty] from `git describe` in a clone; in a source
 # tarball made by `git archive` (GitHub's too), the commit that export-subst wrote into
 # cmake/git_archival.txt; else PROJECT_VERSION+unknown (a build nothing can tell apart).

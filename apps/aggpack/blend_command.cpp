@@ -33,6 +33,9 @@ struct BlendArguments {
   aggpack::SimulatedBetaOptions beds;
   std::string check, check_cut;     // --check P1,P2: the DEM of the blend at those fine percents
   double check_particles = 400;     // coarse particles in each blend bed
+  std::string interaction;          // --interaction L,W: CPM's exponents (empty: de Larrard's)
+  aggpack::CpmInteraction cpm;      // as read
+  bool fit_interaction = false;     // --fit-interaction: fitted on the check's points
   bool json = false, quiet = false;
 };
 
@@ -85,11 +88,12 @@ aggpack::BlendCurve curve(const BlendArguments& a, const std::vector<std::string
   const bool all_sim = std::all_of(routes.begin(), routes.end(), [](const std::string& r) { return r != "lab"; });
   c.route = all_lab ? "lab_test" : all_sim ? "simulation" : "mixed";
   if (!a.sweep.empty()) {
-    c.points = aggpack::sweep_binary(c.materials, aggpack::parse_sweep(a.sweep, "--sweep"), process.compaction_index);
+    c.points = aggpack::sweep_binary(c.materials, aggpack::parse_sweep(a.sweep, "--sweep"), process.compaction_index,
+                                     a.cpm);
     c.densest = aggpack::densest(c.points);
   } else {
     for (const std::string& f : a.fractions)
-      c.points.push_back(aggpack::predict_blend(c.materials, fractions_of(f), process.compaction_index));
+      c.points.push_back(aggpack::predict_blend(c.materials, fractions_of(f), process.compaction_index, a.cpm));
   }
   return c;
 }
@@ -115,7 +119,34 @@ aggpack::BlendCheckOptions check_options(const BlendArguments& a) {
   o.coarse_particles = a.check_particles;
   o.betas = a.beds;
   o.betas.quiet = a.quiet || a.json;
+  o.interaction = a.cpm;
   return o;
+}
+
+// The DEM of the blend at --check's points, into `summary` (and the exponents fitted on them).
+aggpack::BlendCheck run_check(const BlendArguments& a, const aggpack::BlendCheckOptions& o, nlohmann::json& summary) {
+  aggpack::BlendCheck checked = aggpack::check_blend(o, std::cerr);
+  summary["check"] = aggpack::to_json(checked);
+  if (a.fit_interaction) {
+    const aggpack::BlendCheck one[] = {checked};
+    const aggpack::CpmInteraction fitted = aggpack::fit_interaction(one);
+    summary["fitted_interaction"] = {{"loosening_exponent", fitted.loosening_exponent},
+                                     {"wall_exponent", fitted.wall_exponent},
+                                     {"largest_difference", aggpack::largest_difference(one, fitted)},
+                                     {"fitted_on", "this check's simulated blends (in-sample)"}};
+  }
+  return checked;
+}
+
+// --interaction's two exponents; de Larrard's when not given.
+aggpack::CpmInteraction interaction_of(const std::string& text) {
+  if (text.empty()) return {};
+  const std::vector<double> e = fractions_of(text);
+  if (e.size() != 2 || !(e[0] > 0.0 && e[1] > 0.0))
+    throw aggpack::InputError(fmt::format("--interaction {}: expected two positive exponents, loosening,wall "
+                                          "(de Larrard's: 1.02,1.50)",
+                                          text));
+  return {e[0], e[1]};
 }
 
 int run_blend(BlendArguments& a) {
@@ -124,6 +155,9 @@ int run_blend(BlendArguments& a) {
     throw aggpack::InputError("aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,...");
   if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
     throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
+  a.cpm = interaction_of(a.interaction);
+  if (a.fit_interaction && a.check.empty())
+    throw aggpack::InputError("--fit-interaction: fits on the DEM of the blend; expected --check too");
   aggpack::BlendResult r;
   r.process = process_named(a.process);
   r.sweep = !a.sweep.empty();
@@ -144,26 +178,34 @@ int run_blend(BlendArguments& a) {
   const bool any_simulated = std::any_of(routes.begin(), routes.end(), [](const std::string& x) { return x != "lab"; });
   if (any_simulated && all_have_lab)  // the lab route beside it: what the simulation adds
     r.curves.push_back(curve(a, std::vector<std::string>(routes.size(), "lab"), r.process));
+  const bool published = a.interaction.empty();
   r.modelling.push_back(fmt::format(
-      "CPM (de Larrard 1999): every class of every material at its own beta, its loosening and wall effects at their "
-      "published coefficients; the packing of a bulk bed (no container wall) at K {:g} ({})",
+      "CPM (de Larrard 1999): every class of every material at its own beta, its loosening and wall effects {}; the "
+      "packing of a bulk bed (no container wall) at K {:g} ({})",
+      published ? "at their published exponents (1.02, 1.50)"
+                : fmt::format("at exponents {:g} and {:g} (--interaction, not de Larrard's)", a.cpm.loosening_exponent,
+                              a.cpm.wall_exponent),
       r.process.compaction_index, r.process.name));
   r.modelling.push_back("volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
                         "particle densities; bulk density oven-dry");
   r.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json summary = aggpack::to_json(r);
   std::optional<aggpack::BlendCheck> checked;
-  if (check) {
-    checked = aggpack::check_blend(*check, std::cerr);
-    summary["check"] = aggpack::to_json(*checked);
-  }
+  if (check) checked = run_check(a, *check, summary);
   if (!a.out.empty()) {
     const std::filesystem::path folder(a.out);
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
     if (r.sweep) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
   }
   if (a.json) fmt::print("{}\n", summary.dump(1));
-  else if (!a.quiet) fmt::print("{}{}", aggpack::describe(r), checked ? aggpack::describe(*checked) : "");
+  else if (!a.quiet) {
+    fmt::print("{}{}", aggpack::describe(r), checked ? aggpack::describe(*checked) : "");
+    if (summary.contains("fitted_interaction"))
+      fmt::print("  fitted on these blends: --interaction {:.4g},{:.4g}, largest difference {:.4f} (in-sample)\n",
+                 summary["fitted_interaction"]["loosening_exponent"].get<double>(),
+                 summary["fitted_interaction"]["wall_exponent"].get<double>(),
+                 summary["fitted_interaction"]["largest_difference"].get<double>());
+  }
   return 0;
 }
 
@@ -190,6 +232,10 @@ Subcommand add_blend_command(CLI::App& app) {
                   "P1,P2,...: the DEM of the blend (two materials, in a periodic bed) at these fine volume percents");
   cmd->add_option("--check-cut", a->check_cut, "--check: the fine material cut at this size (\"1.18 mm\")");
   cmd->add_option("--check-particles", a->check_particles, "--check: coarse particles in each bed (default 400)");
+  cmd->add_option("--interaction", a->interaction,
+                  "L,W: CPM's loosening and wall exponents (default de Larrard's 1.02,1.50)");
+  cmd->add_flag("--fit-interaction", a->fit_interaction,
+                "With --check: fit the two exponents on the checked blends and print them");
   add_threads_option(cmd, a->beds.threads);
   cmd->add_flag("--json", a->json, "Print blend.json instead of the table");
   cmd->add_flag("--quiet", a->quiet, "Print nothing on success");

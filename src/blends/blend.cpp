@@ -71,17 +71,18 @@ std::vector<double> shifted(const BlendClasses& c, double sds) {
 
 }  // namespace
 
-BlendPoint predict_blend(std::span<const MaterialBetas> materials, std::span<const double> fractions, double k) {
+BlendPoint predict_blend(std::span<const MaterialBetas> materials, std::span<const double> fractions, double k,
+                         const CpmInteraction& interaction) {
   check_fractions(materials, fractions);
   const BlendClasses c = blend_classes(materials, fractions);
-  const CpmResult r = cpm(c.distribution, c.beta, k);
+  const CpmResult r = cpm(c.distribution, c.beta, k, interaction);
   BlendPoint p;
   p.volume_fractions.assign(fractions.begin(), fractions.end());
   p.packing = r.density;
   p.virtual_packing = r.virtual_density;
   p.dominant = c.label[r.dominant];
-  p.packing_low = cpm(c.distribution, shifted(c, -1.0), k).density;
-  p.packing_high = cpm(c.distribution, shifted(c, +1.0), k).density;
+  p.packing_low = cpm(c.distribution, shifted(c, -1.0), k, interaction).density;
+  p.packing_high = cpm(c.distribution, shifted(c, +1.0), k, interaction).density;
   for (std::size_t m = 0; m < materials.size(); ++m)
     p.particle_density_kg_m3 += fractions[m] * materials[m].particle_density_kg_m3;
   for (std::size_t m = 0; m < materials.size(); ++m)
@@ -110,7 +111,7 @@ DensestBlend densest(std::span<const BlendPoint> curve) {
 }
 
 std::vector<BlendPoint> sweep_binary(std::span<const MaterialBetas> materials, std::span<const double> percents,
-                                     double k) {
+                                     double k, const CpmInteraction& interaction) {
   if (materials.size() != 2)
     throw InputError(fmt::format("--sweep: a sweep takes two materials (the second's volume percent), {} given; "
                                  "expected --fractions for more",
@@ -120,7 +121,7 @@ std::vector<BlendPoint> sweep_binary(std::span<const MaterialBetas> materials, s
     if (!(pc >= 0.0 && pc <= 100.0))
       throw InputError(fmt::format("--sweep: {} % is not between 0 and 100", pc));
     const double fractions[2] = {1.0 - pc / 100.0, pc / 100.0};
-    out.push_back(predict_blend(materials, fractions, k));
+    out.push_back(predict_blend(materials, fractions, k, interaction));
   }
   return out;
 }

@@ -76,6 +76,7 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
   check.process = procedure.test == LabTestKind::C1252 ? c1252_process()
                                                        : c29_process(*value_of(kC29MethodNames, procedure.method));
   check.procedure = beds.front().procedure;
+  check.interaction = o.interaction;
   check.modelling = beds.front().modelling;
   check.modelling.erase(std::remove_if(check.modelling.begin(), check.modelling.end(),
                                        [](const std::string& m) { return m.rfind("the bed:", 0) == 0; }),
@@ -88,7 +89,8 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
     BlendCheckPoint p;
     p.percent = o.percents[i];
     const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
-    const BlendPoint predicted = predict_blend(pair, fractions, check.process.compaction_index);
+    const BlendPoint predicted = predict_blend(pair, fractions, check.process.compaction_index, o.interaction);
+    p.predicted_published = predict_blend(pair, fractions, check.process.compaction_index).packing;
     p.predicted = predicted.packing;
     p.predicted_low = predicted.packing_low;
     p.predicted_high = predicted.packing_high;
@@ -104,6 +106,51 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
   return check;
 }
 
+namespace {
+// The check's points predicted again with `interaction`: (predicted, simulated mean) each.
+std::vector<std::pair<double, double>> predicted_again(const BlendCheck& c, const CpmInteraction& interaction) {
+  const MaterialBetas pair[2] = {c.coarse, c.fine};
+  std::vector<std::pair<double, double>> out;
+  for (const BlendCheckPoint& p : c.points) {
+    const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
+    out.emplace_back(predict_blend(pair, fractions, c.process.compaction_index, interaction).packing, p.simulated.mean);
+  }
+  return out;
+}
+}  // namespace
+
+double largest_difference(std::span<const BlendCheck> checks, const CpmInteraction& interaction) {
+  double worst = 0.0;
+  for (const BlendCheck& c : checks)
+    for (const auto& [predicted, simulated] : predicted_again(c, interaction))
+      worst = std::max(worst, std::abs(predicted - simulated));
+  return worst;
+}
+
+CpmInteraction fit_interaction(std::span<const BlendCheck> checks) {
+  std::size_t points = 0;
+  for (const BlendCheck& c : checks) points += c.points.size();
+  if (points == 0) throw InputError("fitting CPM's interaction: no checked blend");
+  // A coarse grid in log of each exponent, then three finer grids around the best.
+  CpmInteraction best;
+  double best_error = largest_difference(checks, best);
+  double lo_l = std::log(0.02), hi_l = std::log(3.0), lo_w = std::log(0.1), hi_w = std::log(6.0);
+  for (int level = 0; level < 4; ++level) {
+    constexpr int kSteps = 24;
+    for (int i = 0; i <= kSteps; ++i)
+      for (int j = 0; j <= kSteps; ++j) {
+        const CpmInteraction x{std::exp(lo_l + (hi_l - lo_l) * i / kSteps), std::exp(lo_w + (hi_w - lo_w) * j / kSteps)};
+        const double e = largest_difference(checks, x);
+        if (e < best_error) best_error = e, best = x;
+      }
+    // The next grid: four steps either side of the best.
+    const double step_l = 4.0 * (hi_l - lo_l) / kSteps, step_w = 4.0 * (hi_w - lo_w) / kSteps;
+    lo_l = std::log(best.loosening_exponent) - step_l, hi_l = std::log(best.loosening_exponent) + step_l;
+    lo_w = std::log(best.wall_exponent) - step_w, hi_w = std::log(best.wall_exponent) + step_w;
+  }
+  return best;
+}
+
 nlohmann::json to_json(const BlendCheck& c) {
   nlohmann::json points = nlohmann::json::array();
   for (const BlendCheckPoint& p : c.points)
@@ -114,12 +161,15 @@ nlohmann::json to_json(const BlendCheck& c) {
                       {"predicted", p.predicted},
                       {"predicted_low", p.predicted_low},
                       {"predicted_high", p.predicted_high},
+                      {"predicted_published_interaction", p.predicted_published},
                       {"difference", p.predicted - p.simulated.mean},
                       {"particles", p.particles},
                       {"wall_clock_s", p.wall_clock_s}});
   return {{"process", c.process.name},
           {"compaction_index", c.process.compaction_index},
           {"procedure", c.procedure},
+          {"interaction", {{"loosening_exponent", c.interaction.loosening_exponent},
+                           {"wall_exponent", c.interaction.wall_exponent}}},
           {"coarse", to_json(c.coarse)},
           {"fine", to_json(c.fine)},
           {"points", points},
@@ -130,12 +180,18 @@ nlohmann::json to_json(const BlendCheck& c) {
 std::string describe(const BlendCheck& c) {
   std::string out = fmt::format("\ncheck against the DEM of the blend ({} beds; CPM at K {:g}, {}):\n", c.procedure,
                                 c.process.compaction_index, c.process.name);
-  out += fmt::format("  {:>8} {:>18} {:>10} {:>11} {:>10}\n", "fine %", "simulated", "predicted", "difference",
-                     "particles");
+  out += fmt::format("  interaction exponents: loosening {:.4g}, wall {:.4g}{}\n", c.interaction.loosening_exponent,
+                     c.interaction.wall_exponent,
+                     c.interaction.loosening_exponent == CpmInteraction{}.loosening_exponent &&
+                             c.interaction.wall_exponent == CpmInteraction{}.wall_exponent
+                         ? " (de Larrard's)"
+                         : "");
+  out += fmt::format("  {:>8} {:>18} {:>10} {:>11} {:>10} {:>10}\n", "fine %", "simulated", "predicted", "difference",
+                     "published", "particles");
   for (const BlendCheckPoint& p : c.points)
-    out += fmt::format("  {:>8.1f} {:>9.4f} +- {:<6.4f} {:>10.4f} {:>+11.4f} {:>10}\n", p.percent, p.simulated.mean,
-                       std::isnan(p.simulated.sd) ? 0.0 : p.simulated.sd, p.predicted, p.predicted - p.simulated.mean,
-                       p.particles);
+    out += fmt::format("  {:>8.1f} {:>9.4f} +- {:<6.4f} {:>10.4f} {:>+11.4f} {:>10.4f} {:>10}\n", p.percent,
+                       p.simulated.mean, std::isnan(p.simulated.sd) ? 0.0 : p.simulated.sd, p.predicted,
+                       p.predicted - p.simulated.mean, p.predicted_published, p.particles);
   out += fmt::format("  largest difference {:.4f}\n", c.largest_difference());
   for (const std::string& m : c.modelling) out += fmt::format("  - {}\n", m);
   return out;

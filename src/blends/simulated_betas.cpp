@@ -137,6 +137,82 @@ void write_beta_cache(const std::filesystem::path& file, const nlohmann::json& k
   write_file_atomically(file, cache.dump(1) + "\n");
 }
 
+namespace {
+
+// A size class of the material, and its bed when it is simulated.
+struct PlannedClass {
+  ModelClass size;
+  std::optional<ClassBed> bed;
+};
+
+Scenario bed_scenario(const PlannedClass& p, const SimulatedBetaOptions& o) {
+  return parse_scenario(p.bed->scenario_text, o.material.parent_path() /
+                                                  fmt::format("{} ({:g}-{:g} mm bed)", o.material.filename().string(),
+                                                              p.size.d_lo / kMm, p.size.d_hi / kMm));
+}
+
+// Every class's bed, its scenario read: all checked before any runs.
+std::vector<PlannedClass> plan_class_beds(const AggregateMaterial& m, const SimulatedBetaOptions& o,
+                                          const BedProcedure& procedure) {
+  std::vector<PlannedClass> planned;
+  for (const ModelClass& c : grading_classes(m.grading.grading).classes) {
+    PlannedClass p{c, std::nullopt};
+    if (c.d_hi > o.finest_simulated_m) {
+      p.bed = class_bed({&m, c.d_lo, c.d_hi, procedure.test, procedure.method, o.particles});
+      bed_scenario(p, o);
+    }
+    planned.push_back(std::move(p));
+  }
+  if (std::none_of(planned.begin(), planned.end(), [](const PlannedClass& p) { return p.bed.has_value(); }))
+    throw InputError(fmt::format("{}: no size class above the finest simulated size {:g} mm", o.material.string(),
+                                 o.finest_simulated_m / kMm));
+  return planned;
+}
+
+// One class's beds over the seeds: its packings and its beta.
+ClassBeta run_class_beds(const PlannedClass& p, const SimulatedBetaOptions& o, const TestProcess& process,
+                         Campaign& campaign) {
+  ClassBeta k{p.size.d_lo, p.size.d_hi, p.size.diameter, p.size.volume_fraction, 0.0, 0.0, {}};
+  if (!p.bed) return k;
+  std::vector<double> betas;
+  for (int seed = 1; seed <= o.seeds; ++seed) {
+    const CaseRun run = campaign.run(fmt::format("{:g}-{:g} mm", p.size.d_lo / kMm, p.size.d_hi / kMm),
+                                     bed_scenario(p, o), static_cast<std::uint64_t>(seed));
+    k.packing.push_back(run.final_density());
+    betas.push_back(cpm_beta_from_monosized(run.final_density(), process.compaction_index));
+  }
+  const SeedStatistics s = seed_statistics(betas);
+  k.beta = s.mean;
+  k.beta_sd = s.sd;
+  return k;
+}
+
+// What the betas rest on, said once each.
+void add_modelling(MaterialBetas& out, const std::vector<PlannedClass>& planned, const SimulatedBetaOptions& o,
+                   const AggregateMaterial& m) {
+  std::vector<std::string> procedures;
+  for (const PlannedClass& p : planned) {
+    if (!p.bed) continue;
+    for (const std::string& note : p.bed->modelling)
+      if (std::find(out.modelling.begin(), out.modelling.end(), note) == out.modelling.end() &&
+          note.rfind("the bed:", 0) != 0)
+        out.modelling.push_back(note);
+    procedures.push_back(fmt::format("{:g}-{:g} mm {}", p.size.d_lo / kMm, p.size.d_hi / kMm, p.bed->procedure));
+  }
+  out.modelling.push_back(fmt::format("the beds: {}", fmt::join(procedures, "; ")));
+  out.modelling.push_back(fmt::format("each bed periodic (no wall), about {:.0f} particles, its packing read in the "
+                                      "largest cube clear of the floor and the surface",
+                                      o.particles));
+  if (procedures.size() < planned.size())
+    out.modelling.push_back(fmt::format("classes finer than {:g} mm not simulated: they take the finest simulated "
+                                        "class's beta",
+                                        o.finest_simulated_m / kMm));
+  if (m.calibration.is_null())
+    out.modelling.push_back("the material is not calibrated: its contact values are the file's own");
+}
+
+}  // namespace
+
 MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) {
   if (o.seeds < 2 || o.seeds > 100) throw InputError(fmt::format("--seeds {}: expected 2 to 100", o.seeds));
   if (!(o.particles >= 200.0 && o.particles <= 1e7))
@@ -154,61 +230,17 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
 
   const BedProcedure procedure = bed_procedure(m, o);
   const TestProcess process = process_of(procedure);
-  const ModelDistribution classes = grading_classes(m.grading.grading);
-  // Every bed's scenario first: all are checked before any runs.
-  struct Planned {
-    ModelClass size;
-    std::optional<ClassBed> bed;
-  };
-  std::vector<Planned> planned;
-  for (const ModelClass& c : classes.classes) {
-    Planned p{c, std::nullopt};
-    if (c.d_hi > o.finest_simulated_m)
-      p.bed = class_bed({&m, c.d_lo, c.d_hi, procedure.test, procedure.method, o.particles});
-    planned.push_back(std::move(p));
-  }
-  const auto scenario_of = [&](const Planned& p) {
-    return parse_scenario(p.bed->scenario_text,
-                          o.material.parent_path() /
-                              fmt::format("{} ({:g}-{:g} mm bed)", o.material.filename().string(), p.size.d_lo / kMm,
-                                          p.size.d_hi / kMm));
-  };
-  std::size_t beds = 0;
-  for (const Planned& p : planned)
-    if (p.bed) scenario_of(p), ++beds;
-  if (beds == 0)
-    throw InputError(fmt::format("{}: no size class above the finest simulated size {:g} mm", o.material.string(),
-                                 o.finest_simulated_m / kMm));
-
+  const std::vector<PlannedClass> planned = plan_class_beds(m, o, procedure);
+  const auto beds = static_cast<std::size_t>(
+      std::count_if(planned.begin(), planned.end(), [](const PlannedClass& p) { return p.bed.has_value(); }));
   MaterialBetas out;
   out.file = o.material;
   out.material = m.name;
   out.route = BetaRoute::Simulation;
   out.particle_density_kg_m3 = oven_dry_particle_density(m);
   Campaign campaign(o.threads, o.quiet, log, beds * static_cast<std::size_t>(o.seeds));
-  std::vector<std::string> procedures;
-  for (const Planned& p : planned) {
-    ClassBeta k{p.size.d_lo, p.size.d_hi, p.size.diameter, p.size.volume_fraction, 0.0, 0.0, {}};
-    if (p.bed) {
-      std::vector<double> betas;
-      for (int seed = 1; seed <= o.seeds; ++seed) {
-        const CaseRun run = campaign.run(fmt::format("{:g}-{:g} mm", p.size.d_lo / kMm, p.size.d_hi / kMm),
-                                         scenario_of(p), static_cast<std::uint64_t>(seed));
-        k.packing.push_back(run.final_density());
-        betas.push_back(run.final_density() * (1.0 + 1.0 / process.compaction_index));
-      }
-      const SeedStatistics s = seed_statistics(betas);
-      k.beta = s.mean;
-      k.beta_sd = s.sd;
-      for (const std::string& note : p.bed->modelling)
-        if (std::find(out.modelling.begin(), out.modelling.end(), note) == out.modelling.end() &&
-            note.rfind("the bed:", 0) != 0)
-          out.modelling.push_back(note);
-      procedures.push_back(fmt::format("{:g}-{:g} mm {}", p.size.d_lo / kMm, p.size.d_hi / kMm, p.bed->procedure));
-    }
-    out.classes.push_back(std::move(k));
-  }
-  // The classes not simulated take the finest simulated class's beta (and spread).
+  for (const PlannedClass& p : planned) out.classes.push_back(run_class_beds(p, o, process, campaign));
+  // The classes not simulated take the nearest coarser simulated class's beta (and spread).
   for (std::size_t i = out.classes.size(); i-- > 0;)
     if (!planned[i].bed)
       for (std::size_t j = i; j-- > 0;)
@@ -221,16 +253,7 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
                            "beta = phi (1 + 1/K) at K {:g} ({})",
                            o.seeds, procedure.test == LabTestKind::C29 ? "C29" : "C1252", procedure.method,
                            procedure.why, process.compaction_index, process.name);
-  out.modelling.push_back(fmt::format("the beds: {}", fmt::join(procedures, "; ")));
-  out.modelling.push_back(fmt::format("each bed periodic (no wall), about {:.0f} particles, its packing read in the "
-                                      "largest cube clear of the floor and the surface",
-                                      o.particles));
-  if (beds < planned.size())
-    out.modelling.push_back(fmt::format("classes finer than {:g} mm not simulated: they take the finest simulated "
-                                        "class's beta",
-                                        o.finest_simulated_m / kMm));
-  if (m.calibration.is_null())
-    out.modelling.push_back("the material is not calibrated: its contact values are the file's own");
+  add_modelling(out, planned, o, m);
   write_beta_cache(cache, key, out, campaign.seconds());
   if (!o.quiet) log << fmt::format("aggpack: {}: betas written to {}\n", m.name, cache.string());
   return out;

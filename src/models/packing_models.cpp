@@ -105,11 +105,13 @@ ModelDistribution diameter_classes(std::span<const double> diameters, std::size_
   return out;
 }
 
-double cpm_loosening(double d_fine, double d_coarse) {
-  return std::sqrt(1.0 - std::pow(1.0 - d_fine / d_coarse, 1.02));
+double cpm_loosening(double d_fine, double d_coarse, double exponent) {
+  return std::sqrt(1.0 - std::pow(1.0 - d_fine / d_coarse, exponent));
 }
 
-double cpm_wall(double d_fine, double d_coarse) { return 1.0 - std::pow(1.0 - d_fine / d_coarse, 1.50); }
+double cpm_wall(double d_fine, double d_coarse, double exponent) {
+  return 1.0 - std::pow(1.0 - d_fine / d_coarse, exponent);
+}
 
 namespace {
 std::vector<double> betas(const ModelDistribution& dist, std::span<const double> beta) {
@@ -127,7 +129,8 @@ std::vector<double> betas(const ModelDistribution& dist, std::span<const double>
   return out;
 }
 
-std::vector<double> partial_virtual_densities(const ModelDistribution& dist, const std::vector<double>& beta) {
+std::vector<double> partial_virtual_densities(const ModelDistribution& dist, const std::vector<double>& beta,
+                                              const CpmInteraction& interaction = {}) {
   const std::vector<ModelClass>& c = dist.classes;
   std::vector<double> gamma(c.size());
   for (std::size_t i = 0; i < c.size(); ++i) {
@@ -136,9 +139,12 @@ std::vector<double> partial_virtual_densities(const ModelDistribution& dist, con
       if (j == i) continue;
       const double y = c[j].volume_fraction;
       if (j < i)  // coarser (or as coarse, listed before): its wall effect on i
-        sum += (1.0 - beta[i] + cpm_wall(c[i].diameter, c[j].diameter) * beta[i] * (1.0 - 1.0 / beta[j])) * y;
+        sum += (1.0 - beta[i] +
+                cpm_wall(c[i].diameter, c[j].diameter, interaction.wall_exponent) * beta[i] * (1.0 - 1.0 / beta[j])) *
+               y;
       else  // finer: loosening effect on i
-        sum += (1.0 - cpm_loosening(c[j].diameter, c[i].diameter) * beta[i] / beta[j]) * y;
+        sum += (1.0 - cpm_loosening(c[j].diameter, c[i].diameter, interaction.loosening_exponent) * beta[i] / beta[j]) *
+               y;
     }
     gamma[i] = beta[i] / (1.0 - sum);
   }
@@ -154,12 +160,17 @@ double compaction_sum(const ModelDistribution& dist, const std::vector<double>& 
 }
 }  // namespace
 
-CpmResult cpm(const ModelDistribution& dist, std::span<const double> beta_in, double compaction_index) {
+CpmResult cpm(const ModelDistribution& dist, std::span<const double> beta_in, double compaction_index,
+              const CpmInteraction& interaction) {
+  if (!(interaction.loosening_exponent > 0.0 && interaction.wall_exponent > 0.0) ||
+      !std::isfinite(interaction.loosening_exponent) || !std::isfinite(interaction.wall_exponent))
+    throw InputError(fmt::format("CPM: interaction exponents {} and {}; expected positive numbers",
+                                 interaction.loosening_exponent, interaction.wall_exponent));
   if (!(compaction_index > 0.0) || !std::isfinite(compaction_index))
     throw InputError(fmt::format("CPM: compaction index K = {} is not a positive number", compaction_index));
   const std::vector<double> beta = betas(dist, beta_in);
   CpmResult r;
-  r.gamma = partial_virtual_densities(dist, beta);
+  r.gamma = partial_virtual_densities(dist, beta, interaction);
   r.dominant = static_cast<std::size_t>(std::min_element(r.gamma.begin(), r.gamma.end()) - r.gamma.begin());
   r.virtual_density = r.gamma[r.dominant];
   // K(phi) rises from 0 at phi = 0 to infinity at phi = gamma: bisection to the last bit.

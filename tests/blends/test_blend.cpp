@@ -170,5 +170,31 @@ TEST(Blend, CutBelowKeepsTheLogShareAboveTheCut) {
   EXPECT_THROW(cut_below(sand, 0.005), InputError);
 }
 
+TEST(Blend, InteractionExponentsAreFittedBackFromBlendsTheyMade) {
+  // Blends "simulated" by CPM itself at exponents (0.5, 2.5): the fit finds exponents that give
+  // them back, where de Larrard's miss them.
+  BlendCheck check;
+  check.coarse = one_class("coarse", 0.011, 0.78, 0.001);
+  check.fine = one_class("fine", 0.0034, 0.79, 0.001);
+  check.process = {"poured", 4.1};
+  const MaterialBetas pair[] = {check.coarse, check.fine};
+  const CpmInteraction truth{0.5, 2.5};
+  for (const double pc : {20.0, 30.0, 40.0, 50.0, 60.0}) {
+    BlendCheckPoint p;
+    p.percent = pc;
+    const double f[] = {1 - pc / 100, pc / 100};
+    p.simulated.mean = predict_blend(pair, f, 4.1, truth).packing;
+    check.points.push_back(p);
+  }
+  const BlendCheck checks[] = {check};
+  EXPECT_GT(largest_difference(checks, CpmInteraction{}), 0.005);
+  const CpmInteraction fitted = fit_interaction(checks);
+  EXPECT_LT(largest_difference(checks, fitted), 2e-4);
+  EXPECT_THROW(fit_interaction(std::span<const BlendCheck>{}), InputError);
+  // The default exponents are de Larrard's.
+  EXPECT_DOUBLE_EQ(cpm_loosening(0.3, 1.0), std::sqrt(1 - std::pow(0.7, 1.02)));
+  EXPECT_DOUBLE_EQ(cpm_wall(0.3, 1.0), 1 - std::pow(0.7, 1.5));
+}
+
 }  // namespace
 }  // namespace aggpack

@@ -29,7 +29,7 @@ struct BlendPoint {
 // InputError for fractions that are not one a material, non-negative and summing to 1 (within
 // 1e-6), or for no material.
 BlendPoint predict_blend(std::span<const MaterialBetas> materials, std::span<const double> volume_fractions,
-                         double compaction_index);
+                         double compaction_index, const CpmInteraction& interaction = {});
 
 // The densest of a curve and how sharp it is.
 struct DensestBlend {
@@ -48,7 +48,7 @@ DensestBlend densest(std::span<const BlendPoint> curve);
 // The blends of two materials with the second at `percent` of the solid volume, each point.
 // InputError unless the percents are in [0, 100].
 std::vector<BlendPoint> sweep_binary(std::span<const MaterialBetas> materials, std::span<const double> percents,
-                                     double compaction_index);
+                                     double compaction_index, const CpmInteraction& interaction = {});
 
 // A sweep's percents from "FROM:TO:STEP" (percent; TO included when on the grid). InputError
 // naming `option` for anything else, a step not positive, or more than 10001 points.

@@ -5,6 +5,7 @@
 // simulated"). `aggpack blend --check 30,40` and scripts/validate_blends.sh run it.
 #include <filesystem>
 #include <ostream>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ struct BlendCheckOptions {
   double fine_d_min = 0.0;       // m: the fine cut there in the bed and in the prediction (0: none)
   double coarse_particles = 400; // about, in each bed
   SimulatedBetaOptions betas;    // seeds, threads and bed size of the materials' betas; quiet
+  CpmInteraction interaction;    // of the prediction (published: de Larrard's)
 };
 
 struct BlendCheckPoint {
@@ -33,6 +35,7 @@ struct BlendCheckPoint {
   std::vector<double> packing;  // each seed's bed
   SeedStatistics simulated;
   double predicted = 0.0, predicted_low = 0.0, predicted_high = 0.0;  // CPM, betas -+ sd
+  double predicted_published = 0.0;  // CPM with de Larrard's interaction exponents
   std::size_t particles = 0;    // of the last seed's bed
   double wall_clock_s = 0.0;    // of its beds
 };
@@ -41,6 +44,7 @@ struct BlendCheck {
   TestProcess process;             // of the beds: CPM is taken at its K
   std::string procedure;           // what was done to the beds
   MaterialBetas coarse, fine;      // as predicted with (the fine cut)
+  CpmInteraction interaction;
   std::vector<BlendCheckPoint> points;
   std::vector<std::string> modelling;
   [[nodiscard]] double largest_difference() const;  // |predicted - simulated mean| over the points
@@ -49,6 +53,14 @@ struct BlendCheck {
 // InputError before any run for a percent outside (0, 100), a cut above the fine's largest size,
 // or materials whose betas were simulated by different procedures.
 BlendCheck check_blend(const BlendCheckOptions& options, std::ostream& log);
+
+// The interaction exponents that bring CPM closest to the checks' simulated means (the largest
+// difference over every point the least), searched on a grid of loosening exponents 0.02-3 and
+// wall exponents 0.1-6, then refined: CPM's interaction functions fitted on DEM blends (never
+// on a lab's). InputError for no point.
+CpmInteraction fit_interaction(std::span<const BlendCheck> checks);
+// The largest difference of the checks' points with `interaction`.
+[[nodiscard]] double largest_difference(std::span<const BlendCheck> checks, const CpmInteraction& interaction);
 
 nlohmann::json to_json(const BlendCheck& check);
 std::string describe(const BlendCheck& check);

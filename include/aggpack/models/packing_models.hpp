@@ -51,8 +51,14 @@ ModelDistribution diameter_classes(std::span<const double> diameters, std::size_
 // so that one class packs at beta / (1 + 1/K), and K -> infinity gives the virtual packing.
 // K by process (de Larrard 1999, Table 1.2): 4.1 poured, 4.5 rodded, 4.75 vibrated, 9 vibrated
 // and compressed under 10 kPa.
-[[nodiscard]] double cpm_loosening(double d_fine, double d_coarse);  // a_ij, d_fine <= d_coarse
-[[nodiscard]] double cpm_wall(double d_fine, double d_coarse);       // b_ij, d_fine <= d_coarse
+// The exponents of the two interaction functions: de Larrard's published 1.02 and 1.50 (fitted on
+// lab blends of rounded and crushed aggregates), or others (aggpack blend --interaction).
+struct CpmInteraction {
+  double loosening_exponent = 1.02;
+  double wall_exponent = 1.50;
+};
+[[nodiscard]] double cpm_loosening(double d_fine, double d_coarse, double exponent = 1.02);  // a_ij, d_fine <= d_coarse
+[[nodiscard]] double cpm_wall(double d_fine, double d_coarse, double exponent = 1.50);       // b_ij, d_fine <= d_coarse
 struct CpmResult {
   double density = 0.0;          // phi
   double virtual_density = 0.0;  // gamma
@@ -61,7 +67,8 @@ struct CpmResult {
 };
 // InputError for an empty distribution, beta outside (0, 1) or K <= 0. `beta` has one value per
 // class, or one for all.
-CpmResult cpm(const ModelDistribution& distribution, std::span<const double> beta, double compaction_index);
+CpmResult cpm(const ModelDistribution& distribution, std::span<const double> beta, double compaction_index,
+              const CpmInteraction& interaction = {});
 // The K that gives density `phi` (0 < phi < gamma): the model's own relation read backwards,
 // for calibration.
 [[nodiscard]] double cpm_compaction_index(const ModelDistribution& distribution, std::span<const double> beta,

@@ -1,0 +1,104 @@
+// `aggpack blend`, as a user meets it: a stone and a sand by their lab numbers give a curve in
+// the lab's units, its table, JSON and plot; bad input is refused before any work, and a
+// damaged cache of betas is an error naming it, never a different curve.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "run_cli.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using aggpack::testing::run_cli;
+using aggpack::testing::slurp;
+
+class CliBlend : public ::testing::Test {
+ protected:
+  aggpack::testing::ScratchDir scratch_{"aggpack_cli_blend_"};
+  const fs::path& dir_ = scratch_.path();
+};
+
+const fs::path kMaterials = fs::path(AGGPACK_EXAMPLES) / "materials";
+const std::string kStoneAndSand =
+    (kMaterials / "crushed_stone_19mm.toml").string() + " " + (kMaterials / "natural_sand.toml").string();
+
+TEST_F(CliBlend, AStoneAndASandByTheirLabNumbersGiveACurveWithItsDensestBlend) {
+  const fs::path out = dir_ / "blend";
+  const auto r = run_cli("blend " + kStoneAndSand + " --sweep 20:60:1 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("densest:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("predicted, not simulated"), std::string::npos) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "blend.json"));
+  EXPECT_EQ(s["kind"], "aggpack blend");
+  EXPECT_EQ(s["process"], "rodded");
+  EXPECT_DOUBLE_EQ(s["compaction_index"].get<double>(), 4.5);
+  ASSERT_EQ(s["curves"].size(), 1u);  // no simulated betas: the lab route alone
+  const nlohmann::json& curve = s["curves"][0];
+  EXPECT_EQ(curve["route"], "lab_test");
+  ASSERT_EQ(curve["points"].size(), 41u);
+  double best = 0.0;
+  for (const nlohmann::json& p : curve["points"]) {
+    best = std::max(best, p["packing_density"].get<double>());
+    EXPECT_NEAR(p["bulk_density_kg_m3"].get<double>(),
+                p["packing_density"].get<double>() * p["particle_density_kg_m3"].get<double>(), 1e-6);
+  }
+  EXPECT_DOUBLE_EQ(curve["densest"]["point"]["packing_density"].get<double>(), best);
+  const double at = curve["densest"]["second_volume_percent"];
+  EXPECT_GE(at, curve["densest"]["plateau_percent"][0].get<double>());
+  EXPECT_LE(at, curve["densest"]["plateau_percent"][1].get<double>());
+  // A stone and a sand pack denser together than the stone alone at its lab packing.
+  EXPECT_GT(best, 0.65);
+  EXPECT_NE(slurp(out / "blend.svg").find("<svg"), std::string::npos);
+  for (const nlohmann::json& m : curve["materials"]) EXPECT_FALSE(m["modelling"].empty());
+}
+
+TEST_F(CliBlend, FractionsGiveThoseBlendsAlone) {
+  const auto r = run_cli("blend " + kStoneAndSand + " --fractions 0.6,0.4 --fractions 0.5,0.5 --process loose --json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  EXPECT_EQ(s["process"], "poured");
+  ASSERT_EQ(s["curves"][0]["points"].size(), 2u);
+  EXPECT_FALSE(s["curves"][0].contains("densest"));
+}
+
+TEST_F(CliBlend, BadInputIsRefusedBeforeAnyWork) {
+  const fs::path out = dir_ / "never";
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {kStoneAndSand + " --sweep 20:60", "FROM:TO:STEP"},
+      {kStoneAndSand + " --fractions 0.6,0.3", "sum to"},
+      {kStoneAndSand + " --fractions 0.6,x", "'x' is not a number"},
+      {kStoneAndSand, "--sweep FROM:TO:STEP"},
+      {kStoneAndSand + " --sweep 20:60:1 --process tamped", "--process tamped"},
+      {kStoneAndSand + " --sweep 20:60:1 --route magic", "--route magic"},
+      {(kMaterials / "gravel_12mm_single.toml").string() + " " + (kMaterials / "natural_sand.toml").string() +
+           " --sweep 20:60:1 --route lab",
+       "gravel_12mm_single.toml: the material has no lab number"},
+      {kStoneAndSand + " --sweep 20:60:1 --route simulation --beds c29:tamping", "--beds c29:tamping"},
+      {kStoneAndSand + " --sweep 20:60:1 --check 40 --check-cut wide", "--check-cut wide"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_cli("blend " + c.args + " --out " + out.string());
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out / "blend.json")) << c.args;
+  }
+}
+
+TEST_F(CliBlend, ADamagedCacheOfBetasIsAnErrorNamingIt) {
+  fs::create_directories(dir_ / "cache");
+  std::ofstream(dir_ / "cache" / "glass_beads_11mm.betas.json") << "{\"kind\": \"aggpack betas\", \"key\": 3";
+  const auto r = run_cli("blend " + (kMaterials / "glass_beads_11mm.toml").string() + " " +
+                         (kMaterials / "glass_grit_3mm.toml").string() +
+                         " --sweep 20:60:1 --route simulation --betas-cache " + (dir_ / "cache").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("glass_beads_11mm.betas.json: a damaged betas cache"), std::string::npos) << r.output;
+}
+
+}  // namespace
