@@ -2,6 +2,7 @@
 // blends' packing predicted by CPM at each material's betas, in seconds.
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -32,6 +33,7 @@ struct BlendArguments {
   std::string out;
   aggpack::SimulatedBetaOptions beds;
   std::string check, check_cut;     // --check P1,P2: the DEM of the blend at those fine percents
+  std::vector<std::filesystem::path> checked;  // --checked FILE: earlier checks (blend.json) read back
   double check_particles = 400;     // coarse particles in each blend bed
   std::string interaction;          // --interaction L,W: CPM's exponents (empty: de Larrard's)
   aggpack::CpmInteraction cpm;      // as read
@@ -138,6 +140,38 @@ aggpack::BlendCheck run_check(const BlendArguments& a, const aggpack::BlendCheck
   return checked;
 }
 
+// A blend.json's check, read back and predicted again with `interaction`.
+aggpack::BlendCheck read_checked(const std::filesystem::path& file, const aggpack::CpmInteraction& interaction) {
+  std::ifstream in(file);
+  if (!in) throw aggpack::InputError(fmt::format("--checked {}: cannot be read", file.string()));
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const std::exception& e) {
+    throw aggpack::InputError(fmt::format("--checked {}: not JSON ({})", file.string(), e.what()));
+  }
+  if (!j.contains("check"))
+    throw aggpack::InputError(fmt::format("--checked {}: no \"check\"; expected a blend.json of aggpack blend --check",
+                                          file.string()));
+  return aggpack::read_blend_check(j["check"], interaction, file);
+}
+
+// The earlier checks (and this run's) in `summary`, and the exponents fitted on all of them.
+void refit(const BlendArguments& a, std::vector<aggpack::BlendCheck>& earlier,
+           const std::optional<aggpack::BlendCheck>& checked, nlohmann::json& summary) {
+  nlohmann::json all = nlohmann::json::array();
+  for (const aggpack::BlendCheck& c : earlier) all.push_back(aggpack::to_json(c));
+  summary["checked"] = all;
+  if (!a.fit_interaction) return;
+  std::vector<aggpack::BlendCheck> checks = earlier;
+  if (checked) checks.push_back(*checked);
+  const aggpack::CpmInteraction fitted = aggpack::fit_interaction(checks);
+  summary["fitted_interaction"] = {{"loosening_exponent", fitted.loosening_exponent},
+                                   {"wall_exponent", fitted.wall_exponent},
+                                   {"largest_difference", aggpack::largest_difference(checks, fitted)},
+                                   {"fitted_on", "the checked blends given (in-sample)"}};
+}
+
 // --interaction's two exponents; de Larrard's when not given.
 aggpack::CpmInteraction interaction_of(const std::string& text) {
   if (text.empty()) return {};
@@ -151,13 +185,19 @@ aggpack::CpmInteraction interaction_of(const std::string& text) {
 
 int run_blend(BlendArguments& a) {
   const auto start = std::chrono::steady_clock::now();
-  if (a.sweep.empty() == a.fractions.empty())
-    throw aggpack::InputError("aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,...");
+  const bool no_curve = a.sweep.empty() && a.fractions.empty();
+  if (!a.sweep.empty() && !a.fractions.empty())
+    throw aggpack::InputError("aggpack blend: --sweep and --fractions together; expected one of them");
+  if (no_curve && (a.checked.empty() || !a.check.empty()))
+    throw aggpack::InputError("aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,... "
+                              "(or --checked FILE alone, to predict earlier checks again)");
   if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
     throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
   a.cpm = interaction_of(a.interaction);
-  if (a.fit_interaction && a.check.empty())
-    throw aggpack::InputError("--fit-interaction: fits on the DEM of the blend; expected --check too");
+  if (a.fit_interaction && a.check.empty() && a.checked.empty())
+    throw aggpack::InputError("--fit-interaction: fits on the DEM of blends; expected --check or --checked too");
+  std::vector<aggpack::BlendCheck> earlier;  // read (and refused) before any work
+  for (const std::filesystem::path& file : a.checked) earlier.push_back(read_checked(file, a.cpm));
   aggpack::BlendResult r;
   r.process = process_named(a.process);
   r.sweep = !a.sweep.empty();
@@ -167,16 +207,16 @@ int run_blend(BlendArguments& a) {
     const aggpack::AggregateMaterial m = aggpack::load_material_file(file);
     routes.push_back(route_of(a.route, m));
     all_have_lab = all_have_lab && (m.c29 || m.c1252);
-    if (routes.back() == "lab") aggpack::lab_route_betas(m);
+    if (!no_curve && routes.back() == "lab") aggpack::lab_route_betas(m);
   }
   if (!a.sweep.empty()) aggpack::parse_sweep(a.sweep, "--sweep");
   for (const std::string& f : a.fractions) fractions_of(f);
   std::optional<aggpack::BlendCheckOptions> check;
   if (!a.check.empty()) check = check_options(a);
   if (!a.out.empty()) aggpack::check_output_directory(a.out, true, "--out");
-  r.curves.push_back(curve(a, routes, r.process));
+  if (!no_curve) r.curves.push_back(curve(a, routes, r.process));
   const bool any_simulated = std::any_of(routes.begin(), routes.end(), [](const std::string& x) { return x != "lab"; });
-  if (any_simulated && all_have_lab)  // the lab route beside it: what the simulation adds
+  if (!no_curve && any_simulated && all_have_lab)  // the lab route beside it: what the simulation adds
     r.curves.push_back(curve(a, std::vector<std::string>(routes.size(), "lab"), r.process));
   const bool published = a.interaction.empty();
   r.modelling.push_back(fmt::format(
@@ -192,14 +232,16 @@ int run_blend(BlendArguments& a) {
   nlohmann::json summary = aggpack::to_json(r);
   std::optional<aggpack::BlendCheck> checked;
   if (check) checked = run_check(a, *check, summary);
+  if (!earlier.empty()) refit(a, earlier, checked, summary);
   if (!a.out.empty()) {
     const std::filesystem::path folder(a.out);
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
-    if (r.sweep) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
+    if (r.sweep && !r.curves.empty()) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
   }
   if (a.json) fmt::print("{}\n", summary.dump(1));
   else if (!a.quiet) {
     fmt::print("{}{}", aggpack::describe(r), checked ? aggpack::describe(*checked) : "");
+    for (const aggpack::BlendCheck& c : earlier) fmt::print("{}", aggpack::describe(c));
     if (summary.contains("fitted_interaction"))
       fmt::print("  fitted on these blends: --interaction {:.4g},{:.4g}, largest difference {:.4f} (in-sample)\n",
                  summary["fitted_interaction"]["loosening_exponent"].get<double>(),
@@ -234,8 +276,10 @@ Subcommand add_blend_command(CLI::App& app) {
   cmd->add_option("--check-particles", a->check_particles, "--check: coarse particles in each bed (default 400)");
   cmd->add_option("--interaction", a->interaction,
                   "L,W: CPM's loosening and wall exponents (default de Larrard's 1.02,1.50)");
+  cmd->add_option("--checked", a->checked,
+                  "FILE: a blend.json of an earlier --check, its simulated blends predicted again (repeatable)");
   cmd->add_flag("--fit-interaction", a->fit_interaction,
-                "With --check: fit the two exponents on the checked blends and print them");
+                "With --check or --checked: fit the two exponents on the checked blends and print them");
   add_threads_option(cmd, a->beds.threads);
   cmd->add_flag("--json", a->json, "Print blend.json instead of the table");
   cmd->add_flag("--quiet", a->quiet, "Print nothing on success");

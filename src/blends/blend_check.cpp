@@ -119,6 +119,49 @@ std::vector<std::pair<double, double>> predicted_again(const BlendCheck& c, cons
 }
 }  // namespace
 
+void predict_again(BlendCheck& c, const CpmInteraction& interaction) {
+  const MaterialBetas pair[2] = {c.coarse, c.fine};
+  c.interaction = interaction;
+  for (BlendCheckPoint& p : c.points) {
+    const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
+    const BlendPoint b = predict_blend(pair, fractions, c.process.compaction_index, interaction);
+    p.predicted = b.packing;
+    p.predicted_low = b.packing_low;
+    p.predicted_high = b.packing_high;
+    p.predicted_published = predict_blend(pair, fractions, c.process.compaction_index).packing;
+  }
+}
+
+BlendCheck read_blend_check(const nlohmann::json& j, const CpmInteraction& interaction,
+                            const std::filesystem::path& file) {
+  try {
+    BlendCheck c;
+    c.process = {j.at("process").get<std::string>(), j.at("compaction_index").get<double>()};
+    c.procedure = j.at("procedure").get<std::string>();
+    c.coarse = material_betas_from_json(j.at("coarse"));
+    c.fine = material_betas_from_json(j.at("fine"));
+    c.modelling = j.at("modelling").get<std::vector<std::string>>();
+    for (const nlohmann::json& p : j.at("points")) {
+      BlendCheckPoint point;
+      point.percent = p.at("fine_volume_percent").get<double>();
+      point.packing = p.at("simulated").get<std::vector<double>>();
+      point.simulated = seed_statistics(point.packing);
+      point.particles = p.at("particles").get<std::size_t>();
+      point.wall_clock_s = p.at("wall_clock_s").get<double>();
+      if (point.packing.empty() || !(point.percent > 0.0 && point.percent < 100.0))
+        throw std::runtime_error("a point without a simulated packing or a percent outside (0, 100)");
+      c.points.push_back(std::move(point));
+    }
+    predict_again(c, interaction);
+    return c;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(fmt::format("{}: not a blend check as aggpack blend --check writes it ({})", file.string(),
+                                 e.what()));
+  }
+}
+
 double largest_difference(std::span<const BlendCheck> checks, const CpmInteraction& interaction) {
   double worst = 0.0;
   for (const BlendCheck& c : checks)

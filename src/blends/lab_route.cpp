@@ -160,4 +160,26 @@ nlohmann::json to_json(const MaterialBetas& b) {
           {"modelling", b.modelling}};
 }
 
+MaterialBetas material_betas_from_json(const nlohmann::json& j) {
+  MaterialBetas b;
+  b.file = j.at("file").get<std::string>();
+  b.material = j.at("material").get<std::string>();
+  const auto route = value_of(kBetaRouteNames, j.at("route").get<std::string>());
+  if (!route) throw std::runtime_error("an unknown route");
+  b.route = *route;
+  b.source = j.at("source").get<std::string>();
+  b.particle_density_kg_m3 = j.at("particle_density_kg_m3").get<double>();
+  b.modelling = j.at("modelling").get<std::vector<std::string>>();
+  for (const nlohmann::json& c : j.at("classes")) {
+    ClassBeta k{c.at("d_lo_m").get<double>(),     c.at("d_hi_m").get<double>(), c.at("diameter_m").get<double>(),
+                c.at("volume_fraction").get<double>(), c.at("beta").get<double>(), c.at("beta_sd").get<double>(),
+                c.at("packing").get<std::vector<double>>()};
+    if (!(k.beta > 0.0 && k.beta < 1.0) || !(k.volume_fraction >= 0.0) || !(k.d_lo > 0.0 && k.d_lo < k.d_hi))
+      throw std::runtime_error("a class's values are out of range");
+    b.classes.push_back(std::move(k));
+  }
+  if (b.classes.empty()) throw std::runtime_error("no classes");
+  return b;
+}
+
 }  // namespace aggpack

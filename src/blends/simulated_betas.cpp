@@ -36,32 +36,6 @@ nlohmann::json settings_json(const SimulatedBetaOptions& o, const BedProcedure& 
           {"method", p.method}};
 }
 
-// A cache's betas, every field checked: anything missing or of the wrong type is damage.
-MaterialBetas betas_from_json(const nlohmann::json& j) {
-  MaterialBetas b;
-  b.file = j.at("file").get<std::string>();
-  b.material = j.at("material").get<std::string>();
-  b.route = BetaRoute::Simulation;
-  b.source = j.at("source").get<std::string>();
-  b.particle_density_kg_m3 = j.at("particle_density_kg_m3").get<double>();
-  b.modelling = j.at("modelling").get<std::vector<std::string>>();
-  for (const nlohmann::json& c : j.at("classes")) {
-    ClassBeta k{c.at("d_lo_m").get<double>(),     c.at("d_hi_m").get<double>(), c.at("diameter_m").get<double>(),
-                c.at("volume_fraction").get<double>(), c.at("beta").get<double>(), c.at("beta_sd").get<double>(),
-                c.at("packing").get<std::vector<double>>()};
-    if (!(k.beta > 0.0 && k.beta < 1.0) || !(k.volume_fraction >= 0.0) || !(k.d_lo > 0.0 && k.d_lo < k.d_hi))
-      throw std::runtime_error("a class's values are out of range");
-    b.classes.push_back(std::move(k));
-  }
-  if (b.classes.empty()) throw std::runtime_error("no classes");
-  return b;
-}
-
-struct SimulatedClass {
-  ClassBeta beta;
-  std::string procedure;  // what was done to its beds; "" when it took a simulated class's beta
-};
-
 }  // namespace
 
 BedProcedure bed_procedure(const AggregateMaterial& m) {
@@ -123,7 +97,7 @@ std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, 
                     : fmt::format("its {} changed", part);
         return std::nullopt;
       }
-    return betas_from_json(j.at("betas"));
+    return material_betas_from_json(j.at("betas"));
   } catch (const std::exception& e) {
     throw InputError(fmt::format("{}: a damaged betas cache ({}); expected what aggpack blend writes: remove it to "
                                  "simulate the betas again",
@@ -157,7 +131,7 @@ std::vector<PlannedClass> plan_class_beds(const AggregateMaterial& m, const Simu
   std::vector<PlannedClass> planned;
   for (const ModelClass& c : grading_classes(m.grading.grading).classes) {
     PlannedClass p{c, std::nullopt};
-    if (c.d_hi > o.finest_simulated_m) {
+    if (c.d_hi > o.finest_simulated_m * (1.0 + 1e-9)) {  // a class ending at the cut is not simulated
       p.bed = class_bed({&m, c.d_lo, c.d_hi, procedure.test, procedure.method, o.particles});
       bed_scenario(p, o);
     }
@@ -213,6 +187,23 @@ void add_modelling(MaterialBetas& out, const std::vector<PlannedClass>& planned,
 
 }  // namespace
 
+namespace {
+// InputError naming the folder when the cache could not be written there.
+void check_cache_writable(const std::filesystem::path& cache) {
+  const std::filesystem::path folder = cache.parent_path().empty() ? "." : cache.parent_path();
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  const std::filesystem::path probe = cache.string() + ".aggpack-probe";
+  if (!error && std::ofstream(probe).good()) {
+    std::filesystem::remove(probe, error);
+    return;
+  }
+  throw InputError(fmt::format("{}: the betas' cache cannot be written in {}; expected a folder aggpack may write "
+                               "(--betas-cache DIR)",
+                               cache.string(), folder.string()));
+}
+}  // namespace
+
 MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) {
   if (o.seeds < 2 || o.seeds > 100) throw InputError(fmt::format("--seeds {}: expected 2 to 100", o.seeds));
   if (!(o.particles >= 200.0 && o.particles <= 1e7))
@@ -227,6 +218,7 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
     return *warm;
   }
   if (!o.quiet) log << fmt::format("aggpack: {}: simulating the betas ({}: {})\n", m.name, cache.string(), stale);
+  check_cache_writable(cache);  // before hours of beds, not after
 
   const BedProcedure procedure = bed_procedure(m, o);
   const TestProcess process = process_of(procedure);

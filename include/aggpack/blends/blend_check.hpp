@@ -54,6 +54,13 @@ struct BlendCheck {
 // or materials whose betas were simulated by different procedures.
 BlendCheck check_blend(const BlendCheckOptions& options, std::ostream& log);
 
+// A check as to_json wrote it (a blend.json's "check"): its simulated points, materials and K,
+// predicted again with `interaction`. InputError naming `file` for anything else.
+BlendCheck read_blend_check(const nlohmann::json& check, const CpmInteraction& interaction,
+                            const std::filesystem::path& file);
+// The check's predictions made again with `interaction` (the simulated points kept).
+void predict_again(BlendCheck& check, const CpmInteraction& interaction);
+
 // The interaction exponents that bring CPM closest to the checks' simulated means (the largest
 // difference over every point the least), searched on a grid of loosening exponents 0.02-3 and
 // wall exponents 0.1-6, then refined: CPM's interaction functions fitted on DEM blends (never

@@ -75,5 +75,8 @@ MaterialBetas lab_route_betas(const AggregateMaterial& material);
 ModelDistribution model_distribution(const MaterialBetas& betas);
 
 nlohmann::json to_json(const MaterialBetas& betas);
+// What to_json wrote, every field checked: std::exception (nlohmann's, or runtime_error for a
+// value out of range or an unknown route) for anything else; its reader names the file.
+MaterialBetas material_betas_from_json(const nlohmann::json& json);
 
 }  // namespace aggpack
