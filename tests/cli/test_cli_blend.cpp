@@ -3,6 +3,7 @@
 // damaged cache of betas is an error naming it, never a different curve.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -99,6 +100,48 @@ TEST_F(CliBlend, ADamagedCacheOfBetasIsAnErrorNamingIt) {
                          " --sweep 20:60:1 --route simulation --betas-cache " + (dir_ / "cache").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("glass_beads_11mm.betas.json: a damaged betas cache"), std::string::npos) << r.output;
+}
+
+// A small case of the validation's check (docs/validation.md, "Blends: predicted against
+// simulated"): glass beads with beads half their size (few enough fines for the CI), 40 % fines,
+// two seeds of small beds. The numbers
+// it checks are the physics' (a binary blend packs denser than either size alone) and the
+// bookkeeping's (the prediction is CPM of the betas written beside it, read back the same).
+class CliBlendCheck : public CliBlend {};
+
+TEST_F(CliBlendCheck, ASmallBinaryBlendOfSpheresAgainstItsPrediction) {
+  const fs::path out = dir_ / "check", fine = dir_ / "glass_beads_5mm.toml";
+  std::ofstream(fine) << "name = \"Glass beads, 4.75-6.3 mm\"\nspecific_gravity = 2.50\n[grading]\n"
+                         "sieves = [{ opening = \"4.75 mm\", passing = 0 }, { opening = \"6.3 mm\", passing = 100 }]\n"
+                         "[contact]\nfriction_particle = 0.15\nfriction_wall = 0.15\nrestitution = 0.6\n";
+  const auto r = run_cli("blend " + (kMaterials / "glass_beads_11mm.toml").string() + " " + fine.string() +
+                         " --route simulation --fractions 0.6,0.4 --check 40 --seeds 2 --bed-particles 300"
+                         " --check-particles 40 --threads 2 --betas-cache " +
+                         (dir_ / "cache").string() + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "blend.json"));
+  const nlohmann::json& check = s["check"];
+  ASSERT_EQ(check["points"].size(), 1u);
+  const nlohmann::json& point = check["points"][0];
+  ASSERT_EQ(point["simulated"].size(), 2u);
+  // Each size alone packs at 0.60-0.64 poured; together they pack denser.
+  for (const nlohmann::json& m : {check["coarse"], check["fine"]})
+    for (const nlohmann::json& phi : m["classes"][0]["packing"]) EXPECT_LT(phi.get<double>(), 0.645);
+  EXPECT_GT(point["simulated_mean"].get<double>(), 0.645);
+  // The prediction at the curve's 40 % and the check's agree when the process is the beds'.
+  EXPECT_NEAR(point["predicted"].get<double>(), point["predicted_published_interaction"].get<double>(), 1e-15);
+  EXPECT_NEAR(check["largest_difference"].get<double>(),
+              std::abs(point["predicted"].get<double>() - point["simulated_mean"].get<double>()), 1e-15);
+  // CPM with de Larrard's exponents is within a few hundredths of the DEM here (the validation's
+  // seven points: 0.005 to 0.033, docs/validation.md).
+  EXPECT_LT(check["largest_difference"].get<double>(), 0.05);
+  // Read back, the check predicts the same; the betas are now cached (no bed simulated again).
+  const auto again = run_cli("blend " + (kMaterials / "glass_beads_11mm.toml").string() + " " + fine.string() +
+                             " --checked " +
+                             (out / "blend.json").string() + " --json");
+  ASSERT_EQ(again.exit_code, 0) << again.output;
+  const nlohmann::json back = nlohmann::json::parse(again.output.substr(again.output.find('{')));
+  EXPECT_DOUBLE_EQ(back["checked"][0]["points"][0]["predicted"].get<double>(), point["predicted"].get<double>());
 }
 
 }  // namespace
