@@ -10,7 +10,8 @@
 # Cost on one core: spheres_ratio3 about an hour, spheres_ratio6 and grains_ratio3 hours. Usage:
 #   bash scripts/validate_blends.sh [OUT_DIR] [CASES]
 #   (defaults: out/validate_blends, every case; AGGPACK_EXE: another binary, e.g. a copy to
-#   rebuild while it runs; POINTS=20,40,60 SEEDS=2: a first look at a costly case). Cases
+#   rebuild while it runs; POINTS=20,40,60 SEEDS=2: a first look at a costly case;
+#   CHECK_PARTICLES, BED_PARTICLES: the grains' bed sizes; THREADS: per run). Cases
 #   already finished are kept; each writes CASE/blend.json, blend.txt and blend.svg.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -21,7 +22,7 @@ cases=${2:-$all}
 m="$repo/examples/materials"
 [ -x "$exe" ] || { echo "validate_blends.sh: no $exe; build first (bash scripts/build.sh)" >&2; exit 2; }
 mkdir -p "$out/betas"
-export OMP_NUM_THREADS=1
+export OMP_NUM_THREADS=${THREADS:-1}
 points=${POINTS:-20,25,30,35,40,50,60}  # POINTS, SEEDS: fewer, for a first look at a costly case
 seeds=${SEEDS:-3}
 
@@ -29,15 +30,16 @@ run_case() {  # name; a finished case is kept
   local name=$1 dir="$out/$1"
   [ -f "$dir/blend.json" ] && return 0
   case $name in
-    spheres_ratio3) args=("$m/glass_beads_11mm.toml" "$m/glass_grit_3mm.toml" --check-particles 300) ;;
-    spheres_ratio6) args=("$m/glass_beads_11mm.toml" "$m/glass_sand_2mm.toml" --check-particles 120) ;;
+    spheres_ratio3) args=("$m/glass_beads_11mm.toml" "$m/glass_grit_3mm.toml" --check-particles 300 --sweep 10:70:1) ;;
+    spheres_ratio6) args=("$m/glass_beads_11mm.toml" "$m/glass_sand_2mm.toml" --check-particles 120 --sweep 10:70:1) ;;
+    # The check alone (no curve): the curve would need the whole sand's betas, an hour more.
     grains_ratio3) args=("$m/crushed_stone_12mm_single.toml" "$m/natural_sand.toml" --check-cut "2.36 mm"
-                         --check-particles 150 --bed-particles 1000) ;;
+                         --check-particles ${CHECK_PARTICLES:-150} --bed-particles ${BED_PARTICLES:-1000}) ;;
     *) echo "validate_blends.sh: no case $name (expected: $all)" >&2; exit 2 ;;
   esac
   rm -rf "$dir.part"
-  "$exe" blend "${args[@]}" --route simulation --beds c29:shovelling --sweep 10:70:1 --check "$points" --seeds "$seeds" \
-    --threads 1 --betas-cache "$out/betas" --out "$dir.part" > "$dir.part.txt" 2> "$dir.part.log" &&
+  "$exe" blend "${args[@]}" --route simulation --beds c29:shovelling --check "$points" --seeds "$seeds" \
+    --threads "${THREADS:-1}" --betas-cache "$out/betas" --out "$dir.part" > "$dir.part.txt" 2> "$dir.part.log" &&
     mv "$dir.part.txt" "$dir.part/blend.txt" && mv "$dir.part.log" "$dir.part/blend.log" &&
     rm -rf "$dir" && mv "$dir.part" "$dir"
 }

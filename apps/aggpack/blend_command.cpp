@@ -188,9 +188,9 @@ int run_blend(BlendArguments& a) {
   const bool no_curve = a.sweep.empty() && a.fractions.empty();
   if (!a.sweep.empty() && !a.fractions.empty())
     throw aggpack::InputError("aggpack blend: --sweep and --fractions together; expected one of them");
-  if (no_curve && (a.checked.empty() || !a.check.empty()))
+  if (no_curve && a.checked.empty() && a.check.empty())
     throw aggpack::InputError("aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,... "
-                              "(or --checked FILE alone, to predict earlier checks again)");
+                              "(or --check or --checked alone: the DEM check without a curve)");
   if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
     throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
   a.cpm = interaction_of(a.interaction);

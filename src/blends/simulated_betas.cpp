@@ -76,38 +76,73 @@ std::filesystem::path beta_cache_file(const SimulatedBetaOptions& o) {
   return o.cache_folder ? *o.cache_folder / name : o.material.parent_path() / name;
 }
 
+namespace {
+
+// The cache's entries, every one's key checked for its three parts: std::exception otherwise.
+nlohmann::json cache_entries(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const nlohmann::json j = nlohmann::json::parse(text.str());
+  if (j.at("kind").get<std::string>() != kCacheKind) throw std::runtime_error("not a betas cache");
+  const nlohmann::json& entries = j.at("entries");
+  if (!entries.is_array() || entries.empty()) throw std::runtime_error("no entries");
+  for (const nlohmann::json& e : entries)
+    for (const char* part : {"aggpack_version", "material", "settings"}) (void)e.at("key").at(part);
+  return entries;
+}
+
+InputError damaged(const std::filesystem::path& file, const std::exception& e) {
+  return InputError(fmt::format("{}: a damaged betas cache ({}); expected what aggpack blend writes: remove it to "
+                                "simulate the betas again",
+                                file.string(), e.what()));
+}
+
+}  // namespace
+
 std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, const nlohmann::json& key,
                                              std::string& stale) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
+  if (!std::filesystem::exists(file)) {
     stale = "no cache yet";
     return std::nullopt;
   }
-  std::stringstream text;
-  text << in.rdbuf();
   try {
-    const nlohmann::json j = nlohmann::json::parse(text.str());
-    if (j.at("kind").get<std::string>() != kCacheKind) throw std::runtime_error("not a betas cache");
-    const nlohmann::json& had = j.at("key");
+    const nlohmann::json entries = cache_entries(file);
+    for (const nlohmann::json& e : entries)
+      if (e.at("key") == key) return material_betas_from_json(e.at("betas"));
+    // Why not: against the newest entry.
+    const nlohmann::json& had = entries.back().at("key");
     for (const char* part : {"aggpack_version", "material", "settings"})
       if (had.at(part) != key.at(part)) {
         stale = std::string(part) == "aggpack_version"
                     ? fmt::format("made by aggpack {}, this is {}", had.at(part).get<std::string>(),
                                   key.at(part).get<std::string>())
                     : fmt::format("its {} changed", part);
-        return std::nullopt;
+        break;
       }
-    return material_betas_from_json(j.at("betas"));
+    return std::nullopt;
   } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: a damaged betas cache ({}); expected what aggpack blend writes: remove it to "
-                                 "simulate the betas again",
-                                 file.string(), e.what()));
+    throw damaged(file, e);
   }
 }
 
 void write_beta_cache(const std::filesystem::path& file, const nlohmann::json& key, const MaterialBetas& betas,
                       double wall_clock_s) {
-  const nlohmann::json cache{{"kind", kCacheKind}, {"key", key}, {"betas", to_json(betas)}, {"wall_clock_s", wall_clock_s}};
+  // Kept beside the new entry: those of this build and material with other settings (a check's
+  // cut, other seeds); an older build's or another material's are rebuilt, never reused.
+  nlohmann::json entries = nlohmann::json::array();
+  if (std::filesystem::exists(file)) {
+    try {
+      for (const nlohmann::json& e : cache_entries(file))
+        if (e.at("key").at("aggpack_version") == key.at("aggpack_version") &&
+            e.at("key").at("material") == key.at("material") && e.at("key") != key)
+          entries.push_back(e);
+    } catch (const std::exception& e) {
+      throw damaged(file, e);
+    }
+  }
+  entries.push_back({{"key", key}, {"betas", to_json(betas)}, {"wall_clock_s", wall_clock_s}});
+  const nlohmann::json cache{{"kind", kCacheKind}, {"entries", entries}};
   write_file_atomically(file, cache.dump(1) + "\n");
 }
 

@@ -74,6 +74,17 @@ TEST_F(SimulatedBetas, CacheIsReadBackOnlyForItsOwnKey) {
   more_seeds.seeds = 4;
   EXPECT_FALSE(read_beta_cache(file, beta_cache_key(m, more_seeds), stale));
   EXPECT_EQ(stale, "its settings changed");
+  // Other settings of the same build and material are kept beside it; another build's are not.
+  MaterialBetas four = some_betas();
+  four.classes[0].beta = 0.78;
+  write_beta_cache(file, beta_cache_key(m, more_seeds), four, 1.0);
+  EXPECT_DOUBLE_EQ(read_beta_cache(file, key, stale)->classes.at(0).beta, 0.77);
+  EXPECT_DOUBLE_EQ(read_beta_cache(file, beta_cache_key(m, more_seeds), stale)->classes.at(0).beta, 0.78);
+  nlohmann::json newer = key;
+  newer["aggpack_version"] = "9.9.9+git.1";
+  write_beta_cache(file, newer, some_betas(), 1.0);
+  EXPECT_FALSE(read_beta_cache(file, key, stale));
+  EXPECT_TRUE(read_beta_cache(file, newer, stale));
 }
 
 TEST_F(SimulatedBetas, DamagedCacheIsRefusedNamingTheFile) {
@@ -90,12 +101,12 @@ TEST_F(SimulatedBetas, DamagedCacheIsRefusedNamingTheFile) {
         // a beta out of range, behind a key that matches
         [&] {
           nlohmann::json j = nlohmann::json::parse(whole);
-          j["betas"]["classes"][0]["beta"] = 1.5;
+          j["entries"][0]["betas"]["classes"][0]["beta"] = 1.5;
           return j.dump();
         }(),
         [&] {
           nlohmann::json j = nlohmann::json::parse(whole);
-          j["betas"]["classes"][0].erase("beta_sd");
+          j["entries"][0]["betas"]["classes"][0].erase("beta_sd");
           return j.dump();
         }()}) {
     std::ofstream(file, std::ios::trunc) << damaged;

@@ -172,7 +172,7 @@ TEST_F(Cli, AnUnknownSubcommandIsNamedWithTheList) {
   const Result r = run("bogus");
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.output.find("unknown subcommand 'bogus'; the subcommands are: run, resume, check, analyze, grading, "
-                          "predict, material, calibrate, whole-grading, reproduce, sweep, test, export-lammps, "
+                          "predict, material, calibrate, whole-grading, reproduce, sweep, test, blend, export-lammps, "
                           "import-lammps"),
             std::string::npos)
       << r.output;

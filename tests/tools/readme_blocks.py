@@ -183,8 +183,12 @@ def read_record(root):
                          "(scripts/update_readme.sh says how to make it)")
 
 
+# The build's name (aggpack --version: the release and its commit) changes with every commit.
+BUILD_NAME = re.compile(r"aggpack \d+\.\d+\.\d+(\+[0-9A-Za-z.]+)?")
+
+
 def masked(lines):
-    return [WALL_TIME.sub("<t>", line) for line in lines]
+    return [BUILD_NAME.sub("aggpack <version>", WALL_TIME.sub("<t>", line)) for line in lines]
 
 
 def main():

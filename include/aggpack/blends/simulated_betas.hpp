@@ -48,13 +48,16 @@ BedProcedure bed_procedure(const AggregateMaterial& material, const SimulatedBet
 nlohmann::json beta_cache_key(const AggregateMaterial& material, const SimulatedBetaOptions& options);
 [[nodiscard]] std::filesystem::path beta_cache_file(const SimulatedBetaOptions& options);
 
-// The cache's betas when it holds this key; none (and why, in `stale`) when it holds another
-// key or does not exist. InputError naming the file when it exists but cannot be read as a cache
+// The cache (<stem>.betas.json) holds entries, each betas and the key they were made with: one
+// for each of this build's settings of the material (a --check's cut of it beside its whole).
+// The cache's betas when it holds this key; none (and why, in `stale`) when it holds none of
+// this key or does not exist. InputError naming the file when it exists but cannot be read as a cache
 // (damaged): never a silently different curve.
 std::optional<MaterialBetas> read_beta_cache(const std::filesystem::path& file, const nlohmann::json& key,
                                              std::string& stale);
 
-// Writes the cache (atomically): the key, the betas and what the beds cost.
+// Writes the cache (atomically): this entry, the key, the betas and what the beds cost, beside
+// the entries of this build and material with other settings (the others are dropped).
 void write_beta_cache(const std::filesystem::path& file, const nlohmann::json& key, const MaterialBetas& betas,
                       double wall_clock_s);
 
