@@ -49,7 +49,8 @@ aggpack::TestProcess process_named(const std::string& name) {
   return {model, *k};
 }
 
-std::vector<double> fractions_of(const std::string& text) {
+// A comma-separated list of numbers given to `option`; InputError saying what is `expected`.
+std::vector<double> numbers_of(const std::string& text, const char* option, const char* expected) {
   std::vector<double> out;
   std::string field;
   for (const char ch : text + ",") {
@@ -58,13 +59,15 @@ std::vector<double> fractions_of(const std::string& text) {
       continue;
     }
     const auto x = aggpack::parse_finite_number(aggpack::trim(field));
-    if (!x) throw aggpack::InputError(fmt::format("--fractions {}: '{}' is not a number; expected volume fractions "
-                                                  "summing to 1, one a material, e.g. 0.6,0.4",
-                                                  text, field));
+    if (!x) throw aggpack::InputError(fmt::format("{} {}: '{}' is not a number; expected {}", option, text, field, expected));
     out.push_back(*x);
     field.clear();
   }
   return out;
+}
+
+std::vector<double> fractions_of(const std::string& text) {
+  return numbers_of(text, "--fractions", "volume fractions summing to 1, one a material, e.g. 0.6,0.4");
 }
 
 // A material's betas by `route`: "lab" (its lab number), "simulation" (its beds, or the cache).
@@ -107,7 +110,7 @@ aggpack::BlendCheckOptions check_options(const BlendArguments& a) {
   aggpack::BlendCheckOptions o;
   o.coarse = a.materials[0];
   o.fine = a.materials[1];
-  for (const double f : fractions_of(a.check)) o.percents.push_back(f);
+  o.percents = numbers_of(a.check, "--check", "the fine material's volume percents, e.g. 20,30,40");
   if (!a.check_cut.empty()) {
     std::string why;
     const auto cut = aggpack::parse_length(a.check_cut, &why);
@@ -175,7 +178,7 @@ void refit(const BlendArguments& a, std::vector<aggpack::BlendCheck>& earlier,
 // --interaction's two exponents; de Larrard's when not given.
 aggpack::CpmInteraction interaction_of(const std::string& text) {
   if (text.empty()) return {};
-  const std::vector<double> e = fractions_of(text);
+  const std::vector<double> e = numbers_of(text, "--interaction", "two positive exponents, loosening,wall");
   if (e.size() != 2 || !(e[0] > 0.0 && e[1] > 0.0))
     throw aggpack::InputError(fmt::format("--interaction {}: expected two positive exponents, loosening,wall "
                                           "(de Larrard's: 1.02,1.50)",

@@ -83,6 +83,9 @@ TEST_F(CliBlend, BadInputIsRefusedBeforeAnyWork) {
        "gravel_12mm_single.toml: the material has no lab number"},
       {kStoneAndSand + " --sweep 20:60:1 --route simulation --beds c29:tamping", "--beds c29:tamping"},
       {kStoneAndSand + " --sweep 20:60:1 --check 40 --check-cut wide", "--check-cut wide"},
+      {kStoneAndSand + " --check 40,x", "--check 40,x: 'x' is not a number"},
+      {kStoneAndSand + " --sweep 20:60:1 --interaction 1.02", "--interaction 1.02"},
+      {kStoneAndSand + " --sweep 20:60:1 --fit-interaction", "--fit-interaction"},
   };
   for (const Case& c : cases) {
     const auto r = run_cli("blend " + c.args + " --out " + out.string());
