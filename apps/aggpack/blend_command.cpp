@@ -1,5 +1,7 @@
 // `aggpack blend STONE.toml SAND.toml [MORE.toml] --sweep 20:60:1 | --fractions 0.6,0.4`: the
 // blends' packing predicted by CPM at each material's betas, in seconds.
+#include <fmt/format.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -8,8 +10,6 @@
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "aggpack/blends/blend_check.hpp"
 #include "aggpack/blends/blend_report.hpp"
@@ -32,12 +32,12 @@ struct BlendArguments {
   std::string route = "auto";
   std::string out;
   aggpack::SimulatedBetaOptions beds;
-  std::string check, check_cut;     // --check P1,P2: the DEM of the blend at those fine percents
+  std::string check, check_cut;                // --check P1,P2: the DEM of the blend at those fine percents
   std::vector<std::filesystem::path> checked;  // --checked FILE: earlier checks (blend.json) read back
-  double check_particles = 400;     // coarse particles in each blend bed
-  std::string interaction;          // --interaction L,W: CPM's exponents (empty: de Larrard's)
-  aggpack::CpmInteraction cpm;      // as read
-  bool fit_interaction = false;     // --fit-interaction: fitted on the check's points
+  double check_particles = 400;                // coarse particles in each blend bed
+  std::string interaction;                     // --interaction L,W: CPM's exponents (empty: de Larrard's)
+  aggpack::CpmInteraction cpm;                 // as read
+  bool fit_interaction = false;                // --fit-interaction: fitted on the check's points
   bool json = false, quiet = false;
 };
 
@@ -59,7 +59,8 @@ std::vector<double> numbers_of(const std::string& text, const char* option, cons
       continue;
     }
     const auto x = aggpack::parse_finite_number(aggpack::trim(field));
-    if (!x) throw aggpack::InputError(fmt::format("{} {}: '{}' is not a number; expected {}", option, text, field, expected));
+    if (!x)
+      throw aggpack::InputError(fmt::format("{} {}: '{}' is not a number; expected {}", option, text, field, expected));
     out.push_back(*x);
     field.clear();
   }
@@ -93,8 +94,8 @@ aggpack::BlendCurve curve(const BlendArguments& a, const std::vector<std::string
   const bool all_sim = std::all_of(routes.begin(), routes.end(), [](const std::string& r) { return r != "lab"; });
   c.route = all_lab ? "lab_test" : all_sim ? "simulation" : "mixed";
   if (!a.sweep.empty()) {
-    c.points = aggpack::sweep_binary(c.materials, aggpack::parse_sweep(a.sweep, "--sweep"), process.compaction_index,
-                                     a.cpm);
+    c.points =
+        aggpack::sweep_binary(c.materials, aggpack::parse_sweep(a.sweep, "--sweep"), process.compaction_index, a.cpm);
     c.densest = aggpack::densest(c.points);
   } else {
     for (const std::string& f : a.fractions)
@@ -154,8 +155,8 @@ aggpack::BlendCheck read_checked(const std::filesystem::path& file, const aggpac
     throw aggpack::InputError(fmt::format("--checked {}: not JSON ({})", file.string(), e.what()));
   }
   if (!j.contains("check"))
-    throw aggpack::InputError(fmt::format("--checked {}: no \"check\"; expected a blend.json of aggpack blend --check",
-                                          file.string()));
+    throw aggpack::InputError(
+        fmt::format("--checked {}: no \"check\"; expected a blend.json of aggpack blend --check", file.string()));
   return aggpack::read_blend_check(j["check"], interaction, file);
 }
 
@@ -180,9 +181,10 @@ aggpack::CpmInteraction interaction_of(const std::string& text) {
   if (text.empty()) return {};
   const std::vector<double> e = numbers_of(text, "--interaction", "two positive exponents, loosening,wall");
   if (e.size() != 2 || !(e[0] > 0.0 && e[1] > 0.0))
-    throw aggpack::InputError(fmt::format("--interaction {}: expected two positive exponents, loosening,wall "
-                                          "(de Larrard's: 1.02,1.50)",
-                                          text));
+    throw aggpack::InputError(
+        fmt::format("--interaction {}: expected two positive exponents, loosening,wall "
+                    "(de Larrard's: 1.02,1.50)",
+                    text));
   return {e[0], e[1]};
 }
 
@@ -192,8 +194,9 @@ int run_blend(BlendArguments& a) {
   if (!a.sweep.empty() && !a.fractions.empty())
     throw aggpack::InputError("aggpack blend: --sweep and --fractions together; expected one of them");
   if (no_curve && a.checked.empty() && a.check.empty())
-    throw aggpack::InputError("aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,... "
-                              "(or --check or --checked alone: the DEM check without a curve)");
+    throw aggpack::InputError(
+        "aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,... "
+        "(or --check or --checked alone: the DEM check without a curve)");
   if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
     throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
   a.cpm = interaction_of(a.interaction);
@@ -229,8 +232,9 @@ int run_blend(BlendArguments& a) {
                 : fmt::format("at exponents {:g} and {:g} (--interaction, not de Larrard's)", a.cpm.loosening_exponent,
                               a.cpm.wall_exponent),
       r.process.compaction_index, r.process.name));
-  r.modelling.push_back("volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
-                        "particle densities; bulk density oven-dry");
+  r.modelling.push_back(
+      "volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
+      "particle densities; bulk density oven-dry");
   r.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   nlohmann::json summary = aggpack::to_json(r);
   std::optional<aggpack::BlendCheck> checked;
@@ -241,7 +245,8 @@ int run_blend(BlendArguments& a) {
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
     if (r.sweep && !r.curves.empty()) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
   }
-  if (a.json) fmt::print("{}\n", summary.dump(1));
+  if (a.json)
+    fmt::print("{}\n", summary.dump(1));
   else if (!a.quiet) {
     fmt::print("{}{}", aggpack::describe(r), checked ? aggpack::describe(*checked) : "");
     for (const aggpack::BlendCheck& c : earlier) fmt::print("{}", aggpack::describe(c));
@@ -259,7 +264,9 @@ int run_blend(BlendArguments& a) {
 Subcommand add_blend_command(CLI::App& app) {
   const auto a = std::make_shared<BlendArguments>();
   auto* cmd = app.add_subcommand("blend", "The packing of blends of materials, predicted by CPM in seconds");
-  cmd->add_option("materials", a->materials, "Two or more material files (TOML), coarse first")->required()->expected(2, 20);
+  cmd->add_option("materials", a->materials, "Two or more material files (TOML), coarse first")
+      ->required()
+      ->expected(2, 20);
   cmd->add_option("--sweep", a->sweep, "FROM:TO:STEP: the second material's volume percent (two materials)");
   cmd->add_option("--fractions", a->fractions, "F1,F2,...: the materials' volume fractions (repeatable)");
   cmd->add_option("--process", a->process, "loose, rodded or vibrated: the K of CPM (default rodded)");

@@ -20,8 +20,8 @@ namespace {
 std::vector<Subcommand> add_subcommands(CLI::App& app, int argc, char** argv) {
   std::vector<Subcommand> all;
   for (auto group : {add_run_commands(app), add_bed_commands(app), add_study_commands(app, argc, argv),
-                     add_lab_commands(app), std::vector<Subcommand>{add_blend_command(app)},
-                     add_lammps_commands(app), std::vector<Subcommand>{add_specimen_command(app)}})
+                     add_lab_commands(app), std::vector<Subcommand>{add_blend_command(app)}, add_lammps_commands(app),
+                     std::vector<Subcommand>{add_specimen_command(app)}})
     all.insert(all.end(), group.begin(), group.end());
   return all;
 }

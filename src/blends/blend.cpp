@@ -59,8 +59,7 @@ void check_fractions(std::span<const MaterialBetas> materials, std::span<const d
     if (!(x >= 0.0 && x <= 1.0)) throw InputError(fmt::format("a volume fraction of {} is not between 0 and 1", x));
     sum += x;
   }
-  if (std::abs(sum - 1.0) > 1e-6)
-    throw InputError(fmt::format("the volume fractions sum to {:.6g}; expected 1", sum));
+  if (std::abs(sum - 1.0) > 1e-6) throw InputError(fmt::format("the volume fractions sum to {:.6g}; expected 1", sum));
 }
 
 std::vector<double> shifted(const BlendClasses& c, double sds) {
@@ -113,13 +112,13 @@ DensestBlend densest(std::span<const BlendPoint> curve) {
 std::vector<BlendPoint> sweep_binary(std::span<const MaterialBetas> materials, std::span<const double> percents,
                                      double k, const CpmInteraction& interaction) {
   if (materials.size() != 2)
-    throw InputError(fmt::format("--sweep: a sweep takes two materials (the second's volume percent), {} given; "
-                                 "expected --fractions for more",
-                                 materials.size()));
+    throw InputError(
+        fmt::format("--sweep: a sweep takes two materials (the second's volume percent), {} given; "
+                    "expected --fractions for more",
+                    materials.size()));
   std::vector<BlendPoint> out;
   for (const double pc : percents) {
-    if (!(pc >= 0.0 && pc <= 100.0))
-      throw InputError(fmt::format("--sweep: {} % is not between 0 and 100", pc));
+    if (!(pc >= 0.0 && pc <= 100.0)) throw InputError(fmt::format("--sweep: {} % is not between 0 and 100", pc));
     const double fractions[2] = {1.0 - pc / 100.0, pc / 100.0};
     out.push_back(predict_blend(materials, fractions, k, interaction));
   }
@@ -129,11 +128,14 @@ std::vector<BlendPoint> sweep_binary(std::span<const MaterialBetas> materials, s
 std::vector<double> parse_sweep(const std::string& text, const std::string& option) {
   std::vector<std::string> parts{""};
   for (const char ch : text) {
-    if (ch == ':') parts.emplace_back();
-    else parts.back().push_back(ch);
+    if (ch == ':')
+      parts.emplace_back();
+    else
+      parts.back().push_back(ch);
   }
   const auto fail = [&](const std::string& why) {
-    return InputError(fmt::format("{} {}: {}; expected FROM:TO:STEP in volume percent, e.g. 20:60:1", option, text, why));
+    return InputError(
+        fmt::format("{} {}: {}; expected FROM:TO:STEP in volume percent, e.g. 20:60:1", option, text, why));
   };
   if (parts.size() != 3) throw fail("not three numbers");
   double v[3];

@@ -32,7 +32,8 @@ MaterialBetas cut_below(const MaterialBetas& b, double d_min) {
     out.classes.push_back(c);
   }
   if (out.classes.empty() || !(total > 0.0))
-    throw InputError(fmt::format("{}: nothing of {} is coarser than {:g} mm", b.file.string(), b.material, d_min / kMm));
+    throw InputError(
+        fmt::format("{}: nothing of {} is coarser than {:g} mm", b.file.string(), b.material, d_min / kMm));
   for (ClassBeta& c : out.classes) c.volume_fraction /= total;
   out.source += fmt::format("; cut at {:g} mm", d_min / kMm);
   return out;
@@ -48,22 +49,25 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
   const AggregateMaterial coarse = load_material_file(o.coarse), fine = load_material_file(o.fine);
   if (o.percents.empty()) throw InputError("--check: no points; expected fine volume percents, e.g. 30,40");
   for (const double pc : o.percents)
-    if (!(pc > 0.0 && pc < 100.0)) throw InputError(fmt::format("--check {}: expected a percent between 0 and 100", pc));
+    if (!(pc > 0.0 && pc < 100.0))
+      throw InputError(fmt::format("--check {}: expected a percent between 0 and 100", pc));
   const BedProcedure procedure = bed_procedure(coarse, o.betas), fine_procedure = bed_procedure(fine, o.betas);
   if (procedure.test != fine_procedure.test || procedure.method != fine_procedure.method)
-    throw InputError(fmt::format("--check: {} is filled by {} {} and {} by {} {}; a blend bed has one procedure: "
-                                 "expected materials calibrated on the same test and method",
-                                 o.coarse.string(), name_of(kLabTestNames, procedure.test), procedure.method,
-                                 o.fine.string(), name_of(kLabTestNames, fine_procedure.test), fine_procedure.method));
+    throw InputError(
+        fmt::format("--check: {} is filled by {} {} and {} by {} {}; a blend bed has one procedure: "
+                    "expected materials calibrated on the same test and method",
+                    o.coarse.string(), name_of(kLabTestNames, procedure.test), procedure.method, o.fine.string(),
+                    name_of(kLabTestNames, fine_procedure.test), fine_procedure.method));
   BlendCheck check;
   // Every bed planned (and its scenario read) before any simulation.
   std::vector<ClassBed> beds;
   for (const double pc : o.percents)
-    beds.push_back(blend_bed({&coarse, &fine, pc / 100.0, o.fine_d_min, procedure.test, procedure.method,
-                              o.coarse_particles}));
+    beds.push_back(
+        blend_bed({&coarse, &fine, pc / 100.0, o.fine_d_min, procedure.test, procedure.method, o.coarse_particles}));
   const auto scenario_of = [&](std::size_t i) {
-    return parse_scenario(beds[i].scenario_text,
-                          o.coarse.parent_path() / fmt::format("blend bed, {:g} % {}", o.percents[i], o.fine.filename().string()));
+    return parse_scenario(
+        beds[i].scenario_text,
+        o.coarse.parent_path() / fmt::format("blend bed, {:g} % {}", o.percents[i], o.fine.filename().string()));
   };
   for (std::size_t i = 0; i < beds.size(); ++i) scenario_of(i);
 
@@ -81,8 +85,8 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
   check.modelling.erase(std::remove_if(check.modelling.begin(), check.modelling.end(),
                                        [](const std::string& m) { return m.rfind("the bed:", 0) == 0; }),
                         check.modelling.end());
-  check.modelling.push_back(fmt::format("CPM at K {:g} ({}), the K of the beds' procedure", check.process.compaction_index,
-                                        check.process.name));
+  check.modelling.push_back(fmt::format("CPM at K {:g} ({}), the K of the beds' procedure",
+                                        check.process.compaction_index, check.process.name));
   const MaterialBetas pair[2] = {check.coarse, check.fine};
   Campaign campaign(b.threads, b.quiet, log, beds.size() * static_cast<std::size_t>(b.seeds));
   for (std::size_t i = 0; i < beds.size(); ++i) {
@@ -95,7 +99,8 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
     p.predicted_low = predicted.packing_low;
     p.predicted_high = predicted.packing_high;
     for (int seed = 1; seed <= b.seeds; ++seed) {
-      const CaseRun run = campaign.run(fmt::format("blend {:g} %", p.percent), scenario_of(i), static_cast<std::uint64_t>(seed));
+      const CaseRun run =
+          campaign.run(fmt::format("blend {:g} %", p.percent), scenario_of(i), static_cast<std::uint64_t>(seed));
       p.packing.push_back(run.final_density());
       p.particles = run.particle_count;
       p.wall_clock_s += run.result.wall_clock_s;
@@ -157,8 +162,8 @@ BlendCheck read_blend_check(const nlohmann::json& j, const CpmInteraction& inter
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    throw InputError(fmt::format("{}: not a blend check as aggpack blend --check writes it ({})", file.string(),
-                                 e.what()));
+    throw InputError(
+        fmt::format("{}: not a blend check as aggpack blend --check writes it ({})", file.string(), e.what()));
   }
 }
 
@@ -182,7 +187,8 @@ CpmInteraction fit_interaction(std::span<const BlendCheck> checks) {
     constexpr int kSteps = 24;
     for (int i = 0; i <= kSteps; ++i)
       for (int j = 0; j <= kSteps; ++j) {
-        const CpmInteraction x{std::exp(lo_l + (hi_l - lo_l) * i / kSteps), std::exp(lo_w + (hi_w - lo_w) * j / kSteps)};
+        const CpmInteraction x{std::exp(lo_l + (hi_l - lo_l) * i / kSteps),
+                               std::exp(lo_w + (hi_w - lo_w) * j / kSteps)};
         const double e = largest_difference(checks, x);
         if (e < best_error) best_error = e, best = x;
       }
@@ -211,8 +217,8 @@ nlohmann::json to_json(const BlendCheck& c) {
   return {{"process", c.process.name},
           {"compaction_index", c.process.compaction_index},
           {"procedure", c.procedure},
-          {"interaction", {{"loosening_exponent", c.interaction.loosening_exponent},
-                           {"wall_exponent", c.interaction.wall_exponent}}},
+          {"interaction",
+           {{"loosening_exponent", c.interaction.loosening_exponent}, {"wall_exponent", c.interaction.wall_exponent}}},
           {"coarse", to_json(c.coarse)},
           {"fine", to_json(c.fine)},
           {"points", points},

@@ -58,12 +58,13 @@ void describe_curve(fmt::memory_buffer& o, const BlendCurve& c) {
   const DensestBlend& d = *c.densest;
   const auto second = [&](std::size_t i) { return 100.0 * c.points[i].volume_fractions.at(1); };
   const BlendPoint& top = c.points[d.index];
-  fmt::format_to(std::back_inserter(o),
-                 "  densest: {:.1f} % of {} by volume ({:.1f} % by mass): packing {:.4f}, voids {:.1f} %, {:.0f} kg/m3\n"
-                 "    as dense within the betas' spread: {:.1f}-{:.1f} %; within {:g} of the densest: {:.1f}-{:.1f} %\n",
-                 second(d.index), c.materials.at(1).material, 100.0 * top.mass_fractions.at(1), top.packing,
-                 top.voids_percent, top.bulk_density_kg_m3, second(d.spread_first), second(d.spread_last),
-                 DensestBlend::kPlateau, second(d.plateau_first), second(d.plateau_last));
+  fmt::format_to(
+      std::back_inserter(o),
+      "  densest: {:.1f} % of {} by volume ({:.1f} % by mass): packing {:.4f}, voids {:.1f} %, {:.0f} kg/m3\n"
+      "    as dense within the betas' spread: {:.1f}-{:.1f} %; within {:g} of the densest: {:.1f}-{:.1f} %\n",
+      second(d.index), c.materials.at(1).material, 100.0 * top.mass_fractions.at(1), top.packing, top.voids_percent,
+      top.bulk_density_kg_m3, second(d.spread_first), second(d.spread_last), DensestBlend::kPlateau,
+      second(d.plateau_first), second(d.plateau_last));
 }
 
 }  // namespace
@@ -101,8 +102,8 @@ std::string describe(const BlendResult& r) {
 std::string blend_svg(const BlendResult& r) {
   Plot plot;
   const BlendCurve& first = r.curves.front();
-  plot.title = fmt::format("{} + {}, {} (K {:g}), CPM", first.materials.at(0).material,
-                           first.materials.at(1).material, r.process.name, r.process.compaction_index);
+  plot.title = fmt::format("{} + {}, {} (K {:g}), CPM", first.materials.at(0).material, first.materials.at(1).material,
+                           r.process.name, r.process.compaction_index);
   plot.x_label = fmt::format("{} (% of the solid volume)", first.materials.at(1).material);
   plot.y_label = "packing fraction";
   plot.x_column = "second_volume_percent";

@@ -17,14 +17,19 @@ double container_perturbed_fraction(double diameter, double measure_diameter, do
 
 TestProcess c29_process(C29Method method) {
   switch (method) {
-    case C29Method::Shovelling: return {"poured", *compaction_index_of("poured")};
-    case C29Method::Rodding: return {"rodded", *compaction_index_of("rodded")};
-    case C29Method::Jigging: return {"vibrated", *compaction_index_of("vibrated")};
+    case C29Method::Shovelling:
+      return {"poured", *compaction_index_of("poured")};
+    case C29Method::Rodding:
+      return {"rodded", *compaction_index_of("rodded")};
+    case C29Method::Jigging:
+      return {"vibrated", *compaction_index_of("vibrated")};
   }
   return {};
 }
 
-TestProcess c1252_process() { return {"poured", *compaction_index_of("poured")}; }
+TestProcess c1252_process() {
+  return {"poured", *compaction_index_of("poured")};
+}
 
 namespace {
 
@@ -59,12 +64,15 @@ LabSample lab_sample(const AggregateMaterial& m) {
   }
   if (m.c1252) {
     switch (m.c1252->method) {
-      case C1252Method::A: s.distributions.push_back(fractions_distribution(c1252_method_a_fractions(), "C1252 A")); break;
+      case C1252Method::A:
+        s.distributions.push_back(fractions_distribution(c1252_method_a_fractions(), "C1252 A"));
+        break;
       case C1252Method::B:
         for (const SieveFraction& f : c1252_method_b_fractions())
           s.distributions.push_back(fractions_distribution({f}, "C1252 B"));
         break;
-      case C1252Method::C: s.distributions.push_back(grading_classes(m.grading.grading, std::nullopt, kC1252MethodCLargest));
+      case C1252Method::C:
+        s.distributions.push_back(grading_classes(m.grading.grading, std::nullopt, kC1252MethodCLargest));
     }
     s.measure_diameter_m = kC1252Diameter;
     s.measure_height_m = kC1252Height;
@@ -74,9 +82,10 @@ LabSample lab_sample(const AggregateMaterial& m) {
                          name_of(kC1252MethodNames, m.c1252->method), m.c1252->percent, s.packing);
     return s;
   }
-  throw InputError(fmt::format("{}: the material has no lab number ([lab.c29] or [lab.c1252]); the lab route needs "
-                               "one (or calibrate the material and take the simulation route)",
-                               m.file.string()));
+  throw InputError(
+      fmt::format("{}: the material has no lab number ([lab.c29] or [lab.c1252]); the lab route needs "
+                  "one (or calibrate the material and take the simulation route)",
+                  m.file.string()));
 }
 
 // The sample's packing in its measure when every class has residual packing density `beta`.
@@ -85,9 +94,9 @@ double sample_packing(const LabSample& s, double beta) {
   for (const ModelDistribution& d : s.distributions) {
     std::vector<double> in_measure;
     for (const ModelClass& c : d.classes)
-      in_measure.push_back(beta * (1.0 - (1.0 - kContainerWallFactor) *
-                                             container_perturbed_fraction(c.diameter, s.measure_diameter_m,
-                                                                          s.measure_height_m)));
+      in_measure.push_back(
+          beta * (1.0 - (1.0 - kContainerWallFactor) *
+                            container_perturbed_fraction(c.diameter, s.measure_diameter_m, s.measure_height_m)));
     sum += cpm(d, in_measure, s.process.compaction_index).density;
   }
   return sum / static_cast<double>(s.distributions.size());
@@ -102,13 +111,15 @@ MaterialBetas lab_route_betas(const AggregateMaterial& m) {
   double lo = 0.05, hi = kHighestBeta;
   const double reach = sample_packing(s, hi);
   if (s.packing >= reach)
-    throw InputError(fmt::format("{}: {}: CPM at K {:g} reaches at most {:.4f} in that measure (beta {:g}); the lab's "
-                                 "number is out of the model's reach",
-                                 m.file.string(), s.test, s.process.compaction_index, reach, kHighestBeta));
+    throw InputError(
+        fmt::format("{}: {}: CPM at K {:g} reaches at most {:.4f} in that measure (beta {:g}); the lab's "
+                    "number is out of the model's reach",
+                    m.file.string(), s.test, s.process.compaction_index, reach, kHighestBeta));
   if (s.packing <= sample_packing(s, lo))
-    throw InputError(fmt::format("{}: {}: a packing this loose needs a beta below {:g}; expected a lab number of a "
-                                 "granular bed",
-                                 m.file.string(), s.test, lo));
+    throw InputError(
+        fmt::format("{}: {}: a packing this loose needs a beta below {:g}; expected a lab number of a "
+                    "granular bed",
+                    m.file.string(), s.test, lo));
   for (int it = 0; it < 200 && hi - lo > 1e-12; ++it) {
     const double mid = 0.5 * (lo + hi);
     (sample_packing(s, mid) < s.packing ? lo : hi) = mid;
@@ -171,8 +182,12 @@ MaterialBetas material_betas_from_json(const nlohmann::json& j) {
   b.particle_density_kg_m3 = j.at("particle_density_kg_m3").get<double>();
   b.modelling = j.at("modelling").get<std::vector<std::string>>();
   for (const nlohmann::json& c : j.at("classes")) {
-    ClassBeta k{c.at("d_lo_m").get<double>(),     c.at("d_hi_m").get<double>(), c.at("diameter_m").get<double>(),
-                c.at("volume_fraction").get<double>(), c.at("beta").get<double>(), c.at("beta_sd").get<double>(),
+    ClassBeta k{c.at("d_lo_m").get<double>(),
+                c.at("d_hi_m").get<double>(),
+                c.at("diameter_m").get<double>(),
+                c.at("volume_fraction").get<double>(),
+                c.at("beta").get<double>(),
+                c.at("beta_sd").get<double>(),
                 c.at("packing").get<std::vector<double>>()};
     if (!(k.beta > 0.0 && k.beta < 1.0) || !(k.volume_fraction >= 0.0) || !(k.d_lo > 0.0 && k.d_lo < k.d_hi))
       throw std::runtime_error("a class's values are out of range");

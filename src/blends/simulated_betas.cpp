@@ -47,20 +47,23 @@ BedProcedure bed_procedure(const AggregateMaterial& m) {
   if (m.c29) return {LabTestKind::C29, std::string(name_of(kC29MethodNames, m.c29->method)), "its lab number's test"};
   if (m.c1252)
     return {LabTestKind::C1252, std::string(name_of(kC1252MethodNames, m.c1252->method)), "its lab number's test"};
-  return {LabTestKind::C29, "shovelling", "no test named, the material having no calibration and no lab number: C29's loose procedure"};
+  return {LabTestKind::C29, "shovelling",
+          "no test named, the material having no calibration and no lab number: C29's loose procedure"};
 }
 
 BedProcedure bed_procedure(const AggregateMaterial& m, const SimulatedBetaOptions& o) {
   if (o.procedure.empty()) return bed_procedure(m);
   const std::size_t colon = o.procedure.find(':');
-  const std::string test = o.procedure.substr(0, colon), method = colon == std::string::npos ? "" : o.procedure.substr(colon + 1);
+  const std::string test = o.procedure.substr(0, colon),
+                    method = colon == std::string::npos ? "" : o.procedure.substr(colon + 1);
   const auto kind = value_of(kLabTestNames, test);
   const bool known = kind && (*kind == LabTestKind::C29 ? value_of(kC29MethodNames, method).has_value()
                                                         : value_of(kC1252MethodNames, method).has_value());
   if (!known)
-    throw InputError(fmt::format("--beds {}: expected c29:shovelling, c29:rodding, c29:jigging, c1252:A, c1252:B or "
-                                 "c1252:C",
-                                 o.procedure));
+    throw InputError(
+        fmt::format("--beds {}: expected c29:shovelling, c29:rodding, c29:jigging, c1252:A, c1252:B or "
+                    "c1252:C",
+                    o.procedure));
   return {*kind, method, "asked for (--beds)"};
 }
 
@@ -93,9 +96,10 @@ nlohmann::json cache_entries(const std::filesystem::path& file) {
 }
 
 InputError damaged(const std::filesystem::path& file, const std::exception& e) {
-  return InputError(fmt::format("{}: a damaged betas cache ({}); expected what aggpack blend writes: remove it to "
-                                "simulate the betas again",
-                                file.string(), e.what()));
+  return InputError(
+      fmt::format("{}: a damaged betas cache ({}); expected what aggpack blend writes: remove it to "
+                  "simulate the betas again",
+                  file.string(), e.what()));
 }
 
 }  // namespace
@@ -155,9 +159,9 @@ struct PlannedClass {
 };
 
 Scenario bed_scenario(const PlannedClass& p, const SimulatedBetaOptions& o) {
-  return parse_scenario(p.bed->scenario_text, o.material.parent_path() /
-                                                  fmt::format("{} ({:g}-{:g} mm bed)", o.material.filename().string(),
-                                                              p.size.d_lo / kMm, p.size.d_hi / kMm));
+  return parse_scenario(p.bed->scenario_text,
+                        o.material.parent_path() / fmt::format("{} ({:g}-{:g} mm bed)", o.material.filename().string(),
+                                                               p.size.d_lo / kMm, p.size.d_hi / kMm));
 }
 
 // Every class's bed, its scenario read: all checked before any runs.
@@ -209,13 +213,15 @@ void add_modelling(MaterialBetas& out, const std::vector<PlannedClass>& planned,
     procedures.push_back(fmt::format("{:g}-{:g} mm {}", p.size.d_lo / kMm, p.size.d_hi / kMm, p.bed->procedure));
   }
   out.modelling.push_back(fmt::format("the beds: {}", fmt::join(procedures, "; ")));
-  out.modelling.push_back(fmt::format("each bed periodic (no wall), about {:.0f} particles, its packing read in the "
-                                      "largest cube clear of the floor and the surface",
-                                      o.particles));
+  out.modelling.push_back(
+      fmt::format("each bed periodic (no wall), about {:.0f} particles, its packing read in the "
+                  "largest cube clear of the floor and the surface",
+                  o.particles));
   if (procedures.size() < planned.size())
-    out.modelling.push_back(fmt::format("classes finer than {:g} mm not simulated: they take the finest simulated "
-                                        "class's beta",
-                                        o.finest_simulated_m / kMm));
+    out.modelling.push_back(
+        fmt::format("classes finer than {:g} mm not simulated: they take the finest simulated "
+                    "class's beta",
+                    o.finest_simulated_m / kMm));
   if (m.calibration.is_null())
     out.modelling.push_back("the material is not calibrated: its contact values are the file's own");
 }
@@ -233,9 +239,10 @@ void check_cache_writable(const std::filesystem::path& cache) {
     std::filesystem::remove(probe, error);
     return;
   }
-  throw InputError(fmt::format("{}: the betas' cache cannot be written in {}; expected a folder aggpack may write "
-                               "(--betas-cache DIR)",
-                               cache.string(), folder.string()));
+  throw InputError(
+      fmt::format("{}: the betas' cache cannot be written in {}; expected a folder aggpack may write "
+                  "(--betas-cache DIR)",
+                  cache.string(), folder.string()));
 }
 }  // namespace
 
@@ -276,10 +283,11 @@ MaterialBetas simulated_betas(const SimulatedBetaOptions& o, std::ostream& log) 
           out.classes[i].beta_sd = out.classes[j].beta_sd;
           break;
         }
-  out.source = fmt::format("simulated: each sieve fraction alone in a periodic bed, {} seeds, by ASTM {} {} ({}); "
-                           "beta = phi (1 + 1/K) at K {:g} ({})",
-                           o.seeds, procedure.test == LabTestKind::C29 ? "C29" : "C1252", procedure.method,
-                           procedure.why, process.compaction_index, process.name);
+  out.source = fmt::format(
+      "simulated: each sieve fraction alone in a periodic bed, {} seeds, by ASTM {} {} ({}); "
+      "beta = phi (1 + 1/K) at K {:g} ({})",
+      o.seeds, procedure.test == LabTestKind::C29 ? "C29" : "C1252", procedure.method, procedure.why,
+      process.compaction_index, process.name);
   add_modelling(out, planned, o, m);
   write_beta_cache(cache, key, out, campaign.seconds());
   if (!o.quiet) log << fmt::format("aggpack: {}: betas written to {}\n", m.name, cache.string());

@@ -36,8 +36,8 @@ toml::table fraction_grading(const ClassBedSetup& s) {
 struct Procedure {
   LabTestKind test = LabTestKind::C29;
   std::string method;
-  double d_hi = 0.0;  // m: the largest particles (C29's measure for them sets the strokes per area)
-  std::string source; // the material file, for messages
+  double d_hi = 0.0;   // m: the largest particles (C29's measure for them sets the strokes per area)
+  std::string source;  // the material file, for messages
 };
 
 // What the test does to its measure, done to the bed: the procedure's steps and tables.
@@ -53,13 +53,14 @@ std::string fill(const Procedure& s, const ClassBed& bed, toml::table& root, std
                                     impact_speed(kC1252FunnelHeight), kC1252FunnelHeight / kMm));
   } else if (!(rodding || jigging) || (rodding && !rod_fits)) {
     pour.insert("release_height", metres(bed.fill_height_m + kC29ShovelHeight));
-    modelling.push_back(fmt::format("poured as C29's shovel: each particle arriving as if from {:.0f} mm above the "
-                                    "bed's top{}",
-                                    kC29ShovelHeight / kMm,
-                                    rodding ? fmt::format(" (the bed, {:.1f} mm across, is narrower than {:g} rods: "
-                                                          "rodding it would not be the lab's rodding)",
-                                                          bed.side_m / kMm, kLeastRodsAcross)
-                                            : ""));
+    modelling.push_back(
+        fmt::format("poured as C29's shovel: each particle arriving as if from {:.0f} mm above the "
+                    "bed's top{}",
+                    kC29ShovelHeight / kMm,
+                    rodding ? fmt::format(" (the bed, {:.1f} mm across, is narrower than {:g} rods: "
+                                          "rodding it would not be the lab's rodding)",
+                                          bed.side_m / kMm, kLeastRodsAcross)
+                            : ""));
   }
   root.insert("pour", pour);
   if ((rodding && rod_fits) || jigging) {
@@ -75,9 +76,10 @@ std::string fill(const Procedure& s, const ClassBed& bed, toml::table& root, std
       root.insert("rodding", toml::table{{"strokes", static_cast<int>(strokes)},
                                          {"rod_diameter", metres(kC29RodDiameter)},
                                          {"penetration", metres(0.0)}});
-      modelling.push_back(fmt::format("rodded as C29 rods: three layers, each poured then rodded with {:.0f} strokes "
-                                      "of a {:.0f} mm rod, the standard's strokes per area of its {} measure",
-                                      strokes, kC29RodDiameter / kMm, measure.name));
+      modelling.push_back(
+          fmt::format("rodded as C29 rods: three layers, each poured then rodded with {:.0f} strokes "
+                      "of a {:.0f} mm rod, the standard's strokes per area of its {} measure",
+                      strokes, kC29RodDiameter / kMm, measure.name));
     } else {
       root.insert("jigging", toml::table{{"drops", kC29DropsPerLayer}, {"height", metres(kC29DropHeight)}});
       modelling.push_back(fmt::format("jigged as C29 jigs: three layers, each dropped {} times from {:.0f} mm",
@@ -93,7 +95,8 @@ std::string fill(const Procedure& s, const ClassBed& bed, toml::table& root, std
 
 void check_method(LabTestKind test, const std::string& method, const std::filesystem::path& file) {
   if (test == LabTestKind::C29 && method != "shovelling" && method != "rodding" && method != "jigging")
-    throw InputError(fmt::format("{}: C29 method '{}'; expected shovelling, rodding or jigging", file.string(), method));
+    throw InputError(
+        fmt::format("{}: C29 method '{}'; expected shovelling, rodding or jigging", file.string(), method));
 }
 
 // The side W of a periodic square holding a bed W + margin deep whose solid is `particles`
@@ -138,9 +141,8 @@ ClassBed class_bed(const ClassBedSetup& s) {
   bed.side_m = side;
   bed.fill_height_m = side + kMarginSizes * s.d_hi;
 
-  const std::string title =
-      fmt::format("{} alone, {:g}-{:g} mm, in a periodic bed, as {} {}", m.name, s.d_lo / kMm, s.d_hi / kMm,
-                  s.test == LabTestKind::C29 ? "ASTM C29" : "ASTM C1252", s.method);
+  const std::string title = fmt::format("{} alone, {:g}-{:g} mm, in a periodic bed, as {} {}", m.name, s.d_lo / kMm,
+                                        s.d_hi / kMm, s.test == LabTestKind::C29 ? "ASTM C29" : "ASTM C1252", s.method);
   toml::table root{{"title", title}, {"seed", 1}};
   root.insert("container", periodic_container(bed));
   const double solid = side * side * bed.fill_height_m * packing;
@@ -182,9 +184,9 @@ ClassBed blend_bed(const BlendBedSetup& s) {
   const double generated = solid * (coarse_share / r_coarse + s.fine_volume_fraction / r_fine);
   const double ca_fa = (coarse_share / r_coarse) / (s.fine_volume_fraction / r_fine);
 
-  const std::string title = fmt::format("{} and {} ({:.1f} % by volume), in a periodic bed, as {} {}", coarse.name,
-                                        fine.name, 100.0 * s.fine_volume_fraction,
-                                        s.test == LabTestKind::C29 ? "ASTM C29" : "ASTM C1252", s.method);
+  const std::string title =
+      fmt::format("{} and {} ({:.1f} % by volume), in a periodic bed, as {} {}", coarse.name, fine.name,
+                  100.0 * s.fine_volume_fraction, s.test == LabTestKind::C29 ? "ASTM C29" : "ASTM C1252", s.method);
   toml::table root{{"title", title}, {"seed", 1}};
   root.insert("container", periodic_container(bed));
   toml::table fine_component{{"material", "fine"}};
@@ -204,9 +206,10 @@ ClassBed blend_bed(const BlendBedSetup& s) {
       s.fine_d_min > 0.0 ? fmt::format(" (cut at {:g} mm)", s.fine_d_min / kMm) : "", side / kMm,
       bed.fill_height_m / kMm));
   if (r_coarse != 1.0 || r_fine != 1.0)
-    bed.modelling.push_back(fmt::format("the amounts: the generator's coarse/fine ratio {:.4g}, the grains' own volume "
-                                        "ratios {:.3f} and {:.3f} taken out",
-                                        ca_fa, r_coarse, r_fine));
+    bed.modelling.push_back(
+        fmt::format("the amounts: the generator's coarse/fine ratio {:.4g}, the grains' own volume "
+                    "ratios {:.3f} and {:.3f} taken out",
+                    ca_fa, r_coarse, r_fine));
   bed.procedure = fill({s.test, s.method, d_max, coarse.file.string()}, bed, root, bed.modelling);
   root.insert("dynamics", toml::table{{"max_time", s.max_time_s}});
   root.insert("output", toml::table{{"formats", toml::array{}}, {"checkpoint", false}});

@@ -1,11 +1,11 @@
 #pragma once
 // Private to labtests: a test's scenario text, from the material and the standard's numbers.
+#include <toml++/toml.h>
+
 #include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <toml++/toml.h>
 
 #include "aggpack/io/material_file.hpp"
 #include "aggpack/labtests/lab_test.hpp"

@@ -143,8 +143,8 @@ std::vector<double> partial_virtual_densities(const ModelDistribution& dist, con
                 cpm_wall(c[i].diameter, c[j].diameter, interaction.wall_exponent) * beta[i] * (1.0 - 1.0 / beta[j])) *
                y;
       else  // finer: loosening effect on i
-        sum += (1.0 - cpm_loosening(c[j].diameter, c[i].diameter, interaction.loosening_exponent) * beta[i] / beta[j]) *
-               y;
+        sum +=
+            (1.0 - cpm_loosening(c[j].diameter, c[i].diameter, interaction.loosening_exponent) * beta[i] / beta[j]) * y;
     }
     gamma[i] = beta[i] / (1.0 - sum);
   }

@@ -42,8 +42,8 @@ TEST(LabRoute, OneClassInvertsInClosedForm) {
   const double phi = 1.0 - voids_percent(m, 1500) / 100.0;
   const Measure measure = c29_measure(0.0125, "m.toml");
   const double d = std::sqrt(9.5e-3 * 12.5e-3);
-  const double wall = 1.0 - (1.0 - kContainerWallFactor) *
-                                container_perturbed_fraction(d, measure.diameter_m, measure.height_m);
+  const double wall =
+      1.0 - (1.0 - kContainerWallFactor) * container_perturbed_fraction(d, measure.diameter_m, measure.height_m);
   EXPECT_NEAR(b.classes[0].beta, phi * (1.0 + 1.0 / 4.5) / wall, 1e-9);
   EXPECT_EQ(b.route, BetaRoute::LabTest);
   EXPECT_NE(b.source.find("C29 rodding"), std::string::npos);
@@ -59,9 +59,9 @@ TEST(LabRoute, C1252MethodAInvertsOnTheStandardsSampleAndGivesTheSandsOwnClasses
   const ModelDistribution dist = grading_classes(sample, sample.smallest());
   std::vector<double> in_measure;
   for (const ModelClass& c : dist.classes)
-    in_measure.push_back(b.classes[0].beta * (1.0 - (1.0 - kContainerWallFactor) *
-                                                        container_perturbed_fraction(c.diameter, kC1252Diameter,
-                                                                                     kC1252Height)));
+    in_measure.push_back(
+        b.classes[0].beta *
+        (1.0 - (1.0 - kContainerWallFactor) * container_perturbed_fraction(c.diameter, kC1252Diameter, kC1252Height)));
   EXPECT_NEAR(cpm(dist, in_measure, 4.1).density, 0.58, 1e-9);
 }
 

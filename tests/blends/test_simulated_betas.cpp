@@ -96,19 +96,18 @@ TEST_F(SimulatedBetas, DamagedCacheIsRefusedNamingTheFile) {
   std::stringstream text;
   text << std::ifstream(file).rdbuf();
   const std::string whole = text.str();
-  for (const std::string& damaged :
-       {whole.substr(0, whole.size() / 2), std::string("not json"),
-        // a beta out of range, behind a key that matches
-        [&] {
-          nlohmann::json j = nlohmann::json::parse(whole);
-          j["entries"][0]["betas"]["classes"][0]["beta"] = 1.5;
-          return j.dump();
-        }(),
-        [&] {
-          nlohmann::json j = nlohmann::json::parse(whole);
-          j["entries"][0]["betas"]["classes"][0].erase("beta_sd");
-          return j.dump();
-        }()}) {
+  for (const std::string& damaged : {whole.substr(0, whole.size() / 2), std::string("not json"),
+                                     // a beta out of range, behind a key that matches
+                                     [&] {
+                                       nlohmann::json j = nlohmann::json::parse(whole);
+                                       j["entries"][0]["betas"]["classes"][0]["beta"] = 1.5;
+                                       return j.dump();
+                                     }(),
+                                     [&] {
+                                       nlohmann::json j = nlohmann::json::parse(whole);
+                                       j["entries"][0]["betas"]["classes"][0].erase("beta_sd");
+                                       return j.dump();
+                                     }()}) {
     std::ofstream(file, std::ios::trunc) << damaged;
     std::string stale;
     try {

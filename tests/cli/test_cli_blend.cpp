@@ -140,8 +140,7 @@ TEST_F(CliBlendCheck, ASmallBinaryBlendOfSpheresAgainstItsPrediction) {
   EXPECT_LT(check["largest_difference"].get<double>(), 0.05);
   // Read back, the check predicts the same; the betas are now cached (no bed simulated again).
   const auto again = run_cli("blend " + (kMaterials / "glass_beads_11mm.toml").string() + " " + fine.string() +
-                             " --checked " +
-                             (out / "blend.json").string() + " --json");
+                             " --checked " + (out / "blend.json").string() + " --json");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   const nlohmann::json back = nlohmann::json::parse(again.output.substr(again.output.find('{')));
   EXPECT_DOUBLE_EQ(back["checked"][0]["points"][0]["predicted"].get<double>(), point["predicted"].get<double>());

@@ -2,12 +2,11 @@
 // A blend of materials by CPM, each class of each material at its own beta (material_betas.hpp):
 // its packing fraction, voids and bulk density at given proportions, a sweep of them and the
 // densest blend with its band. Milliseconds a point (README, "Blends of materials in seconds").
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aggpack/blends/material_betas.hpp"
 
@@ -17,13 +16,13 @@ namespace aggpack {
 struct BlendPoint {
   std::vector<double> volume_fractions;
   std::vector<double> mass_fractions;
-  double packing = 0.0;          // CPM's packing fraction at the process's K
+  double packing = 0.0;                          // CPM's packing fraction at the process's K
   double packing_low = 0.0, packing_high = 0.0;  // every beta one sd lower, one sd higher
-  double virtual_packing = 0.0;  // CPM's gamma
-  std::string dominant;          // the class whose gamma_i is gamma: "material, d_lo-d_hi mm"
-  double voids_percent = 0.0;    // 100 (1 - packing)
-  double particle_density_kg_m3 = 0.0;  // of the blend's solid
-  double bulk_density_kg_m3 = 0.0;      // packing x particle density (oven-dry)
+  double virtual_packing = 0.0;                  // CPM's gamma
+  std::string dominant;                          // the class whose gamma_i is gamma: "material, d_lo-d_hi mm"
+  double voids_percent = 0.0;                    // 100 (1 - packing)
+  double particle_density_kg_m3 = 0.0;           // of the blend's solid
+  double bulk_density_kg_m3 = 0.0;               // packing x particle density (oven-dry)
 };
 
 // InputError for fractions that are not one a material, non-negative and summing to 1 (within

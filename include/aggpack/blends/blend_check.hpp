@@ -4,12 +4,11 @@
 // beside CPM's packing at that procedure's K (docs/validation.md, "Blends: predicted against
 // simulated"). `aggpack blend --check 30,40` and scripts/validate_blends.sh run it.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <ostream>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aggpack/blends/simulated_betas.hpp"
 #include "aggpack/studies/campaign.hpp"
@@ -23,11 +22,11 @@ MaterialBetas cut_below(const MaterialBetas& betas, double d_min);
 
 struct BlendCheckOptions {
   std::filesystem::path coarse, fine;
-  std::vector<double> percents;  // the fine's volume percent of the solid, each point
-  double fine_d_min = 0.0;       // m: the fine cut there in the bed and in the prediction (0: none)
-  double coarse_particles = 400; // about, in each bed
-  SimulatedBetaOptions betas;    // seeds, threads and bed size of the materials' betas; quiet
-  CpmInteraction interaction;    // of the prediction (published: de Larrard's)
+  std::vector<double> percents;   // the fine's volume percent of the solid, each point
+  double fine_d_min = 0.0;        // m: the fine cut there in the bed and in the prediction (0: none)
+  double coarse_particles = 400;  // about, in each bed
+  SimulatedBetaOptions betas;     // seeds, threads and bed size of the materials' betas; quiet
+  CpmInteraction interaction;     // of the prediction (published: de Larrard's)
 };
 
 struct BlendCheckPoint {
@@ -35,15 +34,15 @@ struct BlendCheckPoint {
   std::vector<double> packing;  // each seed's bed
   SeedStatistics simulated;
   double predicted = 0.0, predicted_low = 0.0, predicted_high = 0.0;  // CPM, betas -+ sd
-  double predicted_published = 0.0;  // CPM with de Larrard's interaction exponents
-  std::size_t particles = 0;    // of the last seed's bed
-  double wall_clock_s = 0.0;    // of its beds
+  double predicted_published = 0.0;                                   // CPM with de Larrard's interaction exponents
+  std::size_t particles = 0;                                          // of the last seed's bed
+  double wall_clock_s = 0.0;                                          // of its beds
 };
 
 struct BlendCheck {
-  TestProcess process;             // of the beds: CPM is taken at its K
-  std::string procedure;           // what was done to the beds
-  MaterialBetas coarse, fine;      // as predicted with (the fine cut)
+  TestProcess process;         // of the beds: CPM is taken at its K
+  std::string procedure;       // what was done to the beds
+  MaterialBetas coarse, fine;  // as predicted with (the fine cut)
   CpmInteraction interaction;
   std::vector<BlendCheckPoint> points;
   std::vector<std::string> modelling;

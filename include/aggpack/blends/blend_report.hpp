@@ -2,11 +2,10 @@
 // `aggpack blend`'s answer: the curve (or the points asked), the densest blend with its band, in
 // the lab's units, as a table, JSON and a plot; every curve's route and modelling said.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aggpack/blends/blend.hpp"
 
@@ -21,8 +20,8 @@ struct BlendCurve {
 };
 
 struct BlendResult {
-  TestProcess process;     // the lab process the blends are predicted for, and its K
-  bool sweep = false;      // the points are a sweep of the second material's volume percent
+  TestProcess process;  // the lab process the blends are predicted for, and its K
+  bool sweep = false;   // the points are a sweep of the second material's volume percent
   // The answer first; where the answer's route is the simulation and every material also has a
   // lab number, the lab route's curve second, beside it.
   std::vector<BlendCurve> curves;

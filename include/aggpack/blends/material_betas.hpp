@@ -8,10 +8,9 @@
 //    contact values and its test's procedure, in a periodic bed; each class's beta from its
 //    bed's packing through CPM's relation for one class (simulated_betas.hpp).
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "aggpack/core/enum_names.hpp"
 #include "aggpack/io/material_file.hpp"
@@ -30,15 +29,15 @@ struct ClassBeta {
   double diameter = 0.0;          // m: the equivalent diameter, the geometric mean of the sieves
   double volume_fraction = 0.0;   // of the material's solid
   double beta = 0.0;
-  double beta_sd = 0.0;           // over the seeds of its beds; 0 by the lab route
-  std::vector<double> packing;    // simulation: the packing fraction of each seed's bed
+  double beta_sd = 0.0;         // over the seeds of its beds; 0 by the lab route
+  std::vector<double> packing;  // simulation: the packing fraction of each seed's bed
 };
 
 struct MaterialBetas {
   std::filesystem::path file;
-  std::string material;          // its name
+  std::string material;  // its name
   BetaRoute route = BetaRoute::LabTest;
-  std::string source;            // what the betas come from, in a sentence
+  std::string source;                   // what the betas come from, in a sentence
   double particle_density_kg_m3 = 0.0;  // oven-dry (ASTM C127/C128)
   std::vector<ClassBeta> classes;       // coarse to fine
   std::vector<std::string> modelling;   // every modelling choice behind the betas

@@ -19,7 +19,7 @@ struct SimulatedBetaOptions {
   std::filesystem::path material;
   int seeds = 3;
   int threads = 0;
-  double particles = 3000;      // about, in each bed
+  double particles = 3000;  // about, in each bed
   // Classes finer than this (m) are not simulated: they take the finest simulated class's beta
   // (a bed of 0.1 mm grains costs as many steps as ten of 10 mm ones; they are a few % of a sand).
   double finest_simulated_m = 0.3e-3;

@@ -14,16 +14,16 @@ struct ClassBedSetup {
   const AggregateMaterial* material = nullptr;
   double d_lo = 0.0, d_hi = 0.0;  // m: the fraction's sieves
   LabTestKind test = LabTestKind::C29;
-  std::string method;             // C29: shovelling, rodding, jigging; C1252: A, B, C (all poured alike)
-  double particles = 3000;        // about, in the bed
-  double max_time_s = 2.0;        // each DEM step's budget of simulated time
+  std::string method;       // C29: shovelling, rodding, jigging; C1252: A, B, C (all poured alike)
+  double particles = 3000;  // about, in the bed
+  double max_time_s = 2.0;  // each DEM step's budget of simulated time
 };
 
 struct ClassBed {
   std::string scenario_text;
-  std::string procedure;          // "poured", "rodded", "jigged": what was done to this bed
-  double side_m = 0.0;            // of the periodic square
-  double fill_height_m = 0.0;     // expected
+  std::string procedure;       // "poured", "rodded", "jigged": what was done to this bed
+  double side_m = 0.0;         // of the periodic square
+  double fill_height_m = 0.0;  // expected
   std::vector<std::string> modelling;
 };
 
@@ -42,7 +42,7 @@ struct BlendBedSetup {
   double fine_d_min = 0.0;            // m
   LabTestKind test = LabTestKind::C29;
   std::string method;
-  double coarse_particles = 400;      // about, in the bed: the bed's side from them
+  double coarse_particles = 400;  // about, in the bed: the bed's side from them
   double max_time_s = 2.0;
 };
 ClassBed blend_bed(const BlendBedSetup& setup);
