@@ -112,6 +112,9 @@ aggpack::BlendCheckOptions check_options(const BlendArguments& a) {
   o.coarse = a.materials[0];
   o.fine = a.materials[1];
   o.percents = numbers_of(a.check, "--check", "the fine material's volume percents, e.g. 20,30,40");
+  for (const double pc : o.percents)  // before the curve's betas, which may simulate
+    if (!(pc > 0.0 && pc < 100.0))
+      throw aggpack::InputError(fmt::format("--check {}: {} is not a percent between 0 and 100", a.check, pc));
   if (!a.check_cut.empty()) {
     std::string why;
     const auto cut = aggpack::parse_length(a.check_cut, &why);

@@ -84,6 +84,9 @@ TEST_F(CliBlend, BadInputIsRefusedBeforeAnyWork) {
       {kStoneAndSand + " --sweep 20:60:1 --route simulation --beds c29:tamping", "--beds c29:tamping"},
       {kStoneAndSand + " --sweep 20:60:1 --check 40 --check-cut wide", "--check-cut wide"},
       {kStoneAndSand + " --check 40,x", "--check 40,x: 'x' is not a number"},
+      {(kMaterials / "glass_beads_11mm.toml").string() + " " + (kMaterials / "glass_grit_3mm.toml").string() +
+           " --route simulation --sweep 20:60:1 --check 0 --betas-cache " + (dir_ / "none").string(),
+       "--check 0: 0 is not a percent"},
       {kStoneAndSand + " --sweep 20:60:1 --interaction 1.02", "--interaction 1.02"},
       {kStoneAndSand + " --sweep 20:60:1 --fit-interaction", "--fit-interaction"},
   };
