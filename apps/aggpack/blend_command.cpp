@@ -13,6 +13,7 @@
 
 #include "aggpack/blends/blend_check.hpp"
 #include "aggpack/blends/blend_report.hpp"
+#include "aggpack/blends/blend_request.hpp"
 #include "aggpack/blends/simulated_betas.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/text.hpp"
@@ -41,14 +42,6 @@ struct BlendArguments {
   bool json = false, quiet = false;
 };
 
-aggpack::TestProcess process_named(const std::string& name) {
-  const std::string model = name == "loose" ? "poured" : name;
-  const auto k = aggpack::compaction_index_of(model);
-  if (!k || model == "vibrated_compressed")
-    throw aggpack::InputError(fmt::format("--process {}: expected loose, rodded or vibrated", name));
-  return {model, *k};
-}
-
 // A comma-separated list of numbers given to `option`; InputError saying what is `expected`.
 std::vector<double> numbers_of(const std::string& text, const char* option, const char* expected) {
   std::vector<double> out;
@@ -69,39 +62,6 @@ std::vector<double> numbers_of(const std::string& text, const char* option, cons
 
 std::vector<double> fractions_of(const std::string& text) {
   return numbers_of(text, "--fractions", "volume fractions summing to 1, one a material, e.g. 0.6,0.4");
-}
-
-// A material's betas by `route`: "lab" (its lab number), "simulation" (its beds, or the cache).
-aggpack::MaterialBetas betas_of(const BlendArguments& a, const std::filesystem::path& file, const std::string& route) {
-  if (route == "lab") return aggpack::lab_route_betas(aggpack::load_material_file(file));
-  aggpack::SimulatedBetaOptions o = a.beds;
-  o.material = file;
-  o.quiet = a.quiet || a.json;
-  return aggpack::simulated_betas(o, std::cerr);
-}
-
-// --route auto: a calibrated material by simulation, another by its lab number.
-std::string route_of(const std::string& asked, const aggpack::AggregateMaterial& m) {
-  if (asked != "auto") return asked;
-  return m.calibration.is_null() ? "lab" : "simulation";
-}
-
-aggpack::BlendCurve curve(const BlendArguments& a, const std::vector<std::string>& routes,
-                          const aggpack::TestProcess& process) {
-  aggpack::BlendCurve c;
-  for (std::size_t i = 0; i < a.materials.size(); ++i) c.materials.push_back(betas_of(a, a.materials[i], routes[i]));
-  const bool all_lab = std::all_of(routes.begin(), routes.end(), [](const std::string& r) { return r == "lab"; });
-  const bool all_sim = std::all_of(routes.begin(), routes.end(), [](const std::string& r) { return r != "lab"; });
-  c.route = all_lab ? "lab_test" : all_sim ? "simulation" : "mixed";
-  if (!a.sweep.empty()) {
-    c.points =
-        aggpack::sweep_binary(c.materials, aggpack::parse_sweep(a.sweep, "--sweep"), process.compaction_index, a.cpm);
-    c.densest = aggpack::densest(c.points);
-  } else {
-    for (const std::string& f : a.fractions)
-      c.points.push_back(aggpack::predict_blend(c.materials, fractions_of(f), process.compaction_index, a.cpm));
-  }
-  return c;
 }
 
 // --check's points and bed: two materials, the fine's volume percents, its cut, the betas' beds.
@@ -191,8 +151,29 @@ aggpack::CpmInteraction interaction_of(const std::string& text) {
   return {e[0], e[1]};
 }
 
+// The request of the blends asked: InputError for anything wrong, before any bed runs.
+aggpack::BlendRequest request_of(const BlendArguments& a) {
+  aggpack::BlendRequest r;
+  r.materials = a.materials;
+  if (!a.sweep.empty()) {
+    if (a.materials.size() != 2)
+      throw aggpack::InputError(fmt::format(
+          "--sweep: a sweep takes two materials (the second's volume percent), {} given; expected --fractions for more",
+          a.materials.size()));
+    r.sweep_percents = aggpack::parse_sweep(a.sweep, "--sweep");
+  }
+  for (const std::string& f : a.fractions) r.fractions.push_back(fractions_of(f));
+  r.process = aggpack::blend_process(a.process, "--process");
+  r.route = a.route;
+  if (r.route != "auto" && r.route != "lab" && r.route != "simulation")
+    throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
+  r.beds = a.beds;
+  r.beds.quiet = a.quiet || a.json;
+  r.interaction = a.cpm;
+  return r;
+}
+
 int run_blend(BlendArguments& a) {
-  const auto start = std::chrono::steady_clock::now();
   const bool no_curve = a.sweep.empty() && a.fractions.empty();
   if (!a.sweep.empty() && !a.fractions.empty())
     throw aggpack::InputError("aggpack blend: --sweep and --fractions together; expected one of them");
@@ -200,45 +181,19 @@ int run_blend(BlendArguments& a) {
     throw aggpack::InputError(
         "aggpack blend: give --sweep FROM:TO:STEP (two materials) or --fractions F1,F2,... "
         "(or --check or --checked alone: the DEM check without a curve)");
-  if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
-    throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
   a.cpm = interaction_of(a.interaction);
   if (a.fit_interaction && a.check.empty() && a.checked.empty())
     throw aggpack::InputError("--fit-interaction: fits on the DEM of blends; expected --check or --checked too");
   std::vector<aggpack::BlendCheck> earlier;  // read (and refused) before any work
   for (const std::filesystem::path& file : a.checked) earlier.push_back(read_checked(file, a.cpm));
-  aggpack::BlendResult r;
-  r.process = process_named(a.process);
-  r.sweep = !a.sweep.empty();
-  std::vector<std::string> routes;
-  bool all_have_lab = true;
-  for (const auto& file : a.materials) {  // every file read and checked before any simulation
-    const aggpack::AggregateMaterial m = aggpack::load_material_file(file);
-    routes.push_back(route_of(a.route, m));
-    all_have_lab = all_have_lab && (m.c29 || m.c1252);
-    if (!no_curve && routes.back() == "lab") aggpack::lab_route_betas(m);
-  }
-  if (!a.sweep.empty()) aggpack::parse_sweep(a.sweep, "--sweep");
-  for (const std::string& f : a.fractions) fractions_of(f);
+  const aggpack::BlendRequest request = request_of(a);
+  if (!no_curve) aggpack::check_blend_request(request);
   std::optional<aggpack::BlendCheckOptions> check;
   if (!a.check.empty()) check = check_options(a);
   if (!a.out.empty()) aggpack::check_output_directory(a.out, true, "--out");
-  if (!no_curve) r.curves.push_back(curve(a, routes, r.process));
-  const bool any_simulated = std::any_of(routes.begin(), routes.end(), [](const std::string& x) { return x != "lab"; });
-  if (!no_curve && any_simulated && all_have_lab)  // the lab route beside it: what the simulation adds
-    r.curves.push_back(curve(a, std::vector<std::string>(routes.size(), "lab"), r.process));
-  const bool published = a.interaction.empty();
-  r.modelling.push_back(fmt::format(
-      "CPM (de Larrard 1999): every class of every material at its own beta, its loosening and wall effects {}; the "
-      "packing of a bulk bed (no container wall) at K {:g} ({})",
-      published ? "at their published exponents (1.02, 1.50)"
-                : fmt::format("at exponents {:g} and {:g} (--interaction, not de Larrard's)", a.cpm.loosening_exponent,
-                              a.cpm.wall_exponent),
-      r.process.compaction_index, r.process.name));
-  r.modelling.push_back(
-      "volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
-      "particle densities; bulk density oven-dry");
-  r.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  aggpack::BlendResult r;
+  r.process = request.process;
+  if (!no_curve) r = aggpack::predict_blends(request, std::cerr);
   nlohmann::json summary = aggpack::to_json(r);
   std::optional<aggpack::BlendCheck> checked;
   if (check) checked = run_check(a, *check, summary);
@@ -246,7 +201,7 @@ int run_blend(BlendArguments& a) {
   if (!a.out.empty()) {
     const std::filesystem::path folder(a.out);
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
-    if (r.sweep && !r.curves.empty()) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r));
+    if (r.sweep) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r, checked ? &*checked : nullptr));
   }
   if (a.json)
     fmt::print("{}\n", summary.dump(1));

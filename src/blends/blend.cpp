@@ -50,17 +50,6 @@ BlendClasses blend_classes(std::span<const MaterialBetas> materials, std::span<c
   return out;
 }
 
-void check_fractions(std::span<const MaterialBetas> materials, std::span<const double> f) {
-  if (materials.empty()) throw InputError("a blend needs at least one material");
-  if (f.size() != materials.size())
-    throw InputError(fmt::format("{} fractions for {} materials; expected one a material", f.size(), materials.size()));
-  double sum = 0.0;
-  for (const double x : f) {
-    if (!(x >= 0.0 && x <= 1.0)) throw InputError(fmt::format("a volume fraction of {} is not between 0 and 1", x));
-    sum += x;
-  }
-  if (std::abs(sum - 1.0) > 1e-6) throw InputError(fmt::format("the volume fractions sum to {:.6g}; expected 1", sum));
-}
 
 std::vector<double> shifted(const BlendClasses& c, double sds) {
   std::vector<double> out(c.beta.size());
@@ -70,9 +59,21 @@ std::vector<double> shifted(const BlendClasses& c, double sds) {
 
 }  // namespace
 
+void check_volume_fractions(std::size_t materials, std::span<const double> f) {
+  if (materials == 0) throw InputError("a blend needs at least one material");
+  if (f.size() != materials)
+    throw InputError(fmt::format("{} fractions for {} materials; expected one a material", f.size(), materials));
+  double sum = 0.0;
+  for (const double x : f) {
+    if (!(x >= 0.0 && x <= 1.0)) throw InputError(fmt::format("a volume fraction of {} is not between 0 and 1", x));
+    sum += x;
+  }
+  if (std::abs(sum - 1.0) > 1e-6) throw InputError(fmt::format("the volume fractions sum to {:.6g}; expected 1", sum));
+}
+
 BlendPoint predict_blend(std::span<const MaterialBetas> materials, std::span<const double> fractions, double k,
                          const CpmInteraction& interaction) {
-  check_fractions(materials, fractions);
+  check_volume_fractions(materials.size(), fractions);
   const BlendClasses c = blend_classes(materials, fractions);
   const CpmResult r = cpm(c.distribution, c.beta, k, interaction);
   BlendPoint p;

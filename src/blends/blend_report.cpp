@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <cmath>
+
 #include "aggpack/core/version.hpp"
 #include "aggpack/report/svg_plot.hpp"
 
@@ -99,7 +101,7 @@ std::string describe(const BlendResult& r) {
   return fmt::to_string(o);
 }
 
-std::string blend_svg(const BlendResult& r) {
+std::string blend_svg(const BlendResult& r, const BlendCheck* check) {
   Plot plot;
   const BlendCurve& first = r.curves.front();
   plot.title = fmt::format("{} + {}, {} (K {:g}), CPM", first.materials.at(0).material, first.materials.at(1).material,
@@ -127,6 +129,26 @@ std::string blend_svg(const BlendResult& r) {
       mark.mark = Mark::Points;
       plot.series.push_back(mark);
     }
+  }
+  if (check != nullptr && !check->points.empty()) {
+    PlotSeries dem;
+    dem.label = fmt::format("DEM of the blend, {} (seed mean and sd)", check->procedure);
+    for (const BlendCheckPoint& p : check->points) {
+      dem.x.push_back(p.percent);
+      dem.y.push_back(p.simulated.mean);
+      dem.y_error.push_back(std::isfinite(p.simulated.sd) ? p.simulated.sd : 0.0);
+    }
+    dem.mark = Mark::Points;
+    plot.series.push_back(dem);
+    // CPM at the checked blends themselves: the same as the curve, unless the check cut the fine.
+    PlotSeries cpm;
+    cpm.label = "CPM at the checked blends";
+    for (const BlendCheckPoint& p : check->points) {
+      cpm.x.push_back(p.percent);
+      cpm.y.push_back(p.predicted);
+    }
+    cpm.mark = Mark::Points;
+    plot.series.push_back(cpm);
   }
   return svg_plot(plot);
 }

@@ -27,6 +27,8 @@ struct BlendPoint {
 
 // InputError for fractions that are not one a material, non-negative and summing to 1 (within
 // 1e-6), or for no material.
+void check_volume_fractions(std::size_t materials, std::span<const double> volume_fractions);
+// The blend's packing by CPM; its fractions checked as check_volume_fractions does.
 BlendPoint predict_blend(std::span<const MaterialBetas> materials, std::span<const double> volume_fractions,
                          double compaction_index, const CpmInteraction& interaction = {});
 

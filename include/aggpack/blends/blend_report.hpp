@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "aggpack/blends/blend.hpp"
+#include "aggpack/blends/blend_check.hpp"
 
 namespace aggpack {
 
@@ -34,7 +35,7 @@ nlohmann::json to_json(const BlendResult& result);
 // voids, bulk density), the densest blend and its bands, the routes.
 std::string describe(const BlendResult& result);
 // The packing against the second material's volume percent (a sweep), every curve, the
-// densest marked; the lab route dashed.
-std::string blend_svg(const BlendResult& result);
+// densest marked; the lab route dashed; a check's simulated blends (seed mean and sd) as points.
+std::string blend_svg(const BlendResult& result, const BlendCheck* check = nullptr);
 
 }  // namespace aggpack
