@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "aggpack/blends/blend_request.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
@@ -162,6 +163,38 @@ int predict_command(const aggpack::PredictRequest& predict, bool json) {
   return 0;
 }
 
+// predict STONE.toml [--mix SAND.toml --ca-fa R]: materials' CPM at their betas, simulating
+// nothing (a calibrated material's simulated betas from its cache, else its lab number's).
+int predict_materials_command(const aggpack::PredictRequest& predict, const std::string& process, bool json,
+                              const CLI::App& cmd) {
+  for (const char* option : {"--k", "--beta", "--beta-fine", "--calibration", "--set"})
+    if (cmd.count(option) > 0)
+      throw aggpack::InputError(fmt::format(
+          "predict {}: {} is for a scenario or a grading; a material's betas come from its lab number or its "
+          "simulated beds, and --process sets K",
+          predict.input, option));
+  aggpack::BlendRequest r;
+  r.materials.push_back(predict.input);
+  if (predict.fine) {
+    if (!aggpack::looks_like_material_file(*predict.fine))
+      throw aggpack::InputError(fmt::format("--mix {}: expected a material file, as {} is", *predict.fine, predict.input));
+    if (!predict.ca_fa)
+      throw aggpack::InputError("--ca-fa is missing: the coarse/fine volume ratio of the two materials' blend");
+    r.materials.push_back(*predict.fine);
+    r.fractions.push_back({*predict.ca_fa / (1.0 + *predict.ca_fa), 1.0 / (1.0 + *predict.ca_fa)});
+  } else {
+    if (predict.ca_fa) throw aggpack::InputError("--ca-fa: needs --mix, the fine material");
+    r.fractions.push_back({1.0});
+  }
+  r.process = aggpack::blend_process(process.empty() ? "rodded" : process, "--process");
+  r.beds.quiet = true;
+  r.may_simulate = false;
+  const aggpack::BlendResult b = aggpack::predict_blends(r, std::cerr);
+  if (json) fmt::print("{}\n", aggpack::to_json(b).dump(1));
+  else fmt::print("{}", aggpack::describe(b));
+  return 0;
+}
+
 Subcommand add_predict(CLI::App& app) {
   struct Arguments {
     aggpack::PredictRequest predict;
@@ -172,20 +205,26 @@ Subcommand add_predict(CLI::App& app) {
   aggpack::PredictRequest& predict = a->predict;
   auto* cmd = app.add_subcommand(
       "predict", "Analytic packing densities (CPM, Furnas, Desmond-Weeks) of a scenario's or a grading's sizes");
-  cmd->add_option("input", predict.input, "Scenario (.toml), a shipped grading's name or a CSV sieve analysis")
+  cmd->add_option("input", predict.input,
+                  "Scenario (.toml), a shipped grading's name, a CSV sieve analysis, or a material file (.toml)")
       ->required();
-  cmd->add_option("--mix", predict.fine, "A fine grading (name or file) to blend with the grading");
+  cmd->add_option("--mix", predict.fine,
+                  "A fine grading (name or file) to blend with the grading; a fine material file with a material");
   auto* ca_fa_opt = cmd->add_option("--ca-fa", a->ca_fa, "Coarse/fine volume ratio of the blend");
   cmd->add_option("--k", predict.compaction_index, "CPM compaction index K (4.1 poured ... 9 vibrated and compressed)");
-  cmd->add_option("--process", predict.process, "K of a lab process: poured, rodded, vibrated, vibrated_compressed");
+  cmd->add_option("--process", predict.process,
+                  "K of a lab process: poured, rodded, vibrated, vibrated_compressed (materials: loose or poured, "
+                  "rodded, vibrated; default rodded)");
   cmd->add_option("--beta", predict.beta, "CPM residual packing density of every class (default 0.72, spheres)");
   cmd->add_option("--beta-fine", predict.beta_fine,
                   "CPM residual packing density of a blend's fine aggregate (default: --beta)");
   cmd->add_option("--calibration", predict.calibration, "K and beta from a file aggpack calibrate wrote");
   cmd->add_option("--set", predict.overrides.set, "Override a scenario key: key.path=value");
   cmd->add_flag("--json", a->json, "Print machine-readable JSON");
-  return {cmd, [a, ca_fa_opt] {
+  return {cmd, [a, ca_fa_opt, cmd] {
             if (*ca_fa_opt) a->predict.ca_fa = positive_argument(a->ca_fa, "--ca-fa");
+            if (aggpack::looks_like_material_file(a->predict.input))
+              return predict_materials_command(a->predict, a->predict.process.value_or(""), a->json, *cmd);
             return predict_command(a->predict, a->json);
           }};
 }

@@ -10,7 +10,9 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "aggpack/blends/material_sweep.hpp"
 #include "aggpack/core/error.hpp"
+#include "aggpack/io/output_directory.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/material_file.hpp"
 #include "aggpack/labtests/material_calibration.hpp"
@@ -285,51 +287,102 @@ Subcommand add_reproduce(CLI::App& app, int argc, char** argv) {
   return {cmd, [a, argc, argv] { return reproduce_command(*a, argc, argv); }};
 }
 
+struct SweepArguments {
+  aggpack::SweepOptions sweep;
+  std::vector<std::filesystem::path> inputs;  // a scenario; or two material files
+  std::string out, fa, seeds, cuts, stop_after;
+  std::vector<std::string> calibrations;
+  std::string check, process = "rodded", route = "auto";  // materials only
+};
+
+// sweep STONE.toml SAND.toml: the curve predicted, the DEM only at --check's points.
+int sweep_materials_command(const SweepArguments& a, const CLI::App& cmd) {
+  for (const char* option : {"--set", "--cut-offs", "--calibration", "--stop-after", "--resume"})
+    if (cmd.count(option) > 0)
+      throw aggpack::InputError(fmt::format(
+          "sweep of two materials: {} is a scenario's option; expected --fa, --check, --process, --route, --seeds",
+          option));
+  aggpack::MaterialSweepOptions o;
+  o.blend.materials = a.inputs;
+  o.blend.sweep_percents = aggpack::parse_fa_points(a.fa);
+  o.blend.process = aggpack::blend_process(a.process, "--process");
+  o.blend.route = a.route;
+  if (!a.seeds.empty()) o.blend.beds.seeds = count_argument(a.seeds, "--seeds");
+  o.blend.beds.threads = a.sweep.threads;
+  o.blend.beds.quiet = a.sweep.quiet;
+  if (!a.check.empty()) o.check_percents = numbers_argument(a.check, "--check");
+  aggpack::check_output_directory(a.out, true, "--out");
+  const aggpack::MaterialSweep s = aggpack::sweep_materials(o, std::cerr);
+  const std::filesystem::path out = a.out;
+  aggpack::write_file_atomically(out / "sweep.json", aggpack::to_json(s).dump(1) + "\n");
+  aggpack::write_file_atomically(out / "sweep.csv", aggpack::sweep_csv(s));
+  aggpack::write_file_atomically(out / "sweep.svg", aggpack::blend_svg(s.predicted, s.check ? &*s.check : nullptr));
+  if (!a.sweep.quiet)
+    fmt::print("{}{}wrote {}, sweep.csv and sweep.svg\n", aggpack::describe(s.predicted),
+               s.check ? aggpack::describe(*s.check) : "", (out / "sweep.json").string());
+  return 0;
+}
+
+int sweep_scenario_command(SweepArguments& a, const CLI::App& cmd) {
+  for (const char* option : {"--check", "--process", "--route"})
+    if (cmd.count(option) > 0)
+      throw aggpack::InputError(fmt::format(
+          "sweep of a scenario: {} is a sweep of two materials' option (sweep STONE.toml SAND.toml); a scenario's "
+          "sweep simulates every point",
+          option));
+  aggpack::SweepOptions& options = a.sweep;
+  options.scenario = a.inputs.front();
+  options.out = a.out;
+  if (!a.seeds.empty()) options.seeds = count_argument(a.seeds, "--seeds");
+  options.fa_percent = aggpack::parse_fa_points(a.fa);
+  if (!a.cuts.empty()) {
+    options.cut_offs = lengths_argument(a.cuts, "--cut-offs");
+    options.cut_off_texts = list_parts(a.cuts);
+  }
+  if (!a.stop_after.empty()) options.stop_after = a.stop_after;
+  const CalibrationArguments calibrations = calibration_arguments(a.calibrations);
+  options.calibration = calibrations.cpm;
+  if (calibrations.calibrated_by) {
+    options.sets.push_back(*calibrations.calibrated_by);
+    options.typed_as[*calibrations.calibrated_by] = calibrations.typed;
+  }
+  aggpack::sweep(options, std::cout);
+  return 0;
+}
+
 Subcommand add_sweep(CLI::App& app) {
-  struct Arguments {
-    aggpack::SweepOptions sweep;
-    std::string out, fa, seeds, cuts, stop_after;
-    std::vector<std::string> calibrations;
-  };
-  const auto a = std::make_shared<Arguments>();
+  const auto a = std::make_shared<SweepArguments>();
   aggpack::SweepOptions& sweep = a->sweep;
   a->out = sweep.out.string();
-  auto* cmd = app.add_subcommand("sweep", "Density against sand fraction for a coarse/fine mix: the densest blend");
-  cmd->add_option("scenario", sweep.scenario, "Scenario with a coarse/fine mix (TOML)")->required();
+  auto* cmd = app.add_subcommand(
+      "sweep", "Density against sand fraction: a scenario's coarse/fine mix simulated at every point, or two "
+               "materials' blends predicted (the DEM only at --check's points)");
+  cmd->add_option("inputs", a->inputs,
+                  "Scenario with a coarse/fine mix (TOML); or two material files, coarse then fine")
+      ->required()
+      ->expected(1, 2);
   cmd->add_option("--fa", a->fa, "Fine aggregate %: FROM:TO:STEP or a list, e.g. 25:45:5 or 29,35,43")->required();
-  auto* seeds_opt = cmd->add_option("--seeds", a->seeds, "Seeds per point (default 3)");
+  cmd->add_option("--seeds", a->seeds, "Seeds per point (default 3); of materials: of each bed");
   cmd->add_option("--out", a->out, "Output directory (default out/sweep)");
+  cmd->add_option("--check", a->check,
+                  "Two materials: P1,P2,...: the DEM of the blend (periodic bed) at these fine percents only");
+  cmd->add_option("--process", a->process, "Two materials: loose, rodded or vibrated, the K of CPM (default rodded)");
+  cmd->add_option("--route", a->route,
+                  "Two materials: their betas by auto (calibrated: simulation, else lab), lab or simulation");
   cmd->add_option("--set", sweep.sets, "Override a scenario key in every run: key.path=value");
   cmd->add_option("--cut-offs", a->cuts,
                   "Three or more d_min of the fine grading: each blend's whole grading estimated from them");
   cmd->add_option("--calibration", a->calibrations,
                   "A file aggpack calibrate wrote: CPM's K and beta (with --cut-offs), or (with --dem) fitted keys for "
                   "every run");
-  auto* stop_opt =
-      cmd->add_option("--stop-after", a->stop_after, "Stop each run after this stage (deposition, dynamics)");
+  cmd->add_option("--stop-after", a->stop_after, "Stop each run after this stage (deposition, dynamics)");
   add_threads_option(cmd, sweep.threads);
   cmd->add_flag("--resume", sweep.resume,
                 "Continue an interrupted sweep into the same --out: runs it finished or began are taken up "
                 "from their checkpoints, not run again");
   cmd->add_flag("--quiet", sweep.quiet, "Print nothing on success, no progress line");
-  return {cmd, [a, seeds_opt, stop_opt] {
-            aggpack::SweepOptions& options = a->sweep;
-            options.out = a->out;
-            if (*seeds_opt) options.seeds = count_argument(a->seeds, "--seeds");
-            options.fa_percent = aggpack::parse_fa_points(a->fa);
-            if (!a->cuts.empty()) {
-              options.cut_offs = lengths_argument(a->cuts, "--cut-offs");
-              options.cut_off_texts = list_parts(a->cuts);
-            }
-            if (*stop_opt) options.stop_after = a->stop_after;
-            const CalibrationArguments calibrations = calibration_arguments(a->calibrations);
-            options.calibration = calibrations.cpm;
-            if (calibrations.calibrated_by) {
-              options.sets.push_back(*calibrations.calibrated_by);
-              options.typed_as[*calibrations.calibrated_by] = calibrations.typed;
-            }
-            aggpack::sweep(options, std::cout);
-            return 0;
+  return {cmd, [a, cmd] {
+            return a->inputs.size() == 2 ? sweep_materials_command(*a, *cmd) : sweep_scenario_command(*a, *cmd);
           }};
 }
 

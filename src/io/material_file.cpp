@@ -178,6 +178,15 @@ MaterialFileRead read_material_file(const std::filesystem::path& file) {
 
 AggregateMaterial load_material_file(const std::filesystem::path& file) { return read_material_file(file).material; }
 
+bool looks_like_material_file(const std::filesystem::path& file) {
+  if (file.extension() != ".toml" || !std::filesystem::is_regular_file(file)) return false;
+  try {
+    return parse_toml(read_input_text(file, "the file", std::uintmax_t{1} << 20), file).contains("specific_gravity");
+  } catch (const std::exception&) {
+    return false;  // not TOML: the scenario's reader says what is wrong with it
+  }
+}
+
 AggregateMaterial parse_material_file(std::string_view text, const std::filesystem::path& file) {
   return read_material_table(with_calibration(parse_toml(text, file)), file);
 }

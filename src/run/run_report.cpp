@@ -481,7 +481,16 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
       all.push_back({{"direction", x.direction}, {"path", x.path}, {"what", x.what}, {"spheres", x.spheres}});
     summary["lammps_exchanges"] = all;
   }
-  summary["predictions"] = to_json(predictions());
+  const Predictions predicted = predictions();
+  summary["predictions"] = to_json(predicted);
+  // Which numbers are the bed's and which a model's, and from what.
+  summary["density_sources"] = {
+      {"density", "simulated: the bed's solid fraction in virtual boxes (stages.*.density likewise)"},
+      {"bulk_density", "simulated: density x the grains' particle density"},
+      {"predictions", fmt::format("predicted by analytic models, nothing simulated: CPM's K {:g} ({}), beta {:g} ({})",
+                                  predicted.parameters.compaction_index, predicted.parameters.compaction_source,
+                                  predicted.parameters.beta, predicted.parameters.beta_source)}};
+  if (final.measure) summary["density_sources"]["measure"] = "simulated: the lab measure's content, as the test weighs it";
   if (const auto rest = rest_state()) {
     summary["settled"] = rest->settled;
     summary["final_translational_energy_per_particle_mgd"] = rest->translational_energy_per_particle_mgd;

@@ -283,6 +283,7 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
     nlohmann::json point = {
         {"fa_percent", p.fa_percent},
         {"ca_fa", p.ca_fa},
+        {"source", "simulated"},
         {"density", {{"mean", p.density.mean}, {"sd", or_null(p.density.sd)}, {"values", p.final_density},
                      {"voids_content_percent", bulk_density(p.density.mean, p.particle_density).voids_percent},
                      {"bulk_density_kg_m3", bulk_density(p.density.mean, p.particle_density).kg_per_m3},
@@ -296,6 +297,7 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
       nlohmann::json w = to_json(*p.whole);
       w.erase("aggpack_version");
       w.erase("scenario_file");
+      w["source"] = "predicted: CPM carrying the simulated cut-offs to the whole grading";
       point["whole_grading"] = w;
     }
     result["points"].push_back(point);

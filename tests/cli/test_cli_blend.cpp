@@ -108,6 +108,59 @@ TEST_F(CliBlend, ADamagedCacheOfBetasIsAnErrorNamingIt) {
   EXPECT_NE(r.output.find("glass_beads_11mm.betas.json: a damaged betas cache"), std::string::npos) << r.output;
 }
 
+TEST_F(CliBlend, ASweepOfTwoMaterialsIsTheBlendsCurveEveryPointPredicted) {
+  const fs::path out = dir_ / "sweep";
+  const auto r = run_cli("sweep " + kStoneAndSand + " --fa 20:60:10 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json s = nlohmann::json::parse(slurp(out / "sweep.json"));
+  const auto b = run_cli("blend " + kStoneAndSand + " --sweep 20:60:10 --json");
+  ASSERT_EQ(b.exit_code, 0) << b.output;
+  const nlohmann::json blend = nlohmann::json::parse(b.output.substr(b.output.find('{')));
+  ASSERT_EQ(s["points"].size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) {  // the same prediction as `aggpack blend`'s
+    EXPECT_EQ(s["points"][i]["source"], "predicted");
+    EXPECT_DOUBLE_EQ(s["points"][i]["fa_percent"].get<double>(), 20.0 + 10.0 * i);
+    EXPECT_DOUBLE_EQ(s["points"][i]["density"].get<double>(),
+                     blend["curves"][0]["points"][i]["packing_density"].get<double>());
+  }
+  EXPECT_TRUE(s["checked_points"].empty());  // no --check: no DEM
+  EXPECT_NE(slurp(out / "sweep.csv").find("40,predicted,"), std::string::npos);
+  EXPECT_NE(slurp(out / "sweep.svg").find("<svg"), std::string::npos);
+  // predict of the same two materials at 40 % sand (Ca/Fa 1.5): the same number again.
+  const auto p = run_cli("predict " + (kMaterials / "crushed_stone_19mm.toml").string() + " --mix " +
+                         (kMaterials / "natural_sand.toml").string() + " --ca-fa 1.5 --json");
+  ASSERT_EQ(p.exit_code, 0) << p.output;
+  const nlohmann::json predicted = nlohmann::json::parse(p.output.substr(p.output.find('{')));
+  EXPECT_NEAR(predicted["curves"][0]["points"][0]["packing_density"].get<double>(),
+              s["points"][2]["density"].get<double>(), 1e-12);
+}
+
+TEST_F(CliBlend, SweepAndPredictOfMaterialsRefuseAScenarioOptionsAndBadChecks) {
+  const fs::path out = dir_ / "never";
+  const std::string stone = (kMaterials / "crushed_stone_19mm.toml").string();
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"sweep " + kStoneAndSand + " --fa 20:60:10 --set seed=3", "--set is a scenario's option"},
+      {"sweep " + kStoneAndSand + " --fa 20:60:10 --check 150", "150 is not a percent"},
+      {"sweep " + kStoneAndSand + " --fa 20:60:10 --process tamped", "--process tamped"},
+      {"sweep " + (fs::path(AGGPACK_EXAMPLES) / "example1.toml").string() + " --fa 20:60:10 --check 30",
+       "--check is a sweep of two materials' option"},
+      {"predict " + stone + " --beta 0.7", "--beta is for a scenario or a grading"},
+      {"predict " + kStoneAndSand.substr(0, kStoneAndSand.find(' ')) + " --mix " +
+           (kMaterials / "natural_sand.toml").string(),
+       "--ca-fa is missing"},
+      {"predict " + stone + " --mix astm_c33_fine_mid --ca-fa 1.5", "expected a material file"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_cli(c.args + (c.args.starts_with("sweep") ? " --out " + out.string() : ""));
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_FALSE(fs::exists(out / "sweep.json")) << c.args;
+  }
+}
+
 // A small case of the validation's check (docs/validation.md, "Blends: predicted against
 // simulated"): glass beads with beads half their size (few enough fines for the CI), 40 % fines,
 // two seeds of small beds. The numbers

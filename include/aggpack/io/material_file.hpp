@@ -71,6 +71,10 @@ inline constexpr double kWaterDensityAt23C = 997.5;  // kg/m3
 // 1 lb/ft3 in kg/m3 (0.45359237 kg / 0.3048^3 m3), exact by the definitions of the pound and foot.
 inline constexpr double kKgPerM3PerLbPerFt3 = 0.45359237 / (0.3048 * 0.3048 * 0.3048);
 
+// Whether a file is a material file rather than a scenario: TOML with a top-level
+// specific_gravity (which a scenario never has). False for a file that is not TOML.
+[[nodiscard]] bool looks_like_material_file(const std::filesystem::path& file);
+
 // Reads and checks a material file. InputError naming file:line:key, what is wrong and what is
 // expected. Relative paths in it (a grading's file) are taken from its folder.
 AggregateMaterial load_material_file(const std::filesystem::path& file);
