@@ -242,6 +242,12 @@ int reproduce_command(ReproduceArguments& a, int argc, char** argv) {
         "beside its bin/; cmake --install puts them there): give --examples DIR",
         a.examples_dir));
   reproduce.examples = a.examples_dir;
+  // Beside Table 2: the shipped stone and sand's curve, predicted from their lab numbers.
+  const std::filesystem::path materials = reproduce.examples / "materials";
+  if (std::filesystem::exists(materials / "crushed_stone_19mm.toml") &&
+      std::filesystem::exists(materials / "natural_sand.toml"))
+    reproduce.table2_materials = aggpack::lab_route_curve(materials / "crushed_stone_19mm.toml",
+                                                          materials / "natural_sand.toml", "rodded", 20.0, 60.0);
   if (*a.seeds_opt) reproduce.seeds = count_argument(a.seeds, "--seeds");
   if (a.dry_run) {
     fmt::print("{}", aggpack::describe(aggpack::plan_reproduce(reproduce)));

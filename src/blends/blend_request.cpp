@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <sstream>
 
 #include "aggpack/core/error.hpp"
 
@@ -130,6 +131,22 @@ BlendResult predict_blends(const BlendRequest& r, std::ostream& log) {
       "volume percent: of the blend's solid (absolute volumes); mass percent from the oven-dry "
       "particle densities; bulk density oven-dry");
   out.wall_clock_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+MaterialsCurve lab_route_curve(const std::filesystem::path& coarse, const std::filesystem::path& fine,
+                               const std::string& process, double from, double to) {
+  BlendRequest r;
+  r.materials = {coarse, fine};
+  for (double pc = from; pc <= to + 1e-9; pc += 1.0) r.sweep_percents.push_back(pc);
+  r.process = blend_process(process, "process");
+  r.route = "lab";
+  std::ostringstream quiet;
+  const BlendCurve c = predict_blends(r, quiet).curves.front();
+  MaterialsCurve out{c.materials.at(0).material, c.materials.at(1).material, r.process.name, r.process.compaction_index,
+                     {}, r.sweep_percents, {}};
+  for (const MaterialBetas& m : c.materials) out.betas.push_back(fmt::format("{}: {}", m.material, m.source));
+  for (const BlendPoint& p : c.points) out.packing.push_back(p.packing);
   return out;
 }
 

@@ -115,6 +115,7 @@ Plan make_plan(const ReproduceOptions& o) {
     p.table2_cuts_in = o.quick ? std::vector<double>{0.1, 0.06} : std::vector<double>{0.1, 0.07, 0.02};
   if (o.calibrated_table2) p.calibrated_table2 = calibrated_plan(o.quick);
   if (o.shaped_table2) p.shaped_table2 = shaped_plan(o.quick);
+  p.table2_materials = o.table2_materials;
   if (o.quick) {
     p.example_sets = {"dynamics.max_time=0.25"};
     p.sensitivity = {shipped, cut(0.1), cut(0.06)};
@@ -432,6 +433,7 @@ nlohmann::json reproduce(const ReproduceOptions& options, std::ostream& log) {
   compose_examples(doc, figures, rep);
   compose_protocols(doc, figures, result, rep);
   compose_table2(doc, figures, result, rep);
+  compose_table2_materials(doc, figures, result, rep);
   compose_sensitivity(doc, result, rep);
   compose_calibrated_table2(doc, figures, result, rep);
   compose_shaped_table2(doc, figures, result, rep);

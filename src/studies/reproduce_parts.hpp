@@ -132,6 +132,7 @@ struct Plan {
   std::vector<SensitivityCase> sensitivity;
   std::optional<CalibratedTable2Plan> calibrated_table2;
   std::optional<ShapedTable2Plan> shaped_table2;
+  std::optional<MaterialsCurve> table2_materials;  // computed by the caller: predicted, nothing simulated
 };
 
 // A Table 2 mix of the calibrated study: its runs at each grid value, in the plan's order.
@@ -240,6 +241,10 @@ const Scenario* table2_scenario(const Reproduction& rep);
 ModelParameters table2_parameters(const Reproduction& rep);
 std::string cpm_parameters_text(const Reproduction& rep);
 void compose_table2(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep);
+// What Table 2 can decide: four states' materials, the within-state pairs' slopes beside the
+// lab's overall one, the shipped stone and sand's predicted curve against the eight values, and
+// the per-material measurements that would decide (reproduce_table2_materials.cpp).
+void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep);
 
 // reproduce_whole_grading.cpp: the Table 2 mixes carried to their whole grading.
 std::optional<WholeGradingEstimate> table2_whole_grading(const Reproduction& rep, const Table2Outcome& m);

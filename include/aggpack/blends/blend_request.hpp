@@ -10,6 +10,7 @@
 
 #include "aggpack/blends/blend_report.hpp"
 #include "aggpack/blends/simulated_betas.hpp"
+#include "aggpack/studies/reproduce.hpp"
 
 namespace aggpack {
 
@@ -38,5 +39,10 @@ void check_blend_request(const BlendRequest& request);
 // answer simulated and every material has a lab number. The beds' progress and the caches'
 // stories go to `log`.
 BlendResult predict_blends(const BlendRequest& request, std::ostream& log);
+
+// Two materials' curve by their lab numbers alone (nothing simulated), the fine from `from` to
+// `to` percent in steps of 1, at `process`: the reproduce report's Table 2 section takes it.
+MaterialsCurve lab_route_curve(const std::filesystem::path& coarse, const std::filesystem::path& fine,
+                               const std::string& process, double from, double to);
 
 }  // namespace aggpack

@@ -1,5 +1,6 @@
 #pragma once
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
@@ -8,6 +9,17 @@
 #include <nlohmann/json.hpp>
 
 namespace aggpack {
+
+// Two materials' blends predicted from their own lab numbers (aggpack blend's lab route, above the
+// studies: the caller computes it, blends/materials_curve.hpp), for the report's Table 2 section.
+struct MaterialsCurve {
+  std::string coarse, fine;          // the materials' names
+  std::string process;               // the lab process of CPM's K
+  double compaction_index = 0.0;
+  std::vector<std::string> betas;    // each material's betas, in a sentence
+  std::vector<double> fa_percent;    // the fine's volume percent
+  std::vector<double> packing;       // CPM's packing fraction there
+};
 
 struct ReproduceOptions {
   bool quick = false;                      // one seed, short DEM and pours, three sensitivity rows: minutes
@@ -22,6 +34,7 @@ struct ReproduceOptions {
   int threads = 0;
   bool quiet = false;
   std::string command_line;                // as typed, for the report
+  std::optional<MaterialsCurve> table2_materials;  // the shipped stone and sand's curve beside Table 2
 };
 
 // What `reproduce` would run with these options (`aggpack reproduce --dry-run`): the same
