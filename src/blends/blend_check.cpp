@@ -87,17 +87,10 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
                         check.modelling.end());
   check.modelling.push_back(fmt::format("CPM at K {:g} ({}), the K of the beds' procedure",
                                         check.process.compaction_index, check.process.name));
-  const MaterialBetas pair[2] = {check.coarse, check.fine};
   Campaign campaign(b.threads, b.quiet, log, beds.size() * static_cast<std::size_t>(b.seeds));
   for (std::size_t i = 0; i < beds.size(); ++i) {
     BlendCheckPoint p;
     p.percent = o.percents[i];
-    const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
-    const BlendPoint predicted = predict_blend(pair, fractions, check.process.compaction_index, o.interaction);
-    p.predicted_published = predict_blend(pair, fractions, check.process.compaction_index).packing;
-    p.predicted = predicted.packing;
-    p.predicted_low = predicted.packing_low;
-    p.predicted_high = predicted.packing_high;
     for (int seed = 1; seed <= b.seeds; ++seed) {
       const CaseRun run =
           campaign.run(fmt::format("blend {:g} %", p.percent), scenario_of(i), static_cast<std::uint64_t>(seed));
@@ -108,32 +101,27 @@ BlendCheck check_blend(const BlendCheckOptions& o, std::ostream& log) {
     p.simulated = seed_statistics(p.packing);
     check.points.push_back(std::move(p));
   }
+  predict_again(check, o.interaction);  // CPM beside each point: nothing from the beds enters it
   return check;
 }
 
 namespace {
-// The check's points predicted again with `interaction`: (predicted, simulated mean) each.
-std::vector<std::pair<double, double>> predicted_again(const BlendCheck& c, const CpmInteraction& interaction) {
+// CPM at a checked point's blend, with `interaction`.
+BlendPoint predicted_at(const BlendCheck& c, const BlendCheckPoint& p, const CpmInteraction& interaction) {
   const MaterialBetas pair[2] = {c.coarse, c.fine};
-  std::vector<std::pair<double, double>> out;
-  for (const BlendCheckPoint& p : c.points) {
-    const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
-    out.emplace_back(predict_blend(pair, fractions, c.process.compaction_index, interaction).packing, p.simulated.mean);
-  }
-  return out;
+  const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
+  return predict_blend(pair, fractions, c.process.compaction_index, interaction);
 }
 }  // namespace
 
 void predict_again(BlendCheck& c, const CpmInteraction& interaction) {
-  const MaterialBetas pair[2] = {c.coarse, c.fine};
   c.interaction = interaction;
   for (BlendCheckPoint& p : c.points) {
-    const double fractions[2] = {1.0 - p.percent / 100.0, p.percent / 100.0};
-    const BlendPoint b = predict_blend(pair, fractions, c.process.compaction_index, interaction);
+    const BlendPoint b = predicted_at(c, p, interaction);
     p.predicted = b.packing;
     p.predicted_low = b.packing_low;
     p.predicted_high = b.packing_high;
-    p.predicted_published = predict_blend(pair, fractions, c.process.compaction_index).packing;
+    p.predicted_published = predicted_at(c, p, {}).packing;
   }
 }
 
@@ -170,8 +158,8 @@ BlendCheck read_blend_check(const nlohmann::json& j, const CpmInteraction& inter
 double largest_difference(std::span<const BlendCheck> checks, const CpmInteraction& interaction) {
   double worst = 0.0;
   for (const BlendCheck& c : checks)
-    for (const auto& [predicted, simulated] : predicted_again(c, interaction))
-      worst = std::max(worst, std::abs(predicted - simulated));
+    for (const BlendCheckPoint& p : c.points)
+      worst = std::max(worst, std::abs(predicted_at(c, p, interaction).packing - p.simulated.mean));
   return worst;
 }
 

@@ -292,8 +292,10 @@ void compose_calibrated_table2(Document& doc, FigureSet& figures, nlohmann::json
   const std::vector<GridCurve> curves = grid_curves(rep);
   const LeaveOneOutStudy study = leave_one_out(curves);
   auto& b = doc.blocks;
-  b.emplace_back(Heading{2, "Table 2 predicted from one calibration mix: stone and sand"});
+  b.emplace_back(Heading{2, "Table 2 from one calibration mix: a study, not a target"});
   b.emplace_back(Paragraph{fmt::format(
+      "A study kept for what it shows, not a target: Table 2's mixes are four states' materials (\"What Table 2 "
+      "can decide\" above), so one stone and sand calibrated on one mix need not predict the other seven. "
       "Every Table 2 mix poured by the DEM from {} with its own Ca/Fa, stone and sand each their own material ({}), at "
       "{} values of the {}'s rolling friction μ_r, the one unknown ({}), over {}. The bed: {}. Each bed is carried to "
       "its whole grading by CPM's own increment, simulated + CPM(whole grading) − CPM(simulated distribution), with "

@@ -67,6 +67,29 @@ Plot materials_plot(const std::vector<Table2Outcome>& mixes, const MaterialsCurv
   return plot;
 }
 
+// The section's conclusion: what the slopes say, and what would decide.
+std::string decision_text(double lab_slope, const std::vector<double>& pair_slopes, const MaterialsCurve* curve,
+                          double predicted_slope) {
+  return fmt::format(
+      "The lab's overall slope is {} per 10 points of Fa; the pairs' run from {} to {}: the states' materials differ "
+      "by more than Fa moves any one of them, and one curve through all eight is not a blend's curve. The shipped "
+      "stone and sand, predicted, {}. Neither this nor any other one pair of materials is Table 2's: calibrating on "
+      "one mix and predicting the other seven (reproduce --calibrated-table2, kept as a study) asks a question the "
+      "table cannot answer. What would decide it, per state: the stone's ASTM C29 rodded bulk density, grading and "
+      "specific gravity (C127), and the sand's C1252 uncompacted voids (method A), grading and specific gravity "
+      "(C128). With them, aggpack blend STONE.toml SAND.toml --sweep 25:45:1 gives each state's curve in seconds, "
+      "and its pair of lab values tests it with the material held.",
+      value_text(lab_slope, 4),
+      pair_slopes.empty() ? "—" : value_text(*std::min_element(pair_slopes.begin(), pair_slopes.end()), 4),
+      pair_slopes.empty() ? "—" : value_text(*std::max_element(pair_slopes.begin(), pair_slopes.end()), 4),
+      curve ? fmt::format("change by {} per 10 points over the same Fa: densest at {:g} % sand (packing {:.3f})",
+                          value_text(predicted_slope, 4),
+                          curve->fa_percent[std::max_element(curve->packing.begin(), curve->packing.end()) -
+                                            curve->packing.begin()],
+                          *std::max_element(curve->packing.begin(), curve->packing.end()))
+            : "were not computed");
+}
+
 }  // namespace
 
 void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json& result, const Reproduction& rep) {
@@ -120,24 +143,7 @@ void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json&
   const std::string fig = figures.add("table2_materials.svg", materials_plot(rep.mixes, curve));
   b.emplace_back(Figure{fig, "Table 2's lab values, each state's pair joined, against one stone and one sand's "
                              "predicted curve (the shipped defaults, not the states' materials)."});
-  b.emplace_back(Paragraph{fmt::format(
-      "The lab's overall slope is {} per 10 points of Fa; the pairs' run from {} to {}: the states' materials differ "
-      "by more than Fa moves any one of them, and one curve through all eight is not a blend's curve. The shipped "
-      "stone and sand, predicted, {}. Neither this nor any other one pair of materials is Table 2's: calibrating on "
-      "one mix and predicting the other seven (reproduce --calibrated-table2, kept as a study) asks a question the "
-      "table cannot answer. What would decide it, per state: the stone's ASTM C29 rodded bulk density, grading and "
-      "specific gravity (C127), and the sand's C1252 uncompacted voids (method A), grading and specific gravity "
-      "(C128). With them, aggpack blend STONE.toml SAND.toml --sweep 25:45:1 gives each state's curve in seconds, "
-      "and its pair of lab values tests it with the material held.",
-      value_text(lab_slope, 4),
-      pair_slopes.empty() ? "—" : value_text(*std::min_element(pair_slopes.begin(), pair_slopes.end()), 4),
-      pair_slopes.empty() ? "—" : value_text(*std::max_element(pair_slopes.begin(), pair_slopes.end()), 4),
-      curve ? fmt::format("change by {} per 10 points over the same Fa: densest at {:g} % sand (packing {:.3f})",
-                          value_text(predicted_slope, 4),
-                          curve->fa_percent[std::max_element(curve->packing.begin(), curve->packing.end()) -
-                                            curve->packing.begin()],
-                          *std::max_element(curve->packing.begin(), curve->packing.end()))
-            : "were not computed")});
+  b.emplace_back(Paragraph{decision_text(lab_slope, pair_slopes, curve, predicted_slope)});
   result["table2_materials"] = {{"pairs", pairs},
                                 {"lab_slope_per_10", lab_slope},
                                 {"predicted_slope_per_10", curve ? nlohmann::json(predicted_slope) : nlohmann::json()},
