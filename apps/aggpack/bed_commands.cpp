@@ -1,5 +1,7 @@
 // The subcommands on one bed, one grading or one material, with no simulation: analyze, grading,
 // predict and material.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -7,17 +9,15 @@
 #include <string>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "aggpack/blends/blend_request.hpp"
 #include "aggpack/core/error.hpp"
 #include "aggpack/core/units.hpp"
 #include "aggpack/core/version.hpp"
 #include "aggpack/io/material_file.hpp"
 #include "aggpack/io/particle_file.hpp"
+#include "aggpack/io/shape_option.hpp"
 #include "aggpack/run/analyze.hpp"
 #include "aggpack/run/analyze_bed.hpp"
-#include "aggpack/io/shape_option.hpp"
 #include "aggpack/run/grading_report.hpp"
 #include "aggpack/run/predictions.hpp"
 #include "arguments.hpp"
@@ -177,7 +177,8 @@ int predict_materials_command(const aggpack::PredictRequest& predict, const std:
   r.materials.push_back(predict.input);
   if (predict.fine) {
     if (!aggpack::looks_like_material_file(*predict.fine))
-      throw aggpack::InputError(fmt::format("--mix {}: expected a material file, as {} is", *predict.fine, predict.input));
+      throw aggpack::InputError(
+          fmt::format("--mix {}: expected a material file, as {} is", *predict.fine, predict.input));
     if (!predict.ca_fa)
       throw aggpack::InputError("--ca-fa is missing: the coarse/fine volume ratio of the two materials' blend");
     r.materials.push_back(*predict.fine);
@@ -190,8 +191,10 @@ int predict_materials_command(const aggpack::PredictRequest& predict, const std:
   r.beds.quiet = true;
   r.may_simulate = false;
   const aggpack::BlendResult b = aggpack::predict_blends(r, std::cerr);
-  if (json) fmt::print("{}\n", aggpack::to_json(b).dump(1));
-  else fmt::print("{}", aggpack::describe(b));
+  if (json)
+    fmt::print("{}\n", aggpack::to_json(b).dump(1));
+  else
+    fmt::print("{}", aggpack::describe(b));
   return 0;
 }
 

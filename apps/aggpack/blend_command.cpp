@@ -201,7 +201,8 @@ int run_blend(BlendArguments& a) {
   if (!a.out.empty()) {
     const std::filesystem::path folder(a.out);
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
-    if (r.sweep) aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r, checked ? &*checked : nullptr));
+    if (r.sweep)
+      aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r, checked ? &*checked : nullptr));
   }
   if (a.json)
     fmt::print("{}\n", summary.dump(1));

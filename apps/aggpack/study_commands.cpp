@@ -1,4 +1,7 @@
 // The subcommands that run series of runs: calibrate, whole-grading, reproduce and sweep.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -7,14 +10,11 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-#include <fmt/ranges.h>
-
 #include "aggpack/blends/material_sweep.hpp"
 #include "aggpack/core/error.hpp"
-#include "aggpack/io/output_directory.hpp"
 #include "aggpack/io/atomic_file.hpp"
 #include "aggpack/io/material_file.hpp"
+#include "aggpack/io/output_directory.hpp"
 #include "aggpack/labtests/material_calibration.hpp"
 #include "aggpack/run/preflight.hpp"
 #include "aggpack/studies/calibration.hpp"
@@ -360,9 +360,10 @@ Subcommand add_sweep(CLI::App& app) {
   const auto a = std::make_shared<SweepArguments>();
   aggpack::SweepOptions& sweep = a->sweep;
   a->out = sweep.out.string();
-  auto* cmd = app.add_subcommand(
-      "sweep", "Density against sand fraction: a scenario's coarse/fine mix simulated at every point, or two "
-               "materials' blends predicted (the DEM only at --check's points)");
+  auto* cmd =
+      app.add_subcommand("sweep",
+                         "Density against sand fraction: a scenario's coarse/fine mix simulated at every point, or two "
+                         "materials' blends predicted (the DEM only at --check's points)");
   cmd->add_option("inputs", a->inputs,
                   "Scenario with a coarse/fine mix (TOML); or two material files, coarse then fine")
       ->required()

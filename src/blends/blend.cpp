@@ -50,7 +50,6 @@ BlendClasses blend_classes(std::span<const MaterialBetas> materials, std::span<c
   return out;
 }
 
-
 std::vector<double> shifted(const BlendClasses& c, double sds) {
   std::vector<double> out(c.beta.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = std::clamp(c.beta[i] + sds * c.beta_sd[i], 1e-3, 0.999);

@@ -49,9 +49,10 @@ MaterialBetas betas_of(const BlendRequest& r, const std::filesystem::path& file,
         "blend on it once (minutes) with the same settings{}",
         file.string(), beta_cache_file(beds_of(r, file)).string(),
         m.c29 || m.c1252 ? ", or ask for the lab route" : ", or give it a lab number ([c29] or [c1252])"));
-  notes.push_back(fmt::format("{}: calibrated, but its simulated betas are not in the cache: its lab number's betas "
-                              "instead (aggpack blend simulates them once)",
-                              m.name));
+  notes.push_back(
+      fmt::format("{}: calibrated, but its simulated betas are not in the cache: its lab number's betas "
+                  "instead (aggpack blend simulates them once)",
+                  m.name));
   return lab_route_betas(m);
 }
 
@@ -61,7 +62,8 @@ BlendCurve curve(const BlendRequest& r, const std::vector<BetaRoute>& routes, st
   for (std::size_t i = 0; i < r.materials.size(); ++i)
     c.materials.push_back(betas_of(r, r.materials[i], routes[i], notes, log));
   const auto taken = [&](BetaRoute route) {
-    return std::all_of(c.materials.begin(), c.materials.end(), [&](const MaterialBetas& m) { return m.route == route; });
+    return std::all_of(c.materials.begin(), c.materials.end(),
+                       [&](const MaterialBetas& m) { return m.route == route; });
   };
   c.route = taken(BetaRoute::LabTest) ? "lab_test" : taken(BetaRoute::Simulation) ? "simulation" : "mixed";
   if (!r.sweep_percents.empty()) {
@@ -77,8 +79,7 @@ std::string interaction_words(const CpmInteraction& e) {
   const CpmInteraction published;
   if (e.loosening_exponent == published.loosening_exponent && e.wall_exponent == published.wall_exponent)
     return fmt::format("at their published exponents ({:g}, {:g})", e.loosening_exponent, e.wall_exponent);
-  return fmt::format("at exponents {:g} and {:g} (asked for, not de Larrard's)", e.loosening_exponent,
-                     e.wall_exponent);
+  return fmt::format("at exponents {:g} and {:g} (asked for, not de Larrard's)", e.loosening_exponent, e.wall_exponent);
 }
 
 }  // namespace
@@ -143,8 +144,13 @@ MaterialsCurve lab_route_curve(const std::filesystem::path& coarse, const std::f
   r.route = "lab";
   std::ostringstream quiet;
   const BlendCurve c = predict_blends(r, quiet).curves.front();
-  MaterialsCurve out{c.materials.at(0).material, c.materials.at(1).material, r.process.name, r.process.compaction_index,
-                     {}, r.sweep_percents, {}};
+  MaterialsCurve out{c.materials.at(0).material,
+                     c.materials.at(1).material,
+                     r.process.name,
+                     r.process.compaction_index,
+                     {},
+                     r.sweep_percents,
+                     {}};
   for (const MaterialBetas& m : c.materials) out.betas.push_back(fmt::format("{}: {}", m.material, m.source));
   for (const BlendPoint& p : c.points) out.packing.push_back(p.packing);
   return out;

@@ -12,19 +12,22 @@ namespace aggpack {
 
 namespace {
 
-nlohmann::json or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+nlohmann::json or_null(double x) {
+  return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json();
+}
 
 }  // namespace
 
 MaterialSweep sweep_materials(const MaterialSweepOptions& o, std::ostream& log) {
   if (o.blend.materials.size() != 2)
-    throw InputError(fmt::format("a sweep of materials takes two (coarse, then fine), {} given", o.blend.materials.size()));
+    throw InputError(
+        fmt::format("a sweep of materials takes two (coarse, then fine), {} given", o.blend.materials.size()));
   for (const double pc : o.check_percents)  // before the curve's betas, which may simulate
-    if (!(pc > 0.0 && pc < 100.0))
-      throw InputError(fmt::format("--check: {} is not a percent between 0 and 100", pc));
+    if (!(pc > 0.0 && pc < 100.0)) throw InputError(fmt::format("--check: {} is not a percent between 0 and 100", pc));
   check_blend_request(o.blend);
   MaterialSweep out;
-  for (const std::filesystem::path& file : o.blend.materials) out.calibrations.push_back(load_material_file(file).calibration);
+  for (const std::filesystem::path& file : o.blend.materials)
+    out.calibrations.push_back(load_material_file(file).calibration);
   out.predicted = predict_blends(o.blend, log);
   if (!o.check_percents.empty()) {
     BlendCheckOptions c;
@@ -64,11 +67,12 @@ nlohmann::json to_json(const MaterialSweep& s) {
   nlohmann::json checked = nlohmann::json::array();
   if (s.check)
     for (const BlendCheckPoint& p : s.check->points)
-      checked.push_back({{"fa_percent", p.percent},
-                         {"source", "simulated"},
-                         {"procedure", s.check->procedure},
-                         {"density", {{"mean", p.simulated.mean}, {"sd", or_null(p.simulated.sd)}, {"values", p.packing}}},
-                         {"predicted", p.predicted}});
+      checked.push_back(
+          {{"fa_percent", p.percent},
+           {"source", "simulated"},
+           {"procedure", s.check->procedure},
+           {"density", {{"mean", p.simulated.mean}, {"sd", or_null(p.simulated.sd)}, {"values", p.packing}}},
+           {"predicted", p.predicted}});
   const BlendPoint& top = curve.points.at(curve.densest->index);
   nlohmann::json j{{"aggpack_version", kVersion},
                    {"kind", "aggpack sweep of materials"},

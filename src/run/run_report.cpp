@@ -490,7 +490,8 @@ nlohmann::json RunReport::summary_json(double output_seconds, double total_secon
       {"predictions", fmt::format("predicted by analytic models, nothing simulated: CPM's K {:g} ({}), beta {:g} ({})",
                                   predicted.parameters.compaction_index, predicted.parameters.compaction_source,
                                   predicted.parameters.beta, predicted.parameters.beta_source)}};
-  if (final.measure) summary["density_sources"]["measure"] = "simulated: the lab measure's content, as the test weighs it";
+  if (final.measure)
+    summary["density_sources"]["measure"] = "simulated: the lab measure's content, as the test weighs it";
   if (const auto rest = rest_state()) {
     summary["settled"] = rest->settled;
     summary["final_translational_energy_per_particle_mgd"] = rest->translational_energy_per_particle_mgd;

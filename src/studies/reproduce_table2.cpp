@@ -394,9 +394,10 @@ std::string table2_caption(const Reproduction& rep, const std::string& cpm_param
                             "mix at more cut-offs")
               : fmt::format("every mix also ran at {} in", nlohmann::json(rep.plan.table2_cuts_in).dump())) +
          "." +
-         (calibrated ? " Stone and sand, calibrated on one mix: the median choice's prediction (band), from the "
-                       "section \"Table 2 from one calibration mix\" below (a study: the mixes are four states' materials)."
-                     : "") +
+         (calibrated
+              ? " Stone and sand, calibrated on one mix: the median choice's prediction (band), from the "
+                "section \"Table 2 from one calibration mix\" below (a study: the mixes are four states' materials)."
+              : "") +
          (rep.shaped.empty() ? ""
                              : " Stone as grains: the stone as rigid grains of crushed stone on a REDUCED bed, carried "
                                "to the whole grading, nothing calibrated, from the section \"Table 2 with shape\" "

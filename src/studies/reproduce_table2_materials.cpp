@@ -1,11 +1,11 @@
 // aggpack reproduce: what Table 2 can decide. Its eight mixes are four states' materials, two
 // mixes each, none of them described: the section sets the within-state pairs' slopes beside the
 // lab's overall one, and the shipped stone and sand's predicted curve against the eight values.
-#include <algorithm>
-#include <map>
-
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+
+#include <algorithm>
+#include <map>
 
 #include "reproduce_parts.hpp"
 
@@ -36,7 +36,8 @@ std::vector<StatePair> state_pairs(const std::vector<Table2Outcome>& mixes) {
   std::vector<StatePair> out;
   for (auto& [state, rows] : by_state) {
     if (rows.size() != 2) continue;
-    std::sort(rows.begin(), rows.end(), [](const Table2Row& a, const Table2Row& b) { return a.fa_percent < b.fa_percent; });
+    std::sort(rows.begin(), rows.end(),
+              [](const Table2Row& a, const Table2Row& b) { return a.fa_percent < b.fa_percent; });
     if (rows[1].fa_percent > rows[0].fa_percent) out.push_back({state, rows[0], rows[1]});
   }
   return out;
@@ -109,7 +110,12 @@ void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json&
     predicted.push_back(curve ? packing_at(*curve, m.row.fa_percent) : kNaN);
   }
   Table t;
-  t.header = {"state", "mixes", "Fa %", "lab packing", "lab slope per 10 points of Fa", "predicted packing",
+  t.header = {"state",
+              "mixes",
+              "Fa %",
+              "lab packing",
+              "lab slope per 10 points of Fa",
+              "predicted packing",
               "predicted slope per 10 points"};
   nlohmann::json pairs = nlohmann::json::array();
   std::vector<double> pair_slopes;  // the lab's, state by state
@@ -132,31 +138,34 @@ void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json&
   }
   const double lab_slope = fa.size() >= 2 ? slope_per_10(fa, measured) : kNaN;
   const double predicted_slope = curve && fa.size() >= 2 ? slope_per_10(fa, predicted) : kNaN;
-  t.rows.push_back({"all eight (least squares)", "", "", "", value_text(lab_slope, 4), "", value_text(predicted_slope, 4)});
-  t.caption = curve ? fmt::format("Predicted: aggpack blend's lab route for the shipped {} and {}, {} (K {:g}): {}; "
-                                  "predicted, nothing simulated. The lab's Table 2 method is not given; rodded is "
-                                  "our choice.",
-                                  curve->coarse, curve->fine, curve->process, curve->compaction_index,
-                                  fmt::join(curve->betas, "; "))
-                    : "Predicted: not computed (no shipped materials beside the scenarios).";
+  t.rows.push_back(
+      {"all eight (least squares)", "", "", "", value_text(lab_slope, 4), "", value_text(predicted_slope, 4)});
+  t.caption =
+      curve ? fmt::format(
+                  "Predicted: aggpack blend's lab route for the shipped {} and {}, {} (K {:g}): {}; "
+                  "predicted, nothing simulated. The lab's Table 2 method is not given; rodded is "
+                  "our choice.",
+                  curve->coarse, curve->fine, curve->process, curve->compaction_index, fmt::join(curve->betas, "; "))
+            : "Predicted: not computed (no shipped materials beside the scenarios).";
   b.emplace_back(t);
   const std::string fig = figures.add("table2_materials.svg", materials_plot(rep.mixes, curve));
-  b.emplace_back(Figure{fig, "Table 2's lab values, each state's pair joined, against one stone and one sand's "
-                             "predicted curve (the shipped defaults, not the states' materials)."});
+  b.emplace_back(Figure{fig,
+                        "Table 2's lab values, each state's pair joined, against one stone and one sand's "
+                        "predicted curve (the shipped defaults, not the states' materials)."});
   b.emplace_back(Paragraph{decision_text(lab_slope, pair_slopes, curve, predicted_slope)});
-  result["table2_materials"] = {{"pairs", pairs},
-                                {"lab_slope_per_10", lab_slope},
-                                {"predicted_slope_per_10", curve ? nlohmann::json(predicted_slope) : nlohmann::json()},
-                                {"predicted",
-                                 curve ? nlohmann::json{{"coarse", curve->coarse},
-                                                        {"fine", curve->fine},
-                                                        {"process", curve->process},
-                                                        {"compaction_index", curve->compaction_index},
-                                                        {"betas", curve->betas},
-                                                        {"source", "predicted by CPM from the materials' lab numbers"},
-                                                        {"fa_percent", curve->fa_percent},
-                                                        {"packing", curve->packing}}
-                                       : nlohmann::json()}};
+  result["table2_materials"] = {
+      {"pairs", pairs},
+      {"lab_slope_per_10", lab_slope},
+      {"predicted_slope_per_10", curve ? nlohmann::json(predicted_slope) : nlohmann::json()},
+      {"predicted", curve ? nlohmann::json{{"coarse", curve->coarse},
+                                           {"fine", curve->fine},
+                                           {"process", curve->process},
+                                           {"compaction_index", curve->compaction_index},
+                                           {"betas", curve->betas},
+                                           {"source", "predicted by CPM from the materials' lab numbers"},
+                                           {"fa_percent", curve->fa_percent},
+                                           {"packing", curve->packing}}
+                          : nlohmann::json()}};
 }
 
 }  // namespace aggpack::reproduction

@@ -280,15 +280,18 @@ nlohmann::json sweep_json(const SweepOptions& options, const SweepPlan& plan, co
   result["density_after"] = has_dynamics ? "dynamics" : "deposition";
   result["points"] = nlohmann::json::array();
   for (const SweepPoint& p : points) {
-    nlohmann::json point = {
-        {"fa_percent", p.fa_percent},
-        {"ca_fa", p.ca_fa},
-        {"source", "simulated"},
-        {"density", {{"mean", p.density.mean}, {"sd", or_null(p.density.sd)}, {"values", p.final_density},
-                     {"voids_content_percent", bulk_density(p.density.mean, p.particle_density).voids_percent},
-                     {"bulk_density_kg_m3", bulk_density(p.density.mean, p.particle_density).kg_per_m3},
-                     {"bulk_density_lb_ft3", bulk_density(p.density.mean, p.particle_density).lb_per_ft3}}},
-        {"density_after_deposition", {{"mean", or_null(p.after_deposition.mean)}, {"sd", or_null(p.after_deposition.sd)}}}};
+    nlohmann::json point = {{"fa_percent", p.fa_percent},
+                            {"ca_fa", p.ca_fa},
+                            {"source", "simulated"},
+                            {"density",
+                             {{"mean", p.density.mean},
+                              {"sd", or_null(p.density.sd)},
+                              {"values", p.final_density},
+                              {"voids_content_percent", bulk_density(p.density.mean, p.particle_density).voids_percent},
+                              {"bulk_density_kg_m3", bulk_density(p.density.mean, p.particle_density).kg_per_m3},
+                              {"bulk_density_lb_ft3", bulk_density(p.density.mean, p.particle_density).lb_per_ft3}}},
+                            {"density_after_deposition",
+                             {{"mean", or_null(p.after_deposition.mean)}, {"sd", or_null(p.after_deposition.sd)}}}};
     if (!p.whole) {
       point["left_out_volume_fraction"] = p.left_out;
       point["fine_left_out_volume_fraction"] = p.fine_left_out;

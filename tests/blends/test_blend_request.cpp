@@ -75,7 +75,7 @@ TEST_F(BlendRequests, WithoutSimulationAWarmCacheGivesTheSimulatedBetasAndTheLab
   write_beta_cache(beta_cache_file(o), beta_cache_key(load_material_file(stone), o), simulated, 1.0);
   std::ostringstream log;
   const BlendResult b = predict_blends(r, log);
-  ASSERT_EQ(b.curves.size(), 2u);  // the answer, then the lab route beside it
+  ASSERT_EQ(b.curves.size(), 2u);         // the answer, then the lab route beside it
   EXPECT_EQ(b.curves[0].route, "mixed");  // the stone simulated, the uncalibrated sand by its lab number
   EXPECT_EQ(b.curves[0].materials[0].route, BetaRoute::Simulation);
   EXPECT_DOUBLE_EQ(b.curves[0].materials[0].classes[0].beta, 0.60);

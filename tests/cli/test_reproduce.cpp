@@ -141,13 +141,14 @@ TEST_F(Reproduce, Table2SectionSaysWhatItsFourStatesMaterialsCanDecide) {
   const nlohmann::json j = nlohmann::json::parse(slurp(out_ / "reproduce.json"))["table2_materials"];
   // Per 10 points of Fa: Illinois 35->43 %, 0.720->0.709; Indiana 29->40, 0.741->0.703;
   // Michigan 30->37, 0.735->0.711; Ohio 32->42, 0.716->0.716.
-  const std::map<std::string, double> slope = {{"Illinois", -0.11 / 8}, {"Indiana", -0.38 / 11},
-                                               {"Michigan", -0.24 / 7}, {"Ohio", 0.0}};
+  const std::map<std::string, double> slope = {
+      {"Illinois", -0.11 / 8}, {"Indiana", -0.38 / 11}, {"Michigan", -0.24 / 7}, {"Ohio", 0.0}};
   ASSERT_EQ(j["pairs"].size(), 4u);
   for (const nlohmann::json& p : j["pairs"])
     EXPECT_NEAR(p["lab_slope_per_10"].get<double>(), slope.at(p["state"]), 1e-12) << p["state"];
   // The eight (Fa, lab) points' least-squares slope, by its formula.
-  const double fa[] = {29, 30, 32, 35, 37, 40, 42, 43}, lab[] = {0.741, 0.735, 0.716, 0.720, 0.711, 0.703, 0.716, 0.709};
+  const double fa[] = {29, 30, 32, 35, 37, 40, 42, 43},
+               lab[] = {0.741, 0.735, 0.716, 0.720, 0.711, 0.703, 0.716, 0.709};
   double mx = 0, my = 0, sxy = 0, sxx = 0;
   for (int i = 0; i < 8; ++i) mx += fa[i] / 8, my += lab[i] / 8;
   for (int i = 0; i < 8; ++i) sxy += (fa[i] - mx) * (lab[i] - my), sxx += (fa[i] - mx) * (fa[i] - mx);

@@ -20,8 +20,8 @@ TestProcess blend_process(const std::string& name, const std::string& option);
 
 struct BlendRequest {
   std::vector<std::filesystem::path> materials;  // coarse first
-  std::vector<double> sweep_percents;             // a sweep of the second material's volume percent; or
-  std::vector<std::vector<double>> fractions;     // these blends' volume fractions (one material: {1})
+  std::vector<double> sweep_percents;            // a sweep of the second material's volume percent; or
+  std::vector<std::vector<double>> fractions;    // these blends' volume fractions (one material: {1})
   TestProcess process = {"rodded", 4.5};
   std::string route = "auto";  // auto (calibrated: simulation, else lab), lab or simulation
   SimulatedBetaOptions beds;   // the simulation route's beds (`material` is set per material)

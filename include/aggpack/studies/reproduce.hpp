@@ -1,24 +1,23 @@
 #pragma once
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
 #include <string>
 #include <utility>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 namespace aggpack {
 
 // Two materials' blends predicted from their own lab numbers (aggpack blend's lab route, above the
 // studies: the caller computes it, blends/materials_curve.hpp), for the report's Table 2 section.
 struct MaterialsCurve {
-  std::string coarse, fine;          // the materials' names
-  std::string process;               // the lab process of CPM's K
+  std::string coarse, fine;  // the materials' names
+  std::string process;       // the lab process of CPM's K
   double compaction_index = 0.0;
-  std::vector<std::string> betas;    // each material's betas, in a sentence
-  std::vector<double> fa_percent;    // the fine's volume percent
-  std::vector<double> packing;       // CPM's packing fraction there
+  std::vector<std::string> betas;  // each material's betas, in a sentence
+  std::vector<double> fa_percent;  // the fine's volume percent
+  std::vector<double> packing;     // CPM's packing fraction there
 };
 
 struct ReproduceOptions {
