@@ -5,6 +5,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include "reproduce_parts.hpp"
@@ -68,23 +69,25 @@ Plot materials_plot(const std::vector<Table2Outcome>& mixes, const MaterialsCurv
   return plot;
 }
 
+// A slope with its sign, "—" when there is none.
+std::string signed_text(double x) { return std::isnan(x) ? "—" : fmt::format("{:+.4f}", x); }
+
 // The section's conclusion: what the slopes say, and what would decide.
 std::string decision_text(double lab_slope, const std::vector<double>& pair_slopes, const MaterialsCurve* curve,
                           double predicted_slope) {
   return fmt::format(
-      "The lab's overall slope is {} per 10 points of Fa; the pairs' run from {} to {}: the states' materials differ "
-      "by more than Fa moves any one of them, and one curve through all eight is not a blend's curve. The shipped "
-      "stone and sand, predicted, {}. Neither this nor any other one pair of materials is Table 2's: calibrating on "
+      "The lab's overall slope is {} per 10 points of Fa; the pairs' run from {} to {}: the states' materials answer "
+      "Fa differently, by as much as the overall slope itself, and one curve through all eight is not one blend's "
+      "curve. The shipped stone and sand, predicted, {}: they are not any state's materials. Neither this nor any other one pair of materials is Table 2's: calibrating on "
       "one mix and predicting the other seven (reproduce --calibrated-table2, kept as a study) asks a question the "
       "table cannot answer. What would decide it, per state: the stone's ASTM C29 rodded bulk density, grading and "
       "specific gravity (C127), and the sand's C1252 uncompacted voids (method A), grading and specific gravity "
       "(C128). With them, aggpack blend STONE.toml SAND.toml --sweep 25:45:1 gives each state's curve in seconds, "
       "and its pair of lab values tests it with the material held.",
-      value_text(lab_slope, 4),
-      pair_slopes.empty() ? "—" : value_text(*std::min_element(pair_slopes.begin(), pair_slopes.end()), 4),
-      pair_slopes.empty() ? "—" : value_text(*std::max_element(pair_slopes.begin(), pair_slopes.end()), 4),
-      curve ? fmt::format("change by {} per 10 points over the same Fa: densest at {:g} % sand (packing {:.3f})",
-                          value_text(predicted_slope, 4),
+      signed_text(lab_slope), pair_slopes.empty() ? "—" : signed_text(*std::min_element(pair_slopes.begin(), pair_slopes.end())),
+      pair_slopes.empty() ? "—" : signed_text(*std::max_element(pair_slopes.begin(), pair_slopes.end())),
+      curve ? fmt::format("change by {} per 10 points over the same Fa, densest at {:g} % sand (packing {:.3f})",
+                          signed_text(predicted_slope),
                           curve->fa_percent[std::max_element(curve->packing.begin(), curve->packing.end()) -
                                             curve->packing.begin()],
                           *std::max_element(curve->packing.begin(), curve->packing.end()))
@@ -126,9 +129,9 @@ void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json&
     t.rows.push_back({p.state, fmt::format("{}, {}", p.low.mix, p.high.mix),
                       fmt::format("{:g} → {:g}", p.low.fa_percent, p.high.fa_percent),
                       fmt::format("{:.3f} → {:.3f}", p.low.experiment, p.high.experiment),
-                      fmt::format("{:+.4f}", p.slope(p.low.experiment, p.high.experiment)),
+                      signed_text(p.slope(p.low.experiment, p.high.experiment)),
                       curve ? fmt::format("{:.3f} → {:.3f}", lo, hi) : "—",
-                      curve ? fmt::format("{:+.4f}", p.slope(lo, hi)) : "—"});
+                      signed_text(curve ? p.slope(lo, hi) : kNaN)});
     pairs.push_back({{"state", p.state},
                      {"mixes", {p.low.mix, p.high.mix}},
                      {"fa_percent", {p.low.fa_percent, p.high.fa_percent}},
@@ -139,7 +142,7 @@ void compose_table2_materials(Document& doc, FigureSet& figures, nlohmann::json&
   const double lab_slope = fa.size() >= 2 ? slope_per_10(fa, measured) : kNaN;
   const double predicted_slope = curve && fa.size() >= 2 ? slope_per_10(fa, predicted) : kNaN;
   t.rows.push_back(
-      {"all eight (least squares)", "", "", "", value_text(lab_slope, 4), "", value_text(predicted_slope, 4)});
+      {"all eight (least squares)", "", "", "", signed_text(lab_slope), "", signed_text(predicted_slope)});
   t.caption =
       curve ? fmt::format(
                   "Predicted: aggpack blend's lab route for the shipped {} and {}, {} (K {:g}): {}; "
