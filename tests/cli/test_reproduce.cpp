@@ -423,8 +423,9 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
       EXPECT_EQ(content.substr(1, 3), "PNG") << p;
     }
   }
-  // Figs. 4 and 7, two compaction curves, Fig. 9, mix 3's cut-offs, eight gradings, the calibrated Table 2.
-  EXPECT_EQ(svgs, 2u + 2u + 1u + 1u + 8u + 1u);
+  // Figs. 4 and 7, two compaction curves, Fig. 9, mix 3's cut-offs, eight gradings, the calibrated Table 2,
+  // Table 2 against the shipped materials' curve.
+  EXPECT_EQ(svgs, 2u + 2u + 1u + 1u + 8u + 1u + 1u);
   // Issue 34, item 15: each plot's data beside its SVG, as a CSV that Python's csv module reads,
   // its columns named with their units.
   std::size_t data = 0;
@@ -483,15 +484,15 @@ TEST_F(Reproduce, PlotsHaveAxesThatShowTheirData) {
 
 TEST_F(Reproduce, HtmlIsOnePageWithEverythingInside) {
   const std::string html = slurp(out_ / "report.html");
-  EXPECT_EQ(count_of(html, "<svg"), 15u);
+  EXPECT_EQ(count_of(html, "<svg"), 16u);
   EXPECT_EQ(count_of(html, "src=\"data:image/png;base64,iVBORw0KGgo"), 3u);
   EXPECT_EQ(html.find("figures/"), std::string::npos);  // nothing to fetch
   // The same tables as report.md (one header rule "| --- |" each): summary, Table 2 errors,
   // two per example, the protocols, Table 2 and its voids and bulk densities, sensitivity, notes
-  // of three cases, and the calibrated Table 2's grid and choices.
+  // of three cases, the calibrated Table 2's grid and choices, and Table 2's states' pairs.
   EXPECT_EQ(count_of(html, "<table>"), count_of(slurp(out_ / "report.md"), "\n| --- |"));
-  EXPECT_EQ(count_of(html, "<table>"), 15u);
-  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 15u);
+  EXPECT_EQ(count_of(html, "<table>"), 16u);
+  EXPECT_EQ(count_of(html, "<div class=\"table-scroll\">\n<table>"), 16u);
   EXPECT_NE(html.find("</html>"), std::string::npos);
 }
 
