@@ -13,7 +13,8 @@
 #   bash scripts/validate_blends.sh [OUT_DIR] [CASES]
 #   (defaults: out/validate_blends, every case; AGGPACK_EXE: another binary, e.g. a copy to
 #   rebuild while it runs; POINTS=20,40,60 SEEDS=2: a first look at a costly case;
-#   CHECK_PARTICLES, BED_PARTICLES: the grains' bed sizes; THREADS: per run). Cases
+#   CHECK_PARTICLES: coarse particles a blend bed (grains_ratio3, spheres_ratio6); BED_PARTICLES:
+#   the grains' betas beds; THREADS: per run). Cases
 #   already finished are kept; each writes CASE/blend.json, blend.txt and blend.svg.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
@@ -34,7 +35,7 @@ run_case() {  # name; a finished case is kept
   case $name in
     spheres_ratio3) args=("$m/glass_beads_11mm.toml" "$m/glass_grit_3mm.toml" --check-particles 300 --sweep 10:70:1) ;;
     spheres_ratio2) args=("$m/glass_beads_11mm.toml" "$m/glass_beads_5mm.toml" --check-particles 300 --sweep 10:70:1) ;;
-    spheres_ratio6) args=("$m/glass_beads_11mm.toml" "$m/glass_sand_2mm.toml" --check-particles 120 --sweep 10:70:1) ;;
+    spheres_ratio6) args=("$m/glass_beads_11mm.toml" "$m/glass_sand_2mm.toml" --check-particles ${CHECK_PARTICLES:-120} --sweep 10:70:1) ;;
     # The check alone (no curve): the curve would need the whole sand's betas, an hour more.
     grains_ratio3) args=("$m/crushed_stone_12mm_single.toml" "$m/natural_sand.toml" --check-cut "2.36 mm"
                          --check-particles ${CHECK_PARTICLES:-150} --bed-particles ${BED_PARTICLES:-1000}) ;;
