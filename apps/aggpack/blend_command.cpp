@@ -201,8 +201,10 @@ int run_blend(BlendArguments& a) {
   if (!a.out.empty()) {
     const std::filesystem::path folder(a.out);
     aggpack::write_file_atomically(folder / "blend.json", summary.dump(1) + "\n");
-    if (r.sweep)
-      aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r, checked ? &*checked : nullptr));
+    if (r.sweep) {  // the DEM's points on the curve: this run's check, else the first --checked
+      const aggpack::BlendCheck* shown = checked ? &*checked : earlier.empty() ? nullptr : &earlier.front();
+      aggpack::write_file_atomically(folder / "blend.svg", aggpack::blend_svg(r, shown));
+    }
   }
   if (a.json)
     fmt::print("{}\n", summary.dump(1));
