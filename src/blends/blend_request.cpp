@@ -50,9 +50,9 @@ MaterialBetas betas_of(const BlendRequest& r, const std::filesystem::path& file,
         file.string(), beta_cache_file(beds_of(r, file)).string(),
         m.c29 || m.c1252 ? ", or ask for the lab route" : ", or give it a lab number ([c29] or [c1252])"));
   notes.push_back(
-      fmt::format("{}: calibrated, but its simulated betas are not in the cache: its lab number's betas "
-                  "instead (aggpack blend simulates them once)",
-                  m.name));
+      fmt::format("{}: calibrated, but its simulated betas are not in the cache for these bed settings ({} seeds, "
+                  "{:g} particles a bed): its lab number's betas instead (aggpack blend simulates them once)",
+                  m.name, r.beds.seeds, r.beds.particles));
   return lab_route_betas(m);
 }
 
