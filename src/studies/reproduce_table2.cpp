@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 
 #include "aggpack/analysis/bulk_density.hpp"
-#include "aggpack/dynamics/contact_law_registry.hpp"
+#include "aggpack/io/dem_setup.hpp"
 #include "aggpack/report/render.hpp"
 #include "aggpack/run/predictions.hpp"
 #include "aggpack/sizes/grading.hpp"
@@ -196,10 +196,10 @@ std::string table2_dem_text(const std::vector<Table2Outcome>& mixes, const std::
   if (std::any_of(mixes.begin(), mixes.end(), [](const Table2Outcome& m) { return m.dem_runs().dynamics.count > 0; }))
     return table2_settled_text(mixes);
   const CaseRun& first = mixes.front().runs.front();
-  const Material& material = first.result.report.scenario.material;
   const double r_min = 0.5 * first.result.report.final.bed.d_min;
-  // The default time step a [dynamics] table would take for these beds.
-  const double step = TimeStepRule{}.step(stable_time_scale(material.contact, r_min, material.density));
+  // The time step a [dynamics] table with the default rule would take for these beds: the
+  // scenario's own scale (every material it uses), as a run derives it (dem_setup).
+  const double step = TimeStepRule{}.step(stable_time_scale(first.result.report.scenario, r_min));
   const double particle_steps = static_cast<double>(particle_count(first)) * 0.5 / step;
   double speed = 0.0, gain_lo = kNaN, gain_hi = kNaN;
   for (const auto& [id, runs] : examples) {
