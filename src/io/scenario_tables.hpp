@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -31,12 +32,16 @@ inline constexpr std::array kContainerSidesNames{EnumName<ContainerSides>{Contai
 enum class OutputFormat { Csv, Vtp };
 inline constexpr std::array kOutputFormatNames{EnumName<OutputFormat>{OutputFormat::Csv, "csv"},
                                                EnumName<OutputFormat>{OutputFormat::Vtp, "vtp"}};
-// The flag of OutputSettings that says whether `format` is written.
-inline bool& format_flag(OutputSettings& o, OutputFormat format) {
-  return format == OutputFormat::Csv ? o.csv : o.vtp;
-}
-inline bool format_flag(const OutputSettings& o, OutputFormat format) {
-  return format == OutputFormat::Csv ? o.csv : o.vtp;
+// The flag of OutputSettings (or a const one) that says whether `format` is written. A switch
+// without a default: a new format without its flag is a compile error (-Wswitch), not silently
+// another format's flag.
+template <class Settings>
+auto& format_flag(Settings& o, OutputFormat format) {
+  switch (format) {
+    case OutputFormat::Csv: return o.csv;
+    case OutputFormat::Vtp: return o.vtp;
+  }
+  throw std::logic_error("an output format without its flag");  // unreachable for a valid enumerator
 }
 
 // The input file that `key` names, from the scenario's folder: one that is not there is
