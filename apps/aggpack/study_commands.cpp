@@ -312,6 +312,8 @@ int sweep_materials_command(const SweepArguments& a, const CLI::App& cmd) {
   o.blend.materials = a.inputs;
   o.blend.sweep_percents = aggpack::parse_fa_points(a.fa);
   o.blend.process = aggpack::blend_process(a.process, "--process");
+  if (a.route != "auto" && a.route != "lab" && a.route != "simulation")
+    throw aggpack::InputError(fmt::format("--route {}: expected auto, lab or simulation", a.route));
   o.blend.route = a.route;
   if (!a.seeds.empty()) o.blend.beds.seeds = count_argument(a.seeds, "--seeds");
   o.blend.beds.threads = a.sweep.threads;
